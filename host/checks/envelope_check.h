@@ -1,0 +1,46 @@
+// Envelope checks: a signal of the trace must stay inside [lower, upper] over a time window. The
+// same code grades a run online (sample by sample, so a run can abort at the first violation) and
+// offline (over a recorded trace). A sample that is NaN or infinite counts as a violation: a check
+// never passes on numbers that are not there.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+
+#include "host/trace/trace_sample.h"
+#include "proto/report.pb.h"
+#include "proto/scenario.pb.h"
+
+namespace hilrig::host {
+
+struct EnvelopeProgress {
+  std::uint64_t samples_checked = 0;
+  double worst_margin = std::numeric_limits<double>::infinity();
+  double worst_value = std::numeric_limits<double>::quiet_NaN();
+  double worst_at_s = 0;
+  bool violated = false;
+  double first_violation_at_s = 0;
+};
+
+class EnvelopeCheck {
+ public:
+  explicit EnvelopeCheck(proto::Envelope spec);
+
+  // Folds one trace sample into `progress`; returns true when this sample is a violation.
+  bool Observe(const TraceSample& sample, EnvelopeProgress& progress) const;
+
+  // The verdict so far. A check that saw no sample in its window fails: it proved nothing.
+  proto::EnvelopeResult Result(const EnvelopeProgress& progress) const;
+
+  const proto::Envelope& spec() const { return spec_; }
+
+ private:
+  // Distance inside the bounds: positive inside, negative outside, -inf for a non-finite value.
+  double Margin(double value) const;
+
+  proto::Envelope spec_;
+  double from_s_;
+  double until_s_;
+};
+
+}  // namespace hilrig::host

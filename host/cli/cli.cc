@@ -1,0 +1,244 @@
+#include "host/cli/cli.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+
+#include "host/report/report_files.h"
+#include "host/runner/runner.h"
+#include "host/scenario/scenario_config.h"
+#include "host/scenario/scenario_loader.h"
+#include "rig/clock.h"
+
+namespace hilrig::host {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kUsage =
+    "usage:\n"
+    "  hilrig run FILE.textproto [--out DIR] [--seed N]   run one scenario\n"
+    "  hilrig run DIR/ [--out DIR] [--seed N]             run every *.textproto in DIR\n"
+    "  hilrig check FILE.textproto...                     validate scenario specs\n"
+    "  hilrig help                                        this text\n"
+    "run writes report.json, junit.xml, trace.csv and can.log into --out (default\n"
+    "hilrig_out/<scenario>). Exit codes: 0 every check met its expected verdict,\n"
+    "1 a check did not or the run was cut short, 2 bad input or usage.\n";
+
+struct RunOptions {
+  std::string target;
+  std::optional<std::string> out_dir;
+  std::optional<std::uint64_t> seed;
+};
+
+struct Streams {
+  std::ostream& out;
+  std::ostream& err;
+  const std::atomic<bool>* stop_requested;
+};
+
+rig::Result<RunOptions> ParseRunOptions(const std::vector<std::string>& args) {
+  RunOptions options;
+  for (std::size_t i = 1; i < args.size(); ++i) {
+    const std::string& arg = args[i];
+    const bool has_value = i + 1 < args.size();
+    if (arg == "--out") {
+      if (!has_value) return rig::MakeError("--out needs a directory");
+      options.out_dir = args[++i];
+    } else if (arg == "--seed") {
+      if (!has_value) return rig::MakeError("--seed needs a number");
+      const std::string& text = args[++i];
+      std::uint64_t seed = 0;
+      const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), seed);
+      if (error != std::errc() || end != text.data() + text.size()) {
+        return rig::MakeError("--seed must be a non-negative integer, got \"" + text + "\"");
+      }
+      options.seed = seed;
+    } else if (arg.starts_with("--")) {
+      return rig::MakeError("unknown option " + arg);
+    } else if (options.target.empty()) {
+      options.target = arg;
+    } else {
+      return rig::MakeError("unexpected argument " + arg + " (one scenario file or folder)");
+    }
+  }
+  if (options.target.empty()) return rig::MakeError("run needs a scenario file or folder");
+  return options;
+}
+
+struct ScenarioOutcome {
+  std::string name;
+  int exit_code = kExitBadInput;
+  proto::Report report;
+};
+
+rig::Result<proto::Report> RunToDirectory(const proto::Scenario& spec, const std::string& spec_path,
+                                          const fs::path& out_dir,
+                                          std::optional<std::uint64_t> seed, const Streams& io) {
+  std::error_code error;
+  fs::create_directories(out_dir, error);
+  if (error) return rig::MakeError("cannot create " + out_dir.string() + ": " + error.message());
+  std::ofstream trace(out_dir / "trace.csv", std::ios::binary | std::ios::trunc);
+  std::ofstream can_log(out_dir / "can.log", std::ios::binary | std::ios::trunc);
+  if (!trace || !can_log) return rig::MakeError("cannot write into " + out_dir.string());
+
+  const ScenarioConfig config = ResolveScenario(spec, seed);
+  const rig::SteadyClock wall_clock;
+  proto::Report report = RunScenario(config, {&trace, &can_log, &io.err},
+                                     {&wall_clock, io.stop_requested});
+  report.set_spec_file(spec_path);
+  trace.close();
+  can_log.close();
+  if (!trace || !can_log) return rig::MakeError("error while writing logs into " + out_dir.string());
+  if (auto written = WriteReportJson(report, (out_dir / "report.json").string()); !written) {
+    return written.error();
+  }
+  if (auto written = WriteJunitXml(report, (out_dir / "junit.xml").string()); !written) {
+    return written.error();
+  }
+  return report;
+}
+
+ScenarioOutcome RunOneFile(const std::string& path, const fs::path& out_dir,
+                           std::optional<std::uint64_t> seed, const Streams& io) {
+  ScenarioOutcome outcome;
+  outcome.name = fs::path(path).stem().string();
+  auto spec = LoadScenario(path);
+  if (!spec) {
+    io.err << spec.error().message << "\n";
+    return outcome;
+  }
+  auto report = RunToDirectory(spec.value(), path, out_dir, seed, io);
+  if (!report) {
+    io.err << "hilrig: " << report.error().message << "\n";
+    return outcome;
+  }
+  outcome.report = std::move(report).value();
+  outcome.exit_code = outcome.report.passed() ? kExitPass : kExitCheckFailed;
+  return outcome;
+}
+
+void PrintRun(const ScenarioOutcome& outcome, const Streams& io) {
+  for (const proto::EnvelopeResult& result : outcome.report.envelopes()) {
+    io.out << FormatEnvelopeLine(result) << "\n";
+  }
+  io.out << FormatTimingLine(outcome.report) << std::endl;
+}
+
+std::vector<std::string> ScenarioFilesIn(const fs::path& folder) {
+  std::vector<std::string> files;
+  for (const auto& entry : fs::directory_iterator(folder)) {
+    if (entry.is_regular_file() && entry.path().extension() == ".textproto") {
+      files.push_back(entry.path().string());
+    }
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+std::string SummaryRow(const ScenarioOutcome& outcome) {
+  const char* verdict = outcome.exit_code == kExitPass        ? "PASS"
+                        : outcome.exit_code == kExitBadInput ? "INVALID"
+                                                             : "FAIL";
+  int met = 0;
+  for (const auto& result : outcome.report.envelopes()) met += result.meets_expectation() ? 1 : 0;
+  char row[200];
+  std::snprintf(row, sizeof(row), "%-28s %-8s %3d/%-3d %12.0fx  %s", outcome.name.c_str(),
+                verdict, met, outcome.report.envelopes_size(),
+                outcome.report.real_time_factor(), outcome.report.stop_reason().c_str());
+  return row;
+}
+
+int RunFolder(const RunOptions& options, const Streams& io) {
+  const std::vector<std::string> files = ScenarioFilesIn(options.target);
+  if (files.empty()) {
+    io.err << options.target << ": no *.textproto scenario in this folder\n";
+    return kExitBadInput;
+  }
+  const fs::path out_root = options.out_dir.value_or("hilrig_out");
+  std::vector<ScenarioOutcome> outcomes;
+  for (const std::string& file : files) {
+    if (io.stop_requested != nullptr && io.stop_requested->load()) break;
+    io.out << "== " << file << "\n";
+    const fs::path out_dir = out_root / fs::path(file).stem();
+    outcomes.push_back(RunOneFile(file, out_dir, options.seed, io));
+    if (outcomes.back().exit_code != kExitBadInput) PrintRun(outcomes.back(), io);
+  }
+  int exit_code = kExitPass;
+  io.out << "\n" << "scenario                     verdict  checks   real-time  stop\n";
+  for (const ScenarioOutcome& outcome : outcomes) {
+    io.out << SummaryRow(outcome) << "\n";
+    exit_code = std::max(exit_code, outcome.exit_code);
+  }
+  if (outcomes.size() < files.size()) exit_code = std::max(exit_code, kExitCheckFailed);
+  return exit_code;
+}
+
+int RunCommand(const std::vector<std::string>& args, const Streams& io) {
+  auto options = ParseRunOptions(args);
+  if (!options) {
+    io.err << "hilrig run: " << options.error().message << "\n" << kUsage;
+    return kExitBadInput;
+  }
+  const std::string& target = options.value().target;
+  std::error_code error;
+  if (fs::is_directory(target, error)) return RunFolder(options.value(), io);
+  if (!fs::exists(target, error)) {
+    io.err << target << ": no such file or folder\n";
+    return kExitBadInput;
+  }
+  const fs::path out_dir =
+      options.value().out_dir.value_or((fs::path("hilrig_out") / fs::path(target).stem()).string());
+  const ScenarioOutcome outcome = RunOneFile(target, out_dir, options.value().seed, io);
+  if (outcome.exit_code != kExitBadInput) PrintRun(outcome, io);
+  return outcome.exit_code;
+}
+
+int CheckCommand(const std::vector<std::string>& args, const Streams& io) {
+  if (args.size() < 2) {
+    io.err << "hilrig check: needs at least one scenario file\n" << kUsage;
+    return kExitBadInput;
+  }
+  int exit_code = kExitPass;
+  for (std::size_t i = 1; i < args.size(); ++i) {
+    std::error_code error;
+    if (fs::is_directory(args[i], error)) {
+      io.err << args[i] << ": is a folder; check takes scenario files\n";
+      exit_code = kExitBadInput;
+      continue;
+    }
+    const auto spec = LoadScenario(args[i]);
+    if (!spec) {
+      io.err << spec.error().message << "\n";
+      exit_code = kExitBadInput;
+      continue;
+    }
+    io.out << args[i] << ": ok (" << spec.value().envelopes_size() << " envelopes, "
+           << spec.value().simulation().duration_s() << " s)\n";
+  }
+  return exit_code;
+}
+
+}  // namespace
+
+int RunCli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err,
+           const std::atomic<bool>* stop_requested) {
+  const Streams io{out, err, stop_requested};
+  if (args.empty()) {
+    err << kUsage;
+    return kExitBadInput;
+  }
+  if (args[0] == "run") return RunCommand(args, io);
+  if (args[0] == "check") return CheckCommand(args, io);
+  if (args[0] == "help" || args[0] == "--help" || args[0] == "-h") {
+    out << kUsage;
+    return kExitPass;
+  }
+  err << "hilrig: unknown command \"" << args[0] << "\"\n" << kUsage;
+  return kExitBadInput;
+}
+
+}  // namespace hilrig::host

@@ -1,0 +1,40 @@
+// The seam between the runner and the device under test. The runner pushes sensor messages and the
+// setpoint as they happen, then asks the DUT for its command at each control tick; in lockstep the
+// DUT answers before the plant moves on. An in-process DUT, a DUT process over the HIL link and real
+// hardware all sit behind this interface; the runner cannot tell them apart. Tactile and reference
+// magnetometer samples do not pass here: they travel as CAN frames on the bus.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "host/dut/hil_messages.h"
+#include "rig/result.h"
+
+namespace hilrig::host {
+
+struct DutCounters {
+  std::uint64_t imu_messages = 0;
+  std::uint64_t vio_messages = 0;
+  std::uint64_t can_frames_received = 0;
+  std::uint64_t can_frames_rejected = 0;  // frames that did not decode
+  std::uint64_t magnetometer_samples = 0;
+};
+
+class DutPort {
+ public:
+  virtual ~DutPort() = default;
+
+  virtual void SendImu(const ImuMessage& message) = 0;
+  virtual void SendVio(const VioMessage& message) = 0;
+  virtual void SendSetpoint(const SetpointMessage& message) = 0;
+
+  // Runs the DUT's control step for control tick `tick` at `now_ns` and returns its command; an
+  // error means the DUT did not answer properly (timeout, bad message) and ends the run.
+  virtual rig::Result<ActuatorMessage> Step(std::uint64_t tick, std::int64_t now_ns) = 0;
+
+  virtual DutCounters counters() const = 0;
+  virtual std::string description() const = 0;
+};
+
+}  // namespace hilrig::host

@@ -1,0 +1,50 @@
+// The HIL link messages as plain structs: the same fields as proto/hil_link.proto, without the
+// cost of protobuf objects in the lockstep loop. A DUT in this process takes them directly; a DUT in
+// another process gets them encoded as hil_link.proto messages by a link transport.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace hilrig::host {
+
+inline constexpr std::uint32_t kHilLinkProtocolVersion = 1;
+
+struct LinkStamp {
+  std::uint64_t sequence = 0;  // per stream, from 0, without gaps
+  std::int64_t time_ns = 0;    // simulated time the message was sent
+};
+
+struct ImuMessage {
+  LinkStamp stamp;
+  Eigen::Vector3d gyro_rad_s = Eigen::Vector3d::Zero();
+  Eigen::Vector3d accel_m_s2 = Eigen::Vector3d::Zero();
+};
+
+struct VioMessage {
+  LinkStamp stamp;  // stamp.time_ns is the delivery time
+  std::int64_t capture_time_ns = 0;
+  Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+};
+
+struct SetpointMessage {
+  LinkStamp stamp;
+  Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d velocity_m_s = Eigen::Vector3d::Zero();
+  Eigen::Vector3d acceleration_m_s2 = Eigen::Vector3d::Zero();
+  double yaw_rad = 0;
+};
+
+struct ActuatorMessage {
+  LinkStamp stamp;
+  std::uint64_t answers_sequence = 0;  // the control tick this command answers
+  std::array<double, 4> rotor_thrust_n{};
+  bool armed = false;
+  Eigen::Vector3d estimated_position_m = Eigen::Vector3d::Zero();  // DUT telemetry for the trace
+};
+
+}  // namespace hilrig::host

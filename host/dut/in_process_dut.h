@@ -1,0 +1,41 @@
+// The dut_fw flight controller running inside the harness process, in lockstep. It is driven only
+// through the DutPort messages and its own CAN bus endpoint, exactly what a DUT in another process
+// or on real hardware gets, so moving it out of process later changes the transport, not the loop.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "dut_fw/flight_controller.h"
+#include "host/dut/dut_port.h"
+#include "rig/can_bus.h"
+
+namespace hilrig::host {
+
+class InProcessDut final : public DutPort {
+ public:
+  // `bus` is the DUT's own endpoint on the CAN bus; `control_period_s` is its control step.
+  InProcessDut(const dut_fw::FlightControllerParams<double>& params,
+               std::unique_ptr<rig::CanBus> bus, double control_period_s);
+
+  void SendImu(const ImuMessage& message) override;
+  void SendVio(const VioMessage& message) override;
+  void SendSetpoint(const SetpointMessage& message) override;
+  rig::Result<ActuatorMessage> Step(std::uint64_t tick, std::int64_t now_ns) override;
+  DutCounters counters() const override { return counters_; }
+  std::string description() const override { return "in-process dut_fw (double)"; }
+
+ private:
+  void DrainBus(std::int64_t now_ns);
+
+  dut_fw::FlightController<double> controller_;
+  dut_fw::FlightControllerState<double> state_;
+  dut_fw::Reference<double> reference_;
+  std::unique_ptr<rig::CanBus> bus_;
+  double control_period_s_;
+  std::vector<rig::TimedCanFrame> received_;
+  DutCounters counters_;
+  std::uint64_t commands_sent_ = 0;
+};
+
+}  // namespace hilrig::host

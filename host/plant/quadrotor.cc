@@ -1,0 +1,93 @@
+#include "host/plant/quadrotor.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+
+namespace hilrig::host {
+namespace {
+
+Eigen::Quaterniond YawQuaternion(double yaw_rad) {
+  return Eigen::Quaterniond(Eigen::AngleAxisd(yaw_rad, Eigen::Vector3d::UnitZ()));
+}
+
+}  // namespace
+
+QuadrotorState StepQuadrotor(const QuadrotorParams& params, const QuadrotorState& state,
+                             const std::array<double, kRotorCount>& commanded_thrust_n,
+                             const Eigen::Vector3d& external_force_world_n, double dt_s) {
+  QuadrotorState next = state;
+  next.ground_contact = false;
+  next.rotors = StepRotors(params.rotors, state.rotors, commanded_thrust_n, dt_s);
+
+  const double mass = params.body.mass_kg;
+  const double g = params.gravity_m_s2;
+  const Eigen::Matrix3d r_wb = state.body.orientation.toRotationMatrix();
+  const double collective = CollectiveThrust(next.rotors);
+  const Eigen::Vector3d non_thrust_force =
+      external_force_world_n - params.linear_drag_n_s_per_m * state.body.velocity_m_s;
+
+  Wrench wrench;
+  wrench.force_world_n = r_wb.col(2) * collective + non_thrust_force;
+  wrench.torque_body_nm = RotorTorqueBody(params.rotors, next.rotors);
+
+  if (state.on_ground && wrench.force_world_n.z() <= mass * g) {
+    next.body.position_m.z() = 0.0;
+    next.body.velocity_m_s.setZero();
+    next.body.angular_velocity_rad_s.setZero();
+    next.specific_force_body_m_s2 = r_wb.transpose() * Eigen::Vector3d(0.0, 0.0, g);
+    return next;
+  }
+
+  next.on_ground = false;
+  next.airborne_once = true;
+  next.body = StepRigidBody(params.body, state.body, wrench, g, dt_s, params.integrator);
+  // Thrust written directly in the body frame so that hover reads exactly (0, 0, T/m).
+  next.specific_force_body_m_s2 = (r_wb.transpose() * non_thrust_force) / mass;
+  next.specific_force_body_m_s2.z() += collective / mass;
+
+  if (next.body.position_m.z() < 0.0) {
+    const double impact_speed = std::max(0.0, -next.body.velocity_m_s.z());
+    // The ground removed the whole velocity within this step; the accelerometer sees that
+    // average deceleration as a spike, as a real one would (smeared over one tick).
+    const Eigen::Vector3d accel_world =
+        -state.body.velocity_m_s / dt_s + Eigen::Vector3d(0.0, 0.0, g);
+    next.specific_force_body_m_s2 = next.body.orientation.conjugate() * accel_world;
+    next.body.position_m.z() = 0.0;
+    next.body.velocity_m_s.setZero();
+    next.body.angular_velocity_rad_s.setZero();
+    next.on_ground = true;
+    next.ground_contact = true;
+    next.touched_down_after_takeoff = true;
+    ++next.ground_impacts;
+    next.last_impact_speed_m_s = impact_speed;
+    next.max_impact_speed_m_s = std::max(state.max_impact_speed_m_s, impact_speed);
+  }
+  return next;
+}
+
+double HoverThrustPerRotor(const QuadrotorParams& params) {
+  return params.body.mass_kg * params.gravity_m_s2 / kRotorCount;
+}
+
+QuadrotorState MakeRestingQuadrotor(const QuadrotorParams& params, double x_m, double y_m,
+                                    double yaw_rad) {
+  QuadrotorState state;
+  state.body.position_m = {x_m, y_m, 0.0};
+  state.body.orientation = YawQuaternion(yaw_rad);
+  state.specific_force_body_m_s2 = {0.0, 0.0, params.gravity_m_s2};
+  return state;
+}
+
+QuadrotorState MakeHoveringQuadrotor(const QuadrotorParams& params,
+                                     const Eigen::Vector3d& position_m, double yaw_rad) {
+  QuadrotorState state;
+  state.body.position_m = position_m;
+  state.body.orientation = YawQuaternion(yaw_rad);
+  state.rotors.thrust_n.fill(HoverThrustPerRotor(params));
+  state.on_ground = false;
+  state.airborne_once = true;
+  state.specific_force_body_m_s2 = {0.0, 0.0, params.gravity_m_s2};
+  return state;
+}
+
+}  // namespace hilrig::host

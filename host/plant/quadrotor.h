@@ -1,0 +1,68 @@
+// The vehicle plant: rigid body + four lagged rotors + linear aerodynamic drag + a flat ground
+// at z = 0. Per step the rotors are advanced first and their new thrusts, the drag of the current
+// velocity and the external force (e.g. the gripper's contact with an object) are held constant
+// over the step (zero-order hold), evaluated at the attitude at the start of the step.
+//
+// Ground model (deliberately simple and unconditionally stable, not a contact simulation):
+// - Resting: while on the ground and the net upward force (thrust, drag, external) does not
+//   exceed the weight, the vehicle sits still at z = 0: the normal force and static friction of
+//   the legs cancel everything else, rotor torques do not tilt it, velocities are zero.
+// - Take-off: as soon as the net upward force exceeds the weight the body integrates freely.
+// - Touch-down: a step that would end below z = 0 puts the vehicle back on the ground with all
+//   velocity and angular rate removed (no bounce, no sliding), and records the impact (count,
+//   downward speed, `ground_contact` for that one step). Touching down after any time in the air,
+//   gentle landings included, counts; checks decide by the impact speed what was a crash.
+#ifndef HILRIG_HOST_PLANT_QUADROTOR_H_
+#define HILRIG_HOST_PLANT_QUADROTOR_H_
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+
+#include "host/plant/rigid_body.h"
+#include "host/plant/rotors.h"
+
+namespace hilrig::host {
+
+struct QuadrotorParams {
+  RigidBodyParams body;
+  RotorParams rotors;
+  double linear_drag_n_s_per_m = 0.05;  // F_drag = -c v, world frame, isotropic
+  double gravity_m_s2 = 9.81;
+  Integrator integrator = Integrator::kRk4;
+};
+
+struct QuadrotorState {
+  RigidBodyState body;
+  RotorState rotors;
+  bool on_ground = true;
+  bool airborne_once = false;  // has been off the ground at some point
+  // True only for the step in which the vehicle touched down.
+  bool ground_contact = false;
+  // Touched the ground after having been airborne; stays true once set.
+  bool touched_down_after_takeoff = false;
+  std::uint32_t ground_impacts = 0;
+  double last_impact_speed_m_s = 0.0;  // downward speed at the last touch-down, >= 0
+  double max_impact_speed_m_s = 0.0;   // largest of all touch-downs
+  // Non-gravitational acceleration in the body frame, averaged over the last step: what an
+  // accelerometer measures. Resting level on the ground it is (0, 0, +g).
+  Eigen::Vector3d specific_force_body_m_s2 = {0.0, 0.0, 9.81};
+};
+
+QuadrotorState StepQuadrotor(const QuadrotorParams& params, const QuadrotorState& state,
+                             const std::array<double, kRotorCount>& commanded_thrust_n,
+                             const Eigen::Vector3d& external_force_world_n, double dt_s);
+
+// m g / 4: the per-rotor thrust that holds a level vehicle still.
+double HoverThrustPerRotor(const QuadrotorParams& params);
+
+// Initial states consistent with params (gravity in the specific force, rotors spun up for
+// hover). The resting one puts the vehicle level on the ground at (x, y, 0) with the given yaw.
+QuadrotorState MakeRestingQuadrotor(const QuadrotorParams& params, double x_m, double y_m,
+                                    double yaw_rad);
+QuadrotorState MakeHoveringQuadrotor(const QuadrotorParams& params,
+                                     const Eigen::Vector3d& position_m, double yaw_rad);
+
+}  // namespace hilrig::host
+
+#endif  // HILRIG_HOST_PLANT_QUADROTOR_H_

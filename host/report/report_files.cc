@@ -1,0 +1,117 @@
+#include "host/report/report_files.h"
+
+#include <google/protobuf/util/json_util.h>
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+namespace hilrig::host {
+namespace {
+
+rig::Result<void> WriteFile(const std::string& path, const std::string& content) {
+  std::ofstream file(path, std::ios::binary | std::ios::trunc);
+  if (!file) return rig::MakeError("cannot write " + path);
+  file << content;
+  file.close();
+  if (!file) return rig::MakeError("error while writing " + path);
+  return {};
+}
+
+std::string XmlEscape(const std::string& text) {
+  std::string escaped;
+  for (char c : text) {
+    switch (c) {
+      case '&': escaped += "&amp;"; break;
+      case '<': escaped += "&lt;"; break;
+      case '>': escaped += "&gt;"; break;
+      case '"': escaped += "&quot;"; break;
+      case '\'': escaped += "&apos;"; break;
+      default: escaped += c;
+    }
+  }
+  return escaped;
+}
+
+std::string FormatNumber(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.4g", value);
+  return buffer;
+}
+
+std::string FormatBounds(const proto::EnvelopeResult& result) {
+  return "[" + (result.has_lower() ? FormatNumber(result.lower()) : std::string("-")) + ", " +
+         (result.has_upper() ? FormatNumber(result.upper()) : std::string("-")) + "]";
+}
+
+const char* VerdictName(proto::Verdict verdict) { return verdict == proto::PASS ? "PASS" : "FAIL"; }
+
+}  // namespace
+
+rig::Result<void> WriteReportJson(const proto::Report& report, const std::string& path) {
+  std::string json;
+  google::protobuf::util::JsonPrintOptions options;
+  options.add_whitespace = true;
+  options.always_print_primitive_fields = true;
+  options.preserve_proto_field_names = true;
+  const auto status = google::protobuf::util::MessageToJsonString(report, &json, options);
+  if (!status.ok()) return rig::MakeError("cannot render report: " + status.ToString());
+  return WriteFile(path, json);
+}
+
+rig::Result<void> WriteJunitXml(const proto::Report& report, const std::string& path) {
+  int failures = 0;
+  std::ostringstream cases;
+  for (const proto::EnvelopeResult& result : report.envelopes()) {
+    cases << "    <testcase classname=\"" << XmlEscape(report.scenario()) << "\" name=\""
+          << XmlEscape(result.name()) << "\">\n";
+    if (!result.meets_expectation()) {
+      ++failures;
+      cases << "      <failure message=\"" << XmlEscape(FormatEnvelopeLine(result)) << "\"/>\n";
+    }
+    cases << "    </testcase>\n";
+  }
+  if (report.stop_reason() != "completed") {
+    ++failures;
+    cases << "    <testcase classname=\"" << XmlEscape(report.scenario())
+          << "\" name=\"run completes\">\n      <failure message=\""
+          << XmlEscape(report.stop_reason()) << "\"/>\n    </testcase>\n";
+  }
+  const int tests = report.envelopes_size() + (report.stop_reason() != "completed" ? 1 : 0);
+  std::ostringstream xml;
+  xml << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+      << "<testsuites>\n  <testsuite name=\"" << XmlEscape(report.scenario()) << "\" tests=\""
+      << tests << "\" failures=\"" << failures << "\" time=\"" << report.wall_s() << "\">\n"
+      << cases.str() << "  </testsuite>\n</testsuites>\n";
+  return WriteFile(path, xml.str());
+}
+
+std::string FormatEnvelopeLine(const proto::EnvelopeResult& result) {
+  std::string line = std::string(VerdictName(result.verdict())) + "  " + result.name();
+  if (result.samples_checked() == 0) {
+    line += "  no samples in its window";
+  } else {
+    line += "  worst " + FormatNumber(result.worst_value()) + " at " +
+            FormatNumber(result.worst_at_s()) + " s";
+  }
+  line += "  limit " + FormatBounds(result);
+  if (result.verdict() == proto::FAIL && result.samples_checked() > 0) {
+    line += "  first out at " + FormatNumber(result.first_violation_at_s()) + " s";
+  }
+  if (result.expected() != proto::PASS) {
+    line += std::string("  (expected ") + VerdictName(result.expected()) +
+            (result.meets_expectation() ? ", as expected)" : ", NOT MET)");
+  }
+  return line;
+}
+
+std::string FormatTimingLine(const proto::Report& report) {
+  char buffer[160];
+  std::snprintf(buffer, sizeof(buffer),
+                "real-time factor %.0fx (%.3g s simulated in %.3g s wall, %s)",
+                report.real_time_factor(), report.simulated_s(), report.wall_s(),
+                report.stop_reason().c_str());
+  return buffer;
+}
+
+}  // namespace hilrig::host

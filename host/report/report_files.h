@@ -1,0 +1,22 @@
+// Writes a run report in its file forms: report.json (the protobuf JSON rendering of
+// proto/report.proto) and junit.xml (one test case per envelope, so CI systems show each check),
+// and renders the console lines `hilrig run` prints.
+#pragma once
+
+#include <string>
+
+#include "proto/report.pb.h"
+#include "rig/result.h"
+
+namespace hilrig::host {
+
+rig::Result<void> WriteReportJson(const proto::Report& report, const std::string& path);
+rig::Result<void> WriteJunitXml(const proto::Report& report, const std::string& path);
+
+// "PASS  altitude_error  worst 0.0123 at 12.3 s  limit [-, 0.05]" (+ "(expected FAIL)" etc.).
+std::string FormatEnvelopeLine(const proto::EnvelopeResult& result);
+
+// The last line of a run: simulated and wall time and the real-time factor.
+std::string FormatTimingLine(const proto::Report& report);
+
+}  // namespace hilrig::host

@@ -1,0 +1,318 @@
+#include "host/runner/runner.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <numbers>
+#include <optional>
+#include <vector>
+
+#include "host/checks/envelope_check.h"
+#include "host/dut/firmware_config.h"
+#include "host/dut/in_process_dut.h"
+#include "host/runner/model_list.h"
+#include "host/runner/run_statistics.h"
+#include "host/sensors/random_stream.h"
+#include "host/trace/trace_csv.h"
+#include "rig/candump_log.h"
+#include "rig/emulated_bus.h"
+#include "rig/sensor_frame.h"
+
+namespace hilrig::host {
+namespace {
+
+constexpr double kRadToDeg = 180.0 / std::numbers::pi;
+constexpr std::int64_t kProgressPeriodNs = 5'000'000'000;
+constexpr std::uint64_t kWallClockPollTicks = 4096;
+
+Eigen::Vector3d RollPitchYawDeg(const Eigen::Quaterniond& q) {
+  const double roll = std::atan2(2 * (q.w() * q.x() + q.y() * q.z()),
+                                 1 - 2 * (q.x() * q.x() + q.y() * q.y()));
+  const double pitch = std::asin(std::clamp(2 * (q.w() * q.y() - q.z() * q.x()), -1.0, 1.0));
+  const double yaw = std::atan2(2 * (q.w() * q.z() + q.x() * q.y()),
+                                1 - 2 * (q.y() * q.y() + q.z() * q.z()));
+  return Eigen::Vector3d(roll, pitch, yaw) * kRadToDeg;
+}
+
+double TiltDeg(const Eigen::Quaterniond& q) {
+  const double body_z_up = (q * Eigen::Vector3d::UnitZ()).z();
+  return std::acos(std::clamp(body_z_up, -1.0, 1.0)) * kRadToDeg;
+}
+
+double Seconds(std::int64_t time_ns) { return static_cast<double>(time_ns) * 1e-9; }
+
+}  // namespace
+
+// Every piece of run state lives here; Tick() steps it.
+class LockstepRunner::Impl {
+ public:
+  Impl(const ScenarioConfig& config, const RunSinks& sinks, const RunControl& control);
+  bool Tick();
+  proto::Report Finish();
+
+ private:
+  void SampleSensors(std::int64_t now_ns);
+  bool ControlStep(std::uint64_t control_tick, std::int64_t now_ns);
+  Eigen::Vector3d DisturbanceAt(double time_s) const;
+  bool RecordTrace(std::int64_t now_ns);
+  void DrainCanLog(std::int64_t now_ns);
+  void ReportProgress(std::int64_t now_ns);
+
+  const ScenarioConfig& config_;
+  RunSinks sinks_;
+  RunControl control_;
+  rig::SimClock clock_;
+  rig::EmulatedBus bus_;
+  std::unique_ptr<rig::CanBus> magnetometer_node_;
+  std::unique_ptr<rig::CanBus> can_logger_;
+  std::unique_ptr<DutPort> dut_;
+  ReferenceTrajectory reference_;
+
+  QuadrotorState plant_;
+  ImuState imu_;
+  VioState vio_;
+  MagnetometerState magnetometer_;
+  std::int64_t imu_period_ns_;
+  std::int64_t next_imu_ns_ = 0;
+  std::uint64_t imu_sequence_ = 0;
+  std::uint64_t vio_sequence_ = 0;
+  std::uint64_t setpoint_sequence_ = 0;
+  ActuatorMessage command_;
+  ReferenceSample current_reference_;
+
+  std::vector<VioPose> delivered_vio_;
+  std::vector<rig::TimedCanFrame> logged_frames_;
+  std::vector<EnvelopeCheck> checks_;
+  std::vector<EnvelopeProgress> check_progress_;
+  std::optional<TraceCsvWriter> trace_writer_;
+  std::optional<rig::CandumpLogWriter> can_writer_;
+  RunStatistics statistics_;
+  std::string stop_reason_ = "completed";
+  std::uint64_t can_frames_logged_ = 0;
+  std::int64_t next_progress_wall_ns_ = kProgressPeriodNs;
+  std::int64_t wall_start_ns_ = 0;
+  std::uint64_t tick_ = 0;
+  std::uint64_t total_ticks_ = 0;
+  bool ended_ = false;
+};
+
+LockstepRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
+                         const RunControl& control)
+    : config_(config),
+      sinks_(sinks),
+      control_(control),
+      bus_(rig::EmulatedBusConfig{.nominal_bitrate_bps = std::llround(config.can_bitrate_bps),
+                                  .data_bitrate_bps = std::llround(config.can_bitrate_bps)}),
+      magnetometer_node_(bus_.Connect("reference-magnetometer")),
+      can_logger_(bus_.Connect("can-logger")),
+      reference_(config.initial_reference, config.setpoints),
+      imu_(MakeImuState(config.imu, RandomStream::FromSeed(
+                                        config.seed, static_cast<std::uint64_t>(StreamId::kImu)))),
+      imu_period_ns_(std::llround(1e9 / config.imu.rate_hz)) {
+  const double control_period_s =
+      Seconds(config.physics_step_ns) * static_cast<double>(config.control_every_ticks);
+  dut_ = std::make_unique<InProcessDut>(FirmwareParamsFor(config.vehicle), bus_.Connect("dut"),
+                                        control_period_s);
+  // A scenario starting in the air starts hovering, rotors spun up; on the ground it starts at rest.
+  const Eigen::Vector3d& start_m = config.initial_reference.position_m;
+  plant_ = start_m.z() > 0
+               ? MakeHoveringQuadrotor(config.vehicle, start_m, config.initial_reference.yaw_rad)
+               : MakeRestingQuadrotor(config.vehicle, start_m.x(), start_m.y(),
+                                      config.initial_reference.yaw_rad);
+  vio_.rng = RandomStream::FromSeed(config.seed, static_cast<std::uint64_t>(StreamId::kVio));
+  magnetometer_.rng = RandomStream::FromSeed(
+      config.seed, static_cast<std::uint64_t>(StreamId::kReferenceMagnetometer));
+  for (const proto::Envelope& envelope : config.envelopes) checks_.emplace_back(envelope);
+  check_progress_.resize(checks_.size());
+  if (sinks.trace_csv != nullptr) trace_writer_.emplace(*sinks.trace_csv);
+  if (sinks.can_log != nullptr) can_writer_.emplace(*sinks.can_log, "can0");
+  delivered_vio_.reserve(8);
+  logged_frames_.reserve(64);
+  total_ticks_ = static_cast<std::uint64_t>(
+      std::llround(config.duration_s * 1e9 / static_cast<double>(config.physics_step_ns)));
+  wall_start_ns_ = control.wall_clock->NowNs();
+  next_progress_wall_ns_ = wall_start_ns_ + kProgressPeriodNs;
+  ended_ = total_ticks_ == 0;
+}
+
+void LockstepRunner::Impl::SampleSensors(std::int64_t now_ns) {
+  if (now_ns >= next_imu_ns_) {
+    next_imu_ns_ += imu_period_ns_;
+    const ImuReading reading = SampleImu(config_.imu, imu_, plant_.body.angular_velocity_rad_s,
+                                         plant_.specific_force_body_m_s2, now_ns);
+    dut_->SendImu({{imu_sequence_++, now_ns}, reading.gyro_rad_s, reading.accel_m_s2});
+  }
+  CaptureVio(config_.vio, vio_, plant_.body, now_ns);
+  delivered_vio_.clear();
+  DeliverVio(vio_, now_ns, delivered_vio_);
+  for (const VioPose& pose : delivered_vio_) {
+    dut_->SendVio({{vio_sequence_++, now_ns}, pose.capture_time_ns, pose.position_m,
+                   pose.orientation});
+  }
+  const auto field = SampleReferenceMagnetometer(config_.magnetometer, config_.earth_field,
+                                                 magnetometer_, plant_.body.orientation, now_ns);
+  if (field) {
+    rig::MagneticSample sample;
+    sample.node_id = field->node_id;
+    sample.x_code = field->code[0];
+    sample.y_code = field->code[1];
+    sample.z_code = field->code[2];
+    sample.sequence = field->sequence;
+    sample.status = field->saturated ? 0x01 : 0x00;
+    // A full or bus-off bus drops the sample, as the node would; the DUT sees the sequence gap.
+    (void)magnetometer_node_->Send(rig::EncodeMagneticSample(sample), now_ns);
+  }
+}
+
+bool LockstepRunner::Impl::ControlStep(std::uint64_t control_tick, std::int64_t now_ns) {
+  current_reference_ = reference_.Evaluate(Seconds(now_ns));
+  dut_->SendSetpoint({{setpoint_sequence_++, now_ns},
+                      current_reference_.position_m,
+                      current_reference_.velocity_m_s,
+                      current_reference_.acceleration_m_s2,
+                      current_reference_.yaw_rad});
+  auto command = dut_->Step(control_tick, now_ns);
+  if (!command) {
+    stop_reason_ = "dut failed: " + command.error().message;
+    return false;
+  }
+  command_ = std::move(command).value();
+  if (!command_.armed) command_.rotor_thrust_n.fill(0.0);
+  return true;
+}
+
+Eigen::Vector3d LockstepRunner::Impl::DisturbanceAt(double time_s) const {
+  Eigen::Vector3d force_n = Eigen::Vector3d::Zero();
+  for (const DisturbanceCommand& disturbance : config_.disturbances) {
+    if (time_s >= disturbance.at_s && time_s < disturbance.at_s + disturbance.duration_s) {
+      force_n += disturbance.force_world_n;
+    }
+  }
+  return force_n;
+}
+
+bool LockstepRunner::Impl::RecordTrace(std::int64_t now_ns) {
+  TraceSample sample;
+  sample.time_s = Seconds(now_ns);
+  sample.position_m = plant_.body.position_m;
+  sample.reference_m = reference_.Evaluate(sample.time_s).position_m;
+  sample.velocity_m_s = plant_.body.velocity_m_s;
+  sample.roll_pitch_yaw_deg = RollPitchYawDeg(plant_.body.orientation);
+  sample.tilt_deg = TiltDeg(plant_.body.orientation);
+  sample.rotor_thrust_n = plant_.rotors.thrust_n;
+  sample.estimated_position_m = command_.estimated_position_m;
+  statistics_.Add(sample);
+  if (trace_writer_) trace_writer_->Write(sample);
+  bool abort = false;
+  for (std::size_t i = 0; i < checks_.size(); ++i) {
+    if (checks_[i].Observe(sample, check_progress_[i]) && checks_[i].spec().abort_on_violation()) {
+      stop_reason_ = "aborted by envelope " + checks_[i].spec().name();
+      abort = true;
+    }
+  }
+  return abort;
+}
+
+void LockstepRunner::Impl::DrainCanLog(std::int64_t now_ns) {
+  logged_frames_.clear();
+  can_logger_->Receive(now_ns, logged_frames_);
+  can_frames_logged_ += logged_frames_.size();
+  if (!can_writer_) return;
+  for (const rig::TimedCanFrame& frame : logged_frames_) can_writer_->Write(frame);
+}
+
+void LockstepRunner::Impl::ReportProgress(std::int64_t now_ns) {
+  const std::int64_t wall_ns = control_.wall_clock->NowNs();
+  if (sinks_.progress == nullptr || wall_ns < next_progress_wall_ns_) return;
+  next_progress_wall_ns_ = wall_ns + kProgressPeriodNs;
+  *sinks_.progress << config_.name << ": " << Seconds(now_ns) << " / " << config_.duration_s
+                   << " s simulated, real-time factor "
+                   << Seconds(now_ns) / std::max(1e-9, Seconds(wall_ns)) << "x" << std::endl;
+}
+
+bool LockstepRunner::Impl::Tick() {
+  if (ended_) return false;
+  const std::int64_t now_ns = clock_.NowNs();
+  SampleSensors(now_ns);
+  const auto control_every = static_cast<std::uint64_t>(config_.control_every_ticks);
+  if (tick_ % control_every == 0 && !ControlStep(tick_ / control_every, now_ns)) {
+    ended_ = true;
+    return false;
+  }
+  plant_ = StepQuadrotor(config_.vehicle, plant_, command_.rotor_thrust_n,
+                         DisturbanceAt(Seconds(now_ns)), Seconds(config_.physics_step_ns));
+  clock_.AdvanceNs(config_.physics_step_ns);
+  ++tick_;
+  if (tick_ % static_cast<std::uint64_t>(config_.trace_every_ticks) == 0) {
+    DrainCanLog(clock_.NowNs());
+    if (RecordTrace(clock_.NowNs())) ended_ = true;
+  }
+  if (tick_ % kWallClockPollTicks == 0) {
+    if (control_.stop_requested != nullptr &&
+        control_.stop_requested->load(std::memory_order_relaxed)) {
+      stop_reason_ = "interrupted";
+      ended_ = true;
+    }
+    ReportProgress(clock_.NowNs());
+  }
+  if (tick_ >= total_ticks_) ended_ = true;
+  return !ended_;
+}
+
+proto::Report LockstepRunner::Impl::Finish() {
+  ended_ = true;
+  DrainCanLog(clock_.NowNs());
+  const std::int64_t now_ns = clock_.NowNs();
+  const std::int64_t wall_ns = control_.wall_clock->NowNs() - wall_start_ns_;
+  const std::uint64_t ticks = tick_;
+  proto::Report report;
+  report.set_scenario(config_.name);
+  report.set_seed(config_.seed);
+  report.set_stop_reason(stop_reason_);
+  report.set_simulated_s(Seconds(now_ns));
+  report.set_wall_s(Seconds(wall_ns));
+  report.set_real_time_factor(wall_ns > 0 ? Seconds(now_ns) / Seconds(wall_ns) : 0.0);
+  report.set_ticks(ticks);
+  report.set_can_frames_logged(can_frames_logged_);
+  bool passed = stop_reason_ == "completed";
+  for (std::size_t i = 0; i < checks_.size(); ++i) {
+    *report.add_envelopes() = checks_[i].Result(check_progress_[i]);
+    passed = passed && report.envelopes().rbegin()->meets_expectation();
+  }
+  report.set_passed(passed);
+  statistics_.AppendMetrics(report);
+  const DutCounters counters = dut_->counters();
+  AddMetric(report, "dut_imu_messages", static_cast<double>(counters.imu_messages), "count");
+  AddMetric(report, "dut_vio_messages", static_cast<double>(counters.vio_messages), "count");
+  AddMetric(report, "dut_can_frames_received", static_cast<double>(counters.can_frames_received),
+            "count");
+  AddMetric(report, "dut_can_frames_rejected", static_cast<double>(counters.can_frames_rejected),
+            "count");
+  AddMetric(report, "can_bus_load",
+            now_ns > 0 ? static_cast<double>(bus_.stats().busy_ns) / static_cast<double>(now_ns)
+                       : 0.0,
+            "fraction");
+  AddMetric(report, "ground_impacts", plant_.ground_impacts, "count");
+  AppendModelList(config_, dut_->description(), report);
+  return report;
+}
+
+LockstepRunner::LockstepRunner(const ScenarioConfig& config, const RunSinks& sinks,
+                               const RunControl& control)
+    : impl_(std::make_unique<Impl>(config, sinks, control)) {}
+
+LockstepRunner::~LockstepRunner() = default;
+
+bool LockstepRunner::Tick() { return impl_->Tick(); }
+
+proto::Report LockstepRunner::Finish() { return impl_->Finish(); }
+
+proto::Report RunScenario(const ScenarioConfig& config, const RunSinks& sinks,
+                          const RunControl& control) {
+  LockstepRunner runner(config, sinks, control);
+  while (runner.Tick()) {
+  }
+  return runner.Finish();
+}
+
+}  // namespace hilrig::host

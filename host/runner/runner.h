@@ -1,0 +1,54 @@
+// The lockstep runner: owns the simulated clock, the plant, the sensor emulators, the CAN bus and
+// the DUT port, and steps them in a fixed order each physics tick without any wall-clock sync (the
+// wall clock is only read to report the real-time factor). Envelope checks read the trace as it is
+// produced and may abort the run; the trace and the CAN log stream out as the run goes, so an
+// interrupted run still leaves them behind.
+#pragma once
+
+#include <atomic>
+#include <memory>
+#include <ostream>
+
+#include "host/scenario/scenario_config.h"
+#include "proto/report.pb.h"
+#include "rig/clock.h"
+
+namespace hilrig::host {
+
+struct RunSinks {
+  std::ostream* trace_csv = nullptr;  // optional
+  std::ostream* can_log = nullptr;    // optional, candump -l format
+  std::ostream* progress = nullptr;   // optional, a line every few wall seconds on long runs
+};
+
+struct RunControl {
+  const rig::Clock* wall_clock = nullptr;                // required; only for timing the run
+  const std::atomic<bool>* stop_requested = nullptr;     // optional, e.g. set by SIGINT
+};
+
+// A run that can be stepped tick by tick (benchmarks, tests); RunScenario() drives one to its end.
+class LockstepRunner {
+ public:
+  // `config` must outlive the runner.
+  LockstepRunner(const ScenarioConfig& config, const RunSinks& sinks, const RunControl& control);
+  ~LockstepRunner();
+  LockstepRunner(const LockstepRunner&) = delete;
+  LockstepRunner& operator=(const LockstepRunner&) = delete;
+
+  // Advances one physics tick; false once the run has ended (its duration reached, an aborting
+  // envelope violated, the DUT failed, or a stop requested). Tick() after the end does nothing.
+  bool Tick();
+
+  // Ends the run and builds its report; call once.
+  proto::Report Finish();
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Runs the scenario to its end (or to an abort) and returns the report.
+proto::Report RunScenario(const ScenarioConfig& config, const RunSinks& sinks,
+                          const RunControl& control);
+
+}  // namespace hilrig::host

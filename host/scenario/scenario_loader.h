@@ -1,0 +1,31 @@
+// Loads a scenario spec from protobuf text format and validates it before anything runs. Every
+// problem is reported as "file:line:column: field: message" (1-based line and column), pointing at
+// the offending field, or at its enclosing message when a required field is missing, so a scenario
+// author can go straight to it. All problems of a file are reported at once, not just the first.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "proto/scenario.pb.h"
+#include "rig/result.h"
+
+namespace hilrig::host {
+
+struct SpecProblem {
+  std::string file;
+  int line = 0;    // 1-based; 0 when unknown
+  int column = 0;  // 1-based; 0 when unknown
+  std::string field;
+  std::string message;
+
+  std::string ToString() const;
+};
+
+// Reads, parses and validates; on failure the error message lists every problem, one per line.
+rig::Result<proto::Scenario> LoadScenario(const std::string& path);
+
+// Parses and validates text that came from `file_label`; for tests and for `hilrig check`.
+rig::Result<proto::Scenario> ParseScenario(const std::string& text, const std::string& file_label);
+
+}  // namespace hilrig::host

@@ -1,0 +1,256 @@
+#include "host/scenario/scenario_validation.h"
+
+#include <cmath>
+#include <set>
+
+#include <google/protobuf/descriptor.h>
+#include <google/protobuf/reflection.h>
+
+namespace hilrig::host {
+namespace {
+
+using google::protobuf::FieldDescriptor;
+using google::protobuf::Message;
+
+// Collects problems under a path prefix, so each check names fields relative to its message.
+class ProblemList {
+ public:
+  explicit ProblemList(std::vector<FieldProblem>& problems, std::string prefix = "")
+      : problems_(problems), prefix_(std::move(prefix)) {}
+
+  ProblemList Nested(const std::string& field) const {
+    return ProblemList(problems_, Join(field));
+  }
+  ProblemList Element(const std::string& field, int index) const {
+    return ProblemList(problems_, Join(field) + "[" + std::to_string(index) + "]");
+  }
+  void Add(const std::string& field, std::string message) const {
+    problems_.push_back({Join(field), std::move(message)});
+  }
+  // A problem with the message this list is about, not one of its fields.
+  void AddHere(std::string message) const { problems_.push_back({prefix_, std::move(message)}); }
+
+ private:
+  std::string Join(const std::string& field) const {
+    return prefix_.empty() ? field : prefix_ + "." + field;
+  }
+  std::vector<FieldProblem>& problems_;
+  std::string prefix_;
+};
+
+// NaN and infinity parse fine in text format but are never a meaningful parameter.
+void CheckAllFinite(const Message& message, const ProblemList& problems) {
+  const auto* reflection = message.GetReflection();
+  std::vector<const FieldDescriptor*> fields;
+  reflection->ListFields(message, &fields);
+  for (const FieldDescriptor* field : fields) {
+    const bool is_float = field->cpp_type() == FieldDescriptor::CPPTYPE_DOUBLE ||
+                          field->cpp_type() == FieldDescriptor::CPPTYPE_FLOAT;
+    const bool is_message = field->cpp_type() == FieldDescriptor::CPPTYPE_MESSAGE;
+    if (field->is_repeated()) {
+      for (int i = 0; i < reflection->FieldSize(message, field); ++i) {
+        if (is_message) {
+          CheckAllFinite(reflection->GetRepeatedMessage(message, field, i),
+                         problems.Element(field->name(), i));
+        } else if (is_float && !std::isfinite(reflection->GetRepeatedDouble(message, field, i))) {
+          problems.Element(field->name(), i).AddHere("must be a finite number");
+        }
+      }
+    } else if (is_message) {
+      CheckAllFinite(reflection->GetMessage(message, field), problems.Nested(field->name()));
+    } else if (is_float && !std::isfinite(reflection->GetDouble(message, field))) {
+      problems.Add(field->name(), "must be a finite number");
+    }
+  }
+}
+
+void RequirePositive(bool has, double value, const char* field, const ProblemList& problems) {
+  if (has && !(value > 0)) problems.Add(field, "must be > 0, got " + std::to_string(value));
+}
+
+void RequireNonNegative(bool has, double value, const char* field, const ProblemList& problems) {
+  if (has && !(value >= 0)) problems.Add(field, "must be >= 0, got " + std::to_string(value));
+}
+
+void CheckVehicle(const proto::Vehicle& vehicle, const ProblemList& problems) {
+  RequirePositive(vehicle.has_mass_kg(), vehicle.mass_kg(), "mass_kg", problems);
+  RequirePositive(vehicle.has_arm_length_m(), vehicle.arm_length_m(), "arm_length_m", problems);
+  RequirePositive(vehicle.has_max_thrust_per_rotor_n(), vehicle.max_thrust_per_rotor_n(),
+                  "max_thrust_per_rotor_n", problems);
+  RequireNonNegative(vehicle.has_torque_per_thrust_m(), vehicle.torque_per_thrust_m(),
+                     "torque_per_thrust_m", problems);
+  RequireNonNegative(vehicle.has_rotor_time_constant_s(), vehicle.rotor_time_constant_s(),
+                     "rotor_time_constant_s", problems);
+  RequireNonNegative(vehicle.has_linear_drag_n_s_per_m(), vehicle.linear_drag_n_s_per_m(),
+                     "linear_drag_n_s_per_m", problems);
+  if (vehicle.has_inertia_kg_m2()) {
+    const auto& inertia = vehicle.inertia_kg_m2();
+    if (!(inertia.x() > 0 && inertia.y() > 0 && inertia.z() > 0)) {
+      problems.Add("inertia_kg_m2", "every principal moment must be > 0");
+    }
+  }
+  if (vehicle.initial_position_m().z() < 0) {
+    problems.Nested("initial_position_m").Add("z", "must be >= 0 (the ground is at z = 0)");
+  }
+}
+
+void CheckSensors(const proto::Models& models, const ProblemList& problems) {
+  const ProblemList imu = problems.Nested("imu");
+  RequirePositive(models.imu().has_rate_hz(), models.imu().rate_hz(), "rate_hz", imu);
+  RequireNonNegative(models.imu().has_gyro_noise_density_rad_s_sqrt_hz(),
+                     models.imu().gyro_noise_density_rad_s_sqrt_hz(),
+                     "gyro_noise_density_rad_s_sqrt_hz", imu);
+  RequireNonNegative(models.imu().has_accel_noise_density_m_s2_sqrt_hz(),
+                     models.imu().accel_noise_density_m_s2_sqrt_hz(),
+                     "accel_noise_density_m_s2_sqrt_hz", imu);
+  RequireNonNegative(models.imu().has_gyro_bias_sigma_rad_s(), models.imu().gyro_bias_sigma_rad_s(),
+                     "gyro_bias_sigma_rad_s", imu);
+  RequireNonNegative(models.imu().has_accel_bias_sigma_m_s2(),
+                     models.imu().accel_bias_sigma_m_s2(), "accel_bias_sigma_m_s2", imu);
+  const ProblemList vio = problems.Nested("vio");
+  RequirePositive(models.vio().has_rate_hz(), models.vio().rate_hz(), "rate_hz", vio);
+  RequireNonNegative(models.vio().has_latency_s(), models.vio().latency_s(), "latency_s", vio);
+  if (models.vio().has_latency_s() && models.vio().latency_s() > 0.2) {
+    vio.Add("latency_s", "must be <= 0.2 s (the DUT keeps 256 ms of state history)");
+  }
+  RequireNonNegative(models.vio().has_position_noise_m(), models.vio().position_noise_m(),
+                     "position_noise_m", vio);
+  RequireNonNegative(models.vio().has_attitude_noise_rad(), models.vio().attitude_noise_rad(),
+                     "attitude_noise_rad", vio);
+  const ProblemList magnetometer = problems.Nested("reference_magnetometer");
+  RequirePositive(models.reference_magnetometer().has_rate_hz(),
+                  models.reference_magnetometer().rate_hz(), "rate_hz", magnetometer);
+  RequireNonNegative(models.reference_magnetometer().has_noise_t(),
+                     models.reference_magnetometer().noise_t(), "noise_t", magnetometer);
+}
+
+// A rate must divide the physics rate so that it lands on whole ticks.
+void CheckDivides(bool has, double rate_hz, double physics_rate_hz, const char* field,
+                  const ProblemList& problems) {
+  if (!has) return;
+  if (!(rate_hz > 0)) {
+    problems.Add(field, "must be > 0");
+    return;
+  }
+  const double ratio = physics_rate_hz / rate_hz;
+  if (ratio < 1 || std::abs(ratio - std::round(ratio)) > 1e-9) {
+    problems.Add(field, "must divide physics_rate_hz (" + std::to_string(physics_rate_hz) + ")");
+  }
+}
+
+void CheckSimulation(const proto::Simulation& simulation, const ProblemList& problems) {
+  if (!simulation.has_duration_s()) {
+    problems.AddHere("duration_s is required");
+  } else if (!(simulation.duration_s() > 0) || simulation.duration_s() > 86400) {
+    problems.Add("duration_s", "must be in (0, 86400] s");
+  }
+  const double physics_rate_hz = simulation.has_physics_rate_hz() ? simulation.physics_rate_hz()
+                                                                  : 1000.0;
+  if (!(physics_rate_hz >= 10 && physics_rate_hz <= 100000)) {
+    problems.Add("physics_rate_hz", "must be in [10, 100000] Hz");
+    return;
+  }
+  if (std::abs(1e9 / physics_rate_hz - std::round(1e9 / physics_rate_hz)) > 1e-6) {
+    problems.Add("physics_rate_hz", "must give a whole number of nanoseconds per step");
+  }
+  CheckDivides(simulation.has_control_rate_hz(), simulation.control_rate_hz(), physics_rate_hz,
+               "control_rate_hz", problems);
+  CheckDivides(simulation.has_trace_rate_hz(), simulation.trace_rate_hz(), physics_rate_hz,
+               "trace_rate_hz", problems);
+  if (simulation.has_can_bitrate_bps() &&
+      !(simulation.can_bitrate_bps() >= 10e3 && simulation.can_bitrate_bps() <= 8e6)) {
+    problems.Add("can_bitrate_bps", "must be in [10 kbit/s, 8 Mbit/s]");
+  }
+}
+
+void CheckTimeline(const proto::Scenario& scenario, const ProblemList& problems) {
+  const double duration_s = scenario.simulation().duration_s();
+  for (int i = 0; i < scenario.timeline_size(); ++i) {
+    const auto& entry = scenario.timeline(i);
+    const ProblemList here = problems.Element("timeline", i);
+    if (!entry.has_at_s()) {
+      here.AddHere("at_s is required");
+    } else if (entry.at_s() < 0 || entry.at_s() > duration_s) {
+      here.Add("at_s", "must lie inside the run [0, simulation.duration_s]");
+    }
+    switch (entry.action_case()) {
+      case proto::TimelineEntry::kSetpoint:
+        RequireNonNegative(entry.setpoint().has_transition_s(), entry.setpoint().transition_s(),
+                           "transition_s", here.Nested("setpoint"));
+        break;
+      case proto::TimelineEntry::kDisturbance:
+        if (!entry.disturbance().has_duration_s()) {
+          here.Nested("disturbance").AddHere("duration_s is required");
+        }
+        RequirePositive(entry.disturbance().has_duration_s(), entry.disturbance().duration_s(),
+                        "duration_s", here.Nested("disturbance"));
+        break;
+      case proto::TimelineEntry::ACTION_NOT_SET:
+        here.AddHere("needs an action: setpoint or disturbance");
+        break;
+    }
+  }
+}
+
+void CheckEnvelopes(const proto::Scenario& scenario, const ProblemList& problems) {
+  std::set<std::string> names;
+  for (int i = 0; i < scenario.envelopes_size(); ++i) {
+    const auto& envelope = scenario.envelopes(i);
+    const ProblemList here = problems.Element("envelopes", i);
+    if (envelope.name().empty()) {
+      here.AddHere("name is required");
+    } else if (!names.insert(envelope.name()).second) {
+      here.Add("name", "\"" + envelope.name() + "\" is used by an earlier envelope");
+    }
+    if (envelope.signal() == proto::SIGNAL_UNSPECIFIED) here.AddHere("signal is required");
+    if (!envelope.has_lower() && !envelope.has_upper()) {
+      here.AddHere("needs a limit: lower, upper or both");
+    }
+    if (envelope.has_lower() && envelope.has_upper() && envelope.lower() > envelope.upper()) {
+      here.Add("lower", "must not exceed upper");
+    }
+    if (envelope.has_from_s() && envelope.has_until_s() && envelope.from_s() > envelope.until_s()) {
+      here.Add("from_s", "must not be after until_s");
+    }
+    RequireNonNegative(envelope.has_from_s(), envelope.from_s(), "from_s", here);
+  }
+}
+
+// With every rotor at full thrust the vehicle must at least hover, or no scenario can fly it.
+void CheckCanLift(const proto::Scenario& scenario, const ProblemList& problems) {
+  const proto::Vehicle& vehicle = scenario.vehicle();
+  const double mass_kg = vehicle.has_mass_kg() ? vehicle.mass_kg() : 0.556;
+  const double max_thrust_n =
+      vehicle.has_max_thrust_per_rotor_n() ? vehicle.max_thrust_per_rotor_n() : 4.0;
+  const double gravity_m_s2 =
+      scenario.environment().has_gravity_m_s2() ? scenario.environment().gravity_m_s2() : 9.81;
+  if (mass_kg > 0 && 4 * max_thrust_n <= mass_kg * gravity_m_s2) {
+    problems.Add("max_thrust_per_rotor_n", "four rotors cannot lift the vehicle's weight (" +
+                                               std::to_string(mass_kg * gravity_m_s2) + " N)");
+  }
+}
+
+}  // namespace
+
+std::vector<FieldProblem> ValidateScenario(const proto::Scenario& scenario) {
+  std::vector<FieldProblem> problems;
+  const ProblemList root(problems);
+  CheckAllFinite(scenario, root);
+  if (scenario.name().empty()) root.AddHere("name is required");
+  CheckVehicle(scenario.vehicle(), root.Nested("vehicle"));
+  CheckCanLift(scenario, root.Nested("vehicle"));
+  CheckSensors(scenario.models(), root.Nested("models"));
+  if (!scenario.has_simulation()) {
+    root.AddHere("simulation is required (at least simulation { duration_s: ... })");
+  } else {
+    CheckSimulation(scenario.simulation(), root.Nested("simulation"));
+  }
+  CheckTimeline(scenario, root);
+  CheckEnvelopes(scenario, root);
+  if (scenario.environment().has_gravity_m_s2() && !(scenario.environment().gravity_m_s2() > 0)) {
+    root.Nested("environment").Add("gravity_m_s2", "must be > 0");
+  }
+  return problems;
+}
+
+}  // namespace hilrig::host

@@ -1,0 +1,53 @@
+#include "host/sensors/imu_emulator.h"
+
+#include <cmath>
+
+namespace hilrig::host {
+namespace {
+
+inline Eigen::Vector3d GaussianVector(RandomStream& rng, double sigma) {
+  const double x = rng.Gaussian();
+  const double y = rng.Gaussian();
+  const double z = rng.Gaussian();
+  return {sigma * x, sigma * y, sigma * z};
+}
+
+}  // namespace
+
+ImuState MakeImuState(const ImuParams& params, RandomStream rng) {
+  ImuState state;
+  state.rng = rng;
+  if (params.noise_enabled) {
+    state.gyro_bias_rad_s = GaussianVector(state.rng, params.gyro_bias_sigma_rad_s);
+    state.accel_bias_m_s2 = GaussianVector(state.rng, params.accel_bias_sigma_m_s2);
+  }
+  return state;
+}
+
+ImuReading SampleImu(const ImuParams& params, ImuState& state,
+                     const Eigen::Vector3d& angular_velocity_body_rad_s,
+                     const Eigen::Vector3d& specific_force_body_m_s2, std::int64_t time_ns) {
+  ImuReading reading;
+  reading.time_ns = time_ns;
+  if (!params.noise_enabled) {
+    reading.gyro_rad_s = angular_velocity_body_rad_s;
+    reading.accel_m_s2 = specific_force_body_m_s2;
+    return reading;
+  }
+  const double sqrt_rate = std::sqrt(params.rate_hz);
+  // Draw order is fixed (gyro noise, accel noise, gyro walk, accel walk): it is part of the
+  // stream's reproducibility.
+  reading.gyro_rad_s =
+      angular_velocity_body_rad_s + state.gyro_bias_rad_s +
+      GaussianVector(state.rng, params.gyro_noise_density_rad_s_sqrt_hz * sqrt_rate);
+  reading.accel_m_s2 =
+      specific_force_body_m_s2 + state.accel_bias_m_s2 +
+      GaussianVector(state.rng, params.accel_noise_density_m_s2_sqrt_hz * sqrt_rate);
+  state.gyro_bias_rad_s +=
+      GaussianVector(state.rng, params.gyro_bias_random_walk_rad_s2_sqrt_hz / sqrt_rate);
+  state.accel_bias_m_s2 +=
+      GaussianVector(state.rng, params.accel_bias_random_walk_m_s3_sqrt_hz / sqrt_rate);
+  return reading;
+}
+
+}  // namespace hilrig::host

@@ -1,0 +1,63 @@
+// A small value-type pseudo-random generator for sensor noise: xoshiro256** seeded through
+// splitmix64 from (scenario seed, stream id), so every noise source has its own reproducible
+// stream and adding draws to one source never shifts another. The uniform and Gaussian
+// transforms are written out here instead of using std::*_distribution, whose output differs
+// between standard libraries. Gaussians use a 256-layer ziggurat (Marsaglia & Tsang 2000): one
+// 64-bit draw and a compare in ~99% of cases, which matters because the IMU alone needs twelve
+// per 1 kHz tick. Its tables are computed at compile time, and its rare slow paths use
+// constexpr exp/log built from + - * / (in the .cc) rather than libm, so the output is
+// identical on every platform and compiler (IEEE 754 doubles, no FMA contraction); GCC and Clang
+// builds were checked to agree bit for bit over 10^7 draws.
+#ifndef HILRIG_HOST_SENSORS_RANDOM_STREAM_H_
+#define HILRIG_HOST_SENSORS_RANDOM_STREAM_H_
+
+#include <array>
+#include <cstdint>
+
+namespace hilrig::host {
+
+// One id per noise source. The numbers are part of every recorded run's reproducibility:
+// never renumber, only append.
+enum class StreamId : std::uint64_t {
+  kImu = 1,
+  kVio = 2,
+  kReferenceMagnetometer = 3,
+  kDisturbance = 4,  // wind gusts and other plant disturbances
+  // Tactile sensor nodes 0..6 use kTactileFirst + index.
+  kTactileFirst = 10,
+  kTactileLast = 16,
+};
+
+constexpr StreamId TactileStreamId(int node_index) {
+  return static_cast<StreamId>(static_cast<std::uint64_t>(StreamId::kTactileFirst) +
+                               static_cast<std::uint64_t>(node_index));
+}
+
+class RandomStream {
+ public:
+  // The fixed stream FromSeed(0, 0), so that state structs holding a stream stay default
+  // constructible; every real source is seeded with FromSeed.
+  RandomStream();
+  static RandomStream FromSeed(std::uint64_t scenario_seed, std::uint64_t stream_id);
+  static RandomStream FromSeed(std::uint64_t scenario_seed, StreamId stream_id) {
+    return FromSeed(scenario_seed, static_cast<std::uint64_t>(stream_id));
+  }
+
+  std::uint64_t NextU64();
+  double Uniform01();  // [0, 1), 53 random bits
+  double Gaussian();   // standard normal, ziggurat; no cached spare, so no extra state
+
+  friend bool operator==(const RandomStream&, const RandomStream&) = default;
+
+ private:
+  explicit RandomStream(const std::array<std::uint64_t, 4>& s) : s_(s) {}
+
+  // Wedge and tail of the ziggurat, out of line so the common path stays a few instructions.
+  [[gnu::noinline]] double GaussianSlowPath(int layer, double u, double x);
+
+  std::array<std::uint64_t, 4> s_{};
+};
+
+}  // namespace hilrig::host
+
+#endif  // HILRIG_HOST_SENSORS_RANDOM_STREAM_H_

@@ -1,0 +1,38 @@
+#include "host/trace/trace_csv.h"
+
+#include <charconv>
+
+namespace hilrig::host {
+
+TraceCsvWriter::TraceCsvWriter(std::ostream& out) : out_(out) {
+  out_ << "time_s,x_m,y_m,z_m,ref_x_m,ref_y_m,ref_z_m,vx_m_s,vy_m_s,vz_m_s,roll_deg,pitch_deg,"
+          "yaw_deg,tilt_deg,position_error_m,horizontal_error_m,altitude_error_m,thrust0_n,"
+          "thrust1_n,thrust2_n,thrust3_n,est_x_m,est_y_m,est_z_m\n";
+  line_.reserve(512);
+}
+
+void TraceCsvWriter::Append(double value) {
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
+  if (!line_.empty()) line_ += ',';
+  line_.append(buffer, result.ptr);
+}
+
+void TraceCsvWriter::Write(const TraceSample& sample) {
+  line_.clear();
+  Append(sample.time_s);
+  for (int i = 0; i < 3; ++i) Append(sample.position_m(i));
+  for (int i = 0; i < 3; ++i) Append(sample.reference_m(i));
+  for (int i = 0; i < 3; ++i) Append(sample.velocity_m_s(i));
+  for (int i = 0; i < 3; ++i) Append(sample.roll_pitch_yaw_deg(i));
+  Append(sample.tilt_deg);
+  Append(SignalValue(sample, proto::POSITION_ERROR_M));
+  Append(SignalValue(sample, proto::HORIZONTAL_ERROR_M));
+  Append(SignalValue(sample, proto::ALTITUDE_ERROR_M));
+  for (double thrust_n : sample.rotor_thrust_n) Append(thrust_n);
+  for (int i = 0; i < 3; ++i) Append(sample.estimated_position_m(i));
+  line_ += '\n';
+  out_.write(line_.data(), static_cast<std::streamsize>(line_.size()));
+}
+
+}  // namespace hilrig::host

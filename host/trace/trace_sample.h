@@ -1,0 +1,29 @@
+// One row of a run's trace: the time and every signal an envelope can watch, plus what an engineer
+// needs beside them to see why (reference, attitude, rotor thrusts). The runner fills one per trace
+// tick; online checks, the CSV writer and offline grading all read this same struct.
+#pragma once
+
+#include <array>
+#include <string_view>
+
+#include <Eigen/Core>
+
+#include "proto/scenario.pb.h"
+
+namespace hilrig::host {
+
+struct TraceSample {
+  double time_s = 0;
+  Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d reference_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d velocity_m_s = Eigen::Vector3d::Zero();
+  Eigen::Vector3d roll_pitch_yaw_deg = Eigen::Vector3d::Zero();
+  double tilt_deg = 0;
+  std::array<double, 4> rotor_thrust_n{};
+  Eigen::Vector3d estimated_position_m = Eigen::Vector3d::Zero();
+};
+
+// The value of `signal` in `sample` (NaN for SIGNAL_UNSPECIFIED).
+double SignalValue(const TraceSample& sample, proto::Signal signal);
+
+}  // namespace hilrig::host

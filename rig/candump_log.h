@@ -1,0 +1,54 @@
+// Reads and writes CAN traffic in the `candump -l` log format, so rig traces open directly in
+// can-utils (log2asc, canplayer), python-can and SavvyCAN, and recorded bench logs can be replayed
+// into emulated runs. One frame per line:
+//
+//   (1700000000.123456) can0 123#DEADBEEF       standard data frame (3 hex digit id)
+//   (1700000000.123456) can0 1ABCDEF0#00        extended data frame (8 hex digit id)
+//   (1700000000.123456) can0 123#R  / 123#R5    remote frame, requested length suffix if > 0
+//   (1700000000.123456) can0 123##1DEADBEEF     CAN FD, flags nibble BRS=1 ESI=2 before the data
+//   (1700000000.123456) can0 20000004#0000...   error frame: CAN_ERR_FLAG | class bits, 8 digits
+//
+// The writer follows can-utils' sprint_canframe byte for byte (uppercase hex, no separators).
+// The parser accepts what can-utils' parse_canframe accepts: '.' between data bytes, lowercase
+// hex, the FDF flag (4) in the FD flags nibble, and a trailing R/T direction token from
+// `candump -x`.
+#pragma once
+
+#include <cstdint>
+#include <ostream>
+#include <string>
+#include <string_view>
+#include <utility>
+
+#include "rig/can_frame.h"
+#include "rig/result.h"
+
+namespace hilrig::rig {
+
+inline constexpr std::uint32_t kCanErrFlag = 0x20000000;
+
+// Without a trailing newline. time_ns must be >= 0: log timestamps are unsigned.
+std::string FormatCandumpLine(const TimedCanFrame& frame, std::string_view interface_name);
+// Same, appended to `out`, so a caller can reuse one buffer and avoid per-line allocation.
+void AppendCandumpLine(const TimedCanFrame& frame, std::string_view interface_name,
+                       std::string& out);
+
+// The inverse of FormatCandumpLine: returns the frame and the interface name. A trailing newline
+// is ignored. Errors name what was wrong with the line.
+Result<std::pair<TimedCanFrame, std::string>> ParseCandumpLine(std::string_view line);
+
+// Writes one line per frame to a stream it does not own; the line is built in a reused buffer.
+class CandumpLogWriter {
+ public:
+  CandumpLogWriter(std::ostream& out, std::string interface_name = "can0");
+  void Write(const TimedCanFrame& frame);
+  std::uint64_t frames_written() const;
+
+ private:
+  std::ostream& out_;
+  std::string interface_name_;
+  std::string line_;
+  std::uint64_t frames_written_ = 0;
+};
+
+}  // namespace hilrig::rig

@@ -1,0 +1,56 @@
+// RingBuffer is the FIFO behind emulated RX queues. Unlike std::deque it never frees or allocates
+// once it has grown to the working-set size, which keeps per-frame bus traffic allocation-free.
+// Capacity is a power of two so that wrapping is a mask, not a division.
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <utility>
+#include <vector>
+
+#include "rig/check.h"
+
+namespace hilrig::rig {
+
+template <typename T>
+class RingBuffer {
+ public:
+  bool empty() const { return size_ == 0; }
+  std::size_t size() const { return size_; }
+  std::size_t capacity() const { return slots_.size(); }
+
+  const T& front() const {
+    HILRIG_CHECK(!empty(), "front() on an empty RingBuffer");
+    return slots_[head_];
+  }
+
+  void push_back(const T& value) {
+    if (size_ == slots_.size()) Grow();
+    slots_[(head_ + size_) & (slots_.size() - 1)] = value;
+    ++size_;
+  }
+
+  void pop_front() {
+    HILRIG_CHECK(!empty(), "pop_front() on an empty RingBuffer");
+    head_ = (head_ + 1) & (slots_.size() - 1);
+    --size_;
+  }
+
+ private:
+  static constexpr std::size_t kInitialCapacity = 16;
+
+  void Grow() {
+    std::vector<T> bigger(std::max(kInitialCapacity, 2 * slots_.size()));
+    for (std::size_t i = 0; i < size_; ++i) {
+      bigger[i] = std::move(slots_[(head_ + i) & (slots_.size() - 1)]);
+    }
+    slots_.swap(bigger);
+    head_ = 0;
+  }
+
+  std::vector<T> slots_;
+  std::size_t head_ = 0;
+  std::size_t size_ = 0;
+};
+
+}  // namespace hilrig::rig

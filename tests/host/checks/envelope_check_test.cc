@@ -1,0 +1,103 @@
+#include "host/checks/envelope_check.h"
+
+#include <gtest/gtest.h>
+
+#include <limits>
+
+namespace hilrig::host {
+namespace {
+
+proto::Envelope AltitudeEnvelope(double lower, double upper) {
+  proto::Envelope envelope;
+  envelope.set_name("altitude");
+  envelope.set_signal(proto::ALTITUDE_M);
+  envelope.set_lower(lower);
+  envelope.set_upper(upper);
+  return envelope;
+}
+
+TraceSample AtAltitude(double time_s, double z_m) {
+  TraceSample sample;
+  sample.time_s = time_s;
+  sample.position_m = {0, 0, z_m};
+  return sample;
+}
+
+TEST(EnvelopeCheckTest, PassesWhenEverySampleIsInside) {
+  const EnvelopeCheck check(AltitudeEnvelope(0.5, 1.5));
+  EnvelopeProgress progress;
+  for (double z : {1.0, 1.2, 0.8}) EXPECT_FALSE(check.Observe(AtAltitude(0, z), progress));
+  const proto::EnvelopeResult result = check.Result(progress);
+  EXPECT_EQ(result.verdict(), proto::PASS);
+  EXPECT_TRUE(result.meets_expectation());
+  EXPECT_EQ(result.samples_checked(), 3u);
+  EXPECT_NEAR(result.margin(), 0.3, 1e-12);
+}
+
+TEST(EnvelopeCheckTest, RecordsWorstValueTimeAndFirstViolation) {
+  const EnvelopeCheck check(AltitudeEnvelope(0.5, 1.5));
+  EnvelopeProgress progress;
+  check.Observe(AtAltitude(1, 1.0), progress);
+  EXPECT_TRUE(check.Observe(AtAltitude(2, 1.6), progress));
+  EXPECT_TRUE(check.Observe(AtAltitude(3, 1.9), progress));
+  const proto::EnvelopeResult result = check.Result(progress);
+  EXPECT_EQ(result.verdict(), proto::FAIL);
+  EXPECT_DOUBLE_EQ(result.worst_value(), 1.9);
+  EXPECT_DOUBLE_EQ(result.worst_at_s(), 3);
+  EXPECT_DOUBLE_EQ(result.first_violation_at_s(), 2);
+  EXPECT_NEAR(result.margin(), -0.4, 1e-12);
+}
+
+TEST(EnvelopeCheckTest, NaNSampleIsAViolation) {
+  const EnvelopeCheck check(AltitudeEnvelope(0.5, 1.5));
+  EnvelopeProgress progress;
+  EXPECT_TRUE(check.Observe(AtAltitude(1, std::numeric_limits<double>::quiet_NaN()), progress));
+  EXPECT_EQ(check.Result(progress).verdict(), proto::FAIL);
+}
+
+TEST(EnvelopeCheckTest, IgnoresSamplesOutsideItsWindow) {
+  proto::Envelope envelope = AltitudeEnvelope(0.5, 1.5);
+  envelope.set_from_s(5);
+  envelope.set_until_s(10);
+  const EnvelopeCheck check(envelope);
+  EnvelopeProgress progress;
+  EXPECT_FALSE(check.Observe(AtAltitude(1, 0.0), progress));
+  EXPECT_FALSE(check.Observe(AtAltitude(11, 0.0), progress));
+  check.Observe(AtAltitude(6, 1.0), progress);
+  EXPECT_EQ(check.Result(progress).verdict(), proto::PASS);
+  EXPECT_EQ(progress.samples_checked, 1u);
+}
+
+TEST(EnvelopeCheckTest, NoSampleInWindowFails) {
+  const EnvelopeCheck check(AltitudeEnvelope(0.5, 1.5));
+  const EnvelopeProgress progress;
+  EXPECT_EQ(check.Result(progress).verdict(), proto::FAIL);
+}
+
+TEST(EnvelopeCheckTest, ExpectedFailureIsMetByAViolation) {
+  proto::Envelope envelope = AltitudeEnvelope(0.5, 1.5);
+  envelope.set_expect(proto::FAIL);
+  const EnvelopeCheck check(envelope);
+  EnvelopeProgress progress;
+  check.Observe(AtAltitude(1, 0.0), progress);
+  const proto::EnvelopeResult result = check.Result(progress);
+  EXPECT_EQ(result.verdict(), proto::FAIL);
+  EXPECT_TRUE(result.meets_expectation());
+}
+
+TEST(EnvelopeCheckTest, OneSidedBoundUsesOnlyThatSide) {
+  proto::Envelope envelope;
+  envelope.set_name("speed");
+  envelope.set_signal(proto::SPEED_M_S);
+  envelope.set_upper(2.0);
+  const EnvelopeCheck check(envelope);
+  EnvelopeProgress progress;
+  TraceSample sample;
+  sample.velocity_m_s = {0, 0, -1.5};
+  EXPECT_FALSE(check.Observe(sample, progress));
+  sample.velocity_m_s = {0, 3, 0};
+  EXPECT_TRUE(check.Observe(sample, progress));
+}
+
+}  // namespace
+}  // namespace hilrig::host

@@ -1,0 +1,132 @@
+#include "host/plant/quadrotor.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace hilrig::host {
+namespace {
+
+constexpr double kDt = 1e-3;
+const Eigen::Vector3d kNoForce = Eigen::Vector3d::Zero();
+
+std::array<double, 4> Uniform(double thrust_n) { return {thrust_n, thrust_n, thrust_n, thrust_n}; }
+
+TEST(QuadrotorTest, HoverThrustKeepsVehicleStillAtAltitude) {
+  QuadrotorParams params;
+  QuadrotorState state = MakeHoveringQuadrotor(params, {1.0, -2.0, 2.0}, 0.3);
+  const double hover = HoverThrustPerRotor(params);
+  for (int i = 0; i < 10000; ++i) {
+    state = StepQuadrotor(params, state, Uniform(hover), kNoForce, kDt);
+  }
+  EXPECT_LT((state.body.position_m - Eigen::Vector3d(1.0, -2.0, 2.0)).norm(), 1e-9);
+  EXPECT_LT(state.body.velocity_m_s.norm(), 1e-9);
+  EXPECT_LT(state.body.angular_velocity_rad_s.norm(), 1e-12);
+  EXPECT_LT((state.specific_force_body_m_s2 - Eigen::Vector3d(0, 0, 9.81)).norm(), 1e-12);
+  EXPECT_FALSE(state.on_ground);
+  EXPECT_EQ(state.ground_impacts, 0u);
+}
+
+TEST(QuadrotorTest, RestsOnGroundWithZeroThrust) {
+  QuadrotorParams params;
+  QuadrotorState state;  // default: level on the ground at the origin
+  for (int i = 0; i < 1000; ++i) {
+    state = StepQuadrotor(params, state, Uniform(0.0), kNoForce, kDt);
+  }
+  EXPECT_EQ(state.body.position_m, Eigen::Vector3d::Zero());
+  EXPECT_EQ(state.body.velocity_m_s, Eigen::Vector3d::Zero());
+  EXPECT_TRUE(state.on_ground);
+  EXPECT_FALSE(state.airborne_once);
+  EXPECT_LT((state.specific_force_body_m_s2 - Eigen::Vector3d(0, 0, 9.81)).norm(), 1e-15);
+}
+
+TEST(QuadrotorTest, StaysOnGroundWhileThrustIsBelowWeight) {
+  QuadrotorParams params;
+  QuadrotorState state = MakeRestingQuadrotor(params, 0.5, 0.5, 1.0);
+  // Below weight, and unbalanced: the legs hold it level and in place.
+  const std::array<double, 4> command = {1.3, 1.0, 1.3, 1.0};
+  for (int i = 0; i < 1000; ++i) state = StepQuadrotor(params, state, command, kNoForce, kDt);
+  EXPECT_EQ(state.body.position_m, Eigen::Vector3d(0.5, 0.5, 0.0));
+  EXPECT_EQ(state.body.angular_velocity_rad_s, Eigen::Vector3d::Zero());
+  EXPECT_TRUE(state.on_ground);
+}
+
+TEST(QuadrotorTest, TakesOffWhenThrustExceedsWeight) {
+  QuadrotorParams params;
+  QuadrotorState state;
+  const double climb = 1.2 * HoverThrustPerRotor(params);
+  for (int i = 0; i < 2000; ++i) {
+    state = StepQuadrotor(params, state, Uniform(climb), kNoForce, kDt);
+  }
+  EXPECT_FALSE(state.on_ground);
+  EXPECT_TRUE(state.airborne_once);
+  EXPECT_GT(state.body.position_m.z(), 1.0);  // 0.2 g for ~2 s, minus the rotor lag
+  EXPECT_GT(state.body.velocity_m_s.z(), 0.0);
+  EXPECT_EQ(state.ground_impacts, 0u);
+  // Thrust minus the drag of the climb, per unit mass (the thrust lag has settled by now).
+  const double expected_z =
+      (4.0 * climb - params.linear_drag_n_s_per_m * state.body.velocity_m_s.z()) /
+      params.body.mass_kg;
+  EXPECT_NEAR(state.specific_force_body_m_s2.z(), expected_z, 1e-3);
+}
+
+TEST(QuadrotorTest, FallingVehicleRecordsOneImpactWithItsSpeed) {
+  QuadrotorParams params;
+  params.rotors.instantaneous = true;
+  QuadrotorState state = MakeHoveringQuadrotor(params, {0.0, 0.0, 1.0}, 0.0);
+  int contact_steps = 0;
+  for (int i = 0; i < 1000; ++i) {
+    state = StepQuadrotor(params, state, Uniform(0.0), kNoForce, kDt);
+    contact_steps += state.ground_contact ? 1 : 0;
+  }
+  EXPECT_EQ(state.ground_impacts, 1u);
+  EXPECT_EQ(contact_steps, 1);
+  EXPECT_TRUE(state.touched_down_after_takeoff);
+  EXPECT_TRUE(state.on_ground);
+  // sqrt(2 g h) = 4.43 m/s without drag; linear drag (c/m = 0.09 /s over 0.45 s) takes ~2%.
+  const double free_fall_speed = std::sqrt(2.0 * 9.81 * 1.0);
+  EXPECT_GT(state.last_impact_speed_m_s, 0.95 * free_fall_speed);
+  EXPECT_LT(state.last_impact_speed_m_s, free_fall_speed);
+  EXPECT_EQ(state.max_impact_speed_m_s, state.last_impact_speed_m_s);
+}
+
+TEST(QuadrotorTest, TouchDownStopsWithoutBounce) {
+  QuadrotorParams params;
+  params.rotors.instantaneous = true;
+  QuadrotorState state = MakeHoveringQuadrotor(params, {0.0, 0.0, 0.2}, 0.0);
+  state.body.velocity_m_s = {1.0, 0.5, 0.0};
+  state.body.angular_velocity_rad_s = {0.2, -0.1, 0.3};
+  for (int i = 0; i < 2000; ++i) {
+    state = StepQuadrotor(params, state, Uniform(0.0), kNoForce, kDt);
+  }
+  EXPECT_EQ(state.body.position_m.z(), 0.0);
+  EXPECT_EQ(state.body.velocity_m_s, Eigen::Vector3d::Zero());
+  EXPECT_EQ(state.body.angular_velocity_rad_s, Eigen::Vector3d::Zero());
+  EXPECT_EQ(state.ground_impacts, 1u);
+}
+
+TEST(QuadrotorTest, ExternalForceReachesDragTerminalVelocity) {
+  QuadrotorParams params;
+  QuadrotorState state = MakeHoveringQuadrotor(params, {0.0, 0.0, 2.0}, 0.0);
+  const Eigen::Vector3d push(0.1, 0.0, 0.0);
+  const double hover = HoverThrustPerRotor(params);
+  // Time constant m / c = 11 s; 120 s leaves e^-10 of the transient.
+  for (int i = 0; i < 120000; ++i) state = StepQuadrotor(params, state, Uniform(hover), push, kDt);
+  EXPECT_NEAR(state.body.velocity_m_s.x(), 0.1 / 0.05, 1e-3);
+  EXPECT_NEAR(state.body.position_m.z(), 2.0, 1e-9);
+}
+
+TEST(QuadrotorTest, DifferentialThrustRollsTheVehicle) {
+  QuadrotorParams params;
+  QuadrotorState state = MakeHoveringQuadrotor(params, {0.0, 0.0, 2.0}, 0.0);
+  const double hover = HoverThrustPerRotor(params);
+  // More thrust on the left rotors (1, 2) rolls positive about x.
+  const std::array<double, 4> command = {hover - 0.01, hover + 0.01, hover + 0.01, hover - 0.01};
+  for (int i = 0; i < 100; ++i) state = StepQuadrotor(params, state, command, kNoForce, kDt);
+  EXPECT_GT(state.body.angular_velocity_rad_s.x(), 0.0);
+  EXPECT_NEAR(state.body.angular_velocity_rad_s.y(), 0.0, 1e-12);
+  EXPECT_NEAR(state.body.angular_velocity_rad_s.z(), 0.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace hilrig::host

@@ -1,0 +1,106 @@
+#include "host/scenario/scenario_loader.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+namespace hilrig::host {
+namespace {
+
+using ::testing::HasSubstr;
+
+constexpr const char* kMinimal = R"(name: "minimal"
+simulation { duration_s: 1 }
+envelopes { name: "alt" signal: ALTITUDE_M upper: 2 }
+)";
+
+std::string ErrorOf(const std::string& text) {
+  const auto result = ParseScenario(text, "spec.textproto");
+  EXPECT_FALSE(result.ok()) << "expected an error for:\n" << text;
+  return result.ok() ? std::string() : result.error().message;
+}
+
+TEST(ScenarioLoaderTest, AcceptsMinimalSpec) {
+  const auto result = ParseScenario(kMinimal, "spec.textproto");
+  ASSERT_TRUE(result.ok()) << result.error().message;
+  EXPECT_EQ(result.value().name(), "minimal");
+}
+
+TEST(ScenarioLoaderTest, LoadsShippedHoverScenario) {
+  const auto result = LoadScenario(std::string(HILRIG_SOURCE_DIR) + "/scenarios/hover.textproto");
+  ASSERT_TRUE(result.ok()) << result.error().message;
+  EXPECT_GE(result.value().envelopes_size(), 2);
+}
+
+TEST(ScenarioLoaderTest, SyntaxErrorNamesLineAndColumn) {
+  const std::string error = ErrorOf("name: \"x\"\nsimulation { duration_s: 1 \n");
+  EXPECT_THAT(error, HasSubstr("spec.textproto:3:1"));
+}
+
+TEST(ScenarioLoaderTest, UnknownFieldIsNamedWithItsLocation) {
+  const std::string error = ErrorOf("name: \"x\"\nvehicle {\n  mas_kg: 1\n}\n");
+  EXPECT_THAT(error, HasSubstr("spec.textproto:3:"));
+  EXPECT_THAT(error, HasSubstr("mas_kg"));
+}
+
+TEST(ScenarioLoaderTest, NegativeMassPointsAtTheField) {
+  const std::string error = ErrorOf(std::string(kMinimal) + "vehicle {\n  mass_kg: -0.5\n}\n");
+  EXPECT_THAT(error, HasSubstr("spec.textproto:5:3: vehicle.mass_kg: must be > 0"));
+}
+
+TEST(ScenarioLoaderTest, EnvelopeWithoutLimitPointsAtTheEnvelope) {
+  const std::string error =
+      ErrorOf("name: \"x\"\nsimulation { duration_s: 1 }\nenvelopes { name: \"e\" signal: TILT_DEG }\n");
+  EXPECT_THAT(error, HasSubstr("spec.textproto:3:1: envelopes[0]: needs a limit"));
+}
+
+TEST(ScenarioLoaderTest, NonFiniteNumberIsRejected) {
+  const std::string error = ErrorOf(std::string(kMinimal) + "vehicle { arm_length_m: nan }\n");
+  EXPECT_THAT(error, HasSubstr("vehicle.arm_length_m: must be a finite number"));
+}
+
+TEST(ScenarioLoaderTest, MissingDurationIsReported) {
+  const std::string error = ErrorOf("name: \"x\"\nsimulation { physics_rate_hz: 1000 }\n");
+  EXPECT_THAT(error, HasSubstr("simulation: duration_s is required"));
+}
+
+TEST(ScenarioLoaderTest, ControlRateMustDividePhysicsRate) {
+  const std::string error =
+      ErrorOf("name: \"x\"\nsimulation { duration_s: 1 control_rate_hz: 300 }\n");
+  EXPECT_THAT(error, HasSubstr("simulation.control_rate_hz: must divide physics_rate_hz"));
+}
+
+TEST(ScenarioLoaderTest, ReportsEveryProblemAtOnce) {
+  const std::string error = ErrorOf(
+      "name: \"x\"\nsimulation { duration_s: -1 }\nvehicle { mass_kg: 0 arm_length_m: -1 }\n");
+  EXPECT_THAT(error, HasSubstr("simulation.duration_s"));
+  EXPECT_THAT(error, HasSubstr("vehicle.mass_kg"));
+  EXPECT_THAT(error, HasSubstr("vehicle.arm_length_m"));
+}
+
+TEST(ScenarioLoaderTest, TimelineOutsideTheRunIsRejected) {
+  const std::string error = ErrorOf(std::string(kMinimal) +
+                                    "timeline { at_s: 5 setpoint { position_m { z: 1 } } }\n");
+  EXPECT_THAT(error, HasSubstr("timeline[0].at_s: must lie inside the run"));
+}
+
+TEST(ScenarioLoaderTest, DuplicateEnvelopeNamesAreRejected) {
+  const std::string error = ErrorOf(std::string(kMinimal) +
+                                    "envelopes { name: \"alt\" signal: TILT_DEG upper: 1 }\n");
+  EXPECT_THAT(error, HasSubstr("envelopes[1].name"));
+}
+
+TEST(ScenarioLoaderTest, VehicleThatCannotLiftItselfIsRejected) {
+  const std::string error =
+      ErrorOf(std::string(kMinimal) + "vehicle { mass_kg: 2 max_thrust_per_rotor_n: 1 }\n");
+  EXPECT_THAT(error, HasSubstr("cannot lift"));
+}
+
+TEST(ScenarioLoaderTest, MissingFileIsAnErrorNamingTheFile) {
+  const auto result = LoadScenario("/nonexistent/dir/none.textproto");
+  ASSERT_FALSE(result.ok());
+  EXPECT_THAT(result.error().message, HasSubstr("/nonexistent/dir/none.textproto"));
+  EXPECT_THAT(result.error().message, HasSubstr("cannot open"));
+}
+
+}  // namespace
+}  // namespace hilrig::host

@@ -1,0 +1,113 @@
+#include "host/sensors/imu_emulator.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace hilrig::host {
+namespace {
+
+const Eigen::Vector3d kRate(0.1, -0.2, 0.3);
+const Eigen::Vector3d kSpecificForce(0.5, -0.4, 9.81);
+
+struct Stats {
+  Eigen::Vector3d mean;
+  Eigen::Vector3d stddev;
+};
+
+// Statistics of the reading errors (gyro when use_gyro, else accel) over n samples.
+Stats ErrorStats(const ImuParams& params, ImuState& state, int n, bool use_gyro) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero(), sum_sq = Eigen::Vector3d::Zero();
+  for (int i = 0; i < n; ++i) {
+    const ImuReading r = SampleImu(params, state, kRate, kSpecificForce, i * 1'000'000LL);
+    const Eigen::Vector3d e = use_gyro ? Eigen::Vector3d(r.gyro_rad_s - kRate)
+                                       : Eigen::Vector3d(r.accel_m_s2 - kSpecificForce);
+    sum += e;
+    sum_sq += e.cwiseProduct(e);
+  }
+  const Eigen::Vector3d mean = sum / n;
+  return {mean, (sum_sq / n - mean.cwiseProduct(mean)).cwiseSqrt()};
+}
+
+ImuParams WhiteNoiseOnly() {
+  ImuParams params;
+  params.gyro_bias_sigma_rad_s = 0.0;
+  params.gyro_bias_random_walk_rad_s2_sqrt_hz = 0.0;
+  params.accel_bias_sigma_m_s2 = 0.0;
+  params.accel_bias_random_walk_m_s3_sqrt_hz = 0.0;
+  return params;
+}
+
+TEST(ImuEmulatorTest, NoiseFreeReadingEqualsTruth) {
+  ImuParams params;
+  params.noise_enabled = false;
+  ImuState state = MakeImuState(params, RandomStream::FromSeed(1, StreamId::kImu));
+  const ImuReading reading = SampleImu(params, state, kRate, kSpecificForce, 123'456'789);
+  EXPECT_EQ(reading.time_ns, 123'456'789);
+  EXPECT_EQ(reading.gyro_rad_s, kRate);
+  EXPECT_EQ(reading.accel_m_s2, kSpecificForce);
+}
+
+TEST(ImuEmulatorTest, GyroWhiteNoiseStdIsDensityTimesSqrtRate) {
+  const ImuParams params = WhiteNoiseOnly();
+  ImuState state = MakeImuState(params, RandomStream::FromSeed(2, StreamId::kImu));
+  const Stats stats = ErrorStats(params, state, 100000, /*use_gyro=*/true);
+  const double expected = 1.7e-4 * std::sqrt(1000.0);
+  for (int axis = 0; axis < 3; ++axis) EXPECT_NEAR(stats.stddev(axis) / expected, 1.0, 0.05);
+}
+
+TEST(ImuEmulatorTest, AccelWhiteNoiseStdIsDensityTimesSqrtRate) {
+  const ImuParams params = WhiteNoiseOnly();
+  ImuState state = MakeImuState(params, RandomStream::FromSeed(3, StreamId::kImu));
+  const Stats stats = ErrorStats(params, state, 100000, /*use_gyro=*/false);
+  const double expected = 2e-3 * std::sqrt(1000.0);
+  for (int axis = 0; axis < 3; ++axis) EXPECT_NEAR(stats.stddev(axis) / expected, 1.0, 0.05);
+}
+
+TEST(ImuEmulatorTest, ReadingsAreDeterministicPerSeed) {
+  const ImuParams params;
+  ImuState a = MakeImuState(params, RandomStream::FromSeed(5, StreamId::kImu));
+  ImuState b = MakeImuState(params, RandomStream::FromSeed(5, StreamId::kImu));
+  ImuState other = MakeImuState(params, RandomStream::FromSeed(6, StreamId::kImu));
+  bool any_different = false;
+  for (int i = 0; i < 100; ++i) {
+    const ImuReading ra = SampleImu(params, a, kRate, kSpecificForce, i);
+    const ImuReading rb = SampleImu(params, b, kRate, kSpecificForce, i);
+    const ImuReading ro = SampleImu(params, other, kRate, kSpecificForce, i);
+    ASSERT_EQ(ra.gyro_rad_s, rb.gyro_rad_s);
+    ASSERT_EQ(ra.accel_m_s2, rb.accel_m_s2);
+    any_different |= ra.gyro_rad_s != ro.gyro_rad_s;
+  }
+  EXPECT_TRUE(any_different);
+}
+
+TEST(ImuEmulatorTest, TurnOnBiasSpreadMatchesSigma) {
+  const ImuParams params;
+  double sum_sq = 0.0;
+  constexpr int kSeeds = 4000;
+  for (int seed = 0; seed < kSeeds; ++seed) {
+    const ImuState state = MakeImuState(params, RandomStream::FromSeed(seed, StreamId::kImu));
+    sum_sq += state.gyro_bias_rad_s.squaredNorm();
+  }
+  EXPECT_NEAR(std::sqrt(sum_sq / (3 * kSeeds)) / 0.005, 1.0, 0.05);
+}
+
+TEST(ImuEmulatorTest, BiasRandomWalkStepMatchesDensityOverSqrtRate) {
+  ImuParams params = WhiteNoiseOnly();
+  params.gyro_noise_density_rad_s_sqrt_hz = 0.0;  // reading differences are then bias steps
+  params.gyro_bias_random_walk_rad_s2_sqrt_hz = 1e-3;
+  ImuState state = MakeImuState(params, RandomStream::FromSeed(8, StreamId::kImu));
+  Eigen::Vector3d previous = SampleImu(params, state, kRate, kSpecificForce, 0).gyro_rad_s;
+  double sum_sq = 0.0;
+  constexpr int kSamples = 50000;
+  for (int i = 1; i <= kSamples; ++i) {
+    const Eigen::Vector3d gyro = SampleImu(params, state, kRate, kSpecificForce, i).gyro_rad_s;
+    sum_sq += (gyro - previous).squaredNorm();
+    previous = gyro;
+  }
+  const double expected = 1e-3 / std::sqrt(1000.0);
+  EXPECT_NEAR(std::sqrt(sum_sq / (3 * kSamples)) / expected, 1.0, 0.05);
+}
+
+}  // namespace
+}  // namespace hilrig::host

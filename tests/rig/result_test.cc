@@ -1,0 +1,60 @@
+#include "rig/result.h"
+
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <string>
+
+namespace hilrig::rig {
+namespace {
+
+TEST(ResultTest, HoldsValue) {
+  const Result<int> result(42);
+
+  EXPECT_TRUE(result.ok());
+  EXPECT_TRUE(static_cast<bool>(result));
+  EXPECT_EQ(result.value(), 42);
+}
+
+TEST(ResultTest, HoldsError) {
+  const Result<int> result(MakeError("no sensor"));
+
+  EXPECT_FALSE(result.ok());
+  EXPECT_EQ(result.error().message, "no sensor");
+}
+
+TEST(ResultTest, MovesValueOut) {
+  Result<std::unique_ptr<int>> result(std::make_unique<int>(7));
+
+  const std::unique_ptr<int> owned = std::move(result).value();
+
+  ASSERT_NE(owned, nullptr);
+  EXPECT_EQ(*owned, 7);
+}
+
+TEST(ResultTest, VoidDefaultIsOk) {
+  const Result<void> result;
+
+  EXPECT_TRUE(result.ok());
+}
+
+TEST(ResultTest, VoidHoldsError) {
+  const Result<void> result(MakeError("bus off"));
+
+  EXPECT_FALSE(result);
+  EXPECT_EQ(result.error().message, "bus off");
+}
+
+TEST(ResultDeathTest, ValueOfErrorAbortsWithItsMessage) {
+  const Result<int> result(MakeError("decoder gave up"));
+
+  EXPECT_DEATH((void)result.value(), "decoder gave up");
+}
+
+TEST(CheckDeathTest, FailingCheckNamesFileAndLine) {
+  EXPECT_DEATH(HILRIG_CHECK(1 + 1 == 3, "arithmetic broke"),
+               "result_test.cc:[0-9]+.*arithmetic broke");
+}
+
+}  // namespace
+}  // namespace hilrig::rig
