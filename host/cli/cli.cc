@@ -87,12 +87,13 @@ rig::Result<proto::Report> RunToDirectory(const proto::Scenario& spec, const std
 
   const ScenarioConfig config = ResolveScenario(spec, seed);
   const rig::SteadyClock wall_clock;
-  proto::Report report = RunScenario(config, {&trace, &can_log, &io.err},
-                                     {&wall_clock, io.stop_requested});
+  proto::Report report =
+      RunScenario(config, {&trace, &can_log, &io.err}, {&wall_clock, io.stop_requested});
   report.set_spec_file(spec_path);
   trace.close();
   can_log.close();
-  if (!trace || !can_log) return rig::MakeError("error while writing logs into " + out_dir.string());
+  if (!trace || !can_log)
+    return rig::MakeError("error while writing logs into " + out_dir.string());
   if (auto written = WriteReportJson(report, (out_dir / "report.json").string()); !written) {
     return written.error();
   }
@@ -140,15 +141,15 @@ std::vector<std::string> ScenarioFilesIn(const fs::path& folder) {
 }
 
 std::string SummaryRow(const ScenarioOutcome& outcome) {
-  const char* verdict = outcome.exit_code == kExitPass        ? "PASS"
+  const char* verdict = outcome.exit_code == kExitPass       ? "PASS"
                         : outcome.exit_code == kExitBadInput ? "INVALID"
                                                              : "FAIL";
   int met = 0;
   for (const auto& result : outcome.report.envelopes()) met += result.meets_expectation() ? 1 : 0;
   char row[200];
-  std::snprintf(row, sizeof(row), "%-28s %-8s %3d/%-3d %12.0fx  %s", outcome.name.c_str(),
-                verdict, met, outcome.report.envelopes_size(),
-                outcome.report.real_time_factor(), outcome.report.stop_reason().c_str());
+  std::snprintf(row, sizeof(row), "%-28s %-8s %3d/%-3d %12.0fx  %s", outcome.name.c_str(), verdict,
+                met, outcome.report.envelopes_size(), outcome.report.real_time_factor(),
+                outcome.report.stop_reason().c_str());
   return row;
 }
 
@@ -168,7 +169,8 @@ int RunFolder(const RunOptions& options, const Streams& io) {
     if (outcomes.back().exit_code != kExitBadInput) PrintRun(outcomes.back(), io);
   }
   int exit_code = kExitPass;
-  io.out << "\n" << "scenario                     verdict  checks   real-time  stop\n";
+  io.out << "\n"
+         << "scenario                     verdict  checks   real-time  stop\n";
   for (const ScenarioOutcome& outcome : outcomes) {
     io.out << SummaryRow(outcome) << "\n";
     exit_code = std::max(exit_code, outcome.exit_code);

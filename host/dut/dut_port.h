@@ -1,8 +1,8 @@
 // The seam between the runner and the device under test. The runner pushes sensor messages and the
 // setpoint as they happen, then asks the DUT for its command at each control tick; in lockstep the
-// DUT answers before the plant moves on. An in-process DUT, a DUT process over the HIL link and real
-// hardware all sit behind this interface; the runner cannot tell them apart. Tactile and reference
-// magnetometer samples do not pass here: they travel as CAN frames on the bus.
+// DUT answers before the plant moves on. An in-process DUT, a DUT process over the HIL link and
+// real hardware all sit behind this interface; the runner cannot tell them apart. Tactile and
+// reference magnetometer samples do not pass here: they travel as CAN frames on the bus.
 #pragma once
 
 #include <cstdint>

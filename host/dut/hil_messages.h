@@ -1,13 +1,12 @@
 // The HIL link messages as plain structs: the same fields as proto/hil_link.proto, without the
-// cost of protobuf objects in the lockstep loop. A DUT in this process takes them directly; a DUT in
-// another process gets them encoded as hil_link.proto messages by a link transport.
+// cost of protobuf objects in the lockstep loop. A DUT in this process takes them directly; a DUT
+// in another process gets them encoded as hil_link.proto messages by a link transport.
 #pragma once
-
-#include <array>
-#include <cstdint>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
+#include <cstdint>
 
 namespace hilrig::host {
 

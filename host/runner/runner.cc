@@ -26,11 +26,11 @@ constexpr std::int64_t kProgressPeriodNs = 5'000'000'000;
 constexpr std::uint64_t kWallClockPollTicks = 4096;
 
 Eigen::Vector3d RollPitchYawDeg(const Eigen::Quaterniond& q) {
-  const double roll = std::atan2(2 * (q.w() * q.x() + q.y() * q.z()),
-                                 1 - 2 * (q.x() * q.x() + q.y() * q.y()));
+  const double roll =
+      std::atan2(2 * (q.w() * q.x() + q.y() * q.z()), 1 - 2 * (q.x() * q.x() + q.y() * q.y()));
   const double pitch = std::asin(std::clamp(2 * (q.w() * q.y() - q.z() * q.x()), -1.0, 1.0));
-  const double yaw = std::atan2(2 * (q.w() * q.z() + q.x() * q.y()),
-                                1 - 2 * (q.y() * q.y() + q.z() * q.z()));
+  const double yaw =
+      std::atan2(2 * (q.w() * q.z() + q.x() * q.y()), 1 - 2 * (q.y() * q.y() + q.z() * q.z()));
   return Eigen::Vector3d(roll, pitch, yaw) * kRadToDeg;
 }
 
@@ -97,7 +97,7 @@ class LockstepRunner::Impl {
 };
 
 LockstepRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
-                         const RunControl& control)
+                           const RunControl& control)
     : config_(config),
       sinks_(sinks),
       control_(control),
@@ -113,7 +113,8 @@ LockstepRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
       Seconds(config.physics_step_ns) * static_cast<double>(config.control_every_ticks);
   dut_ = std::make_unique<InProcessDut>(FirmwareParamsFor(config.vehicle), bus_.Connect("dut"),
                                         control_period_s);
-  // A scenario starting in the air starts hovering, rotors spun up; on the ground it starts at rest.
+  // A scenario starting in the air starts hovering, rotors spun up; on the ground it starts at
+  // rest.
   const Eigen::Vector3d& start_m = config.initial_reference.position_m;
   plant_ = start_m.z() > 0
                ? MakeHoveringQuadrotor(config.vehicle, start_m, config.initial_reference.yaw_rad)
@@ -146,8 +147,8 @@ void LockstepRunner::Impl::SampleSensors(std::int64_t now_ns) {
   delivered_vio_.clear();
   DeliverVio(vio_, now_ns, delivered_vio_);
   for (const VioPose& pose : delivered_vio_) {
-    dut_->SendVio({{vio_sequence_++, now_ns}, pose.capture_time_ns, pose.position_m,
-                   pose.orientation});
+    dut_->SendVio(
+        {{vio_sequence_++, now_ns}, pose.capture_time_ns, pose.position_m, pose.orientation});
   }
   const auto field = SampleReferenceMagnetometer(config_.magnetometer, config_.earth_field,
                                                  magnetometer_, plant_.body.orientation, now_ns);
@@ -288,10 +289,10 @@ proto::Report LockstepRunner::Impl::Finish() {
             "count");
   AddMetric(report, "dut_can_frames_rejected", static_cast<double>(counters.can_frames_rejected),
             "count");
-  AddMetric(report, "can_bus_load",
-            now_ns > 0 ? static_cast<double>(bus_.stats().busy_ns) / static_cast<double>(now_ns)
-                       : 0.0,
-            "fraction");
+  AddMetric(
+      report, "can_bus_load",
+      now_ns > 0 ? static_cast<double>(bus_.stats().busy_ns) / static_cast<double>(now_ns) : 0.0,
+      "fraction");
   AddMetric(report, "ground_impacts", plant_.ground_impacts, "count");
   AppendModelList(config_, dut_->description(), report);
   return report;

@@ -22,8 +22,8 @@ struct RunSinks {
 };
 
 struct RunControl {
-  const rig::Clock* wall_clock = nullptr;                // required; only for timing the run
-  const std::atomic<bool>* stop_requested = nullptr;     // optional, e.g. set by SIGINT
+  const rig::Clock* wall_clock = nullptr;             // required; only for timing the run
+  const std::atomic<bool>* stop_requested = nullptr;  // optional, e.g. set by SIGINT
 };
 
 // A run that can be stepped tick by tick (benchmarks, tests); RunScenario() drives one to its end.

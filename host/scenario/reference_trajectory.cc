@@ -26,6 +26,8 @@ Quintic FitQuintic(double p0, double v0, double a0, double p1, double duration_s
 }
 
 double WrapAngle(double angle_rad) {
+  // Most calls are already in range; remainder() is costly enough to show in the tick profile.
+  if (angle_rad >= -std::numbers::pi && angle_rad <= std::numbers::pi) return angle_rad;
   return std::remainder(angle_rad, 2 * std::numbers::pi);
 }
 
@@ -45,8 +47,8 @@ ReferenceTrajectory::ReferenceTrajectory(const ReferenceSample& initial,
                                          from.position_m.z(), from.yaw_rad);
     const Eigen::Vector4d start_velocity(from.velocity_m_s.x(), from.velocity_m_s.y(),
                                          from.velocity_m_s.z(), 0);
-    const Eigen::Vector4d start_acceleration(
-        from.acceleration_m_s2.x(), from.acceleration_m_s2.y(), from.acceleration_m_s2.z(), 0);
+    const Eigen::Vector4d start_acceleration(from.acceleration_m_s2.x(), from.acceleration_m_s2.y(),
+                                             from.acceleration_m_s2.z(), 0);
     // Yaw turns the short way round.
     const double target_yaw = from.yaw_rad + WrapAngle(setpoint.yaw_rad - from.yaw_rad);
     const Eigen::Vector4d target(setpoint.position_m.x(), setpoint.position_m.y(),

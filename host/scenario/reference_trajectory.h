@@ -4,10 +4,9 @@
 // setpoint interrupts a transition. The DUT receives this reference; envelopes measure against it.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <vector>
-
-#include <Eigen/Core>
 
 namespace hilrig::host {
 

@@ -26,15 +26,15 @@ QuadrotorParams ResolveVehicle(const proto::Scenario& spec) {
   rotors.arm_length_m = Or(vehicle.has_arm_length_m(), vehicle.arm_length_m(), rotors.arm_length_m);
   rotors.max_thrust_n = Or(vehicle.has_max_thrust_per_rotor_n(), vehicle.max_thrust_per_rotor_n(),
                            rotors.max_thrust_n);
-  rotors.torque_per_thrust_m = Or(vehicle.has_torque_per_thrust_m(),
-                                  vehicle.torque_per_thrust_m(), rotors.torque_per_thrust_m);
-  rotors.time_constant_s = Or(vehicle.has_rotor_time_constant_s(),
-                              vehicle.rotor_time_constant_s(), rotors.time_constant_s);
+  rotors.torque_per_thrust_m = Or(vehicle.has_torque_per_thrust_m(), vehicle.torque_per_thrust_m(),
+                                  rotors.torque_per_thrust_m);
+  rotors.time_constant_s = Or(vehicle.has_rotor_time_constant_s(), vehicle.rotor_time_constant_s(),
+                              rotors.time_constant_s);
   rotors.instantaneous = spec.models().rotors() == proto::ROTORS_INSTANTANEOUS;
   params.linear_drag_n_s_per_m = Or(vehicle.has_linear_drag_n_s_per_m(),
                                     vehicle.linear_drag_n_s_per_m(), params.linear_drag_n_s_per_m);
-  params.gravity_m_s2 = Or(spec.environment().has_gravity_m_s2(),
-                           spec.environment().gravity_m_s2(), params.gravity_m_s2);
+  params.gravity_m_s2 = Or(spec.environment().has_gravity_m_s2(), spec.environment().gravity_m_s2(),
+                           params.gravity_m_s2);
   params.integrator = spec.models().integrator() == proto::INTEGRATOR_SEMI_IMPLICIT_EULER
                           ? Integrator::kSemiImplicitEuler
                           : Integrator::kRk4;
@@ -48,15 +48,15 @@ void ResolveSensors(const proto::Scenario& spec, ScenarioConfig& config) {
   config.imu.gyro_noise_density_rad_s_sqrt_hz =
       Or(imu.has_gyro_noise_density_rad_s_sqrt_hz(), imu.gyro_noise_density_rad_s_sqrt_hz(),
          config.imu.gyro_noise_density_rad_s_sqrt_hz);
-  config.imu.gyro_bias_sigma_rad_s = Or(imu.has_gyro_bias_sigma_rad_s(),
-                                        imu.gyro_bias_sigma_rad_s(),
-                                        config.imu.gyro_bias_sigma_rad_s);
+  config.imu.gyro_bias_sigma_rad_s =
+      Or(imu.has_gyro_bias_sigma_rad_s(), imu.gyro_bias_sigma_rad_s(),
+         config.imu.gyro_bias_sigma_rad_s);
   config.imu.accel_noise_density_m_s2_sqrt_hz =
       Or(imu.has_accel_noise_density_m_s2_sqrt_hz(), imu.accel_noise_density_m_s2_sqrt_hz(),
          config.imu.accel_noise_density_m_s2_sqrt_hz);
-  config.imu.accel_bias_sigma_m_s2 = Or(imu.has_accel_bias_sigma_m_s2(),
-                                        imu.accel_bias_sigma_m_s2(),
-                                        config.imu.accel_bias_sigma_m_s2);
+  config.imu.accel_bias_sigma_m_s2 =
+      Or(imu.has_accel_bias_sigma_m_s2(), imu.accel_bias_sigma_m_s2(),
+         config.imu.accel_bias_sigma_m_s2);
   config.imu.noise_enabled = noise;
 
   const proto::Vio& vio = spec.models().vio();
@@ -81,12 +81,12 @@ void ResolveSensors(const proto::Scenario& spec, ScenarioConfig& config) {
 
 void ResolveSimulation(const proto::Simulation& simulation, ScenarioConfig& config) {
   config.duration_s = simulation.duration_s();
-  const double physics_rate_hz = Or(simulation.has_physics_rate_hz(),
-                                    simulation.physics_rate_hz(), 1000.0);
+  const double physics_rate_hz =
+      Or(simulation.has_physics_rate_hz(), simulation.physics_rate_hz(), 1000.0);
   config.physics_step_ns = std::llround(1e9 / physics_rate_hz);
-  config.control_every_ticks = static_cast<int>(std::lround(
-      physics_rate_hz / Or(simulation.has_control_rate_hz(), simulation.control_rate_hz(),
-                           physics_rate_hz)));
+  config.control_every_ticks = static_cast<int>(
+      std::lround(physics_rate_hz / Or(simulation.has_control_rate_hz(),
+                                       simulation.control_rate_hz(), physics_rate_hz)));
   config.trace_every_ticks = static_cast<int>(std::lround(
       physics_rate_hz / Or(simulation.has_trace_rate_hz(), simulation.trace_rate_hz(), 100.0)));
   config.can_bitrate_bps = Or(simulation.has_can_bitrate_bps(), simulation.can_bitrate_bps(), 1e6);
@@ -98,8 +98,8 @@ void ResolveTimeline(const proto::Scenario& spec, ScenarioConfig& config) {
     if (entry.has_setpoint()) {
       const proto::Setpoint& setpoint = entry.setpoint();
       if (setpoint.has_yaw_deg()) yaw_rad = setpoint.yaw_deg() * kDegToRad;
-      config.setpoints.push_back({entry.at_s(), ToEigen(setpoint.position_m()), yaw_rad,
-                                  setpoint.transition_s()});
+      config.setpoints.push_back(
+          {entry.at_s(), ToEigen(setpoint.position_m()), yaw_rad, setpoint.transition_s()});
     } else if (entry.has_disturbance()) {
       config.disturbances.push_back({entry.at_s(), entry.disturbance().duration_s(),
                                      ToEigen(entry.disturbance().force_world_n())});

@@ -1,12 +1,12 @@
 #include "host/scenario/scenario_loader.h"
 
+#include <google/protobuf/io/tokenizer.h>
+#include <google/protobuf/text_format.h>
+
 #include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <sstream>
-
-#include <google/protobuf/io/tokenizer.h>
-#include <google/protobuf/text_format.h>
 
 #include "host/scenario/scenario_validation.h"
 
@@ -87,8 +87,7 @@ std::string SpecProblem::ToString() const {
   return text + message;
 }
 
-rig::Result<proto::Scenario> ParseScenario(const std::string& text,
-                                           const std::string& file_label) {
+rig::Result<proto::Scenario> ParseScenario(const std::string& text, const std::string& file_label) {
   CollectingErrors errors(file_label);
   TextFormat::Parser parser;
   parser.RecordErrorsTo(&errors);
@@ -111,7 +110,8 @@ rig::Result<proto::Scenario> ParseScenario(const std::string& text,
 
 rig::Result<proto::Scenario> LoadScenario(const std::string& path) {
   std::ifstream file(path, std::ios::binary);
-  if (!file) return rig::MakeError(path + ": cannot open scenario file (" + std::strerror(errno) + ")");
+  if (!file)
+    return rig::MakeError(path + ": cannot open scenario file (" + std::strerror(errno) + ")");
   std::stringstream text;
   text << file.rdbuf();
   if (file.bad()) return rig::MakeError(path + ": read error");

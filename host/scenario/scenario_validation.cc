@@ -1,10 +1,10 @@
 #include "host/scenario/scenario_validation.h"
 
-#include <cmath>
-#include <set>
-
 #include <google/protobuf/descriptor.h>
 #include <google/protobuf/reflection.h>
+
+#include <cmath>
+#include <set>
 
 namespace hilrig::host {
 namespace {
@@ -18,9 +18,7 @@ class ProblemList {
   explicit ProblemList(std::vector<FieldProblem>& problems, std::string prefix = "")
       : problems_(problems), prefix_(std::move(prefix)) {}
 
-  ProblemList Nested(const std::string& field) const {
-    return ProblemList(problems_, Join(field));
-  }
+  ProblemList Nested(const std::string& field) const { return ProblemList(problems_, Join(field)); }
   ProblemList Element(const std::string& field, int index) const {
     return ProblemList(problems_, Join(field) + "[" + std::to_string(index) + "]");
   }
@@ -105,8 +103,8 @@ void CheckSensors(const proto::Models& models, const ProblemList& problems) {
                      "accel_noise_density_m_s2_sqrt_hz", imu);
   RequireNonNegative(models.imu().has_gyro_bias_sigma_rad_s(), models.imu().gyro_bias_sigma_rad_s(),
                      "gyro_bias_sigma_rad_s", imu);
-  RequireNonNegative(models.imu().has_accel_bias_sigma_m_s2(),
-                     models.imu().accel_bias_sigma_m_s2(), "accel_bias_sigma_m_s2", imu);
+  RequireNonNegative(models.imu().has_accel_bias_sigma_m_s2(), models.imu().accel_bias_sigma_m_s2(),
+                     "accel_bias_sigma_m_s2", imu);
   const ProblemList vio = problems.Nested("vio");
   RequirePositive(models.vio().has_rate_hz(), models.vio().rate_hz(), "rate_hz", vio);
   RequireNonNegative(models.vio().has_latency_s(), models.vio().latency_s(), "latency_s", vio);
@@ -144,8 +142,8 @@ void CheckSimulation(const proto::Simulation& simulation, const ProblemList& pro
   } else if (!(simulation.duration_s() > 0) || simulation.duration_s() > 86400) {
     problems.Add("duration_s", "must be in (0, 86400] s");
   }
-  const double physics_rate_hz = simulation.has_physics_rate_hz() ? simulation.physics_rate_hz()
-                                                                  : 1000.0;
+  const double physics_rate_hz =
+      simulation.has_physics_rate_hz() ? simulation.physics_rate_hz() : 1000.0;
   if (!(physics_rate_hz >= 10 && physics_rate_hz <= 100000)) {
     problems.Add("physics_rate_hz", "must be in [10, 100000] Hz");
     return;

@@ -3,10 +3,9 @@
 // tick; online checks, the CSV writer and offline grading all read this same struct.
 #pragma once
 
+#include <Eigen/Core>
 #include <array>
 #include <string_view>
-
-#include <Eigen/Core>
 
 #include "proto/scenario.pb.h"
 

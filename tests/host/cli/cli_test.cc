@@ -40,7 +40,8 @@ class CliTest : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = fs::path(::testing::TempDir()) /
-           ("hilrig_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+           ("hilrig_cli_" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }

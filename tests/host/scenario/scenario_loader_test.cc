@@ -48,8 +48,8 @@ TEST(ScenarioLoaderTest, NegativeMassPointsAtTheField) {
 }
 
 TEST(ScenarioLoaderTest, EnvelopeWithoutLimitPointsAtTheEnvelope) {
-  const std::string error =
-      ErrorOf("name: \"x\"\nsimulation { duration_s: 1 }\nenvelopes { name: \"e\" signal: TILT_DEG }\n");
+  const std::string error = ErrorOf(
+      "name: \"x\"\nsimulation { duration_s: 1 }\nenvelopes { name: \"e\" signal: TILT_DEG }\n");
   EXPECT_THAT(error, HasSubstr("spec.textproto:3:1: envelopes[0]: needs a limit"));
 }
 
@@ -78,14 +78,14 @@ TEST(ScenarioLoaderTest, ReportsEveryProblemAtOnce) {
 }
 
 TEST(ScenarioLoaderTest, TimelineOutsideTheRunIsRejected) {
-  const std::string error = ErrorOf(std::string(kMinimal) +
-                                    "timeline { at_s: 5 setpoint { position_m { z: 1 } } }\n");
+  const std::string error =
+      ErrorOf(std::string(kMinimal) + "timeline { at_s: 5 setpoint { position_m { z: 1 } } }\n");
   EXPECT_THAT(error, HasSubstr("timeline[0].at_s: must lie inside the run"));
 }
 
 TEST(ScenarioLoaderTest, DuplicateEnvelopeNamesAreRejected) {
-  const std::string error = ErrorOf(std::string(kMinimal) +
-                                    "envelopes { name: \"alt\" signal: TILT_DEG upper: 1 }\n");
+  const std::string error =
+      ErrorOf(std::string(kMinimal) + "envelopes { name: \"alt\" signal: TILT_DEG upper: 1 }\n");
   EXPECT_THAT(error, HasSubstr("envelopes[1].name"));
 }
 
