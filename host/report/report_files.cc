@@ -51,8 +51,10 @@ std::string FormatNumber(double value) {
 }
 
 std::string FormatBounds(const proto::EnvelopeResult& result) {
-  return "[" + (result.has_lower() ? FormatNumber(result.lower()) : std::string("-")) + ", " +
-         (result.has_upper() ? FormatNumber(result.upper()) : std::string("-")) + "]";
+  std::ostringstream bounds;
+  bounds << '[' << (result.has_lower() ? FormatNumber(result.lower()) : "-") << ", "
+         << (result.has_upper() ? FormatNumber(result.upper()) : "-") << ']';
+  return bounds.str();
 }
 
 const char* VerdictName(proto::Verdict verdict) { return verdict == proto::PASS ? "PASS" : "FAIL"; }

@@ -80,11 +80,13 @@ std::string JoinProblems(const std::vector<SpecProblem>& problems) {
 }  // namespace
 
 std::string SpecProblem::ToString() const {
-  std::string text = file;
-  if (line > 0) text += ":" + std::to_string(line) + ":" + std::to_string(column);
-  text += ": ";
-  if (!field.empty()) text += field + ": ";
-  return text + message;
+  std::ostringstream text;
+  text << file;
+  if (line > 0) text << ':' << line << ':' << column;
+  text << ": ";
+  if (!field.empty()) text << field << ": ";
+  text << message;
+  return text.str();
 }
 
 rig::Result<proto::Scenario> ParseScenario(const std::string& text, const std::string& file_label) {
