@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <ostream>
 #include <string>
 
 namespace hilrig::rig {
@@ -188,6 +189,21 @@ std::int64_t FrameDurationNs(const CanFrame& frame, std::int64_t nominal_bitrate
   const FrameBitCount bits = CountFrameBits(frame);
   return BitsToNs(bits.nominal_bits, nominal_bitrate_bps) +
          BitsToNs(bits.data_bits, data_bitrate_bps);
+}
+
+std::ostream& operator<<(std::ostream& out, const CanFrame& frame) {
+  char id[16];
+  std::snprintf(id, sizeof(id), frame.extended || frame.error ? "%08X" : "%03X", frame.id);
+  out << id << '#';
+  if (frame.remote) out << 'R' << static_cast<int>(frame.length);
+  for (std::uint8_t byte : frame.payload()) {
+    char hex[3];
+    std::snprintf(hex, sizeof(hex), "%02X", byte);
+    out << hex;
+  }
+  if (frame.fd) out << (frame.bitrate_switch ? " [fd brs]" : " [fd]");
+  if (frame.error) out << " [error]";
+  return out;
 }
 
 }  // namespace hilrig::rig

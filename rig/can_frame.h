@@ -8,6 +8,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <iosfwd>
 #include <span>
 
 #include "rig/result.h"
@@ -73,6 +74,9 @@ FrameBitCount CountFrameBits(const CanFrame& frame);
 // end. Each phase is rounded up to whole nanoseconds.
 std::int64_t FrameDurationNs(const CanFrame& frame, std::int64_t nominal_bitrate_bps,
                              std::int64_t data_bitrate_bps);
+
+// Readable one-line form for diagnostics and test names, e.g. "123#DEADBEEF [fd brs]".
+std::ostream& operator<<(std::ostream& out, const CanFrame& frame);
 
 struct TimedCanFrame {
   CanFrame frame;

@@ -39,7 +39,9 @@ double TiltDeg(const Eigen::Quaterniond& q) {
   return std::acos(std::clamp(body_z_up, -1.0, 1.0)) * kRadToDeg;
 }
 
-double Seconds(std::int64_t time_ns) { return static_cast<double>(time_ns) * 1e-9; }
+// Divides rather than multiplies by 1e-9 so that whole milliseconds print as 0.03, not
+// 0.030000000000000002.
+double Seconds(std::int64_t time_ns) { return static_cast<double>(time_ns) / 1e9; }
 
 }  // namespace
 
@@ -120,6 +122,11 @@ LockstepRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
                ? MakeHoveringQuadrotor(config.vehicle, start_m, config.initial_reference.yaw_rad)
                : MakeRestingQuadrotor(config.vehicle, start_m.x(), start_m.y(),
                                       config.initial_reference.yaw_rad);
+  if (start_m.z() > 0) {
+    // A vehicle starting in the air has been flying: its DUT already knows where it is, instead of
+    // dropping until the first VIO pose arrives one latency later.
+    dut_->SendVio({{vio_sequence_++, 0}, 0, plant_.body.position_m, plant_.body.orientation});
+  }
   vio_.rng = RandomStream::FromSeed(config.seed, static_cast<std::uint64_t>(StreamId::kVio));
   magnetometer_.rng = RandomStream::FromSeed(
       config.seed, static_cast<std::uint64_t>(StreamId::kReferenceMagnetometer));

@@ -1,0 +1,89 @@
+#include "host/dut/in_process_dut.h"
+
+#include <gtest/gtest.h>
+
+#include <limits>
+
+#include "host/dut/firmware_config.h"
+#include "rig/emulated_bus.h"
+#include "rig/sensor_frame.h"
+
+namespace hilrig::host {
+namespace {
+
+constexpr double kControlPeriodS = 1e-3;
+
+class InProcessDutTest : public ::testing::Test {
+ protected:
+  InProcessDutTest()
+      : node_(bus_.Connect("node")),
+        dut_(FirmwareParamsFor(vehicle_), bus_.Connect("dut"), kControlPeriodS) {}
+
+  // Feeds a level, still vehicle at 1 m for `ticks` control periods with a hover setpoint.
+  ActuatorMessage HoverFor(int ticks) {
+    dut_.SendVio({{0, 0}, 0, Eigen::Vector3d(0, 0, 1), Eigen::Quaterniond::Identity()});
+    dut_.SendSetpoint(
+        {{0, 0}, Eigen::Vector3d(0, 0, 1), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 0.0});
+    ActuatorMessage command;
+    for (int i = 1; i <= ticks; ++i) {
+      const std::int64_t now_ns = i * 1'000'000;
+      dut_.SendImu({{static_cast<std::uint64_t>(i), now_ns},
+                    Eigen::Vector3d::Zero(),
+                    Eigen::Vector3d(0, 0, vehicle_.gravity_m_s2)});
+      command = dut_.Step(static_cast<std::uint64_t>(i), now_ns).value();
+    }
+    return command;
+  }
+
+  QuadrotorParams vehicle_;
+  rig::EmulatedBus bus_;
+  std::unique_ptr<rig::CanBus> node_;
+  InProcessDut dut_;
+};
+
+TEST_F(InProcessDutTest, StaysDisarmedUntilItHasAPose) {
+  const ActuatorMessage command = dut_.Step(0, 0).value();
+  EXPECT_FALSE(command.armed);
+  for (double thrust_n : command.rotor_thrust_n) EXPECT_EQ(thrust_n, 0.0);
+}
+
+TEST_F(InProcessDutTest, HoldsHoverWithAQuarterOfTheWeightPerRotor) {
+  const ActuatorMessage command = HoverFor(200);
+  ASSERT_TRUE(command.armed);
+  const double quarter_weight_n = vehicle_.body.mass_kg * vehicle_.gravity_m_s2 / 4;
+  for (double thrust_n : command.rotor_thrust_n) EXPECT_NEAR(thrust_n, quarter_weight_n, 0.02);
+}
+
+TEST_F(InProcessDutTest, CommandAnswersTheTickItWasAskedFor) {
+  HoverFor(3);
+  const ActuatorMessage command = dut_.Step(42, 4'000'000).value();
+  EXPECT_EQ(command.answers_sequence, 42u);
+  EXPECT_EQ(command.stamp.time_ns, 4'000'000);
+}
+
+TEST_F(InProcessDutTest, DecodesMagnetometerFramesAndCountsCorruptOnes) {
+  rig::MagneticSample sample;
+  sample.node_id = rig::kReferenceNodeId;
+  ASSERT_TRUE(node_->Send(rig::EncodeMagneticSample(sample), 0).ok());
+  const std::uint8_t short_payload[3] = {1, 2, 3};
+  ASSERT_TRUE(node_->Send(rig::CanFrame::Classic(0x107, short_payload), 0).ok());
+  const std::uint8_t unknown[8] = {};
+  ASSERT_TRUE(node_->Send(rig::CanFrame::Classic(0x555, unknown), 0).ok());
+  ASSERT_TRUE(dut_.Step(0, 10'000'000).ok());
+  const DutCounters counters = dut_.counters();
+  EXPECT_EQ(counters.can_frames_received, 3u);
+  EXPECT_EQ(counters.magnetometer_samples, 1u);
+  EXPECT_EQ(counters.can_frames_rejected, 2u);
+}
+
+TEST_F(InProcessDutTest, NonFiniteImuSampleDoesNotReachTheMotors) {
+  HoverFor(100);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  dut_.SendImu({{101, 101'000'000}, Eigen::Vector3d(nan, 0, 0), Eigen::Vector3d(0, 0, nan)});
+  const ActuatorMessage command = dut_.Step(101, 101'000'000).value();
+  for (double thrust_n : command.rotor_thrust_n) EXPECT_TRUE(std::isfinite(thrust_n));
+  EXPECT_TRUE(command.estimated_position_m.allFinite());
+}
+
+}  // namespace
+}  // namespace hilrig::host

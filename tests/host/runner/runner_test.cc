@@ -1,0 +1,138 @@
+#include "host/runner/runner.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <sstream>
+
+#include "host/scenario/scenario_config.h"
+#include "host/scenario/scenario_loader.h"
+
+namespace hilrig::host {
+namespace {
+
+using ::testing::HasSubstr;
+
+ScenarioConfig ConfigFrom(const std::string& text, std::uint64_t seed = 1) {
+  const auto spec = ParseScenario(text, "test.textproto");
+  EXPECT_TRUE(spec.ok()) << spec.error().message;
+  return ResolveScenario(spec.value(), seed);
+}
+
+struct RunOutput {
+  proto::Report report;
+  std::string trace;
+  std::string can_log;
+};
+
+RunOutput RunToEnd(const ScenarioConfig& config) {
+  std::ostringstream trace, can_log;
+  const rig::SimClock wall_clock;  // a clock that never moves: these tests ignore timing
+  RunOutput output;
+  output.report = RunScenario(config, {&trace, &can_log, nullptr}, {&wall_clock, nullptr});
+  output.trace = trace.str();
+  output.can_log = can_log.str();
+  return output;
+}
+
+double Metric(const proto::Report& report, const std::string& name) {
+  for (const auto& metric : report.metrics()) {
+    if (metric.name() == name) return metric.value();
+  }
+  ADD_FAILURE() << "no metric " << name;
+  return 0;
+}
+
+constexpr const char* kHoverInAir = R"(name: "air"
+vehicle { initial_position_m { z: 1 } }
+simulation { duration_s: 3 }
+timeline { at_s: 0 setpoint { position_m { z: 1 } } }
+envelopes { name: "alt" signal: ALTITUDE_ERROR_M upper: 0.05 }
+)";
+
+TEST(RunnerTest, RunsForItsDurationAndCompletes) {
+  const RunOutput output = RunToEnd(ConfigFrom(kHoverInAir));
+  EXPECT_EQ(output.report.stop_reason(), "completed");
+  EXPECT_EQ(output.report.ticks(), 3000u);
+  EXPECT_DOUBLE_EQ(output.report.simulated_s(), 3.0);
+  EXPECT_TRUE(output.report.passed());
+}
+
+TEST(RunnerTest, TraceHasOneRowPerTraceTick) {
+  const RunOutput output = RunToEnd(ConfigFrom(kHoverInAir));
+  const auto rows = std::count(output.trace.begin(), output.trace.end(), '\n');
+  EXPECT_EQ(rows, 1 + 300);  // header + 100 Hz for 3 s
+}
+
+TEST(RunnerTest, ReferenceMagnetometerFramesReachTheDutOverCan) {
+  const RunOutput output = RunToEnd(ConfigFrom(kHoverInAir));
+  EXPECT_NEAR(Metric(output.report, "dut_can_frames_received"), 150, 1);  // 50 Hz for 3 s
+  EXPECT_EQ(Metric(output.report, "dut_can_frames_rejected"), 0);
+  EXPECT_NEAR(static_cast<double>(output.report.can_frames_logged()), 150, 1);
+}
+
+TEST(RunnerTest, AbortingEnvelopeStopsTheRunAtItsFirstViolation) {
+  const RunOutput output = RunToEnd(ConfigFrom(R"(name: "abort"
+simulation { duration_s: 10 }
+timeline { at_s: 0 setpoint { position_m { z: 1 } transition_s: 2 } }
+envelopes { name: "low" signal: ALTITUDE_M upper: 0.2 abort_on_violation: true }
+)"));
+  EXPECT_THAT(output.report.stop_reason(), HasSubstr("aborted by envelope low"));
+  EXPECT_LT(output.report.simulated_s(), 3.0);
+  EXPECT_FALSE(output.report.passed());
+}
+
+TEST(RunnerTest, DisturbancePushesTheVehicleAndItRecovers) {
+  const std::string spec = std::string(kHoverInAir) +
+                           "timeline { at_s: 1 disturbance { force_world_n { x: 2 } duration_s: "
+                           "0.5 } }\n";
+  const RunOutput calm = RunToEnd(ConfigFrom(kHoverInAir));
+  const RunOutput pushed = RunToEnd(ConfigFrom(spec));
+  EXPECT_GT(Metric(pushed.report, "horizontal_error_max"),
+            5 * Metric(calm.report, "horizontal_error_max"));
+  EXPECT_LT(Metric(pushed.report, "horizontal_error_max"), 0.5);
+}
+
+TEST(RunnerTest, NoiseOffMakesTheSeedIrrelevant) {
+  const std::string spec = std::string(kHoverInAir) + "models { noise: NOISE_OFF }\n";
+  EXPECT_EQ(RunToEnd(ConfigFrom(spec, 1)).trace, RunToEnd(ConfigFrom(spec, 2)).trace);
+}
+
+TEST(RunnerTest, NoiseOnMakesTheSeedMatter) {
+  EXPECT_NE(RunToEnd(ConfigFrom(kHoverInAir, 1)).trace, RunToEnd(ConfigFrom(kHoverInAir, 2)).trace);
+}
+
+TEST(RunnerTest, ReportListsEveryModelBuilt) {
+  const RunOutput output = RunToEnd(ConfigFrom(kHoverInAir));
+  std::vector<std::string> names;
+  for (const auto& model : output.report.models()) names.push_back(model.name());
+  EXPECT_THAT(names, ::testing::UnorderedElementsAre("vehicle", "rotors", "imu", "vio",
+                                                     "reference_magnetometer", "can_bus", "dut"));
+}
+
+TEST(RunnerTest, TickAfterTheEndDoesNothing) {
+  const ScenarioConfig config = ConfigFrom(kHoverInAir);
+  std::ostringstream trace;
+  const rig::SimClock wall_clock;
+  LockstepRunner runner(config, {&trace, nullptr, nullptr}, {&wall_clock, nullptr});
+  int ticks = 0;
+  while (runner.Tick()) ++ticks;
+  EXPECT_EQ(ticks + 1, 3000);
+  EXPECT_FALSE(runner.Tick());
+  EXPECT_EQ(runner.Finish().ticks(), 3000u);
+}
+
+TEST(RunnerTest, FallingVehicleFailsAltitudeEnvelopeWithoutCrashing) {
+  // Starting in the air with no setpoint the DUT holds its start; a vehicle too heavy to hold
+  // itself with weak rotors comes down, and the envelope says so.
+  const RunOutput output = RunToEnd(ConfigFrom(R"(name: "heavy"
+vehicle { initial_position_m { z: 1 } mass_kg: 1.5 max_thrust_per_rotor_n: 3.8 }
+simulation { duration_s: 8 }
+envelopes { name: "alt" signal: ALTITUDE_M lower: 0.9 }
+)"));
+  EXPECT_EQ(output.report.envelopes(0).verdict(), proto::FAIL);
+  EXPECT_GT(Metric(output.report, "ground_impacts"), 0);
+}
+
+}  // namespace
+}  // namespace hilrig::host
