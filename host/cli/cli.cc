@@ -1,12 +1,14 @@
 #include "host/cli/cli.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <optional>
 
+#include "host/cli/cli_args.h"
+#include "host/cli/tactile_commands.h"
 #include "host/report/report_files.h"
 #include "host/runner/runner.h"
 #include "host/scenario/scenario_config.h"
@@ -23,6 +25,10 @@ constexpr const char* kUsage =
     "  hilrig run FILE.textproto [--out DIR] [--seed N]   run one scenario\n"
     "  hilrig run DIR/ [--out DIR] [--seed N]             run every *.textproto in DIR\n"
     "  hilrig check FILE.textproto...                     validate scenario specs\n"
+    "  hilrig calibrate --out DIR [--seed N] [--field F]  calibrate the tactile sensors\n"
+    "  hilrig accuracy --calibration FILE --out DIR [--seed N] [--field F]\n"
+    "                                                     held-out force error\n"
+    "  hilrig decode --calibration FILE                   stdin 'bx by bz' (T) -> S\n"
     "  hilrig help                                        this text\n"
     "run writes report.json, junit.xml, trace.csv and can.log into --out (default\n"
     "hilrig_out/<scenario>). Exit codes: 0 every check met its expected verdict,\n"
@@ -34,38 +40,23 @@ struct RunOptions {
   std::optional<std::uint64_t> seed;
 };
 
-struct Streams {
-  std::ostream& out;
-  std::ostream& err;
-  const std::atomic<bool>* stop_requested;
-};
+using Streams = CliStreams;
 
 rig::Result<RunOptions> ParseRunOptions(const std::vector<std::string>& args) {
-  RunOptions options;
-  for (std::size_t i = 1; i < args.size(); ++i) {
-    const std::string& arg = args[i];
-    const bool has_value = i + 1 < args.size();
-    if (arg == "--out") {
-      if (!has_value) return rig::MakeError("--out needs a directory");
-      options.out_dir = args[++i];
-    } else if (arg == "--seed") {
-      if (!has_value) return rig::MakeError("--seed needs a number");
-      const std::string& text = args[++i];
-      std::uint64_t seed = 0;
-      const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), seed);
-      if (error != std::errc() || end != text.data() + text.size()) {
-        return rig::MakeError("--seed must be a non-negative integer, got \"" + text + "\"");
-      }
-      options.seed = seed;
-    } else if (arg.starts_with("--")) {
-      return rig::MakeError("unknown option " + arg);
-    } else if (options.target.empty()) {
-      options.target = arg;
-    } else {
-      return rig::MakeError("unexpected argument " + arg + " (one scenario file or folder)");
-    }
+  auto parsed = ParseCliArgs(args, {"--out", "--seed"});
+  if (!parsed) return parsed.error();
+  const CliArgs& cli = parsed.value();
+  if (cli.positional.size() != 1) {
+    return rig::MakeError("run takes one scenario file or folder");
   }
-  if (options.target.empty()) return rig::MakeError("run needs a scenario file or folder");
+  RunOptions options;
+  options.target = cli.positional.front();
+  if (const std::string* out = cli.Option("--out")) options.out_dir = *out;
+  if (const std::string* seed_text = cli.Option("--seed")) {
+    auto seed = ParseSeed(*seed_text);
+    if (!seed) return seed.error();
+    options.seed = seed.value();
+  }
   return options;
 }
 
@@ -227,7 +218,7 @@ int CheckCommand(const std::vector<std::string>& args, const Streams& io) {
 }  // namespace
 
 int RunCli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err,
-           const std::atomic<bool>* stop_requested) {
+           const std::atomic<bool>* stop_requested, std::istream* in) {
   const Streams io{out, err, stop_requested};
   if (args.empty()) {
     err << kUsage;
@@ -235,6 +226,9 @@ int RunCli(const std::vector<std::string>& args, std::ostream& out, std::ostream
   }
   if (args[0] == "run") return RunCommand(args, io);
   if (args[0] == "check") return CheckCommand(args, io);
+  if (args[0] == "calibrate") return CalibrateCommand(args, io);
+  if (args[0] == "accuracy") return AccuracyCommand(args, io);
+  if (args[0] == "decode") return DecodeCommand(args, io, in != nullptr ? *in : std::cin);
   if (args[0] == "help" || args[0] == "--help" || args[0] == "-h") {
     out << kUsage;
     return kExitPass;

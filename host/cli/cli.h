@@ -5,6 +5,7 @@
 #pragma once
 
 #include <atomic>
+#include <istream>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -15,8 +16,9 @@ inline constexpr int kExitPass = 0;
 inline constexpr int kExitCheckFailed = 1;
 inline constexpr int kExitBadInput = 2;
 
-// `args` excludes the program name. `stop_requested` (optional) ends a run early, e.g. on SIGINT.
+// `args` excludes the program name. `stop_requested` (optional) ends a run early, e.g. on SIGINT;
+// `in` (default std::cin) feeds `decode`.
 int RunCli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err,
-           const std::atomic<bool>* stop_requested = nullptr);
+           const std::atomic<bool>* stop_requested = nullptr, std::istream* in = nullptr);
 
 }  // namespace hilrig::host

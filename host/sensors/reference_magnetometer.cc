@@ -4,31 +4,33 @@
 #include <limits>
 
 namespace hilrig::host {
-namespace {
-
-inline std::int16_t QuantizeAxis(double field_t, double lsb_t, bool& saturated) {
-  constexpr double kMin = std::numeric_limits<std::int16_t>::min();
-  constexpr double kMax = std::numeric_limits<std::int16_t>::max();
-  const double counts = std::round(field_t / lsb_t);
-  if (!(counts >= kMin)) {  // also catches NaN
-    saturated = true;
-    return counts > 0 ? static_cast<std::int16_t>(kMax) : static_cast<std::int16_t>(kMin);
-  }
-  if (counts > kMax) {
-    saturated = true;
-    return static_cast<std::int16_t>(kMax);
-  }
-  return static_cast<std::int16_t>(counts);
+Eigen::Vector3d EarthFieldInSensorFrame(const Eigen::Quaterniond& orientation_world_body,
+                                        const Eigen::Quaterniond& mounting_body_sensor,
+                                        const Eigen::Vector3d& field_world_t) {
+  return (orientation_world_body * mounting_body_sensor).conjugate() * field_world_t;
 }
 
-}  // namespace
+Mlx90393AxisCounts QuantizeMlx90393Axis(double field_t, double lsb_t, std::int32_t min_counts,
+                                        std::int32_t max_counts) {
+  const double counts = std::round(field_t / lsb_t);
+  if (!(counts >= min_counts)) {  // also catches NaN
+    return {counts > 0 ? max_counts : min_counts, true};
+  }
+  if (counts > max_counts) return {max_counts, true};
+  return {static_cast<std::int32_t>(counts), false};
+}
 
 Mlx90393Codes QuantizeMlx90393(const Eigen::Vector3d& field_sensor_t, double lsb_xy_t,
                                double lsb_z_t) {
+  constexpr std::int32_t kMin = std::numeric_limits<std::int16_t>::min();
+  constexpr std::int32_t kMax = std::numeric_limits<std::int16_t>::max();
+  const double lsb_t[3] = {lsb_xy_t, lsb_xy_t, lsb_z_t};
   Mlx90393Codes out;
-  out.code[0] = QuantizeAxis(field_sensor_t.x(), lsb_xy_t, out.saturated);
-  out.code[1] = QuantizeAxis(field_sensor_t.y(), lsb_xy_t, out.saturated);
-  out.code[2] = QuantizeAxis(field_sensor_t.z(), lsb_z_t, out.saturated);
+  for (int i = 0; i < 3; ++i) {
+    const Mlx90393AxisCounts axis = QuantizeMlx90393Axis(field_sensor_t[i], lsb_t[i], kMin, kMax);
+    out.code[i] = static_cast<std::int16_t>(axis.counts);
+    out.saturated = out.saturated || axis.clipped;
+  }
   return out;
 }
 
@@ -45,9 +47,8 @@ std::optional<MagnetometerReading> SampleReferenceMagnetometer(
   reading.time_ns = now_ns;
   reading.node_id = params.node_id;
   reading.sequence = state.sequence++;
-  // (R_WB R_BS)^T B_world = R_SB R_WB^T B_world.
   reading.field_sensor_t =
-      (orientation_world_body * params.mounting).conjugate() * earth.field_world_t;
+      EarthFieldInSensorFrame(orientation_world_body, params.mounting, earth.field_world_t);
   if (params.noise_enabled) {
     const double x = state.rng.Gaussian();
     const double y = state.rng.Gaussian();

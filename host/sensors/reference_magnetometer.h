@@ -49,6 +49,23 @@ struct MagnetometerReading {
   std::uint8_t sequence = 0;
 };
 
+// Earth's field in a sensor's frame: R_SB R_WB^T B_world = (R_WB R_BS)^T B_world. The one copy
+// of this rotation, shared by the reference magnetometer and the tactile sensors, so that the
+// geomagnetic compensation on the DUT is tested against a single convention.
+Eigen::Vector3d EarthFieldInSensorFrame(const Eigen::Quaterniond& orientation_world_body,
+                                        const Eigen::Quaterniond& mounting_body_sensor,
+                                        const Eigen::Vector3d& field_world_t);
+
+// One axis of MLX90393 quantization: field / lsb rounded half away from zero, clipped to
+// [min_counts, max_counts]; `clipped` is set when it had to be clipped or was not finite (a NaN
+// goes to min_counts). The tactile chip model (tactile/mlx90393_model.h) rounds with it too.
+struct Mlx90393AxisCounts {
+  std::int32_t counts = 0;
+  bool clipped = false;
+};
+Mlx90393AxisCounts QuantizeMlx90393Axis(double field_t, double lsb_t, std::int32_t min_counts,
+                                        std::int32_t max_counts);
+
 // MLX90393 quantization shared with the tactile emulators: rounds half away from zero and
 // clips to int16; `saturated` tells whether any axis was clipped (or was not finite).
 struct Mlx90393Codes {

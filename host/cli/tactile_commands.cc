@@ -1,0 +1,218 @@
+#include "host/cli/tactile_commands.h"
+
+#include <google/protobuf/text_format.h>
+#include <google/protobuf/util/json_util.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "fixtures/calibration/calibration_procedure.h"
+#include "host/cli/cli.h"
+#include "host/sensors/tactile/film_field_factory.h"
+
+namespace hilrig::host {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct TactileOptions {
+  std::string out_dir;
+  std::string calibration_file;
+  std::uint64_t seed = 1;
+  std::shared_ptr<const FilmFieldModel> film;
+  std::string fidelity;
+};
+
+// Parses the options the tactile commands share; `needs_out` / `needs_calibration` say which
+// are required.
+rig::Result<TactileOptions> ParseTactileOptions(const std::vector<std::string>& args,
+                                                bool needs_out, bool needs_calibration) {
+  auto parsed = ParseCliArgs(args, {"--out", "--seed", "--field", "--calibration"});
+  if (!parsed) return parsed.error();
+  const CliArgs& cli = parsed.value();
+  if (!cli.positional.empty()) return rig::MakeError("unexpected argument " + cli.positional[0]);
+  TactileOptions options;
+  if (const auto* out = cli.Option("--out")) options.out_dir = *out;
+  if (needs_out && options.out_dir.empty()) return rig::MakeError("--out DIR is required");
+  if (const auto* file = cli.Option("--calibration")) options.calibration_file = *file;
+  if (needs_calibration && options.calibration_file.empty()) {
+    return rig::MakeError("--calibration FILE is required");
+  }
+  if (const auto* seed_text = cli.Option("--seed")) {
+    auto seed = ParseSeed(*seed_text);
+    if (!seed) return seed.error();
+    options.seed = seed.value();
+  }
+  const auto* fidelity = cli.Option("--field");
+  options.fidelity = fidelity != nullptr ? *fidelity : std::string(kDefaultFilmFidelity);
+  if (needs_out) {  // only the commands that run the forward model need a film
+    auto film = MakeFilmField(options.fidelity);
+    if (!film) return film.error();
+    options.film = film.value();
+  }
+  return options;
+}
+
+rig::Result<void> PrepareOutDir(const std::string& out_dir) {
+  std::error_code error;
+  fs::create_directories(out_dir, error);
+  if (error) return rig::MakeError("cannot create " + out_dir + ": " + error.message());
+  return {};
+}
+
+rig::Result<void> WriteText(const fs::path& path, const std::string& text) {
+  std::ofstream file(path, std::ios::binary | std::ios::trunc);
+  file << text;
+  file.close();
+  if (!file) return rig::MakeError("cannot write " + path.string());
+  return {};
+}
+
+rig::Result<proto::Calibration> ReadCalibration(const std::string& path) {
+  std::ifstream file(path);
+  if (!file) return rig::MakeError(path + ": cannot open calibration file");
+  std::stringstream text;
+  text << file.rdbuf();
+  proto::Calibration calibration;
+  if (!google::protobuf::TextFormat::ParseFromString(text.str(), &calibration)) {
+    return rig::MakeError(path + ": not a calibration (text format of proto/calibration.proto)");
+  }
+  if (calibration.sensors_size() == 0) return rig::MakeError(path + ": no sensors in it");
+  for (const auto& sensor : calibration.sensors()) {
+    if (sensor.node_id() < 1 || sensor.node_id() > 6) {
+      return rig::MakeError(path + ": node_id " + std::to_string(sensor.node_id()) +
+                            " is not a tactile node (1..6)");
+    }
+  }
+  return calibration;
+}
+
+std::string Format(const char* format, double a, double b, double c) {
+  char line[128];
+  std::snprintf(line, sizeof(line), format, a, b, c);
+  return line;
+}
+
+void PrintCalibration(const proto::Calibration& calibration, std::ostream& out) {
+  const auto& ours = calibration.film();
+  const auto& paper = calibration.published_film();
+  out << "film constants      k1          c1 (T)        k2          c2 (T)     cross-talk\n";
+  char line[160];
+  std::snprintf(line, sizeof(line), "  ours       %10.6f  %12.5e  %10.6f  %12.5e  %.3e\n",
+                ours.k1(), ours.c1(), ours.k2(), ours.c2(), calibration.cross_talk_ours());
+  out << line;
+  std::snprintf(line, sizeof(line), "  published  %10.6f  %12.5e  %10.6f  %12.5e  %.3e\n",
+                paper.k1(), paper.c1(), paper.k2(), paper.c2(), calibration.cross_talk_published());
+  out << line << "F/T jig fit residuals (N)   rms x    rms y    rms z    max x    max y    max z\n";
+  for (const auto& sensor : calibration.sensors()) {
+    std::snprintf(line, sizeof(line), "  node %u %21s %8.4f %8.4f %8.4f %8.4f %8.4f %8.4f\n",
+                  sensor.node_id(), "", sensor.fit_rms_n().x(), sensor.fit_rms_n().y(),
+                  sensor.fit_rms_n().z(), sensor.fit_max_n().x(), sensor.fit_max_n().y(),
+                  sensor.fit_max_n().z());
+    out << line;
+  }
+}
+
+void PrintAccuracy(const proto::AccuracyReport& report, std::ostream& out) {
+  out << "held-out loads: " << report.sensors() << " sensors x " << report.attitudes()
+      << " attitudes x " << report.loads_per_attitude() << " loads, field "
+      << report.field_fidelity() << "\n"
+      << "condition        rmse x   rmse y   rmse z    max x    max y    max z   samples  "
+         "flagged\n";
+  for (const auto& condition : report.conditions()) {
+    char line[200];
+    std::snprintf(line, sizeof(line), "%-14s %8.4f %8.4f %8.4f %8.4f %8.4f %8.4f %9u %8u\n",
+                  condition.condition().c_str(), condition.rmse_n().x(), condition.rmse_n().y(),
+                  condition.rmse_n().z(), condition.max_n().x(), condition.max_n().y(),
+                  condition.max_n().z(), condition.samples(), condition.flagged());
+    out << line;
+  }
+}
+
+int Fail(const CliStreams& io, const std::string& command, const std::string& message) {
+  io.err << "hilrig " << command << ": " << message << "\n";
+  return kExitBadInput;
+}
+
+}  // namespace
+
+int CalibrateCommand(const std::vector<std::string>& args, const CliStreams& io) {
+  auto options = ParseTactileOptions(args, /*needs_out=*/true, /*needs_calibration=*/false);
+  if (!options) return Fail(io, "calibrate", options.error().message);
+  if (auto ready = PrepareOutDir(options.value().out_dir); !ready) {
+    return Fail(io, "calibrate", ready.error().message);
+  }
+  const fixtures::CalibrationBench bench;
+  proto::Calibration calibration =
+      fixtures::Calibrate(bench, *options.value().film, options.value().seed);
+  calibration.set_field_fidelity(options.value().fidelity);
+  std::string text;
+  google::protobuf::TextFormat::PrintToString(calibration, &text);
+  const fs::path path = fs::path(options.value().out_dir) / "calibration.textproto";
+  if (auto written = WriteText(path, text); !written) {
+    return Fail(io, "calibrate", written.error().message);
+  }
+  PrintCalibration(calibration, io.out);
+  io.out << "wrote " << path.string() << "\n";
+  return kExitPass;
+}
+
+int AccuracyCommand(const std::vector<std::string>& args, const CliStreams& io) {
+  auto options = ParseTactileOptions(args, /*needs_out=*/true, /*needs_calibration=*/true);
+  if (!options) return Fail(io, "accuracy", options.error().message);
+  const auto calibration = ReadCalibration(options.value().calibration_file);
+  if (!calibration) return Fail(io, "accuracy", calibration.error().message);
+  if (auto ready = PrepareOutDir(options.value().out_dir); !ready) {
+    return Fail(io, "accuracy", ready.error().message);
+  }
+  const fixtures::CalibrationBench bench;
+  // Held-out means other noise and other loads than calibration's: a seed of its own.
+  proto::AccuracyReport report = fixtures::MeasureAccuracy(
+      bench, *options.value().film, calibration.value(), options.value().seed + 1000);
+  report.set_field_fidelity(options.value().fidelity);
+  std::string json;
+  google::protobuf::util::JsonPrintOptions json_options;
+  json_options.add_whitespace = true;
+  json_options.always_print_primitive_fields = true;
+  json_options.preserve_proto_field_names = true;
+  (void)google::protobuf::util::MessageToJsonString(report, &json, json_options);
+  const fs::path path = fs::path(options.value().out_dir) / "accuracy.json";
+  if (auto written = WriteText(path, json); !written) {
+    return Fail(io, "accuracy", written.error().message);
+  }
+  PrintAccuracy(report, io.out);
+  io.out << "wrote " << path.string() << "\n";
+  return kExitPass;
+}
+
+int DecodeCommand(const std::vector<std::string>& args, const CliStreams& io, std::istream& in) {
+  auto options = ParseTactileOptions(args, /*needs_out=*/false, /*needs_calibration=*/true);
+  if (!options) return Fail(io, "decode", options.error().message);
+  const auto calibration = ReadCalibration(options.value().calibration_file);
+  if (!calibration) return Fail(io, "decode", calibration.error().message);
+  const dut_fw::FilmConstants<double> film = fixtures::FilmConstantsOf(calibration.value());
+  int exit_code = kExitPass;
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream fields(line);
+    Eigen::Vector3d field_t;
+    std::string extra;
+    if (!(fields >> field_t.x() >> field_t.y() >> field_t.z()) || (fields >> extra)) {
+      // strtod-style parsing accepts "nan" and "inf", which the decoder then flags itself.
+      io.out << "invalid malformed_line\n";
+      exit_code = kExitBadInput;
+      continue;
+    }
+    const auto s = dut_fw::ComputeS<double>(film, field_t);
+    if (s.ok()) {
+      io.out << Format("%.9g %.9g %.9g", s.s.x(), s.s.y(), s.s.z()) << "\n";
+    } else {
+      io.out << "invalid " << dut_fw::DecodeStatusName(s.status) << "\n";
+    }
+  }
+  return exit_code;
+}
+
+}  // namespace hilrig::host

@@ -1,0 +1,110 @@
+#include "host/sensors/tactile/field_map.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <utility>
+
+namespace hilrig::host {
+namespace {
+
+// Catmull-Rom weights of the nodes at -1, 0, 1, 2 for a fraction t in [0, 1] of the cell [0, 1].
+void CatmullRomWeights(double t, double w[4]) {
+  const double t2 = t * t;
+  const double t3 = t2 * t;
+  w[0] = 0.5 * (-t3 + 2.0 * t2 - t);
+  w[1] = 0.5 * (3.0 * t3 - 5.0 * t2 + 2.0);
+  w[2] = 0.5 * (-3.0 * t3 + 4.0 * t2 + t);
+  w[3] = 0.5 * (t3 - t2);
+}
+
+}  // namespace
+
+FilmCentreBox FilmWorkingVolume() {
+  return {Eigen::Vector3d(-0.003, -0.003, -0.012), Eigen::Vector3d(0.003, 0.003, -0.008)};
+}
+
+FieldMapFilmField::FieldMapFilmField(std::shared_ptr<const FilmFieldModel> source,
+                                     const FieldMapGrid& grid)
+    : source_(std::move(source)), grid_(grid) {
+  if (!source_ || (grid.nodes.array() < 2).any() ||
+      !(grid.box.max_m.array() > grid.box.min_m.array()).all()) {
+    std::fprintf(stderr, "FieldMapFilmField: no source or a degenerate grid\n");
+    std::abort();
+  }
+  spacing_m_ = (grid.box.max_m - grid.box.min_m)
+                   .cwiseQuotient((grid.nodes.array() - 1).matrix().cast<double>());
+  stored_ = grid.nodes.array() + 2;
+  table_.resize(static_cast<size_t>(stored_.prod()));
+  FilmPose pose;
+  for (int k = 0; k < stored_.z(); ++k) {
+    for (int j = 0; j < stored_.y(); ++j) {
+      for (int i = 0; i < stored_.x(); ++i) {
+        pose.centre_m =
+            grid.box.min_m + spacing_m_.cwiseProduct(Eigen::Vector3d(i - 1, j - 1, k - 1));
+        table_[(static_cast<size_t>(k) * stored_.y() + j) * stored_.x() + i] =
+            source_->FieldAtChip(pose);
+      }
+    }
+  }
+}
+
+const Eigen::Vector3d& FieldMapFilmField::Node(int i, int j, int k) const {
+  return table_[(static_cast<size_t>(k) * stored_.y() + j) * stored_.x() + i];
+}
+
+std::optional<Eigen::Vector3d> FieldMapFilmField::Lookup(const FilmPose& pose) const {
+  const Eigen::Matrix3d rotation = pose.orientation.normalized().toRotationMatrix();
+  // The centre as seen from a chip frame turned with the film; the table is of the un-tilted film.
+  const Eigen::Vector3d centre = rotation.transpose() * pose.centre_m;
+  int base[3];
+  double w[3][4];
+  for (int a = 0; a < 3; ++a) {
+    const double s = (centre[a] - grid_.box.min_m[a]) / spacing_m_[a];
+    const int last_cell = grid_.nodes[a] - 2;
+    // A little slack so that the grid's own end nodes, reached through rounding, count as inside.
+    constexpr double kSlack = 1e-9;
+    if (!(s >= -kSlack && s <= last_cell + 1 + kSlack)) return std::nullopt;
+    const int cell = std::clamp(static_cast<int>(std::floor(s)), 0, last_cell);
+    CatmullRomWeights(s - cell, w[a]);
+    base[a] = cell;  // stored index of node cell - 1 (the stored grid starts one node early)
+  }
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 4; ++k) {
+    Eigen::Vector3d plane = Eigen::Vector3d::Zero();
+    for (int j = 0; j < 4; ++j) {
+      Eigen::Vector3d row = Eigen::Vector3d::Zero();
+      for (int i = 0; i < 4; ++i) row += w[0][i] * Node(base[0] + i, base[1] + j, base[2] + k);
+      plane += w[1][j] * row;
+    }
+    b += w[2][k] * plane;
+  }
+  return rotation * b;
+}
+
+Eigen::Vector3d FieldMapFilmField::FieldAtChip(const FilmPose& pose) const {
+  if (auto b = Lookup(pose)) return *b;
+  return source_->FieldAtChip(pose);
+}
+
+double MaxRelativeError(const FilmFieldModel& a, const FilmFieldModel& b, int samples_per_axis) {
+  const FilmCentreBox box = FilmWorkingVolume();
+  const int n = std::max(samples_per_axis, 2);
+  double worst = 0.0;
+  FilmPose pose;
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      for (int k = 0; k < n; ++k) {
+        const Eigen::Vector3d f(static_cast<double>(i) / (n - 1), static_cast<double>(j) / (n - 1),
+                                static_cast<double>(k) / (n - 1));
+        pose.centre_m = box.min_m + (box.max_m - box.min_m).cwiseProduct(f);
+        const Eigen::Vector3d ref = b.FieldAtChip(pose);
+        worst = std::max(worst, (a.FieldAtChip(pose) - ref).norm() / ref.norm());
+      }
+    }
+  }
+  return worst;
+}
+
+}  // namespace hilrig::host

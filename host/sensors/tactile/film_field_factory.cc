@@ -1,0 +1,37 @@
+#include "host/sensors/tactile/film_field_factory.h"
+
+#include <charconv>
+
+#include "host/sensors/tactile/field_map.h"
+#include "host/sensors/tactile/film_magnet.h"
+
+namespace hilrig::host {
+namespace {
+
+rig::Result<int> ParseTiles(std::string_view text, std::string_view fidelity) {
+  int tiles = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), tiles);
+  if (error != std::errc() || end != text.data() + text.size() || tiles < 1 || tiles > 128) {
+    return rig::MakeError("field fidelity \"" + std::string(fidelity) +
+                          "\": tiles per side must be a whole number in [1, 128]");
+  }
+  return tiles;
+}
+
+}  // namespace
+
+rig::Result<std::shared_ptr<const FilmFieldModel>> MakeFilmField(std::string_view fidelity) {
+  const bool map = fidelity == "map" || fidelity.starts_with("map:");
+  if (!map && !fidelity.starts_with("tiles:")) {
+    return rig::MakeError("unknown field fidelity \"" + std::string(fidelity) +
+                          "\" (expected tiles:N or map:N)");
+  }
+  const std::string_view count = fidelity == "map" ? "32" : fidelity.substr(fidelity.find(':') + 1);
+  const auto tiles = ParseTiles(count, fidelity);
+  if (!tiles) return tiles.error();
+  auto tiled = std::make_shared<const TiledFilmField>(FilmGeometry{}, tiles.value());
+  if (!map) return std::shared_ptr<const FilmFieldModel>(tiled);
+  return std::shared_ptr<const FilmFieldModel>(std::make_shared<const FieldMapFilmField>(tiled));
+}
+
+}  // namespace hilrig::host

@@ -1,0 +1,19 @@
+// Builds a film field model from its fidelity name, as scenarios and the CLI name it:
+// "tiles:N" (N x N cuboid tiles, 1 <= N <= 128) or "map:N" (a field map tabulated from tiles:N;
+// "map" alone is map:32). The film geometry is the default FilmGeometry.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <string_view>
+
+#include "host/sensors/tactile/film_field.h"
+#include "rig/result.h"
+
+namespace hilrig::host {
+
+inline constexpr std::string_view kDefaultFilmFidelity = "tiles:16";
+
+rig::Result<std::shared_ptr<const FilmFieldModel>> MakeFilmField(std::string_view fidelity);
+
+}  // namespace hilrig::host

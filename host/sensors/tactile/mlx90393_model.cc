@@ -1,0 +1,57 @@
+#include "host/sensors/tactile/mlx90393_model.h"
+
+#include <cmath>
+
+#include "host/sensors/reference_magnetometer.h"
+#include "rig/check.h"
+
+namespace hilrig::host {
+
+Mlx90393Sample SampleMlx90393(const Mlx90393Params& params, Mlx90393State& state,
+                              const Eigen::Vector3d& field_sensor_t, double temperature_c) {
+  Mlx90393Sample sample;
+  sample.field_t_true = field_sensor_t;
+
+  Eigen::Vector3d sensed = field_sensor_t;
+  if (params.drift_enabled) {
+    const double dt_k = temperature_c - params.reference_temperature_c;
+    sensed = (1.0 + params.sensitivity_tempco_per_k * dt_k) * sensed +
+             params.offset_at_reference_t + params.offset_tempco_t_per_k * dt_k;
+  }
+  if (params.noise_enabled) {
+    // Always three draws in axis order, so the stream stays aligned across configurations.
+    const double nx = state.rng.Gaussian();
+    const double ny = state.rng.Gaussian();
+    const double nz = state.rng.Gaussian();
+    sensed +=
+        Eigen::Vector3d(params.noise_xy_t * nx, params.noise_xy_t * ny, params.noise_z_t * nz);
+  }
+  sample.field_t_sensed = sensed;
+
+  HILRIG_CHECK(dut_fw::IsValidSetting(params.setting), "MLX90393 GAIN_SEL 0..7, RES 0..3");
+  const std::uint8_t res = params.setting.resolution;
+  const dut_fw::Mlx90393CodeRange range = dut_fw::CodeRange(res);
+  const Eigen::Vector3d lsb_t = dut_fw::LsbTesla<double>(params.setting);
+  for (int axis = 0; axis < 3; ++axis) {
+    if (params.saturation_enabled && params.encoding_enabled) {
+      // The chip as specified: dut_fw's encoder clips and encodes.
+      constexpr std::int32_t kWide = 1 << 30;
+      const Mlx90393AxisCounts q = QuantizeMlx90393Axis(sensed[axis], lsb_t[axis], -kWide, kWide);
+      const dut_fw::EncodedCode encoded = dut_fw::EncodeCode(q.counts, res);
+      sample.code[axis] = encoded.code;
+      sample.saturated = sample.saturated || q.clipped || encoded.saturated;
+      continue;
+    }
+    // A switched-off effect: clip or not, offset or not, then keep the register's low 16 bits
+    // (the cast to an unsigned type is defined modulo 2^16).
+    const std::int32_t lo = params.saturation_enabled ? range.min_counts : -(1 << 30);
+    const std::int32_t hi = params.saturation_enabled ? range.max_counts : (1 << 30);
+    const Mlx90393AxisCounts q = QuantizeMlx90393Axis(sensed[axis], lsb_t[axis], lo, hi);
+    const std::int32_t zero_code = params.encoding_enabled ? range.zero_code : 0;
+    sample.code[axis] = static_cast<std::uint16_t>(q.counts + zero_code);
+    sample.saturated = sample.saturated || q.clipped || dut_fw::CountsSaturated(q.counts, res);
+  }
+  return sample;
+}
+
+}  // namespace hilrig::host

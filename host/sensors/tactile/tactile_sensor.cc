@@ -1,0 +1,44 @@
+#include "host/sensors/tactile/tactile_sensor.h"
+
+#include "host/sensors/random_stream.h"
+#include "host/sensors/reference_magnetometer.h"
+#include "rig/check.h"
+
+namespace hilrig::host {
+
+TactileSensorState InitialTactileSensorState(const TactileSensorParams& params,
+                                             std::uint64_t scenario_seed) {
+  HILRIG_CHECK(params.node_id >= 1 && params.node_id <= 7, "tactile node ids are 1..7");
+  TactileSensorState state;
+  state.chip.rng = RandomStream::FromSeed(scenario_seed, TactileStreamId(params.node_id - 1));
+  return state;
+}
+
+TactileReading SampleTactileSensor(const TactileSensorParams& params, TactileSensorState& state,
+                                   const FilmFieldModel& film, const Eigen::Vector3d& force_pad_n,
+                                   const Eigen::Quaterniond& vehicle_attitude_world_body,
+                                   const Eigen::Vector3d& earth_field_world_t, double temperature_c,
+                                   double dt_s) {
+  TactileReading reading;
+  reading.node_id = params.node_id;
+
+  if (params.film_present) {
+    state.silicone = StepSilicone(params.silicone, state.silicone, force_pad_n, dt_s);
+    reading.film_pose = FilmPoseFor(params.silicone, state.silicone);
+    reading.film_field_t = film.FieldAtChip(reading.film_pose);
+  }
+  if (params.earth_field_enabled) {
+    reading.earth_field_sensor_t = EarthFieldInSensorFrame(
+        vehicle_attitude_world_body, params.mounting_body_from_sensor, earth_field_world_t);
+  }
+  reading.field_sensor_t = reading.film_field_t + reading.earth_field_sensor_t;
+
+  const Mlx90393Sample chip =
+      SampleMlx90393(params.chip, state.chip, reading.field_sensor_t, temperature_c);
+  reading.code = chip.code;
+  reading.saturated = chip.saturated;
+  reading.field_sensed_t = chip.field_t_sensed;
+  return reading;
+}
+
+}  // namespace hilrig::host
