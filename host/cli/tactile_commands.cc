@@ -4,8 +4,10 @@
 #include <google/protobuf/util/json_util.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "fixtures/calibration/calibration_procedure.h"
@@ -131,6 +133,22 @@ void PrintAccuracy(const proto::AccuracyReport& report, std::ostream& out) {
   }
 }
 
+// Three numbers separated by blanks; strtod, unlike operator>>, reads "nan" and "inf", which the
+// decoder then flags itself.
+std::optional<Eigen::Vector3d> ParseFieldLine(const std::string& line) {
+  Eigen::Vector3d field_t;
+  const char* cursor = line.c_str();
+  for (int axis = 0; axis < 3; ++axis) {
+    char* end = nullptr;
+    field_t(axis) = std::strtod(cursor, &end);
+    if (end == cursor) return std::nullopt;
+    cursor = end;
+  }
+  while (*cursor == ' ' || *cursor == '\t' || *cursor == '\r') ++cursor;
+  if (*cursor != '\0') return std::nullopt;
+  return field_t;
+}
+
 int Fail(const CliStreams& io, const std::string& command, const std::string& message) {
   io.err << "hilrig " << command << ": " << message << "\n";
   return kExitBadInput;
@@ -196,16 +214,13 @@ int DecodeCommand(const std::vector<std::string>& args, const CliStreams& io, st
   int exit_code = kExitPass;
   std::string line;
   while (std::getline(in, line)) {
-    std::istringstream fields(line);
-    Eigen::Vector3d field_t;
-    std::string extra;
-    if (!(fields >> field_t.x() >> field_t.y() >> field_t.z()) || (fields >> extra)) {
-      // strtod-style parsing accepts "nan" and "inf", which the decoder then flags itself.
+    const auto field_t = ParseFieldLine(line);
+    if (!field_t) {
       io.out << "invalid malformed_line\n";
       exit_code = kExitBadInput;
       continue;
     }
-    const auto s = dut_fw::ComputeS<double>(film, field_t);
+    const auto s = dut_fw::ComputeS<double>(film, *field_t);
     if (s.ok()) {
       io.out << Format("%.9g %.9g %.9g", s.s.x(), s.s.y(), s.s.z()) << "\n";
     } else {

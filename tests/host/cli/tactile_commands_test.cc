@@ -1,0 +1,111 @@
+#include "host/cli/tactile_commands.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "host/cli/cli.h"
+
+namespace hilrig::host {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+struct CliResult {
+  int exit_code;
+  std::string out;
+  std::string err;
+};
+
+CliResult Cli(const std::vector<std::string>& args, const std::string& input = "") {
+  std::ostringstream out, err;
+  std::istringstream in(input);
+  const int exit_code = RunCli(args, out, err, nullptr, &in);
+  return {exit_code, out.str(), err.str()};
+}
+
+// One calibration shared by the tests of this file (the field map keeps it to a second).
+const fs::path& CalibrationDir() {
+  static const fs::path dir = [] {
+    const fs::path path = fs::path(::testing::TempDir()) / "hilrig_tactile_cli";
+    fs::remove_all(path);
+    const CliResult result =
+        Cli({"calibrate", "--out", path.string(), "--field", "map:16", "--seed", "3"});
+    EXPECT_EQ(result.exit_code, kExitPass) << result.err;
+    return path;
+  }();
+  return dir;
+}
+
+std::string CalibrationFile() { return (CalibrationDir() / "calibration.textproto").string(); }
+
+TEST(TactileCommandsTest, CalibratePrintsConstantsAndResidualsAndWritesTheFile) {
+  ASSERT_TRUE(fs::exists(CalibrationFile()));
+  std::ifstream file(CalibrationFile());
+  std::stringstream text;
+  text << file.rdbuf();
+  EXPECT_THAT(text.str(), HasSubstr("published_film"));
+  EXPECT_THAT(text.str(), HasSubstr("node_id: 6"));
+}
+
+TEST(TactileCommandsTest, AccuracyWritesBothConditions) {
+  const fs::path out = CalibrationDir() / "accuracy";
+  const CliResult result = Cli(
+      {"accuracy", "--calibration", CalibrationFile(), "--out", out.string(), "--field", "map:16"});
+  ASSERT_EQ(result.exit_code, kExitPass) << result.err;
+  EXPECT_THAT(result.out, HasSubstr("compensated"));
+  std::ifstream file(out / "accuracy.json");
+  std::stringstream json;
+  json << file.rdbuf();
+  EXPECT_THAT(json.str(), HasSubstr("\"condition\": \"uncompensated\""));
+  EXPECT_THAT(json.str(), HasSubstr("\"rmse_n\""));
+}
+
+TEST(TactileCommandsTest, DecodePrintsSOrAFlagPerLine) {
+  const CliResult result = Cli({"decode", "--calibration", CalibrationFile()},
+                               "0.0001 -0.0002 0.0035\n"
+                               "nan 0 0.003\n"
+                               "0 0 3.5\n"
+                               "1 2\n");
+  const std::vector<std::string> expected_starts = {
+      "", "invalid non_finite_input", "invalid out_of_range", "invalid malformed_line"};
+  std::istringstream lines(result.out);
+  std::string line;
+  std::getline(lines, line);
+  double sx = 0, sy = 0, sz = 0;
+  EXPECT_EQ(std::sscanf(line.c_str(), "%lf %lf %lf", &sx, &sy, &sz), 3) << line;
+  for (std::size_t i = 1; i < expected_starts.size(); ++i) {
+    std::getline(lines, line);
+    EXPECT_EQ(line, expected_starts[i]);
+  }
+  EXPECT_EQ(result.exit_code, kExitBadInput);  // the malformed line
+}
+
+TEST(TactileCommandsTest, DecodeOfCleanInputExitsZero) {
+  EXPECT_EQ(Cli({"decode", "--calibration", CalibrationFile()}, "0 0 0.003\n").exit_code,
+            kExitPass);
+}
+
+TEST(TactileCommandsTest, BadInvocationsExitTwoWithAReason) {
+  EXPECT_THAT(Cli({"calibrate"}).err, HasSubstr("--out DIR is required"));
+  EXPECT_EQ(Cli({"accuracy", "--out", "/tmp/x"}).exit_code, kExitBadInput);
+  EXPECT_THAT(Cli({"decode", "--calibration", "/nonexistent.textproto"}).err,
+              HasSubstr("cannot open"));
+  EXPECT_THAT(Cli({"calibrate", "--out", "/tmp/x", "--field", "tiles:0"}).err,
+              HasSubstr("tiles per side"));
+  EXPECT_THAT(Cli({"calibrate", "--out", "/tmp/x", "--field", "magic"}).err,
+              HasSubstr("unknown field fidelity"));
+}
+
+TEST(TactileCommandsTest, DecodeRejectsAFileThatIsNotACalibration) {
+  const fs::path bogus = fs::path(::testing::TempDir()) / "bogus.textproto";
+  std::ofstream(bogus) << "this is not { a calibration";
+  EXPECT_EQ(Cli({"decode", "--calibration", bogus.string()}).exit_code, kExitBadInput);
+}
+
+}  // namespace
+}  // namespace hilrig::host
