@@ -7,6 +7,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <unistd.h>
+
 #include "host/cli/cli.h"
 
 namespace hilrig::host {
@@ -31,7 +33,9 @@ CliResult Cli(const std::vector<std::string>& args, const std::string& input = "
 // One calibration shared by the tests of this file (the field map keeps it to a second).
 const fs::path& CalibrationDir() {
   static const fs::path dir = [] {
-    const fs::path path = fs::path(::testing::TempDir()) / "hilrig_tactile_cli";
+    // ctest runs each test in its own process, two at a time: one folder per process.
+    const fs::path path =
+        fs::path(::testing::TempDir()) / ("hilrig_tactile_cli_" + std::to_string(::getpid()));
     fs::remove_all(path);
     const CliResult result =
         Cli({"calibrate", "--out", path.string(), "--field", "map:16", "--seed", "3"});
