@@ -76,7 +76,10 @@ rig::Result<proto::Report> RunToDirectory(const proto::Scenario& spec, const std
   std::ofstream can_log(out_dir / "can.log", std::ios::binary | std::ios::trunc);
   if (!trace || !can_log) return rig::MakeError("cannot write into " + out_dir.string());
 
-  const ScenarioConfig config = ResolveScenario(spec, seed);
+  ScenarioConfig config = ResolveScenario(spec, seed, fs::path(spec_path).parent_path().string());
+  if (auto calibrated = LoadTactileCalibration(config); !calibrated) {
+    return rig::MakeError(spec_path + ": tactile calibration: " + calibrated.error().message);
+  }
   const rig::SteadyClock wall_clock;
   proto::Report report =
       RunScenario(config, {&trace, &can_log, &io.err}, {&wall_clock, io.stop_requested});

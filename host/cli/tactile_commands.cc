@@ -1,6 +1,5 @@
 #include "host/cli/tactile_commands.h"
 
-#include <google/protobuf/text_format.h>
 #include <google/protobuf/util/json_util.h>
 
 #include <cstdio>
@@ -10,6 +9,7 @@
 #include <optional>
 #include <sstream>
 
+#include "fixtures/calibration/calibration_file.h"
 #include "fixtures/calibration/calibration_procedure.h"
 #include "host/cli/cli.h"
 #include "host/sensors/tactile/film_field_factory.h"
@@ -70,25 +70,6 @@ rig::Result<void> WriteText(const fs::path& path, const std::string& text) {
   file.close();
   if (!file) return rig::MakeError("cannot write " + path.string());
   return {};
-}
-
-rig::Result<proto::Calibration> ReadCalibration(const std::string& path) {
-  std::ifstream file(path);
-  if (!file) return rig::MakeError(path + ": cannot open calibration file");
-  std::stringstream text;
-  text << file.rdbuf();
-  proto::Calibration calibration;
-  if (!google::protobuf::TextFormat::ParseFromString(text.str(), &calibration)) {
-    return rig::MakeError(path + ": not a calibration (text format of proto/calibration.proto)");
-  }
-  if (calibration.sensors_size() == 0) return rig::MakeError(path + ": no sensors in it");
-  for (const auto& sensor : calibration.sensors()) {
-    if (sensor.node_id() < 1 || sensor.node_id() > 6) {
-      return rig::MakeError(path + ": node_id " + std::to_string(sensor.node_id()) +
-                            " is not a tactile node (1..6)");
-    }
-  }
-  return calibration;
 }
 
 std::string Format(const char* format, double a, double b, double c) {
@@ -166,10 +147,8 @@ int CalibrateCommand(const std::vector<std::string>& args, const CliStreams& io)
   proto::Calibration calibration =
       fixtures::Calibrate(bench, *options.value().film, options.value().seed);
   calibration.set_field_fidelity(options.value().fidelity);
-  std::string text;
-  google::protobuf::TextFormat::PrintToString(calibration, &text);
   const fs::path path = fs::path(options.value().out_dir) / "calibration.textproto";
-  if (auto written = WriteText(path, text); !written) {
+  if (auto written = fixtures::WriteCalibrationFile(calibration, path.string()); !written) {
     return Fail(io, "calibrate", written.error().message);
   }
   PrintCalibration(calibration, io.out);
@@ -180,7 +159,7 @@ int CalibrateCommand(const std::vector<std::string>& args, const CliStreams& io)
 int AccuracyCommand(const std::vector<std::string>& args, const CliStreams& io) {
   auto options = ParseTactileOptions(args, /*needs_out=*/true, /*needs_calibration=*/true);
   if (!options) return Fail(io, "accuracy", options.error().message);
-  const auto calibration = ReadCalibration(options.value().calibration_file);
+  const auto calibration = fixtures::ReadCalibrationFile(options.value().calibration_file);
   if (!calibration) return Fail(io, "accuracy", calibration.error().message);
   if (auto ready = PrepareOutDir(options.value().out_dir); !ready) {
     return Fail(io, "accuracy", ready.error().message);
@@ -208,7 +187,7 @@ int AccuracyCommand(const std::vector<std::string>& args, const CliStreams& io) 
 int DecodeCommand(const std::vector<std::string>& args, const CliStreams& io, std::istream& in) {
   auto options = ParseTactileOptions(args, /*needs_out=*/false, /*needs_calibration=*/true);
   if (!options) return Fail(io, "decode", options.error().message);
-  const auto calibration = ReadCalibration(options.value().calibration_file);
+  const auto calibration = fixtures::ReadCalibrationFile(options.value().calibration_file);
   if (!calibration) return Fail(io, "decode", calibration.error().message);
   const dut_fw::FilmConstants<double> film = fixtures::FilmConstantsOf(calibration.value());
   int exit_code = kExitPass;

@@ -43,7 +43,13 @@ struct ActuatorMessage {
   std::uint64_t answers_sequence = 0;  // the control tick this command answers
   std::array<double, 4> rotor_thrust_n{};
   bool armed = false;
-  Eigen::Vector3d estimated_position_m = Eigen::Vector3d::Zero();  // DUT telemetry for the trace
+  // DUT telemetry for the trace: its state estimate and its decoded pad forces (sensor frames,
+  // zero until its start-up zeroing is done).
+  Eigen::Vector3d estimated_position_m = Eigen::Vector3d::Zero();
+  std::array<Eigen::Vector3d, 6> tactile_force_sensor_n = {
+      Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+      Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+  bool tactile_ready = false;
 };
 
 }  // namespace hilrig::host

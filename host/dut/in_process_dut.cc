@@ -5,8 +5,12 @@
 namespace hilrig::host {
 
 InProcessDut::InProcessDut(const dut_fw::FlightControllerParams<double>& params,
+                           const std::optional<dut_fw::TactileProcessorParams<double>>& tactile,
                            std::unique_ptr<rig::CanBus> bus, double control_period_s)
-    : controller_(params), bus_(std::move(bus)), control_period_s_(control_period_s) {
+    : controller_(params),
+      tactile_params_(tactile),
+      bus_(std::move(bus)),
+      control_period_s_(control_period_s) {
   reference_.position_m.setZero();
   reference_.velocity_m_s.setZero();
   reference_.acceleration_m_s2.setZero();
@@ -36,13 +40,34 @@ void InProcessDut::DrainBus(std::int64_t now_ns) {
   bus_->Receive(now_ns, received_);
   for (const rig::TimedCanFrame& timed : received_) {
     ++counters_.can_frames_received;
-    // The reference magnetometer feeds geomagnetic compensation once the tactile chain exists;
-    // until then the DUT decodes and counts its samples so a broken frame is still surfaced.
-    if (rig::DecodeMagneticSample(timed.frame).ok()) {
-      ++counters_.magnetometer_samples;
-    } else {
+    const auto sample = rig::DecodeMagneticSample(timed.frame);
+    if (!sample.ok()) {
       ++counters_.can_frames_rejected;
+      continue;
     }
+    ++counters_.magnetometer_samples;
+    if (!tactile_params_) continue;
+    const rig::MagneticSample& s = sample.value();
+    const std::array<std::uint16_t, 3> codes = {static_cast<std::uint16_t>(s.x_code),
+                                                static_cast<std::uint16_t>(s.y_code),
+                                                static_cast<std::uint16_t>(s.z_code)};
+    const bool saturated = (s.status & rig::kSensorStatusSaturated) != 0;
+    if (s.node_id == rig::kReferenceNodeId) {
+      dut_fw::OnReferenceSample(*tactile_params_, tactile_state_, codes, s.sequence, saturated,
+                                timed.time_ns);
+    } else {
+      dut_fw::OnTactileSample(*tactile_params_, tactile_state_, s.node_id, codes, s.sequence,
+                              saturated, timed.time_ns);
+    }
+  }
+}
+
+void InProcessDut::FillTactileTelemetry(std::int64_t now_ns, ActuatorMessage& command) const {
+  if (!tactile_params_) return;
+  const auto summary = dut_fw::SummarizeTactile(*tactile_params_, tactile_state_, now_ns);
+  command.tactile_ready = summary.ready;
+  for (std::size_t i = 0; i < command.tactile_force_sensor_n.size(); ++i) {
+    command.tactile_force_sensor_n[i] = tactile_state_.nodes[i].force_sensor_n;
   }
 }
 
@@ -56,6 +81,8 @@ rig::Result<ActuatorMessage> InProcessDut::Step(std::uint64_t tick, std::int64_t
   command.rotor_thrust_n = output.rotor_thrust_n;
   command.armed = output.armed;
   command.estimated_position_m = state_.estimator.position_m;
+  // Tactile force stays out of the position loop until the grasping work wires it in.
+  FillTactileTelemetry(now_ns, command);
   return command;
 }
 

@@ -4,9 +4,11 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "dut_fw/flight_controller.h"
+#include "dut_fw/tactile_processor.h"
 #include "host/dut/dut_port.h"
 #include "rig/can_bus.h"
 
@@ -14,8 +16,11 @@ namespace hilrig::host {
 
 class InProcessDut final : public DutPort {
  public:
-  // `bus` is the DUT's own endpoint on the CAN bus; `control_period_s` is its control step.
+  // `bus` is the DUT's own endpoint on the CAN bus; `control_period_s` is its control step;
+  // `tactile` configures the tactile front end (empty: the scene has no tactile nodes, and
+  // reference magnetometer frames are only counted).
   InProcessDut(const dut_fw::FlightControllerParams<double>& params,
+               const std::optional<dut_fw::TactileProcessorParams<double>>& tactile,
                std::unique_ptr<rig::CanBus> bus, double control_period_s);
 
   void SendImu(const ImuMessage& message) override;
@@ -27,10 +32,13 @@ class InProcessDut final : public DutPort {
 
  private:
   void DrainBus(std::int64_t now_ns);
+  void FillTactileTelemetry(std::int64_t now_ns, ActuatorMessage& command) const;
 
   dut_fw::FlightController<double> controller_;
   dut_fw::FlightControllerState<double> state_;
   dut_fw::Reference<double> reference_;
+  std::optional<dut_fw::TactileProcessorParams<double>> tactile_params_;
+  dut_fw::TactileProcessorState<double> tactile_state_{};
   std::unique_ptr<rig::CanBus> bus_;
   double control_period_s_;
   std::vector<rig::TimedCanFrame> received_;

@@ -35,9 +35,23 @@ void AppendModelList(const ScenarioConfig& config, const std::string& dut_descri
   Add(report, "imu", Describe(config.imu.rate_hz, " Hz, ", noise));
   Add(report, "vio",
       Describe(config.vio.rate_hz, " Hz, latency ", config.vio.latency_s, " s, ", noise));
-  Add(report, "reference_magnetometer",
-      Describe("Earth field rotated by attitude, MLX90393 LSB quantization, ",
-               config.magnetometer.rate_hz, " Hz, ", noise));
+  const HallSensorConfig& hall = config.hall_sensors;
+  const TactileSensorParams& chip_owner = hall.reference;
+  const std::string chip = Describe(
+      "MLX90393 GAIN_SEL ", int{chip_owner.chip.setting.gain_sel}, " RES ",
+      int{chip_owner.chip.setting.resolution}, chip_owner.chip.noise_enabled ? ", noise" : "",
+      chip_owner.chip.drift_enabled ? ", drift" : "",
+      chip_owner.chip.saturation_enabled ? ", saturation" : "",
+      chip_owner.earth_field_enabled ? ", Earth field rotated by attitude" : ", no Earth field");
+  Add(report, "reference_magnetometer", Describe("node 7, ", chip, ", ", hall.node_rate_hz, " Hz"));
+  if (hall.tactile_enabled) {
+    const SiliconeParams& silicone = hall.tactile[0].silicone;
+    Add(report, "tactile_pads",
+        Describe("nodes 1-6, film field ", hall.field_fidelity, ", silicone",
+                 silicone.damping_enabled ? " damped" : "",
+                 silicone.stiffening_enabled ? " stiffening" : " linear", ", ", chip,
+                 hall.compensation ? "; DUT compensates" : "; DUT does not compensate"));
+  }
   Add(report, "can_bus", Describe("emulated, ", config.can_bitrate_bps / 1e3, " kbit/s"));
   Add(report, "dut", dut_description);
 }

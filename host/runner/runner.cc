@@ -10,13 +10,15 @@
 #include "host/checks/envelope_check.h"
 #include "host/dut/firmware_config.h"
 #include "host/dut/in_process_dut.h"
+#include "host/runner/hall_sensor_nodes.h"
 #include "host/runner/model_list.h"
 #include "host/runner/run_statistics.h"
 #include "host/sensors/random_stream.h"
+#include "host/sensors/tactile/film_field_factory.h"
 #include "host/trace/trace_csv.h"
 #include "rig/candump_log.h"
+#include "rig/check.h"
 #include "rig/emulated_bus.h"
-#include "rig/sensor_frame.h"
 
 namespace hilrig::host {
 namespace {
@@ -41,6 +43,17 @@ double TiltDeg(const Eigen::Quaterniond& q) {
 
 // Divides rather than multiplies by 1e-9 so that whole milliseconds print as 0.03, not
 // 0.030000000000000002.
+const std::array<Eigen::Vector3d, kTactileSensorCount> kNoPadForce = {
+    Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+    Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+
+std::shared_ptr<const FilmFieldModel> FilmFieldFor(const ScenarioConfig& config) {
+  if (!config.hall_sensors.tactile_enabled) return nullptr;
+  auto film = MakeFilmField(config.hall_sensors.field_fidelity);
+  HILRIG_CHECK(film.ok(), "the spec's field fidelity was validated before the run");
+  return film.value();
+}
+
 double Seconds(std::int64_t time_ns) { return static_cast<double>(time_ns) / 1e9; }
 
 }  // namespace
@@ -65,7 +78,6 @@ class LockstepRunner::Impl {
   RunControl control_;
   rig::SimClock clock_;
   rig::EmulatedBus bus_;
-  std::unique_ptr<rig::CanBus> magnetometer_node_;
   std::unique_ptr<rig::CanBus> can_logger_;
   std::unique_ptr<DutPort> dut_;
   ReferenceTrajectory reference_;
@@ -73,7 +85,7 @@ class LockstepRunner::Impl {
   QuadrotorState plant_;
   ImuState imu_;
   VioState vio_;
-  MagnetometerState magnetometer_;
+  HallSensorNodes hall_sensors_;
   std::int64_t imu_period_ns_;
   std::int64_t next_imu_ns_ = 0;
   std::uint64_t imu_sequence_ = 0;
@@ -105,15 +117,17 @@ LockstepRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
       control_(control),
       bus_(rig::EmulatedBusConfig{.nominal_bitrate_bps = std::llround(config.can_bitrate_bps),
                                   .data_bitrate_bps = std::llround(config.can_bitrate_bps)}),
-      magnetometer_node_(bus_.Connect("reference-magnetometer")),
       can_logger_(bus_.Connect("can-logger")),
       reference_(config.initial_reference, config.setpoints),
       imu_(MakeImuState(config.imu, RandomStream::FromSeed(
                                         config.seed, static_cast<std::uint64_t>(StreamId::kImu)))),
+      hall_sensors_(config.hall_sensors, config.earth_field, config.seed, FilmFieldFor(config),
+                    bus_.Connect("hall-sensor-nodes")),
       imu_period_ns_(std::llround(1e9 / config.imu.rate_hz)) {
   const double control_period_s =
       Seconds(config.physics_step_ns) * static_cast<double>(config.control_every_ticks);
-  dut_ = std::make_unique<InProcessDut>(FirmwareParamsFor(config.vehicle), bus_.Connect("dut"),
+  dut_ = std::make_unique<InProcessDut>(FirmwareParamsFor(config.vehicle),
+                                        FirmwareTactileParamsFor(config), bus_.Connect("dut"),
                                         control_period_s);
   // A scenario starting in the air starts hovering, rotors spun up; on the ground it starts at
   // rest.
@@ -128,8 +142,6 @@ LockstepRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
     dut_->SendVio({{vio_sequence_++, 0}, 0, plant_.body.position_m, plant_.body.orientation});
   }
   vio_.rng = RandomStream::FromSeed(config.seed, static_cast<std::uint64_t>(StreamId::kVio));
-  magnetometer_.rng = RandomStream::FromSeed(
-      config.seed, static_cast<std::uint64_t>(StreamId::kReferenceMagnetometer));
   for (const proto::Envelope& envelope : config.envelopes) checks_.emplace_back(envelope);
   check_progress_.resize(checks_.size());
   if (sinks.trace_csv != nullptr) trace_writer_.emplace(*sinks.trace_csv);
@@ -157,19 +169,8 @@ void LockstepRunner::Impl::SampleSensors(std::int64_t now_ns) {
     dut_->SendVio(
         {{vio_sequence_++, now_ns}, pose.capture_time_ns, pose.position_m, pose.orientation});
   }
-  const auto field = SampleReferenceMagnetometer(config_.magnetometer, config_.earth_field,
-                                                 magnetometer_, plant_.body.orientation, now_ns);
-  if (field) {
-    rig::MagneticSample sample;
-    sample.node_id = field->node_id;
-    sample.x_code = field->code[0];
-    sample.y_code = field->code[1];
-    sample.z_code = field->code[2];
-    sample.sequence = field->sequence;
-    sample.status = field->saturated ? 0x01 : 0x00;
-    // A full or bus-off bus drops the sample, as the node would; the DUT sees the sequence gap.
-    (void)magnetometer_node_->Send(rig::EncodeMagneticSample(sample), now_ns);
-  }
+  // No contact model yet: nothing presses on the pads.
+  hall_sensors_.Tick(now_ns, plant_.body.orientation, kNoPadForce);
 }
 
 bool LockstepRunner::Impl::ControlStep(std::uint64_t control_tick, std::int64_t now_ns) {
@@ -209,6 +210,13 @@ bool LockstepRunner::Impl::RecordTrace(std::int64_t now_ns) {
   sample.tilt_deg = TiltDeg(plant_.body.orientation);
   sample.rotor_thrust_n = plant_.rotors.thrust_n;
   sample.estimated_position_m = command_.estimated_position_m;
+  for (int i = 0; i < kTactileSensorCount; ++i) {
+    const double decoded_n = command_.tactile_force_sensor_n[i].norm();
+    sample.tactile_force_max_n = std::max(sample.tactile_force_max_n, decoded_n);
+    sample.tactile_force_error_max_n =
+        std::max(sample.tactile_force_error_max_n,
+                 (command_.tactile_force_sensor_n[i] - kNoPadForce[i]).norm());
+  }
   statistics_.Add(sample);
   if (trace_writer_) trace_writer_->Write(sample);
   bool abort = false;

@@ -1,7 +1,12 @@
 #include "host/scenario/scenario_config.h"
 
 #include <cmath>
+#include <filesystem>
 #include <numbers>
+
+#include "fixtures/calibration/calibration_file.h"
+#include "fixtures/calibration/calibration_procedure.h"
+#include "host/sensors/tactile/film_field_factory.h"
 
 namespace hilrig::host {
 namespace {
@@ -68,14 +73,47 @@ void ResolveSensors(const proto::Scenario& spec, ScenarioConfig& config) {
       Or(vio.has_attitude_noise_rad(), vio.attitude_noise_rad(), config.vio.attitude_noise_rad);
   config.vio.noise_enabled = noise;
 
-  const proto::Magnetometer& magnetometer = spec.models().reference_magnetometer();
-  config.magnetometer.rate_hz =
-      Or(magnetometer.has_rate_hz(), magnetometer.rate_hz(), config.magnetometer.rate_hz);
-  config.magnetometer.noise_t =
-      Or(magnetometer.has_noise_t(), magnetometer.noise_t(), config.magnetometer.noise_t);
-  config.magnetometer.noise_enabled = noise;
   if (spec.environment().has_earth_field_world_t()) {
     config.earth_field.field_world_t = ToEigen(spec.environment().earth_field_world_t());
+  }
+}
+
+template <typename T>
+T OrValue(bool has, T value, T fallback) {
+  return has ? value : fallback;
+}
+
+void ResolveHallSensors(const proto::Scenario& spec, const std::string& spec_directory,
+                        HallSensorConfig& hall) {
+  const proto::Tactile& tactile = spec.models().tactile();
+  const bool noise = spec.models().noise() == proto::NOISE_ON;
+  TactileSensorParams base;
+  base.earth_field_enabled = OrValue(tactile.has_earth_field(), tactile.earth_field(), true);
+  base.silicone.damping_enabled =
+      OrValue(tactile.has_silicone_damping(), tactile.silicone_damping(), true);
+  base.silicone.stiffening_enabled =
+      OrValue(tactile.has_silicone_stiffening(), tactile.silicone_stiffening(), false);
+  base.chip.noise_enabled = noise && OrValue(tactile.has_chip_noise(), tactile.chip_noise(), true);
+  base.chip.drift_enabled = OrValue(tactile.has_chip_drift(), tactile.chip_drift(), true);
+  base.chip.saturation_enabled =
+      OrValue(tactile.has_chip_saturation(), tactile.chip_saturation(), true);
+  base.chip.encoding_enabled = OrValue(tactile.has_chip_encoding(), tactile.chip_encoding(), true);
+  hall.tactile_enabled = tactile.enabled();
+  hall.tactile = DefaultTactileLayout(base);
+  hall.reference = DefaultReferenceSensor();
+  hall.reference.chip = base.chip;
+  hall.reference.earth_field_enabled = base.earth_field_enabled;
+  hall.field_fidelity = OrValue(tactile.has_field_fidelity(), tactile.field_fidelity(),
+                                std::string(kDefaultFilmFidelity));
+  hall.node_rate_hz = Or(tactile.has_node_rate_hz(), tactile.node_rate_hz(), 50.0);
+  hall.temperature_c = Or(tactile.has_temperature_c(), tactile.temperature_c(), 25.0);
+  hall.compensation = OrValue(tactile.has_compensation(), tactile.compensation(), true);
+  hall.zeroing_s = Or(tactile.has_zeroing_s(), tactile.zeroing_s(), 1.0);
+  if (tactile.has_calibration_file()) {
+    const std::filesystem::path file(tactile.calibration_file());
+    hall.calibration_file = file.is_absolute()
+                                ? file.string()
+                                : (std::filesystem::path(spec_directory) / file).string();
   }
 }
 
@@ -110,12 +148,14 @@ void ResolveTimeline(const proto::Scenario& spec, ScenarioConfig& config) {
 }  // namespace
 
 ScenarioConfig ResolveScenario(const proto::Scenario& spec,
-                               std::optional<std::uint64_t> seed_override) {
+                               std::optional<std::uint64_t> seed_override,
+                               const std::string& spec_directory) {
   ScenarioConfig config;
   config.name = spec.name();
   config.seed = seed_override.value_or(spec.has_seed() ? spec.seed() : 1);
   config.vehicle = ResolveVehicle(spec);
   ResolveSensors(spec, config);
+  ResolveHallSensors(spec, spec_directory, config.hall_sensors);
   ResolveSimulation(spec.simulation(), config);
 
   const double initial_yaw_rad = spec.vehicle().initial_yaw_deg() * kDegToRad;
@@ -125,6 +165,27 @@ ScenarioConfig ResolveScenario(const proto::Scenario& spec,
   config.envelopes.assign(spec.envelopes().begin(), spec.envelopes().end());
   config.models = spec.models();
   return config;
+}
+
+rig::Result<void> LoadTactileCalibration(ScenarioConfig& config) {
+  HallSensorConfig& hall = config.hall_sensors;
+  if (!hall.tactile_enabled) return {};
+  if (!hall.calibration_file.empty()) {
+    auto calibration = fixtures::ReadCalibrationFile(hall.calibration_file);
+    if (!calibration) return calibration.error();
+    hall.calibration = std::move(calibration).value();
+    return {};
+  }
+  auto film = MakeFilmField(hall.field_fidelity);
+  if (!film) return film.error();
+  fixtures::CalibrationBench bench;
+  bench.tactile = hall.tactile;
+  bench.reference = hall.reference;
+  bench.earth_field_world_t = config.earth_field.field_world_t;
+  bench.temperature_c = hall.temperature_c;
+  hall.calibration = fixtures::Calibrate(bench, *film.value(), config.seed);
+  hall.calibration->set_field_fidelity(hall.field_fidelity);
+  return {};
 }
 
 }  // namespace hilrig::host

@@ -3,6 +3,7 @@
 // runner only sees this.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -10,10 +11,13 @@
 
 #include "host/plant/quadrotor.h"
 #include "host/scenario/reference_trajectory.h"
+#include "host/sensors/earth_field.h"
 #include "host/sensors/imu_emulator.h"
-#include "host/sensors/reference_magnetometer.h"
+#include "host/sensors/tactile/sensor_layout.h"
 #include "host/sensors/vio_emulator.h"
+#include "proto/calibration.pb.h"
 #include "proto/scenario.pb.h"
+#include "rig/result.h"
 
 namespace hilrig::host {
 
@@ -21,6 +25,20 @@ struct DisturbanceCommand {
   double at_s = 0;
   double duration_s = 0;
   Eigen::Vector3d force_world_n = Eigen::Vector3d::Zero();
+};
+
+// The seven Hall sensor nodes and the DUT's tactile front end, resolved from models.tactile.
+struct HallSensorConfig {
+  bool tactile_enabled = false;  // nodes 1..6; the reference node 7 is always there
+  std::string field_fidelity;
+  std::array<TactileSensorParams, kTactileSensorCount> tactile;
+  TactileSensorParams reference;
+  double node_rate_hz = 50;
+  double temperature_c = 25;
+  bool compensation = true;
+  double zeroing_s = 1;
+  std::string calibration_file;  // resolved against the spec's folder; empty: calibrate at start
+  std::optional<proto::Calibration> calibration;  // filled by LoadTactileCalibration
 };
 
 struct ScenarioConfig {
@@ -35,7 +53,7 @@ struct ScenarioConfig {
   QuadrotorParams vehicle;
   ImuParams imu;
   VioParams vio;
-  MagnetometerParams magnetometer;
+  HallSensorConfig hall_sensors;
   EarthField earth_field;
 
   ReferenceSample initial_reference;  // also where the vehicle starts, at rest
@@ -45,8 +63,15 @@ struct ScenarioConfig {
   proto::Models models;  // the fidelity choices, for the report
 };
 
-// `seed_override` replaces the spec's seed (the --seed flag).
+// `seed_override` replaces the spec's seed (the --seed flag); relative file names in the spec are
+// taken from `spec_directory`.
 ScenarioConfig ResolveScenario(const proto::Scenario& spec,
-                               std::optional<std::uint64_t> seed_override);
+                               std::optional<std::uint64_t> seed_override,
+                               const std::string& spec_directory = "");
+
+// The DUT's tactile calibration, as the firmware would be flashed with it: read from the spec's
+// calibration file, or found by running the calibration jigs on the scene's own sensor models.
+// Does nothing when the tactile nodes are off.
+rig::Result<void> LoadTactileCalibration(ScenarioConfig& config);
 
 }  // namespace hilrig::host

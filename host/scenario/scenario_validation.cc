@@ -6,6 +6,8 @@
 #include <cmath>
 #include <set>
 
+#include "host/sensors/tactile/film_field_factory.h"
+
 namespace hilrig::host {
 namespace {
 
@@ -115,11 +117,19 @@ void CheckSensors(const proto::Models& models, const ProblemList& problems) {
                      "position_noise_m", vio);
   RequireNonNegative(models.vio().has_attitude_noise_rad(), models.vio().attitude_noise_rad(),
                      "attitude_noise_rad", vio);
-  const ProblemList magnetometer = problems.Nested("reference_magnetometer");
-  RequirePositive(models.reference_magnetometer().has_rate_hz(),
-                  models.reference_magnetometer().rate_hz(), "rate_hz", magnetometer);
-  RequireNonNegative(models.reference_magnetometer().has_noise_t(),
-                     models.reference_magnetometer().noise_t(), "noise_t", magnetometer);
+  const proto::Tactile& tactile = models.tactile();
+  const ProblemList hall = problems.Nested("tactile");
+  RequirePositive(tactile.has_node_rate_hz(), tactile.node_rate_hz(), "node_rate_hz", hall);
+  RequireNonNegative(tactile.has_zeroing_s(), tactile.zeroing_s(), "zeroing_s", hall);
+  if (tactile.has_temperature_c() &&
+      !(tactile.temperature_c() > -40 && tactile.temperature_c() < 125)) {
+    hall.Add("temperature_c", "must be inside the MLX90393's -40..125 C");
+  }
+  if (tactile.has_field_fidelity()) {
+    if (auto film = ParseFilmFidelity(tactile.field_fidelity()); !film) {
+      hall.Add("field_fidelity", film.error().message);
+    }
+  }
 }
 
 // A rate must divide the physics rate so that it lands on whole ticks.
@@ -211,6 +221,11 @@ void CheckEnvelopes(const proto::Scenario& scenario, const ProblemList& problems
       here.Add("from_s", "must not be after until_s");
     }
     RequireNonNegative(envelope.has_from_s(), envelope.from_s(), "from_s", here);
+    const bool tactile_signal = envelope.signal() == proto::TACTILE_FORCE_N ||
+                                envelope.signal() == proto::TACTILE_FORCE_ERROR_N;
+    if (tactile_signal && !scenario.models().tactile().enabled()) {
+      here.Add("signal", "watches the tactile pads, but models.tactile.enabled is false");
+    }
   }
 }
 

@@ -7,7 +7,8 @@ namespace hilrig::host {
 TraceCsvWriter::TraceCsvWriter(std::ostream& out) : out_(out) {
   out_ << "time_s,x_m,y_m,z_m,ref_x_m,ref_y_m,ref_z_m,vx_m_s,vy_m_s,vz_m_s,roll_deg,pitch_deg,"
           "yaw_deg,tilt_deg,position_error_m,horizontal_error_m,altitude_error_m,thrust0_n,"
-          "thrust1_n,thrust2_n,thrust3_n,est_x_m,est_y_m,est_z_m\n";
+          "thrust1_n,thrust2_n,thrust3_n,est_x_m,est_y_m,est_z_m,tactile_force_max_n,"
+          "tactile_force_error_max_n\n";
   line_.reserve(512);
 }
 
@@ -31,6 +32,8 @@ void TraceCsvWriter::Write(const TraceSample& sample) {
   Append(SignalValue(sample, proto::ALTITUDE_ERROR_M));
   for (double thrust_n : sample.rotor_thrust_n) Append(thrust_n);
   for (int i = 0; i < 3; ++i) Append(sample.estimated_position_m(i));
+  Append(sample.tactile_force_max_n);
+  Append(sample.tactile_force_error_max_n);
   line_ += '\n';
   out_.write(line_.data(), static_cast<std::streamsize>(line_.size()));
 }

@@ -20,6 +20,10 @@ double SignalValue(const TraceSample& sample, proto::Signal signal) {
       return sample.tilt_deg;
     case proto::SPEED_M_S:
       return sample.velocity_m_s.norm();
+    case proto::TACTILE_FORCE_N:
+      return sample.tactile_force_max_n;
+    case proto::TACTILE_FORCE_ERROR_N:
+      return sample.tactile_force_error_max_n;
     default:
       return std::numeric_limits<double>::quiet_NaN();
   }

@@ -20,6 +20,8 @@ struct TraceSample {
   double tilt_deg = 0;
   std::array<double, 4> rotor_thrust_n{};
   Eigen::Vector3d estimated_position_m = Eigen::Vector3d::Zero();
+  double tactile_force_max_n = 0;        // largest decoded pad force (DUT)
+  double tactile_force_error_max_n = 0;  // largest |decoded - applied| pad force
 };
 
 // The value of `signal` in `sample` (NaN for SIGNAL_UNSPECIFIED).

@@ -20,7 +20,7 @@ rig::Result<int> ParseTiles(std::string_view text, std::string_view fidelity) {
 
 }  // namespace
 
-rig::Result<std::shared_ptr<const FilmFieldModel>> MakeFilmField(std::string_view fidelity) {
+rig::Result<FilmFidelity> ParseFilmFidelity(std::string_view fidelity) {
   const bool map = fidelity == "map" || fidelity.starts_with("map:");
   if (!map && !fidelity.starts_with("tiles:")) {
     return rig::MakeError("unknown field fidelity \"" + std::string(fidelity) +
@@ -29,8 +29,15 @@ rig::Result<std::shared_ptr<const FilmFieldModel>> MakeFilmField(std::string_vie
   const std::string_view count = fidelity == "map" ? "32" : fidelity.substr(fidelity.find(':') + 1);
   const auto tiles = ParseTiles(count, fidelity);
   if (!tiles) return tiles.error();
-  auto tiled = std::make_shared<const TiledFilmField>(FilmGeometry{}, tiles.value());
-  if (!map) return std::shared_ptr<const FilmFieldModel>(tiled);
+  return FilmFidelity{map, tiles.value()};
+}
+
+rig::Result<std::shared_ptr<const FilmFieldModel>> MakeFilmField(std::string_view fidelity) {
+  const auto parsed = ParseFilmFidelity(fidelity);
+  if (!parsed) return parsed.error();
+  auto tiled =
+      std::make_shared<const TiledFilmField>(FilmGeometry{}, parsed.value().tiles_per_side);
+  if (!parsed.value().field_map) return std::shared_ptr<const FilmFieldModel>(tiled);
   return std::shared_ptr<const FilmFieldModel>(std::make_shared<const FieldMapFilmField>(tiled));
 }
 

@@ -16,6 +16,14 @@ namespace hilrig::host {
 // work-precision).
 inline constexpr std::string_view kDefaultFilmFidelity = "tiles:32";
 
+struct FilmFidelity {
+  bool field_map = false;
+  int tiles_per_side = 0;
+};
+
+// Checks a fidelity name without building anything.
+rig::Result<FilmFidelity> ParseFilmFidelity(std::string_view fidelity);
+
 rig::Result<std::shared_ptr<const FilmFieldModel>> MakeFilmField(std::string_view fidelity);
 
 }  // namespace hilrig::host

@@ -2,10 +2,19 @@
 
 #include <cmath>
 
-#include "host/sensors/reference_magnetometer.h"
 #include "rig/check.h"
 
 namespace hilrig::host {
+
+Mlx90393AxisCounts QuantizeMlx90393Axis(double field_t, double lsb_t, std::int32_t min_counts,
+                                        std::int32_t max_counts) {
+  const double counts = std::round(field_t / lsb_t);
+  if (!(counts >= min_counts)) {  // also catches NaN
+    return {counts > 0 ? max_counts : min_counts, true};
+  }
+  if (counts > max_counts) return {max_counts, true};
+  return {static_cast<std::int32_t>(counts), false};
+}
 
 Mlx90393Sample SampleMlx90393(const Mlx90393Params& params, Mlx90393State& state,
                               const Eigen::Vector3d& field_sensor_t, double temperature_c) {

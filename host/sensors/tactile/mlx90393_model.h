@@ -69,6 +69,16 @@ struct Mlx90393Sample {
   Eigen::Vector3d field_t_sensed = Eigen::Vector3d::Zero();  // after drift and noise, unquantized
 };
 
+// One axis of quantization: field / lsb rounded half away from zero, clipped to
+// [min_counts, max_counts]; `clipped` is set when it had to be clipped or was not finite (a NaN
+// goes to min_counts).
+struct Mlx90393AxisCounts {
+  std::int32_t counts = 0;
+  bool clipped = false;
+};
+Mlx90393AxisCounts QuantizeMlx90393Axis(double field_t, double lsb_t, std::int32_t min_counts,
+                                        std::int32_t max_counts);
+
 // One conversion of all three axes at the given chip temperature.
 Mlx90393Sample SampleMlx90393(const Mlx90393Params& params, Mlx90393State& state,
                               const Eigen::Vector3d& field_sensor_t, double temperature_c);

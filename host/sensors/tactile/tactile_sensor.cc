@@ -1,7 +1,7 @@
 #include "host/sensors/tactile/tactile_sensor.h"
 
+#include "host/sensors/earth_field.h"
 #include "host/sensors/random_stream.h"
-#include "host/sensors/reference_magnetometer.h"
 #include "rig/check.h"
 
 namespace hilrig::host {

@@ -7,7 +7,7 @@
 //
 // The reference node (7) is the same chain with no film and no silicone (`film_present` false):
 // it reads Earth's field through the same chip model, so tactile and reference readings share
-// one Earth-field rotation (EarthFieldInSensorFrame) and one quantizer.
+// one Earth-field rotation (earth_field.h) and one quantizer.
 //
 // Frames: the sensor frame is the chip frame of film_field.h (film at -z, 10 mm below the chip);
 // mounting_body_from_sensor is R_BS; the vehicle attitude is R_WB (world z up).

@@ -138,6 +138,17 @@ TEST_F(CliTest, MalformedSpecsExitTwoNamingTheProblem) {
   }
 }
 
+TEST_F(CliTest, MissingCalibrationFileExitsTwo) {
+  const fs::path spec = WriteSpec("pads.textproto", R"(name: "pads"
+simulation { duration_s: 1 }
+models { tactile { enabled: true calibration_file: "nowhere/calibration.textproto" } }
+envelopes { name: "alt" signal: ALTITUDE_M upper: 2 }
+)");
+  const CliResult result = Cli({"run", spec.string(), "--out", (dir_ / "out").string()});
+  EXPECT_EQ(result.exit_code, kExitBadInput);
+  EXPECT_THAT(result.err, HasSubstr("nowhere/calibration.textproto: cannot open"));
+}
+
 TEST_F(CliTest, MissingFileExitsTwo) {
   const CliResult result = Cli({"run", (dir_ / "nope.textproto").string()});
   EXPECT_EQ(result.exit_code, kExitBadInput);

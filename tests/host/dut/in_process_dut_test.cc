@@ -17,7 +17,7 @@ class InProcessDutTest : public ::testing::Test {
  protected:
   InProcessDutTest()
       : node_(bus_.Connect("node")),
-        dut_(FirmwareParamsFor(vehicle_), bus_.Connect("dut"), kControlPeriodS) {}
+        dut_(FirmwareParamsFor(vehicle_), std::nullopt, bus_.Connect("dut"), kControlPeriodS) {}
 
   // Feeds a level, still vehicle at 1 m for `ticks` control periods with a hover setpoint.
   ActuatorMessage HoverFor(int ticks) {

@@ -110,6 +110,31 @@ TEST(RunnerTest, ReportListsEveryModelBuilt) {
                                                      "reference_magnetometer", "can_bus", "dut"));
 }
 
+TEST(RunnerTest, TactileSceneCarriesSevenNodesOverCanAndPadsReadZeroForce) {
+  ScenarioConfig config = ConfigFrom(std::string(kHoverInAir) + R"(
+models { tactile { enabled: true field_fidelity: "map:8" } }
+envelopes { name: "pads" signal: TACTILE_FORCE_N upper: 0.05 from_s: 1.2 }
+)");
+  ASSERT_TRUE(LoadTactileCalibration(config).ok());
+  const RunOutput output = RunToEnd(config);
+  EXPECT_NEAR(Metric(output.report, "dut_can_frames_received"), 7 * 150, 7);
+  EXPECT_EQ(Metric(output.report, "dut_can_frames_rejected"), 0);
+  EXPECT_EQ(output.report.envelopes(1).verdict(), proto::PASS);
+  EXPECT_GT(output.report.envelopes(1).samples_checked(), 100u);
+  std::vector<std::string> names;
+  for (const auto& model : output.report.models()) names.push_back(model.name());
+  EXPECT_THAT(names, ::testing::Contains("tactile_pads"));
+}
+
+TEST(RunnerTest, PadForceIsZeroWhileTheDutIsStillZeroing) {
+  ScenarioConfig config = ConfigFrom(std::string(kHoverInAir) + R"(
+models { tactile { enabled: true field_fidelity: "map:8" zeroing_s: 10 } }
+envelopes { name: "pads" signal: TACTILE_FORCE_N upper: 0 }
+)");
+  ASSERT_TRUE(LoadTactileCalibration(config).ok());
+  EXPECT_EQ(RunToEnd(config).report.envelopes(1).verdict(), proto::PASS);
+}
+
 TEST(RunnerTest, TickAfterTheEndDoesNothing) {
   const ScenarioConfig config = ConfigFrom(kHoverInAir);
   std::ostringstream trace;

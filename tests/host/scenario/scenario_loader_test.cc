@@ -95,6 +95,18 @@ TEST(ScenarioLoaderTest, VehicleThatCannotLiftItselfIsRejected) {
   EXPECT_THAT(error, HasSubstr("cannot lift"));
 }
 
+TEST(ScenarioLoaderTest, TactileEnvelopeNeedsTheTactilePads) {
+  const std::string error = ErrorOf(
+      std::string(kMinimal) + "envelopes { name: \"pads\" signal: TACTILE_FORCE_N upper: 1 }\n");
+  EXPECT_THAT(error, HasSubstr("envelopes[1].signal: watches the tactile pads"));
+}
+
+TEST(ScenarioLoaderTest, UnknownFieldFidelityIsRejected) {
+  const std::string error =
+      ErrorOf(std::string(kMinimal) + "models { tactile { field_fidelity: \"tiles:999\" } }\n");
+  EXPECT_THAT(error, HasSubstr("models.tactile.field_fidelity"));
+}
+
 TEST(ScenarioLoaderTest, MissingFileIsAnErrorNamingTheFile) {
   const auto result = LoadScenario("/nonexistent/dir/none.textproto");
   ASSERT_FALSE(result.ok());

@@ -174,3 +174,18 @@ TEST(Mlx90393ModelTest, DriftOffIgnoresTemperature) {
 
 }  // namespace
 }  // namespace hilrig::host
+
+namespace hilrig::host {
+namespace {
+
+TEST(QuantizeMlx90393AxisTest, RoundsHalfAwayFromZeroAndClips) {
+  EXPECT_EQ(QuantizeMlx90393Axis(1.5e-6, 1e-6, -10, 10).counts, 2);
+  EXPECT_EQ(QuantizeMlx90393Axis(-2.5e-6, 1e-6, -10, 10).counts, -3);
+  EXPECT_FALSE(QuantizeMlx90393Axis(-2.5e-6, 1e-6, -10, 10).clipped);
+  EXPECT_EQ(QuantizeMlx90393Axis(1.0, 1e-6, -10, 10).counts, 10);
+  EXPECT_TRUE(QuantizeMlx90393Axis(1.0, 1e-6, -10, 10).clipped);
+  EXPECT_TRUE(QuantizeMlx90393Axis(std::nan(""), 1e-6, -10, 10).clipped);
+}
+
+}  // namespace
+}  // namespace hilrig::host

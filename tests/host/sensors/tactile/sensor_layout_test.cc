@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "host/sensors/reference_magnetometer.h"
+#include "host/sensors/earth_field.h"
 
 namespace hilrig::host {
 namespace {

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "host/sensors/reference_magnetometer.h"
+#include "host/sensors/earth_field.h"
 
 namespace hilrig::host {
 namespace {
