@@ -1,0 +1,152 @@
+// SocketCanBus puts a Linux SocketCAN interface (can0, vcan0, a gs_usb adapter bound by the kernel
+// driver) behind the CanBus seam, so a bench run talks to real hardware through the same calls an
+// emulated run makes. It is a raw CAN_RAW socket held by Boost.Asio: the socket is non-blocking,
+// Receive drains what the kernel has queued, and WaitReadable lets a bench loop sleep until a frame
+// arrives instead of spinning.
+//
+// What the kernel gives us and how it maps onto the seam:
+// - CAN FD: CAN_RAW_FD_FRAMES is always enabled, so classic and FD frames both arrive; sending an
+//   FD frame on an interface whose MTU is classic-only fails as a value, not as EINVAL later.
+// - Filters: CanFilter translates one to one into struct can_filter (EFF bit always in the mask,
+//   so a filter names standard or extended frames like CanFilter does; CAN_INV_FILTER for
+//   inverted). An empty list becomes the accept-all filter, because the kernel reads "no filters"
+//   as "receive nothing".
+// - Timestamps: every frame is stamped with the kernel's receive time (SO_TIMESTAMPNS, read through
+//   recvmsg), in CLOCK_REALTIME nanoseconds since the epoch: the same time base candump -l logs
+//   use. It is not the caller's Clock domain; this class never reads a clock itself.
+// - Error frames: decoded into typed BusEvents (bus-off, warning, passive, ACK error, overflows)
+//   and used to track state(). The state-changing classes (bus-off, controller, restarted) are
+//   always subscribed so state() stays true even when the caller does not want error frames; the
+//   classes that can flood a sick bus (bus errors, protocol, ACK) only when it does.
+// - Own frames: with receive_own_frames (CAN_RAW_RECV_OWN_MSGS) a sent frame comes back stamped
+//   with the time it left, which is how a bench run confirms transmission.
+// - Full TX queue: the kernel answers ENOBUFS when the interface queue is full. Send retries a
+//   bounded number of times with a short growing pause, counts the retries, and then fails.
+//
+// A kernel without AF_CAN (this CI machine's, for one) makes OpenSocketCan return an error that
+// says so; the vm test runs the same code under QEMU on a kernel that has it.
+//
+// Threading: one thread per bus, like every CanBus.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "rig/can_bus.h"
+#include "rig/can_frame.h"
+#include "rig/result.h"
+
+namespace hilrig::rig {
+
+enum class BusEventKind {
+  kBusOff,            // controller left the bus (CAN_ERR_BUSOFF)
+  kRestarted,         // controller restarted after bus-off (CAN_ERR_RESTARTED)
+  kErrorWarning,      // an error counter reached 96 (CAN_ERR_CRTL_{RX,TX}_WARNING)
+  kErrorPassive,      // an error counter reached 128 (CAN_ERR_CRTL_{RX,TX}_PASSIVE)
+  kErrorActive,       // counters back under 96 (CAN_ERR_CRTL_ACTIVE)
+  kAckError,          // a sent frame was not acknowledged: nobody else on the bus (CAN_ERR_ACK)
+  kRxOverflow,        // the controller's receive buffer overflowed (CAN_ERR_CRTL_RX_OVERFLOW)
+  kTxOverflow,        // the controller's transmit buffer overflowed (CAN_ERR_CRTL_TX_OVERFLOW)
+  kTxTimeout,         // the driver gave up on a frame (CAN_ERR_TX_TIMEOUT)
+  kLostArbitration,   // (CAN_ERR_LOSTARB); data[0] holds the bit position
+  kProtocolError,     // bit, form, stuff, CRC... (CAN_ERR_PROT); details in the raw frame
+  kBusError,          // unspecified bus error (CAN_ERR_BUSERROR)
+  kTransceiverError,  // wiring faults the transceiver reports (CAN_ERR_TRX)
+  kSocketOverflow,    // the kernel dropped frames because this socket was not drained in time
+};
+
+const char* BusEventKindName(BusEventKind kind);
+
+struct BusEvent {
+  BusEventKind kind = BusEventKind::kBusError;
+  std::int64_t time_ns = 0;
+  // For warning and passive: whether the TX (true) or RX (false) counter crossed the level. When
+  // both did, two events are emitted.
+  bool tx = false;
+  // Error counters when the frame carries them (CAN_ERR_CNT), else 0 and has_counters false.
+  bool has_counters = false;
+  std::uint8_t tx_error_count = 0;
+  std::uint8_t rx_error_count = 0;
+  // kSocketOverflow: frames lost since the previous event.
+  std::uint32_t dropped_frames = 0;
+  // The error frame the event came from, so nothing the kernel said is lost.
+  CanFrame frame;
+};
+
+// Decodes one Linux error frame into events, in a fixed order (bus-off and state changes first).
+// Pure: exposed so the decoding is tested on any kernel. A non-error frame yields nothing.
+std::vector<BusEvent> DecodeErrorFrame(const CanFrame& frame, std::int64_t time_ns);
+
+// Applies decoded events to a bus state, as the controller's state machine would.
+BusState NextBusState(BusState state, const BusEvent& event);
+
+struct SocketCanOptions {
+  std::vector<CanFilter> filters;     // empty: accept every frame
+  bool receive_error_frames = false;  // deliver error frames to Receive (events are always kept)
+  bool receive_own_frames = false;    // CAN_RAW_RECV_OWN_MSGS: see our own frames come back
+  bool loopback = true;               // CAN_RAW_LOOPBACK: other sockets on this host see ours
+  int max_send_retries = 8;           // retries on ENOBUFS/EAGAIN before Send fails
+  std::int64_t first_retry_pause_ns = 50'000;  // doubled per retry: 8 retries wait ~13 ms in all
+  std::size_t max_buffered_events = 4096;      // oldest events are dropped past this
+  int receive_buffer_bytes = 0;                // SO_RCVBUF; 0 keeps the kernel default
+};
+
+// SocketCAN-specific counters beyond BusCounters.
+struct SocketCanStats {
+  std::uint64_t send_retries = 0;      // ENOBUFS/EAGAIN retries that preceded a send or failure
+  std::uint64_t error_frames = 0;      // error frames read from the socket
+  std::uint64_t events_discarded = 0;  // events dropped because nobody took them
+};
+
+class SocketCanBus final : public CanBus {
+ public:
+  ~SocketCanBus() override;
+  SocketCanBus(const SocketCanBus&) = delete;
+  SocketCanBus& operator=(const SocketCanBus&) = delete;
+
+  // Fails on an invalid frame, an FD frame on a classic interface, a bus-off controller, the
+  // interface being down, or a TX queue that stays full through every retry.
+  Result<void> Send(const CanFrame& frame, std::int64_t now_ns) override;
+  // Drains every frame the kernel has queued, without blocking. now_ns is only the stamp of last
+  // resort (should a frame ever arrive without a kernel timestamp): a frame in the socket queue
+  // has already arrived, so nothing is held back.
+  std::size_t Receive(std::int64_t now_ns, std::vector<TimedCanFrame>& out) override;
+  void SetFilters(std::span<const CanFilter> filters) override;
+  void SetReceiveErrorFrames(bool enabled) override;
+  BusState state() const override;
+  BusCounters counters() const override;
+
+  // Blocks until a frame (or error frame) can be read, at most timeout_ns. True if readable.
+  // For bench loops and tests that wait on real traffic; emulated runs never need it.
+  bool WaitReadable(std::int64_t timeout_ns);
+
+  // Events decoded since the last call, oldest first. Events are decoded while Receive drains
+  // the socket, so call Receive first.
+  std::vector<BusEvent> TakeEvents();
+  const std::vector<BusEvent>& events() const;
+
+  SocketCanStats stats() const;
+  const std::string& interface_name() const;
+  bool fd_capable() const;  // the interface MTU admits CAN FD frames
+
+ private:
+  struct Impl;
+  explicit SocketCanBus(std::unique_ptr<Impl> impl);
+  friend Result<std::unique_ptr<SocketCanBus>> OpenSocketCan(const std::string& interface,
+                                                             const SocketCanOptions& options);
+
+  std::unique_ptr<Impl> impl_;
+};
+
+// Opens a CAN_RAW socket bound to `interface`. Errors say which step failed and why: no AF_CAN in
+// this kernel, no such interface, not a CAN interface, or an option the kernel refused.
+// Returns the concrete type so events and stats stay reachable; it converts to
+// std::unique_ptr<CanBus> where only the seam is wanted.
+Result<std::unique_ptr<SocketCanBus>> OpenSocketCan(const std::string& interface,
+                                                    const SocketCanOptions& options = {});
+
+}  // namespace hilrig::rig
