@@ -81,6 +81,7 @@ std::ostream& operator<<(std::ostream& out, const CanFrame& frame);
 struct TimedCanFrame {
   CanFrame frame;
   std::int64_t time_ns = 0;
+  bool tx_echo = false;  // the receiving endpoint's own frame coming back (CAN_RAW_RECV_OWN_MSGS)
 
   friend bool operator==(const TimedCanFrame&, const TimedCanFrame&) = default;
 };

@@ -1,6 +1,8 @@
 #include "rig/emulated_bus.h"
 
 #include <algorithm>
+#include <array>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -8,8 +10,52 @@
 #include "rig/ring_buffer.h"
 
 namespace hilrig::rig {
+namespace {
+
+// Fault confinement thresholds of ISO 11898-1.
+constexpr std::uint32_t kWarningLimit = 96;
+constexpr std::uint32_t kPassiveLimit = 128;
+constexpr std::uint32_t kBusOffLimit = 256;
+constexpr std::uint32_t kTransmitErrorStep = 8;
+constexpr std::int64_t kBusOffRecoveryBits = 128 * 11;
+
+struct PendingFrame {
+  CanFrame frame;
+  std::int64_t queued_ns = 0;
+};
+
+// Lower wins, as dominant bits win on the wire: base id, then RTR (standard) or SRR (extended,
+// always recessive), then IDE, then the 18 extension bits and the extended RTR. Error frames
+// override arbitration altogether.
+std::uint64_t ArbitrationKey(const CanFrame& frame) {
+  if (frame.error) return 0;
+  const std::uint64_t rtr = frame.remote ? 1 : 0;
+  if (!frame.extended) return 1 + ((std::uint64_t{frame.id} << 21) | (rtr << 20));
+  const std::uint64_t base = frame.id >> 18;
+  const std::uint64_t extension = frame.id & 0x3FFFF;
+  return 1 + ((base << 21) | (1ULL << 20) | (1ULL << 19) | (extension << 1) | rtr);
+}
+
+BusState StateFor(std::uint32_t tec, std::uint32_t rec) {
+  if (tec >= kBusOffLimit) return BusState::kBusOff;
+  if (std::max(tec, rec) >= kPassiveLimit) return BusState::kErrorPassive;
+  if (std::max(tec, rec) >= kWarningLimit) return BusState::kErrorWarning;
+  return BusState::kErrorActive;
+}
+
+std::uint64_t IdKey(std::uint32_t id, bool extended) {
+  return (std::uint64_t{extended} << 32) | id;
+}
+
+}  // namespace
 
 class EmulatedEndpoint;
+
+// Frames an endpoint (or the bus itself, owner == nullptr) wants on the wire, oldest first.
+struct TxSource {
+  RingBuffer<PendingFrame> queue;
+  EmulatedEndpoint* owner = nullptr;
+};
 
 class EmulatedMedium {
  public:
@@ -18,27 +64,49 @@ class EmulatedMedium {
 
   void Attach(EmulatedEndpoint* endpoint);
   void Detach(EmulatedEndpoint* endpoint);
-  // Puts a valid frame on the wire and hands it to the receiving endpoints.
-  void Transmit(const EmulatedEndpoint* sender, const CanFrame& frame, std::int64_t now_ns);
+  EmulatedEndpoint* Find(std::string_view name) const;
+
+  // Decides every transmission that starts before now_ns, and returns the time new frames are
+  // queued at: now_ns, or the latest time seen if now_ns is earlier.
+  std::int64_t AdvanceTo(std::int64_t now_ns);
+  void InjectErrorFrame(const CanFrame& frame, std::int64_t now_ns);
 
   const EmulatedBusConfig& config() const { return config_; }
-  EmulatedBusStats stats() const { return stats_; }
+  const EmulatedBusStats& stats() const { return stats_; }
+  std::int64_t bus_off_recovery_ns() const { return bus_off_recovery_ns_; }
 
  private:
-  // The scheduling seam: returns when the frame finishes on the wire. Arbitration, fault
-  // injection and TX queue limits will replace this first-come-first-served rule.
-  std::int64_t ScheduleOnWire(const CanFrame& frame, std::int64_t now_ns);
+  // The queue head that wins arbitration at start_ns, or null if none is waiting by then.
+  TxSource* Arbitrate(std::int64_t start_ns) const;
+  // Earliest time any queued frame wants the wire, or max if nothing is queued.
+  std::int64_t EarliestQueuedNs() const;
+  void Transmit(TxSource& source, std::int64_t start_ns);
+  void TransmitCorrupted(TxSource& source, std::int64_t start_ns, std::int64_t duration_ns);
+  void Deliver(const EmulatedEndpoint* sender, const CanFrame& frame, std::int64_t end_ns,
+               bool dropped);
+  void RecordWire(std::int64_t start_ns, std::int64_t end_ns);
+  void RecordQueueing(const CanFrame& frame, std::int64_t queueing_ns);
 
   EmulatedBusConfig config_;
+  FaultStream faults_;
   std::vector<EmulatedEndpoint*> endpoints_;
+  // The bus's own injector first, then one per endpoint in connection order (the tie-break).
+  std::vector<TxSource*> sources_;
+  TxSource injector_;
+  std::int64_t latest_now_ns_ = std::numeric_limits<std::int64_t>::min();
   std::int64_t bus_free_at_ns_ = 0;
+  std::int64_t error_flag_ns_;
+  std::int64_t bus_off_recovery_ns_;
   EmulatedBusStats stats_;
 };
 
 class EmulatedEndpoint final : public CanBus {
  public:
   EmulatedEndpoint(EmulatedMedium& medium, std::string name)
-      : medium_(medium), name_(std::move(name)) {
+      : medium_(medium),
+        name_(std::move(name)),
+        receive_own_frames_(medium.config().receive_own_frames) {
+    tx_.owner = this;
     medium_.Attach(this);
   }
   ~EmulatedEndpoint() override { medium_.Detach(this); }
@@ -46,17 +114,21 @@ class EmulatedEndpoint final : public CanBus {
   EmulatedEndpoint& operator=(const EmulatedEndpoint&) = delete;
 
   Result<void> Send(const CanFrame& frame, std::int64_t now_ns) override {
-    Result<void> valid = ValidateFrame(frame);
-    if (!valid) {
+    const std::int64_t queued_ns = medium_.AdvanceTo(now_ns);
+    MaybeRestart(queued_ns);
+    Result<void> sendable = CheckSendable(frame);
+    if (!sendable) {
       ++counters_.send_failures;
-      return MakeError(name_ + ": " + valid.error().message);
+      return sendable;
     }
-    medium_.Transmit(this, frame, now_ns);
+    tx_.queue.push_back({frame, queued_ns});
     ++counters_.frames_sent;
     return {};
   }
 
   std::size_t Receive(std::int64_t now_ns, std::vector<TimedCanFrame>& out) override {
+    medium_.AdvanceTo(now_ns);
+    MaybeRestart(now_ns);
     std::size_t appended = 0;
     while (!rx_.empty() && rx_.front().time_ns <= now_ns) {
       out.push_back(rx_.front());
@@ -70,39 +142,161 @@ class EmulatedEndpoint final : public CanBus {
   void SetFilters(std::span<const CanFilter> filters) override {
     filters_.assign(filters.begin(), filters.end());
   }
-  void SetReceiveErrorFrames(bool enabled) override { receive_error_frames_ = enabled; }
-  // Always error-active until fault injection exists to drive the error counters.
-  BusState state() const override { return BusState::kErrorActive; }
-  BusCounters counters() const override { return counters_; }
+  void SetReceiveErrorFrames(bool enabled) override { error_mask_ = enabled ? kCanErrMask : 0; }
+  void SetErrorFrameMask(std::uint32_t class_mask) override { error_mask_ = class_mask; }
+  Result<void> SetReceiveOwnFrames(bool enabled) override {
+    receive_own_frames_ = enabled;
+    return {};
+  }
+  BusState state() const override { return state_; }
+  BusCounters counters() const override {
+    BusCounters counters = counters_;
+    counters.transmit_error_count = tec_;
+    counters.receive_error_count = rec_;
+    return counters;
+  }
 
   const std::string& name() const { return name_; }
+  TxSource& tx() { return tx_; }
+  bool bus_off() const { return state_ == BusState::kBusOff; }
 
-  void Deliver(const TimedCanFrame& timed) {
-    if (!Wants(timed.frame)) return;
+  // A frame from the wire; own_frame marks the echo of this endpoint's transmission.
+  void Accept(const CanFrame& frame, std::int64_t time_ns, bool own_frame) {
+    if (own_frame && !receive_own_frames_) return;
+    if (!Wants(frame)) return;
     if (rx_.size() >= medium_.config().rx_queue_capacity) {
       ++counters_.frames_dropped_rx_overflow;
       return;
     }
-    rx_.push_back(timed);
+    rx_.push_back({frame, time_ns, own_frame});
+    latest_rx_ns_ = time_ns;
+  }
+
+  // Fault confinement bookkeeping, all at time_ns.
+  void CountTransmitSuccess(std::int64_t time_ns) {
+    if (tec_ == 0) return;
+    --tec_;
+    UpdateState(time_ns);
+  }
+  void CountReceiveSuccess(std::int64_t time_ns) {
+    if (rec_ == 0) return;
+    --rec_;
+    UpdateState(time_ns);
+  }
+  void CountProtocolError(bool transmitting, std::int64_t time_ns) {
+    if (transmitting) {
+      tec_ += kTransmitErrorStep;
+    } else {
+      rec_ = std::min(rec_ + 1, kPassiveLimit);  // REC stops growing once error-passive
+    }
+    std::array<std::uint8_t, 8> data{};
+    data[2] = transmitting ? can_error::kProtTypeTx : can_error::kProtTypeUnspecified;
+    data[3] = can_error::kProtLocCrcSequence;
+    ReportError(can_error::kProtocol | can_error::kBusError, data, time_ns);
+    UpdateState(time_ns);
+  }
+  void ForceBusOff(std::int64_t time_ns) {
+    tec_ = std::max(tec_, kBusOffLimit);
+    UpdateState(time_ns);
+  }
+  void Restart(std::int64_t time_ns) {
+    if (!bus_off()) return;
+    tec_ = rec_ = 0;
+    state_ = BusState::kErrorActive;
+    ReportError(can_error::kRestarted, {}, time_ns);
+  }
+  // Automatic recovery due by time_ns happens at its due time, before anything later.
+  void MaybeRestart(std::int64_t time_ns) {
+    if (bus_off() && medium_.config().bus_off_restart_ns > 0 && time_ns >= restart_due_ns_) {
+      Restart(restart_due_ns_);
+    }
   }
 
  private:
+  Result<void> CheckSendable(const CanFrame& frame) const {
+    if (Result<void> valid = ValidateFrame(frame); !valid) {
+      return MakeError(name_ + ": " + valid.error().message);
+    }
+    if (bus_off()) return MakeError(name_ + ": controller is bus-off, frame not sent");
+    if (tx_.queue.size() >= medium_.config().tx_queue_capacity) {
+      return MakeError(name_ + ": TX queue full (" + std::to_string(tx_.queue.size()) +
+                       " frames waiting for the bus)");
+    }
+    return {};
+  }
+
   bool Wants(const CanFrame& frame) const {
-    return frame.error ? receive_error_frames_ : FilterAccepts(filters_, frame);
+    return frame.error ? (frame.id & error_mask_) != 0 : FilterAccepts(filters_, frame);
+  }
+
+  // Reports each change of fault confinement state as Linux drivers do.
+  void UpdateState(std::int64_t time_ns) {
+    const BusState next = StateFor(tec_, rec_);
+    if (next == state_) return;
+    state_ = next;
+    if (next == BusState::kBusOff) {
+      EnterBusOff(time_ns);
+      return;
+    }
+    std::array<std::uint8_t, 8> data{};
+    if (next == BusState::kErrorActive) {
+      data[1] = can_error::kCtrlActive;
+    } else if (next == BusState::kErrorPassive) {
+      data[1] = (tec_ >= kPassiveLimit ? can_error::kCtrlTxPassive : 0) |
+                (rec_ >= kPassiveLimit ? can_error::kCtrlRxPassive : 0);
+    } else {
+      data[1] = (tec_ >= kWarningLimit ? can_error::kCtrlTxWarning : 0) |
+                (rec_ >= kWarningLimit ? can_error::kCtrlRxWarning : 0);
+    }
+    ReportError(can_error::kController, data, time_ns);
+  }
+
+  void EnterBusOff(std::int64_t time_ns) {
+    counters_.frames_dropped_tx += tx_.queue.size();
+    while (!tx_.queue.empty()) tx_.queue.pop_front();
+    restart_due_ns_ =
+        time_ns + std::max(medium_.config().bus_off_restart_ns, medium_.bus_off_recovery_ns());
+    ReportError(can_error::kBusOff, {}, time_ns);
+  }
+
+  // Every controller error frame carries the counters, as most Linux drivers add CAN_ERR_CNT.
+  // A state forced in the middle of a frame this endpoint has already been handed is reported
+  // when that frame ends, which keeps the RX queue in time order.
+  void ReportError(std::uint32_t class_bits, std::array<std::uint8_t, 8> data,
+                   std::int64_t time_ns) {
+    data[6] = static_cast<std::uint8_t>(std::min<std::uint32_t>(tec_, 255));
+    data[7] = static_cast<std::uint8_t>(std::min<std::uint32_t>(rec_, 255));
+    Accept(CanFrame::ErrorFrame(class_bits | can_error::kCounters, data),
+           std::max(time_ns, latest_rx_ns_), false);
   }
 
   EmulatedMedium& medium_;
   std::string name_;
   std::vector<CanFilter> filters_;
-  bool receive_error_frames_ = false;
+  std::uint32_t error_mask_ = 0;
+  bool receive_own_frames_;
+  TxSource tx_;
   RingBuffer<TimedCanFrame> rx_;
+  std::int64_t latest_rx_ns_ = std::numeric_limits<std::int64_t>::min();
   BusCounters counters_;
+  std::uint32_t tec_ = 0;
+  std::uint32_t rec_ = 0;
+  BusState state_ = BusState::kErrorActive;
+  std::int64_t restart_due_ns_ = 0;
 };
 
-EmulatedMedium::EmulatedMedium(const EmulatedBusConfig& config) : config_(config) {
+EmulatedMedium::EmulatedMedium(const EmulatedBusConfig& config)
+    : config_(config), faults_(config.faults) {
   HILRIG_CHECK(config.nominal_bitrate_bps > 0 && config.data_bitrate_bps > 0,
                "EmulatedBus bitrates must be positive");
   HILRIG_CHECK(config.rx_queue_capacity > 0, "EmulatedBus rx_queue_capacity must be positive");
+  HILRIG_CHECK(config.tx_queue_capacity > 0, "EmulatedBus tx_queue_capacity must be positive");
+  HILRIG_CHECK(config.bus_off_restart_ns >= 0, "EmulatedBus bus_off_restart_ns must be >= 0");
+  error_flag_ns_ = FrameDurationNs(CanFrame::ErrorFrame(0, {}), config.nominal_bitrate_bps,
+                                   config.nominal_bitrate_bps);
+  bus_off_recovery_ns_ = (kBusOffRecoveryBits * 1'000'000'000 + config.nominal_bitrate_bps - 1) /
+                         config.nominal_bitrate_bps;
+  sources_.push_back(&injector_);
 }
 
 EmulatedMedium::~EmulatedMedium() {
@@ -113,30 +307,141 @@ EmulatedMedium::~EmulatedMedium() {
                "EmulatedBus destroyed while endpoints still connected:" + names);
 }
 
-void EmulatedMedium::Attach(EmulatedEndpoint* endpoint) { endpoints_.push_back(endpoint); }
+void EmulatedMedium::Attach(EmulatedEndpoint* endpoint) {
+  endpoints_.push_back(endpoint);
+  sources_.push_back(&endpoint->tx());
+}
 
 void EmulatedMedium::Detach(EmulatedEndpoint* endpoint) {
   const auto it = std::find(endpoints_.begin(), endpoints_.end(), endpoint);
   HILRIG_CHECK(it != endpoints_.end(), "detaching an endpoint that is not attached");
   endpoints_.erase(it);
+  sources_.erase(std::find(sources_.begin(), sources_.end(), &endpoint->tx()));
 }
 
-void EmulatedMedium::Transmit(const EmulatedEndpoint* sender, const CanFrame& frame,
-                              std::int64_t now_ns) {
-  const TimedCanFrame timed{frame, ScheduleOnWire(frame, now_ns)};
+EmulatedEndpoint* EmulatedMedium::Find(std::string_view name) const {
+  const auto it = std::find_if(endpoints_.begin(), endpoints_.end(),
+                               [name](const EmulatedEndpoint* e) { return e->name() == name; });
+  return it == endpoints_.end() ? nullptr : *it;
+}
+
+std::int64_t EmulatedMedium::AdvanceTo(std::int64_t now_ns) {
+  latest_now_ns_ = std::max(latest_now_ns_, now_ns);
+  while (true) {
+    const std::int64_t start_ns = std::max(bus_free_at_ns_, EarliestQueuedNs());
+    if (start_ns >= latest_now_ns_) break;  // also when nothing is queued
+    Transmit(*Arbitrate(start_ns), start_ns);
+  }
+  return latest_now_ns_;
+}
+
+void EmulatedMedium::InjectErrorFrame(const CanFrame& frame, std::int64_t now_ns) {
+  injector_.queue.push_back({frame, AdvanceTo(now_ns)});
+}
+
+std::int64_t EmulatedMedium::EarliestQueuedNs() const {
+  std::int64_t earliest_ns = std::numeric_limits<std::int64_t>::max();
+  for (const TxSource* source : sources_) {
+    if (!source->queue.empty())
+      earliest_ns = std::min(earliest_ns, source->queue.front().queued_ns);
+  }
+  return earliest_ns;
+}
+
+TxSource* EmulatedMedium::Arbitrate(std::int64_t start_ns) const {
+  TxSource* winner = nullptr;
+  std::uint64_t winner_key = std::numeric_limits<std::uint64_t>::max();
+  for (TxSource* source : sources_) {
+    if (source->queue.empty() || source->queue.front().queued_ns > start_ns) continue;
+    const std::uint64_t key = ArbitrationKey(source->queue.front().frame);
+    if (winner == nullptr || key < winner_key) {
+      winner = source;
+      winner_key = key;
+    }
+  }
+  HILRIG_CHECK(winner != nullptr, "arbitration without a waiting frame");
+  return winner;
+}
+
+void EmulatedMedium::Transmit(TxSource& source, std::int64_t start_ns) {
+  const PendingFrame pending = source.queue.front();
+  const std::int64_t duration_ns =
+      FrameDurationNs(pending.frame, config_.nominal_bitrate_bps, config_.data_bitrate_bps);
+  const WireFault fault = pending.frame.error ? WireFault::kNone : faults_.Next();
+  if (fault == WireFault::kCorrupt) {
+    TransmitCorrupted(source, start_ns, duration_ns);
+    return;
+  }
+  source.queue.pop_front();
+  const std::int64_t end_ns = start_ns + duration_ns;
+  RecordWire(start_ns, end_ns);
+  if (!pending.frame.error) RecordQueueing(pending.frame, start_ns - pending.queued_ns);
+  if (fault == WireFault::kDrop) ++stats_.frames_dropped;
+  Deliver(source.owner, pending.frame, end_ns, fault == WireFault::kDrop);
+}
+
+// The frame stays queued: its sender retransmits it unless the error took it bus-off.
+void EmulatedMedium::TransmitCorrupted(TxSource& source, std::int64_t start_ns,
+                                       std::int64_t duration_ns) {
+  const std::int64_t end_ns = start_ns + duration_ns + error_flag_ns_;
+  RecordWire(start_ns, end_ns);
+  ++stats_.frames_corrupted;
   for (EmulatedEndpoint* endpoint : endpoints_) {
-    if (endpoint != sender || config_.receive_own_frames) endpoint->Deliver(timed);
+    endpoint->MaybeRestart(end_ns);
+    if (!endpoint->bus_off()) endpoint->CountProtocolError(endpoint == source.owner, end_ns);
   }
 }
 
-std::int64_t EmulatedMedium::ScheduleOnWire(const CanFrame& frame, std::int64_t now_ns) {
-  const std::int64_t duration_ns =
-      FrameDurationNs(frame, config_.nominal_bitrate_bps, config_.data_bitrate_bps);
-  const std::int64_t start_ns = std::max(now_ns, bus_free_at_ns_);
-  bus_free_at_ns_ = start_ns + duration_ns;
+void EmulatedMedium::Deliver(const EmulatedEndpoint* sender, const CanFrame& frame,
+                             std::int64_t end_ns, bool dropped) {
+  for (EmulatedEndpoint* endpoint : endpoints_) {
+    endpoint->MaybeRestart(end_ns);
+    if (endpoint->bus_off()) continue;
+    if (endpoint == sender) {
+      if (!frame.error) endpoint->CountTransmitSuccess(end_ns);
+      endpoint->Accept(frame, end_ns, /*own_frame=*/true);
+    } else if (!dropped) {
+      if (!frame.error) endpoint->CountReceiveSuccess(end_ns);
+      endpoint->Accept(frame, end_ns, /*own_frame=*/false);
+    }
+  }
+}
+
+void EmulatedMedium::RecordWire(std::int64_t start_ns, std::int64_t end_ns) {
+  bus_free_at_ns_ = end_ns;
   ++stats_.frames;
-  stats_.busy_ns += duration_ns;
-  return bus_free_at_ns_;
+  stats_.busy_ns += end_ns - start_ns;
+}
+
+// A sorted vector: it only grows when an id is seen for the first time, so steady traffic does
+// not allocate.
+void EmulatedMedium::RecordQueueing(const CanFrame& frame, std::int64_t queueing_ns) {
+  std::vector<IdQueueingStats>& by_id = stats_.queueing_by_id;
+  const std::uint64_t key = IdKey(frame.id, frame.extended);
+  auto it = std::lower_bound(
+      by_id.begin(), by_id.end(), key,
+      [](const IdQueueingStats& s, std::uint64_t k) { return IdKey(s.id, s.extended) < k; });
+  if (it == by_id.end() || IdKey(it->id, it->extended) != key) {
+    it = by_id.insert(it, IdQueueingStats{.id = frame.id, .extended = frame.extended});
+  }
+  ++it->frames;
+  it->total_queueing_ns += queueing_ns;
+  it->max_queueing_ns = std::max(it->max_queueing_ns, queueing_ns);
+}
+
+std::int64_t IdQueueingStats::mean_queueing_ns() const {
+  return frames == 0 ? 0 : total_queueing_ns / static_cast<std::int64_t>(frames);
+}
+
+double EmulatedBusStats::LoadOver(std::int64_t elapsed_ns) const {
+  return elapsed_ns > 0 ? static_cast<double>(busy_ns) / static_cast<double>(elapsed_ns) : 0.0;
+}
+
+const IdQueueingStats* EmulatedBusStats::QueueingFor(std::uint32_t id, bool extended) const {
+  const auto it =
+      std::find_if(queueing_by_id.begin(), queueing_by_id.end(),
+                   [&](const IdQueueingStats& s) { return s.id == id && s.extended == extended; });
+  return it == queueing_by_id.end() ? nullptr : &*it;
 }
 
 EmulatedBus::EmulatedBus(EmulatedBusConfig config)
@@ -155,9 +460,38 @@ std::unique_ptr<CanBus> EmulatedBus::Connect(std::string name) {
   return std::make_unique<EmulatedEndpoint>(*medium_, std::move(name));
 }
 
+void EmulatedBus::AdvanceTo(std::int64_t now_ns) {
+  HILRIG_CHECK(medium_ != nullptr, "AdvanceTo on a moved-from EmulatedBus");
+  medium_->AdvanceTo(now_ns);
+}
+
 EmulatedBusStats EmulatedBus::stats() const {
   HILRIG_CHECK(medium_ != nullptr, "stats on a moved-from EmulatedBus");
   return medium_->stats();
+}
+
+Result<void> EmulatedBus::InjectErrorFrame(const CanFrame& error_frame, std::int64_t now_ns) {
+  HILRIG_CHECK(medium_ != nullptr, "InjectErrorFrame on a moved-from EmulatedBus");
+  if (!error_frame.error) return MakeError("InjectErrorFrame needs an error frame");
+  if (Result<void> valid = ValidateFrame(error_frame); !valid) return valid;
+  medium_->InjectErrorFrame(error_frame, now_ns);
+  return {};
+}
+
+Result<void> EmulatedBus::ForceBusOff(std::string_view endpoint_name, std::int64_t now_ns) {
+  HILRIG_CHECK(medium_ != nullptr, "ForceBusOff on a moved-from EmulatedBus");
+  EmulatedEndpoint* endpoint = medium_->Find(endpoint_name);
+  if (endpoint == nullptr) return MakeError("no endpoint named " + std::string(endpoint_name));
+  endpoint->ForceBusOff(medium_->AdvanceTo(now_ns));
+  return {};
+}
+
+Result<void> EmulatedBus::RestartEndpoint(std::string_view endpoint_name, std::int64_t now_ns) {
+  HILRIG_CHECK(medium_ != nullptr, "RestartEndpoint on a moved-from EmulatedBus");
+  EmulatedEndpoint* endpoint = medium_->Find(endpoint_name);
+  if (endpoint == nullptr) return MakeError("no endpoint named " + std::string(endpoint_name));
+  endpoint->Restart(medium_->AdvanceTo(now_ns));
+  return {};
 }
 
 }  // namespace hilrig::rig

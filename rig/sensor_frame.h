@@ -1,31 +1,26 @@
-// PROVISIONAL codec for one magnetometer sample per classic CAN frame, so emulators and the DUT
-// can exchange tactile data before the real tactile protocol exists. A later issue replaces this
-// with the layout defined in proto/ (with a DBC); keep every knowledge of the layout in this file.
-//
-// Layout: id = kSensorSampleBaseId + node_id, 8 bytes: x, y, z as little-endian int16 raw codes,
-// then sequence, then status.
+// PROVISIONAL API for one magnetometer sample per classic CAN frame, kept so host code written
+// against it keeps building while it migrates to rig/tactile_protocol.h. It is a thin forwarder:
+// the layout lives only in the tactile protocol codec (see proto/TACTILE_PROTOCOL.md); this file
+// merely re-expresses the result words as int16 the way the first host code expected them.
 #pragma once
 
 #include <cstdint>
 
 #include "rig/can_frame.h"
 #include "rig/result.h"
+#include "rig/tactile_protocol.h"
 
 namespace hilrig::rig {
 
-inline constexpr std::uint32_t kSensorSampleBaseId = 0x100;  // id = base + node_id
-inline constexpr std::uint8_t kFirstTactileNodeId = 1;
-inline constexpr std::uint8_t kLastTactileNodeId = 6;
-inline constexpr std::uint8_t kReferenceNodeId = 7;
+inline constexpr std::uint32_t kSensorSampleBaseId = kTactileSampleBaseId;  // id = base + node_id
 
-// Status bits. Unknown bits are passed through so newer node firmware does not break decoding.
-inline constexpr std::uint8_t kSensorStatusSaturated = 1u << 0;
-inline constexpr std::uint8_t kSensorStatusConversionError = 1u << 1;
-inline constexpr std::uint8_t kSensorStatusStale = 1u << 2;
+inline constexpr std::uint8_t kSensorStatusSaturated = kSampleStatusSaturated;
+inline constexpr std::uint8_t kSensorStatusConversionError = kSampleStatusConversionError;
+inline constexpr std::uint8_t kSensorStatusStale = kSampleStatusStale;
 
 struct MagneticSample {
   std::uint8_t node_id = 0;  // 1..6 tactile, 7 reference
-  std::int16_t x_code = 0;
+  std::int16_t x_code = 0;   // the chip's result words, bit for bit
   std::int16_t y_code = 0;
   std::int16_t z_code = 0;
   std::uint8_t sequence = 0;  // wraps; lets the receiver detect lost frames

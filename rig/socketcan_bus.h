@@ -7,19 +7,24 @@
 // What the kernel gives us and how it maps onto the seam:
 // - CAN FD: CAN_RAW_FD_FRAMES is always enabled, so classic and FD frames both arrive; sending an
 //   FD frame on an interface whose MTU is classic-only fails as a value, not as EINVAL later.
-// - Filters: CanFilter translates one to one into struct can_filter (EFF bit always in the mask,
-//   so a filter names standard or extended frames like CanFilter does; CAN_INV_FILTER for
-//   inverted). An empty list becomes the accept-all filter, because the kernel reads "no filters"
-//   as "receive nothing".
+// - Filters: CanFilter is Linux's can_filter already (ToKernelFilter in can_bus.h). An empty list
+//   becomes the accept-all filter, because the kernel reads "no filters" as "receive nothing".
+//   Filtering happens in the kernel, so unwanted traffic never reaches user space.
 // - Timestamps: every frame is stamped with the kernel's receive time (SO_TIMESTAMPNS, read through
 //   recvmsg), in CLOCK_REALTIME nanoseconds since the epoch: the same time base candump -l logs
 //   use. It is not the caller's Clock domain; this class never reads a clock itself.
 // - Error frames: decoded into typed BusEvents (bus-off, warning, passive, ACK error, overflows)
-//   and used to track state(). The state-changing classes (bus-off, controller, restarted) are
-//   always subscribed so state() stays true even when the caller does not want error frames; the
-//   classes that can flood a sick bus (bus errors, protocol, ACK) only when it does.
-// - Own frames: with receive_own_frames (CAN_RAW_RECV_OWN_MSGS) a sent frame comes back stamped
-//   with the time it left, which is how a bench run confirms transmission.
+//   and used to track state() and the error counters. The state-changing classes (bus-off,
+//   controller, restarted, TX timeout) are always subscribed in the kernel's CAN_RAW_ERR_FILTER so
+//   state() stays true even when the caller wants no error frames; they reach Receive only if the
+//   caller's error_frame_mask selects them. The classes that can flood a sick bus (bus errors,
+//   protocol, ACK) are subscribed only when the caller's mask asks for them. After bus-off, Send
+//   refuses until a restarted or error-active frame arrives (the kernel sends one after
+//   restart-ms or `ip link set canX type can restart`); a down/up restart sends none, so reopen.
+// - Error frames can also be sent, which on vcan injects faults for tests and bench rehearsals.
+// - Own frames: with receive_own_frames (CAN_RAW_RECV_OWN_MSGS) a sent frame comes back marked
+//   tx_echo (MSG_CONFIRM) and stamped with the time it left, which is how a bench run confirms
+//   transmission.
 // - Full TX queue: the kernel answers ENOBUFS when the interface queue is full. Send retries a
 //   bounded number of times with a short growing pause, counts the retries, and then fails.
 //
@@ -31,6 +36,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -84,12 +90,26 @@ std::vector<BusEvent> DecodeErrorFrame(const CanFrame& frame, std::int64_t time_
 // Applies decoded events to a bus state, as the controller's state machine would.
 BusState NextBusState(BusState state, const BusEvent& event);
 
+// The bounded retry Send applies to a full TX queue, kept apart so it is tested without a kernel.
+// `attempt` makes one send and returns 0 or an errno value; ENOBUFS and EAGAIN (queue full) are
+// retried up to max_retries times with `pause(pause_ns)` between, the pause doubling each time;
+// EINTR is retried without counting; any other errno ends at once.
+struct SendRetryOutcome {
+  int error_number = 0;  // 0 when the frame was sent
+  int retries = 0;       // queue-full retries made
+};
+SendRetryOutcome SendWithRetry(const std::function<int()>& attempt, int max_retries,
+                               std::int64_t first_pause_ns,
+                               const std::function<void(std::int64_t)>& pause);
+
 struct SocketCanOptions {
-  std::vector<CanFilter> filters;     // empty: accept every frame
-  bool receive_error_frames = false;  // deliver error frames to Receive (events are always kept)
-  bool receive_own_frames = false;    // CAN_RAW_RECV_OWN_MSGS: see our own frames come back
-  bool loopback = true;               // CAN_RAW_LOOPBACK: other sockets on this host see ours
-  int max_send_retries = 8;           // retries on ENOBUFS/EAGAIN before Send fails
+  std::vector<CanFilter> filters;  // empty: accept every frame
+  // Error classes (can_error::k*) delivered to Receive; 0 none, kCanErrMask all. Events and
+  // state are kept whatever the mask.
+  std::uint32_t error_frame_mask = 0;
+  bool receive_own_frames = false;  // CAN_RAW_RECV_OWN_MSGS: see our own frames come back
+  bool loopback = true;             // CAN_RAW_LOOPBACK: other sockets on this host see ours
+  int max_send_retries = 8;         // retries on ENOBUFS/EAGAIN before Send fails
   std::int64_t first_retry_pause_ns = 50'000;  // doubled per retry: 8 retries wait ~13 ms in all
   std::size_t max_buffered_events = 4096;      // oldest events are dropped past this
   int receive_buffer_bytes = 0;                // SO_RCVBUF; 0 keeps the kernel default
@@ -117,6 +137,8 @@ class SocketCanBus final : public CanBus {
   std::size_t Receive(std::int64_t now_ns, std::vector<TimedCanFrame>& out) override;
   void SetFilters(std::span<const CanFilter> filters) override;
   void SetReceiveErrorFrames(bool enabled) override;
+  void SetErrorFrameMask(std::uint32_t class_mask) override;
+  Result<void> SetReceiveOwnFrames(bool enabled) override;
   BusState state() const override;
   BusCounters counters() const override;
 

@@ -17,8 +17,10 @@ struct DutCounters {
   std::uint64_t imu_messages = 0;
   std::uint64_t vio_messages = 0;
   std::uint64_t can_frames_received = 0;
-  std::uint64_t can_frames_rejected = 0;  // frames that did not decode
-  std::uint64_t magnetometer_samples = 0;
+  std::uint64_t can_frames_rejected = 0;  // frames that did not decode (wrong DLC, unknown id)
+  std::uint64_t sensor_samples = 0;       // Hall sensor node samples, all seven nodes
+  std::uint64_t sensor_sequence_gaps = 0;
+  std::uint64_t sensor_samples_lost = 0;
 };
 
 class DutPort {

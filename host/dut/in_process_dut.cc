@@ -1,6 +1,6 @@
 #include "host/dut/in_process_dut.h"
 
-#include "rig/sensor_frame.h"
+#include <variant>
 
 namespace hilrig::host {
 
@@ -40,26 +40,32 @@ void InProcessDut::DrainBus(std::int64_t now_ns) {
   bus_->Receive(now_ns, received_);
   for (const rig::TimedCanFrame& timed : received_) {
     ++counters_.can_frames_received;
-    const auto sample = rig::DecodeMagneticSample(timed.frame);
-    if (!sample.ok()) {
+    const auto message = link_monitor_.Observe(timed.frame);
+    if (!message.ok()) {
       ++counters_.can_frames_rejected;
       continue;
     }
-    ++counters_.magnetometer_samples;
+    const auto* sample = std::get_if<rig::TactileSample>(&message.value());
+    if (sample == nullptr) continue;  // status frames and other hosts' commands
+    ++counters_.sensor_samples;
     if (!tactile_params_) continue;
-    const rig::MagneticSample& s = sample.value();
-    const std::array<std::uint16_t, 3> codes = {static_cast<std::uint16_t>(s.x_code),
-                                                static_cast<std::uint16_t>(s.y_code),
-                                                static_cast<std::uint16_t>(s.z_code)};
-    const bool saturated = (s.status & rig::kSensorStatusSaturated) != 0;
-    if (s.node_id == rig::kReferenceNodeId) {
-      dut_fw::OnReferenceSample(*tactile_params_, tactile_state_, codes, s.sequence, saturated,
-                                timed.time_ns);
+    const bool saturated = (sample->status & rig::kSampleStatusSaturated) != 0;
+    if (sample->node_id == rig::kReferenceNodeId) {
+      dut_fw::OnReferenceSample(*tactile_params_, tactile_state_, sample->code, sample->sequence,
+                                saturated, timed.time_ns);
     } else {
-      dut_fw::OnTactileSample(*tactile_params_, tactile_state_, s.node_id, codes, s.sequence,
-                              saturated, timed.time_ns);
+      dut_fw::OnTactileSample(*tactile_params_, tactile_state_, sample->node_id, sample->code,
+                              sample->sequence, saturated, timed.time_ns);
     }
   }
+}
+
+DutCounters InProcessDut::counters() const {
+  DutCounters counters = counters_;
+  const rig::TactileNodeCounters link = link_monitor_.Totals();
+  counters.sensor_sequence_gaps = link.sequence_gaps;
+  counters.sensor_samples_lost = link.lost_samples;
+  return counters;
 }
 
 void InProcessDut::FillTactileTelemetry(std::int64_t now_ns, ActuatorMessage& command) const {

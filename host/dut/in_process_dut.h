@@ -11,6 +11,7 @@
 #include "dut_fw/tactile_processor.h"
 #include "host/dut/dut_port.h"
 #include "rig/can_bus.h"
+#include "rig/tactile_link_monitor.h"
 
 namespace hilrig::host {
 
@@ -27,7 +28,7 @@ class InProcessDut final : public DutPort {
   void SendVio(const VioMessage& message) override;
   void SendSetpoint(const SetpointMessage& message) override;
   rig::Result<ActuatorMessage> Step(std::uint64_t tick, std::int64_t now_ns) override;
-  DutCounters counters() const override { return counters_; }
+  DutCounters counters() const override;
   std::string description() const override { return "in-process dut_fw (double)"; }
 
  private:
@@ -42,6 +43,7 @@ class InProcessDut final : public DutPort {
   std::unique_ptr<rig::CanBus> bus_;
   double control_period_s_;
   std::vector<rig::TimedCanFrame> received_;
+  rig::TactileLinkMonitor link_monitor_;
   DutCounters counters_;
   std::uint64_t commands_sent_ = 0;
 };

@@ -1,9 +1,10 @@
 #include "host/runner/hall_sensor_nodes.h"
 
+#include <algorithm>
 #include <cmath>
+#include <span>
 
 #include "host/sensors/tactile/memoized_film_field.h"
-#include "rig/sensor_frame.h"
 
 namespace hilrig::host {
 namespace {
@@ -24,48 +25,50 @@ HallSensorNodes::HallSensorNodes(const HallSensorConfig& config, const EarthFiel
       film_(film ? std::shared_ptr<const FilmFieldModel>(
                        std::make_shared<const MemoizedFilmField>(std::move(film)))
                  : std::make_shared<const NoFilm>()),
-      bus_(std::move(bus)),
-      reference_state_(InitialTactileSensorState(config.reference, seed)),
-      period_ns_(std::llround(1e9 / config.node_rate_hz)) {
-  for (int i = 0; i < kTactileSensorCount; ++i) {
-    tactile_states_[i] = InitialTactileSensorState(config.tactile[i], seed);
+      bus_(std::move(bus)) {
+  dut_fw::NodeSettings settings;
+  settings.rate_hz = static_cast<std::uint16_t>(std::lround(config.node_rate_hz));
+  settings.chip = config.reference.chip.setting;
+  const auto add = [&](const TactileSensorParams& params) {
+    nodes_.push_back({&params, InitialTactileSensorState(params, seed),
+                      dut_fw::SensorNode<>(params.node_id, 0, settings)});
+  };
+  if (config.tactile_enabled) {
+    for (const TactileSensorParams& params : config.tactile) add(params);
   }
+  add(config.reference);
 }
 
-void HallSensorNodes::SampleNode(const TactileSensorParams& params, TactileSensorState& state,
-                                 std::uint8_t& sequence, const Eigen::Vector3d& pad_force_n,
-                                 const Eigen::Quaterniond& attitude_world_body,
-                                 std::int64_t now_ns) {
-  const TactileReading reading = SampleTactileSensor(
-      params, state, *film_, pad_force_n, attitude_world_body, earth_field_.field_world_t,
-      config_.temperature_c, static_cast<double>(period_ns_) / 1e9);
-  rig::MagneticSample sample;
-  sample.node_id = params.node_id;
-  // The frame carries the chip's 16-bit result words as they are; the DUT decodes the RES format.
-  sample.x_code = static_cast<std::int16_t>(reading.code[0]);
-  sample.y_code = static_cast<std::int16_t>(reading.code[1]);
-  sample.z_code = static_cast<std::int16_t>(reading.code[2]);
-  sample.sequence = sequence++;
-  sample.status = reading.saturated ? rig::kSensorStatusSaturated : 0;
-  if (bus_->Send(rig::EncodeMagneticSample(sample), now_ns).ok()) {
-    ++frames_sent_;
-  } else {
-    ++frames_dropped_;  // a full or bus-off bus loses the sample; the DUT sees the sequence gap
+void HallSensorNodes::Send(const dut_fw::NodeFrame& frame, std::int64_t now_ns) {
+  const auto sent =
+      bus_->Send(rig::CanFrame::Classic(frame.id, std::span(frame.data.data(), frame.len)), now_ns);
+  // A full or bus-off bus loses the frame, as on the wire; the DUT sees the sequence gap.
+  (sent.ok() ? frames_sent_ : frames_dropped_)++;
+}
+
+void HallSensorNodes::TickNode(Node& node, const Eigen::Vector3d& pad_force_n,
+                               const Eigen::Quaterniond& attitude_world_body, std::int64_t now_ns) {
+  if (node.firmware.SampleDue(now_ns)) {
+    const double period_s = 1.0 / std::max<double>(1, node.firmware.rate_hz());
+    const TactileReading reading =
+        SampleTactileSensor(*node.params, node.model, *film_, pad_force_n, attitude_world_body,
+                            earth_field_.field_world_t, config_.temperature_c, period_s);
+    Send(node.firmware.TakeSample(now_ns, dut_fw::ChipConversion{reading.code, false}), now_ns);
+  }
+  if (node.firmware.StatusDue(now_ns)) {
+    node.firmware.OnTemperature(
+        static_cast<std::int16_t>(std::lround(config_.temperature_c * 100)));
+    Send(node.firmware.TakeStatus(now_ns), now_ns);
   }
 }
 
 void HallSensorNodes::Tick(std::int64_t now_ns, const Eigen::Quaterniond& attitude_world_body,
                            const std::array<Eigen::Vector3d, kTactileSensorCount>& pad_force_n) {
-  if (now_ns < next_sample_ns_) return;
-  next_sample_ns_ += period_ns_;
-  if (config_.tactile_enabled) {
-    for (int i = 0; i < kTactileSensorCount; ++i) {
-      SampleNode(config_.tactile[i], tactile_states_[i], sequences_[i], pad_force_n[i],
-                 attitude_world_body, now_ns);
-    }
+  for (std::size_t i = 0; i < nodes_.size(); ++i) {
+    const bool tactile = config_.tactile_enabled && i < pad_force_n.size();
+    TickNode(nodes_[i], tactile ? pad_force_n[i] : Eigen::Vector3d::Zero(), attitude_world_body,
+             now_ns);
   }
-  SampleNode(config_.reference, reference_state_, sequences_[kTactileSensorCount],
-             Eigen::Vector3d::Zero(), attitude_world_body, now_ns);
 }
 
 }  // namespace hilrig::host

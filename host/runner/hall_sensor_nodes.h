@@ -1,12 +1,15 @@
-// The seven Hall sensor nodes as devices on the CAN bus: at every node period each node samples
-// its forward model (pad force -> silicone -> film field, plus Earth's field rotated by the
-// vehicle's attitude, through the MLX90393 model) and sends one frame with its raw result words,
-// its sequence counter and its saturation status. The DUT sees only these frames.
+// The seven Hall sensor nodes as devices on the CAN bus. Each node runs the node firmware
+// (dut_fw/sensor_node.h: sampling schedule, frame packing, sequence, status frames) on top of its
+// forward model (pad force -> silicone -> film field, plus Earth's field rotated by the vehicle's
+// attitude, through the MLX90393 model): the chip model answers the firmware's conversions, and
+// the firmware's frames go on the bus (proto/TACTILE_PROTOCOL.md). The DUT sees only these frames.
 #pragma once
 
 #include <array>
 #include <memory>
+#include <vector>
 
+#include "dut_fw/sensor_node.h"
 #include "host/scenario/scenario_config.h"
 #include "host/sensors/tactile/film_field.h"
 #include "rig/can_bus.h"
@@ -19,27 +22,30 @@ class HallSensorNodes {
   HallSensorNodes(const HallSensorConfig& config, const EarthField& earth_field, std::uint64_t seed,
                   std::shared_ptr<const FilmFieldModel> film, std::unique_ptr<rig::CanBus> bus);
 
-  // Samples every node and sends its frame when a node period is due at `now_ns`.
+  // Runs every node's firmware at `now_ns`: samples and status frames that are due go out.
   void Tick(std::int64_t now_ns, const Eigen::Quaterniond& attitude_world_body,
             const std::array<Eigen::Vector3d, kTactileSensorCount>& pad_force_n);
 
   std::uint64_t frames_sent() const { return frames_sent_; }
+  // Frames the bus refused (full TX queue, bus-off); the DUT sees them as sequence gaps.
   std::uint64_t frames_dropped() const { return frames_dropped_; }
 
  private:
-  void SampleNode(const TactileSensorParams& params, TactileSensorState& state,
-                  std::uint8_t& sequence, const Eigen::Vector3d& pad_force_n,
-                  const Eigen::Quaterniond& attitude_world_body, std::int64_t now_ns);
+  struct Node {
+    const TactileSensorParams* params;
+    TactileSensorState model;
+    dut_fw::SensorNode<> firmware;
+  };
+
+  void TickNode(Node& node, const Eigen::Vector3d& pad_force_n,
+                const Eigen::Quaterniond& attitude_world_body, std::int64_t now_ns);
+  void Send(const dut_fw::NodeFrame& frame, std::int64_t now_ns);
 
   const HallSensorConfig& config_;
   const EarthField& earth_field_;
   std::shared_ptr<const FilmFieldModel> film_;
   std::unique_ptr<rig::CanBus> bus_;
-  std::array<TactileSensorState, kTactileSensorCount> tactile_states_;
-  TactileSensorState reference_state_;
-  std::array<std::uint8_t, kTactileSensorCount + 1> sequences_{};
-  std::int64_t period_ns_;
-  std::int64_t next_sample_ns_ = 0;
+  std::vector<Node> nodes_;  // the tactile ones (when enabled), then the reference
   std::uint64_t frames_sent_ = 0;
   std::uint64_t frames_dropped_ = 0;
 };

@@ -26,6 +26,10 @@ namespace {
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 constexpr std::int64_t kProgressPeriodNs = 5'000'000'000;
 constexpr std::uint64_t kWallClockPollTicks = 4096;
+// can.log stamps are simulated time plus this fixed base (2001-09-09T01:46:40Z). Tools that take
+// a zero seconds field for "no start time yet" (log2asc prints a header per frame) then read the
+// log like any candump recording, and the file stays byte-reproducible.
+constexpr std::int64_t kCanLogEpochNs = 1'000'000'000LL * 1'000'000'000LL;
 
 Eigen::Vector3d RollPitchYawDeg(const Eigen::Quaterniond& q) {
   const double roll =
@@ -52,6 +56,13 @@ std::shared_ptr<const FilmFieldModel> FilmFieldFor(const ScenarioConfig& config)
   auto film = MakeFilmField(config.hall_sensors.field_fidelity);
   HILRIG_CHECK(film.ok(), "the spec's field fidelity was validated before the run");
   return film.value();
+}
+
+rig::EmulatedBusConfig BusConfigFor(const ScenarioConfig& config) {
+  rig::EmulatedBusConfig bus;
+  bus.nominal_bitrate_bps = std::llround(config.can_bitrate_bps);
+  bus.data_bitrate_bps = bus.nominal_bitrate_bps;
+  return bus;
 }
 
 double Seconds(std::int64_t time_ns) { return static_cast<double>(time_ns) / 1e9; }
@@ -115,8 +126,7 @@ LockstepRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
     : config_(config),
       sinks_(sinks),
       control_(control),
-      bus_(rig::EmulatedBusConfig{.nominal_bitrate_bps = std::llround(config.can_bitrate_bps),
-                                  .data_bitrate_bps = std::llround(config.can_bitrate_bps)}),
+      bus_(BusConfigFor(config)),
       can_logger_(bus_.Connect("can-logger")),
       reference_(config.initial_reference, config.setpoints),
       imu_(MakeImuState(config.imu, RandomStream::FromSeed(
@@ -234,7 +244,10 @@ void LockstepRunner::Impl::DrainCanLog(std::int64_t now_ns) {
   can_logger_->Receive(now_ns, logged_frames_);
   can_frames_logged_ += logged_frames_.size();
   if (!can_writer_) return;
-  for (const rig::TimedCanFrame& frame : logged_frames_) can_writer_->Write(frame);
+  for (rig::TimedCanFrame frame : logged_frames_) {
+    frame.time_ns += kCanLogEpochNs;
+    can_writer_->Write(frame);
+  }
 }
 
 void LockstepRunner::Impl::ReportProgress(std::int64_t now_ns) {
@@ -303,6 +316,9 @@ proto::Report LockstepRunner::Impl::Finish() {
   AddMetric(report, "dut_can_frames_received", static_cast<double>(counters.can_frames_received),
             "count");
   AddMetric(report, "dut_can_frames_rejected", static_cast<double>(counters.can_frames_rejected),
+            "count");
+  AddMetric(report, "dut_sensor_samples", static_cast<double>(counters.sensor_samples), "count");
+  AddMetric(report, "dut_sensor_samples_lost", static_cast<double>(counters.sensor_samples_lost),
             "count");
   AddMetric(
       report, "can_bus_load",

@@ -3,9 +3,11 @@
 #include <google/protobuf/descriptor.h>
 #include <google/protobuf/reflection.h>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 
+#include "dut_fw/sensor_node.h"
 #include "host/sensors/tactile/film_field_factory.h"
 
 namespace hilrig::host {
@@ -119,7 +121,14 @@ void CheckSensors(const proto::Models& models, const ProblemList& problems) {
                      "attitude_noise_rad", vio);
   const proto::Tactile& tactile = models.tactile();
   const ProblemList hall = problems.Nested("tactile");
-  RequirePositive(tactile.has_node_rate_hz(), tactile.node_rate_hz(), "node_rate_hz", hall);
+  if (tactile.has_node_rate_hz()) {
+    const auto& rates = dut_fw::node_protocol::kRateHzByCode;
+    if (std::find(rates.begin() + 1, rates.end(), tactile.node_rate_hz()) == rates.end()) {
+      hall.Add("node_rate_hz",
+               "must be a rate the node firmware supports (1, 10, 20, 25, 50, 100, "
+               "200, 250, 500 or 1000 Hz)");
+    }
+  }
   RequireNonNegative(tactile.has_zeroing_s(), tactile.zeroing_s(), "zeroing_s", hall);
   if (tactile.has_temperature_c() &&
       !(tactile.temperature_c() > -40 && tactile.temperature_c() < 125)) {

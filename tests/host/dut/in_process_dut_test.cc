@@ -6,7 +6,7 @@
 
 #include "host/dut/firmware_config.h"
 #include "rig/emulated_bus.h"
-#include "rig/sensor_frame.h"
+#include "rig/tactile_protocol.h"
 
 namespace hilrig::host {
 namespace {
@@ -61,10 +61,10 @@ TEST_F(InProcessDutTest, CommandAnswersTheTickItWasAskedFor) {
   EXPECT_EQ(command.stamp.time_ns, 4'000'000);
 }
 
-TEST_F(InProcessDutTest, DecodesMagnetometerFramesAndCountsCorruptOnes) {
-  rig::MagneticSample sample;
+TEST_F(InProcessDutTest, DecodesSensorFramesAndCountsCorruptOnes) {
+  rig::TactileSample sample;
   sample.node_id = rig::kReferenceNodeId;
-  ASSERT_TRUE(node_->Send(rig::EncodeMagneticSample(sample), 0).ok());
+  ASSERT_TRUE(node_->Send(rig::EncodeTactileSample(sample), 0).ok());
   const std::uint8_t short_payload[3] = {1, 2, 3};
   ASSERT_TRUE(node_->Send(rig::CanFrame::Classic(0x107, short_payload), 0).ok());
   const std::uint8_t unknown[8] = {};
@@ -72,7 +72,7 @@ TEST_F(InProcessDutTest, DecodesMagnetometerFramesAndCountsCorruptOnes) {
   ASSERT_TRUE(dut_.Step(0, 10'000'000).ok());
   const DutCounters counters = dut_.counters();
   EXPECT_EQ(counters.can_frames_received, 3u);
-  EXPECT_EQ(counters.magnetometer_samples, 1u);
+  EXPECT_EQ(counters.sensor_samples, 1u);
   EXPECT_EQ(counters.can_frames_rejected, 2u);
 }
 

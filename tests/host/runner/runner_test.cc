@@ -66,9 +66,12 @@ TEST(RunnerTest, TraceHasOneRowPerTraceTick) {
 
 TEST(RunnerTest, ReferenceMagnetometerFramesReachTheDutOverCan) {
   const RunOutput output = RunToEnd(ConfigFrom(kHoverInAir));
-  EXPECT_NEAR(Metric(output.report, "dut_can_frames_received"), 150, 1);  // 50 Hz for 3 s
+  // Node 7 for 3 s: samples at 50 Hz plus its status frame at 1 Hz.
+  EXPECT_EQ(Metric(output.report, "dut_sensor_samples"), 150);
+  EXPECT_EQ(Metric(output.report, "dut_can_frames_received"), 153);
   EXPECT_EQ(Metric(output.report, "dut_can_frames_rejected"), 0);
-  EXPECT_NEAR(static_cast<double>(output.report.can_frames_logged()), 150, 1);
+  EXPECT_EQ(Metric(output.report, "dut_sensor_samples_lost"), 0);
+  EXPECT_EQ(output.report.can_frames_logged(), 153u);
 }
 
 TEST(RunnerTest, AbortingEnvelopeStopsTheRunAtItsFirstViolation) {
@@ -117,7 +120,8 @@ envelopes { name: "pads" signal: TACTILE_FORCE_N upper: 0.05 from_s: 1.2 }
 )");
   ASSERT_TRUE(LoadTactileCalibration(config).ok());
   const RunOutput output = RunToEnd(config);
-  EXPECT_NEAR(Metric(output.report, "dut_can_frames_received"), 7 * 150, 7);
+  EXPECT_EQ(Metric(output.report, "dut_sensor_samples"), 7 * 150);
+  EXPECT_EQ(Metric(output.report, "dut_can_frames_received"), 7 * 153);
   EXPECT_EQ(Metric(output.report, "dut_can_frames_rejected"), 0);
   EXPECT_EQ(output.report.envelopes(1).verdict(), proto::PASS);
   EXPECT_GT(output.report.envelopes(1).samples_checked(), 100u);
