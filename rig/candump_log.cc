@@ -212,13 +212,15 @@ Result<std::pair<TimedCanFrame, std::string>> ParseFields(std::string_view line)
   if (!time_ns) return time_ns.error();
   Result<CanFrame> frame = ParseFrame(fields[2]);
   if (!frame) return frame.error();
-  return std::pair{TimedCanFrame{frame.value(), time_ns.value()}, std::string(fields[1])};
+  TimedCanFrame timed{frame.value(), time_ns.value()};
+  timed.tx_echo = count == 4 && fields[3] == "T";
+  return std::pair{timed, std::string(fields[1])};
 }
 
 }  // namespace
 
 void AppendCandumpLine(const TimedCanFrame& frame, std::string_view interface_name,
-                       std::string& out) {
+                       std::string& out, DirectionMark mark) {
   const Result<void> valid = ValidateFrame(frame.frame);
   HILRIG_CHECK(valid.ok(), "cannot log an invalid frame: " + valid.error().message);
   AppendTimestamp(frame.time_ns, out);
@@ -226,6 +228,7 @@ void AppendCandumpLine(const TimedCanFrame& frame, std::string_view interface_na
   out.append(interface_name);
   out.push_back(' ');
   AppendFrame(frame.frame, out);
+  if (mark == DirectionMark::kRxTx) out.append(frame.tx_echo ? " T" : " R");
 }
 
 std::string FormatCandumpLine(const TimedCanFrame& frame, std::string_view interface_name) {
@@ -243,12 +246,13 @@ Result<std::pair<TimedCanFrame, std::string>> ParseCandumpLine(std::string_view 
   return parsed;
 }
 
-CandumpLogWriter::CandumpLogWriter(std::ostream& out, std::string interface_name)
-    : out_(out), interface_name_(std::move(interface_name)) {}
+CandumpLogWriter::CandumpLogWriter(std::ostream& out, std::string interface_name,
+                                   DirectionMark mark)
+    : out_(out), interface_name_(std::move(interface_name)), mark_(mark) {}
 
 void CandumpLogWriter::Write(const TimedCanFrame& frame) {
   line_.clear();
-  AppendCandumpLine(frame, interface_name_, line_);
+  AppendCandumpLine(frame, interface_name_, line_, mark_);
   line_.push_back('\n');
   out_.write(line_.data(), static_cast<std::streamsize>(line_.size()));
   ++frames_written_;

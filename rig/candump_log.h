@@ -11,7 +11,7 @@
 // The writer follows can-utils' sprint_canframe byte for byte (uppercase hex, no separators).
 // The parser accepts what can-utils' parse_canframe accepts: '.' between data bytes, lowercase
 // hex, the FDF flag (4) in the FD flags nibble, and a trailing R/T direction token from
-// `candump -x`.
+// `candump -x`, which the writer can add too (DirectionMark).
 #pragma once
 
 #include <cstdint>
@@ -27,11 +27,15 @@ namespace hilrig::rig {
 
 inline constexpr std::uint32_t kCanErrFlag = 0x20000000;
 
+// Whether a line ends with the direction token of `candump -x` (and python-can's writer): " T" for
+// a frame this node sent (tx_echo), " R" for one it received. Parsing sets tx_echo from it.
+enum class DirectionMark { kNone, kRxTx };
+
 // Without a trailing newline. time_ns must be >= 0: log timestamps are unsigned.
 std::string FormatCandumpLine(const TimedCanFrame& frame, std::string_view interface_name);
 // Same, appended to `out`, so a caller can reuse one buffer and avoid per-line allocation.
 void AppendCandumpLine(const TimedCanFrame& frame, std::string_view interface_name,
-                       std::string& out);
+                       std::string& out, DirectionMark mark = DirectionMark::kNone);
 
 // The inverse of FormatCandumpLine: returns the frame and the interface name. A trailing newline
 // is ignored. Errors name what was wrong with the line.
@@ -40,13 +44,15 @@ Result<std::pair<TimedCanFrame, std::string>> ParseCandumpLine(std::string_view 
 // Writes one line per frame to a stream it does not own; the line is built in a reused buffer.
 class CandumpLogWriter {
  public:
-  CandumpLogWriter(std::ostream& out, std::string interface_name = "can0");
+  CandumpLogWriter(std::ostream& out, std::string interface_name = "can0",
+                   DirectionMark mark = DirectionMark::kNone);
   void Write(const TimedCanFrame& frame);
   std::uint64_t frames_written() const;
 
  private:
   std::ostream& out_;
   std::string interface_name_;
+  DirectionMark mark_;
   std::string line_;
   std::uint64_t frames_written_ = 0;
 };

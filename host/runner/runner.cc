@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <numbers>
 #include <optional>
@@ -81,6 +82,7 @@ class LockstepRunner::Impl {
   bool ControlStep(std::uint64_t control_tick, std::int64_t now_ns);
   Eigen::Vector3d DisturbanceAt(double time_s) const;
   bool RecordTrace(std::int64_t now_ns);
+  void AppendBusMetrics(std::int64_t now_ns, proto::Report& report);
   void DrainCanLog(std::int64_t now_ns);
   void ReportProgress(std::int64_t now_ns);
 
@@ -155,7 +157,7 @@ LockstepRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
   for (const proto::Envelope& envelope : config.envelopes) checks_.emplace_back(envelope);
   check_progress_.resize(checks_.size());
   if (sinks.trace_csv != nullptr) trace_writer_.emplace(*sinks.trace_csv);
-  if (sinks.can_log != nullptr) can_writer_.emplace(*sinks.can_log, "can0");
+  if (sinks.can_log != nullptr) can_writer_.emplace(*sinks.can_log, "can0", rig::DirectionMark::kRxTx);
   delivered_vio_.reserve(8);
   logged_frames_.reserve(64);
   total_ticks_ = static_cast<std::uint64_t>(
@@ -288,6 +290,21 @@ bool LockstepRunner::Impl::Tick() {
   return !ended_;
 }
 
+// Bus load, and the arbitration (queueing) latency of every id on the bus: on a loaded bus the
+// lowest-priority node's frames wait longest, and this is where a report shows it.
+void LockstepRunner::Impl::AppendBusMetrics(std::int64_t now_ns, proto::Report& report) {
+  bus_.AdvanceTo(now_ns);
+  const rig::EmulatedBusStats stats = bus_.stats();
+  AddMetric(report, "can_bus_load", now_ns > 0 ? stats.LoadOver(now_ns) : 0.0, "fraction");
+  for (const rig::IdQueueingStats& id : stats.queueing_by_id) {
+    char name[64];
+    std::snprintf(name, sizeof(name), "can_queueing_%s_0x%03X", "max_s", id.id);
+    AddMetric(report, name, Seconds(id.max_queueing_ns), "s");
+    std::snprintf(name, sizeof(name), "can_queueing_%s_0x%03X", "mean_s", id.id);
+    AddMetric(report, name, Seconds(id.mean_queueing_ns()), "s");
+  }
+}
+
 proto::Report LockstepRunner::Impl::Finish() {
   ended_ = true;
   DrainCanLog(clock_.NowNs());
@@ -320,10 +337,7 @@ proto::Report LockstepRunner::Impl::Finish() {
   AddMetric(report, "dut_sensor_samples", static_cast<double>(counters.sensor_samples), "count");
   AddMetric(report, "dut_sensor_samples_lost", static_cast<double>(counters.sensor_samples_lost),
             "count");
-  AddMetric(
-      report, "can_bus_load",
-      now_ns > 0 ? static_cast<double>(bus_.stats().busy_ns) / static_cast<double>(now_ns) : 0.0,
-      "fraction");
+  AppendBusMetrics(now_ns, report);
   AddMetric(report, "ground_impacts", plant_.ground_impacts, "count");
   AppendModelList(config_, dut_->description(), report);
   return report;

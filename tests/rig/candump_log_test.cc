@@ -188,3 +188,26 @@ TEST(CandumpLogWriterDeathTest, RefusesInvalidFrame) {
 
 }  // namespace
 }  // namespace hilrig::rig
+
+namespace hilrig::rig {
+namespace {
+
+TEST(CandumpDirectionTest, WriterMarksTxAndRxAndParserReadsThemBack) {
+  const std::uint8_t data[2] = {0xAB, 0xCD};
+  TimedCanFrame sent{CanFrame::Classic(0x123, data), 1'000'000};
+  sent.tx_echo = true;
+  TimedCanFrame received{CanFrame::Classic(0x124, data), 2'000'000};
+  std::ostringstream log;
+  CandumpLogWriter writer(log, "can0", DirectionMark::kRxTx);
+  writer.Write(sent);
+  writer.Write(received);
+  EXPECT_EQ(log.str(),
+            "(0000000000.001000) can0 123#ABCD T\n(0000000000.002000) can0 124#ABCD R\n");
+  const auto parsed = ParseCandumpLine("(0000000000.001000) can0 123#ABCD T");
+  ASSERT_TRUE(parsed.ok());
+  EXPECT_TRUE(parsed.value().first.tx_echo);
+  EXPECT_FALSE(ParseCandumpLine("(0000000000.001000) can0 123#ABCD R").value().first.tx_echo);
+}
+
+}  // namespace
+}  // namespace hilrig::rig

@@ -130,6 +130,27 @@ envelopes { name: "pads" signal: TACTILE_FORCE_N upper: 0.05 from_s: 1.2 }
   EXPECT_THAT(names, ::testing::Contains("tactile_pads"));
 }
 
+TEST(RunnerTest, SevenNodesAt50HzLoadTheBusUnderFivePercent) {
+  ScenarioConfig config = ConfigFrom(
+      std::string(kHoverInAir) + R"(models { tactile { enabled: true field_fidelity: "map:8" } })");
+  ASSERT_TRUE(LoadTactileCalibration(config).ok());
+  const double load = Metric(RunToEnd(config).report, "can_bus_load");
+  EXPECT_GT(load, 0.03);
+  EXPECT_LT(load, 0.05);
+}
+
+TEST(RunnerTest, ReportShowsTheLowestPriorityNodesArbitrationLatencyAt1kHz) {
+  ScenarioConfig config = ConfigFrom(std::string(kHoverInAir) + R"(
+models { tactile { enabled: true field_fidelity: "map:8" node_rate_hz: 1000 } })");
+  ASSERT_TRUE(LoadTactileCalibration(config).ok());
+  const proto::Report report = RunToEnd(config).report;
+  EXPECT_GT(Metric(report, "can_bus_load"), 0.9);
+  // Node 7's sample (0x107) loses arbitration to the six others' samples.
+  EXPECT_GT(Metric(report, "can_queueing_max_s_0x107"), 6 * 100e-6);
+  EXPECT_GT(Metric(report, "can_queueing_mean_s_0x107"),
+            Metric(report, "can_queueing_mean_s_0x101"));
+}
+
 TEST(RunnerTest, PadForceIsZeroWhileTheDutIsStillZeroing) {
   ScenarioConfig config = ConfigFrom(std::string(kHoverInAir) + R"(
 models { tactile { enabled: true field_fidelity: "map:8" zeroing_s: 10 } }
