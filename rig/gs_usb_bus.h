@@ -10,8 +10,9 @@
 //   requested whenever the device offers them.
 // - Send: the frame goes out as a host frame with an echo_id naming a slot in a bounded in-flight
 //   table; the device echoes it once it is on the wire, which frees the slot. A full table means
-//   the device is not keeping up (or the bus is down), and Send fails rather than queue without
-//   bound. frames_sent counts frames handed to the device.
+//   the device is not keeping up (or the bus is down): Send first collects the echoes already
+//   waiting in the IN pipe (holding any RX frames for the next Receive), and only then fails
+//   rather than queue without bound. frames_sent counts frames handed to the device.
 // - Receive: drains the bulk IN pipe without waiting. RX frames pass the software filters (the
 //   protocol has no hardware filters) and echoes come back marked tx_echo when own frames are
 //   requested. Error frames from the device update state() and the error counters and are
@@ -94,6 +95,9 @@ class GsUsbBus final : public CanBus {
   Result<void> FailSend(Error error);
   // Marks the device gone if the transport says so; returns whether it did.
   bool NoteUnplug();
+  std::vector<std::optional<CanFrame>>::iterator FindFreeSlot();
+  // Reads what the IN pipe holds now, without waiting.
+  void DrainPipe(std::int64_t now_ns, std::vector<TimedCanFrame>& out, std::size_t& appended);
   void HandlePacket(std::span<const std::uint8_t> packet, std::int64_t now_ns,
                     std::vector<TimedCanFrame>& out, std::size_t& appended);
   void HandleEcho(const GsUsbHostFrame& host_frame, std::int64_t time_ns,
@@ -113,6 +117,9 @@ class GsUsbBus final : public CanBus {
   bool unplugged_ = false;
 
   std::vector<std::optional<CanFrame>> in_flight_;  // indexed by echo_id
+  // Frames read while Send looked for echoes, handed out by the next Receive.
+  std::vector<TimedCanFrame> held_;
+  std::size_t held_count_ = 0;
   std::vector<CanFilter> filters_;
   std::uint32_t error_mask_ = 0;
   bool receive_own_frames_ = false;

@@ -28,9 +28,8 @@ Result<void> ExpectSize(std::span<const std::uint8_t> bytes, std::size_t size, c
 
 // The limits fill eight consecutive u32 fields in BT_CONST and BT_CONST_EXT alike.
 void PutLimits(std::span<std::uint8_t> out, std::size_t offset, const GsUsbTimingLimits& limits) {
-  const std::array<std::uint32_t, 8> fields = {limits.tseg1_min, limits.tseg1_max,
-                                               limits.tseg2_min, limits.tseg2_max,
-                                               limits.sjw_max,   limits.brp_min,
+  const std::array<std::uint32_t, 8> fields = {limits.tseg1_min, limits.tseg1_max, limits.tseg2_min,
+                                               limits.tseg2_max, limits.sjw_max,   limits.brp_min,
                                                limits.brp_max,   limits.brp_inc};
   for (std::size_t i = 0; i < fields.size(); ++i) PutU32(out, offset + 4 * i, fields[i]);
 }
@@ -56,9 +55,10 @@ struct SegmentSplit {
 };
 std::optional<SegmentSplit> SplitSegments(std::uint32_t tq_per_bit, const GsUsbTimingLimits& limits,
                                           double sample_point) {
-  const auto target_before_sample = static_cast<std::int64_t>(std::lround(sample_point * tq_per_bit));
-  std::int64_t tseg1 = std::clamp<std::int64_t>(target_before_sample - 1, limits.tseg1_min,
-                                                limits.tseg1_max);
+  const auto target_before_sample =
+      static_cast<std::int64_t>(std::lround(sample_point * tq_per_bit));
+  std::int64_t tseg1 =
+      std::clamp<std::int64_t>(target_before_sample - 1, limits.tseg1_min, limits.tseg1_max);
   std::int64_t tseg2 = std::int64_t{tq_per_bit} - 1 - tseg1;
   if (tseg2 < limits.tseg2_min) tseg2 = limits.tseg2_min;
   if (tseg2 > limits.tseg2_max) tseg2 = limits.tseg2_max;
@@ -196,7 +196,8 @@ Result<GsUsbBitTiming> CalculateGsUsbBitTiming(std::int64_t bitrate_bps, std::ui
   double best_sample_error = 0;
   for (std::uint64_t brp = std::max<std::uint32_t>(limits.brp_min, 1); brp <= limits.brp_max;
        brp += brp_step) {
-    const double exact_tq = static_cast<double>(fclk_can_hz) / (brp * static_cast<double>(bitrate_bps));
+    const double exact_tq =
+        static_cast<double>(fclk_can_hz) / (brp * static_cast<double>(bitrate_bps));
     const auto tq = static_cast<std::uint32_t>(std::lround(exact_tq));
     if (tq < min_tq) break;  // a larger prescaler only gives fewer quanta
     if (tq > max_tq) continue;
@@ -208,8 +209,9 @@ Result<GsUsbBitTiming> CalculateGsUsbBitTiming(std::int64_t bitrate_bps, std::ui
     const GsUsbBitTiming timing =
         TimingFromSplit(*split, static_cast<std::uint32_t>(brp), limits.sjw_max);
     const double sample_error = std::abs(timing.sample_point() - sample_point);
-    const bool better = !best || rate_error < best_rate_error - 1e-12 ||
-                        (rate_error <= best_rate_error + 1e-12 && sample_error < best_sample_error - 1e-12);
+    const bool better =
+        !best || rate_error < best_rate_error - 1e-12 ||
+        (rate_error <= best_rate_error + 1e-12 && sample_error < best_sample_error - 1e-12);
     if (better) {
       best = timing;
       best_rate_error = rate_error;
@@ -218,8 +220,8 @@ Result<GsUsbBitTiming> CalculateGsUsbBitTiming(std::int64_t bitrate_bps, std::ui
   }
   if (!best) {
     return MakeError("gs_usb bit timing: " + std::to_string(bitrate_bps) +
-                     " bit/s cannot be reached within 0.5 % from a " +
-                     std::to_string(fclk_can_hz) + " Hz CAN clock");
+                     " bit/s cannot be reached within 0.5 % from a " + std::to_string(fclk_can_hz) +
+                     " Hz CAN clock");
   }
   return *best;
 }
@@ -323,8 +325,7 @@ GsUsbErrorReport DecodeGsUsbErrorFrame(const CanFrame& error_frame) {
   return report;
 }
 
-GsUsbUnwrappedTime UnwrapGsUsbTimestamp(GsUsbTimestampUnwrapper state,
-                                        std::uint32_t timestamp_us) {
+GsUsbUnwrappedTime UnwrapGsUsbTimestamp(GsUsbTimestampUnwrapper state, std::uint32_t timestamp_us) {
   if (!state.started) {
     state.started = true;
     state.last_extended_us = timestamp_us;

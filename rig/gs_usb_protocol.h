@@ -171,7 +171,7 @@ struct GsUsbHostFrame {
   std::uint32_t echo_id = kGsUsbEchoIdRx;
   CanFrame frame;
   std::uint8_t channel = 0;
-  bool overflow = false;                    // flag from the device: RX frames were lost
+  bool overflow = false;                      // flag from the device: RX frames were lost
   std::optional<std::uint32_t> timestamp_us;  // device time, only with hardware timestamps
 
   bool is_tx_echo() const { return echo_id != kGsUsbEchoIdRx; }

@@ -16,12 +16,12 @@ namespace {
 constexpr int kInterface = 0;
 constexpr unsigned kControlTimeoutMs = 1000;
 constexpr unsigned kBulkOutTimeoutMs = 1000;
-constexpr std::size_t kInTransfers = 4;     // keep the pipe busy while the host is elsewhere
+constexpr std::size_t kInTransfers = 4;      // keep the pipe busy while the host is elsewhere
 constexpr std::size_t kInPacketBytes = 512;  // a high-speed bulk packet; host frames are <= 80
-constexpr std::uint8_t kVendorToInterface =
-    LIBUSB_ENDPOINT_OUT | LIBUSB_REQUEST_TYPE_VENDOR | LIBUSB_RECIPIENT_INTERFACE;
-constexpr std::uint8_t kVendorFromInterface =
-    LIBUSB_ENDPOINT_IN | LIBUSB_REQUEST_TYPE_VENDOR | LIBUSB_RECIPIENT_INTERFACE;
+// bmRequestType: direction | vendor | interface (the libusb enums do not mix in C++20).
+constexpr std::uint8_t kVendorToInterface = 0x00 | 0x40 | 0x01;
+constexpr std::uint8_t kVendorFromInterface = 0x80 | 0x40 | 0x01;
+static_assert(LIBUSB_REQUEST_TYPE_VENDOR == 0x40 && LIBUSB_RECIPIENT_INTERFACE == 0x01);
 
 std::string LibusbMessage(const char* what, int code) {
   return std::string("gs_usb ") + what + ": " + libusb_error_name(code);
@@ -49,7 +49,8 @@ Result<BulkEndpoints> FindBulkEndpoints(libusb_device* device) {
     for (int i = 0; i < alt.bNumEndpoints; ++i) {
       const libusb_endpoint_descriptor& ep = alt.endpoint[i];
       if ((ep.bmAttributes & LIBUSB_TRANSFER_TYPE_MASK) != LIBUSB_TRANSFER_TYPE_BULK) continue;
-      std::uint8_t& slot = (ep.bEndpointAddress & LIBUSB_ENDPOINT_IN) ? endpoints.in : endpoints.out;
+      std::uint8_t& slot =
+          (ep.bEndpointAddress & LIBUSB_ENDPOINT_IN) ? endpoints.in : endpoints.out;
       if (slot == 0) slot = ep.bEndpointAddress;
     }
   }
@@ -93,9 +94,9 @@ class LibusbGsUsbTransport final : public GsUsbTransport {
     if (unplugged_) return MakeError(std::string(kGsUsbUnpluggedMessage));
     // libusb wants a mutable buffer even for OUT transfers.
     std::vector<std::uint8_t> buffer(data.begin(), data.end());
-    const int rc = libusb_control_transfer(handle_, kVendorToInterface, request, value, index,
-                                           buffer.data(), static_cast<std::uint16_t>(buffer.size()),
-                                           kControlTimeoutMs);
+    const int rc =
+        libusb_control_transfer(handle_, kVendorToInterface, request, value, index, buffer.data(),
+                                static_cast<std::uint16_t>(buffer.size()), kControlTimeoutMs);
     if (rc < 0) return Fail("control OUT", rc);
     return {};
   }
@@ -103,9 +104,9 @@ class LibusbGsUsbTransport final : public GsUsbTransport {
   Result<std::size_t> ControlIn(std::uint8_t request, std::uint16_t value, std::uint16_t index,
                                 std::span<std::uint8_t> data) override {
     if (unplugged_) return MakeError(std::string(kGsUsbUnpluggedMessage));
-    const int rc = libusb_control_transfer(handle_, kVendorFromInterface, request, value, index,
-                                           data.data(), static_cast<std::uint16_t>(data.size()),
-                                           kControlTimeoutMs);
+    const int rc =
+        libusb_control_transfer(handle_, kVendorFromInterface, request, value, index, data.data(),
+                                static_cast<std::uint16_t>(data.size()), kControlTimeoutMs);
     if (rc < 0) return Fail("control IN", rc);
     return static_cast<std::size_t>(rc);
   }
@@ -114,9 +115,9 @@ class LibusbGsUsbTransport final : public GsUsbTransport {
     if (unplugged_) return MakeError(std::string(kGsUsbUnpluggedMessage));
     std::vector<std::uint8_t> buffer(packet.begin(), packet.end());
     int transferred = 0;
-    const int rc = libusb_bulk_transfer(handle_, endpoints_.out, buffer.data(),
-                                        static_cast<int>(buffer.size()), &transferred,
-                                        kBulkOutTimeoutMs);
+    const int rc =
+        libusb_bulk_transfer(handle_, endpoints_.out, buffer.data(),
+                             static_cast<int>(buffer.size()), &transferred, kBulkOutTimeoutMs);
     if (rc != 0) return Fail("bulk OUT", rc);
     if (static_cast<std::size_t>(transferred) != buffer.size()) {
       return MakeError("gs_usb bulk OUT: short write");
@@ -247,9 +248,9 @@ Result<libusb_device_handle*> OpenFirstMatching(libusb_context* context,
   }
   libusb_free_device_list(list, 1);
   if (handle == nullptr) {
-    return MakeError(last_error.empty() ? std::string("no gs_usb device found")
-                                        : "no gs_usb device found that could be opened: " +
-                                              last_error);
+    return MakeError(last_error.empty()
+                         ? std::string("no gs_usb device found")
+                         : "no gs_usb device found that could be opened: " + last_error);
   }
   return handle;
 }

@@ -157,7 +157,8 @@ LockstepRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
   for (const proto::Envelope& envelope : config.envelopes) checks_.emplace_back(envelope);
   check_progress_.resize(checks_.size());
   if (sinks.trace_csv != nullptr) trace_writer_.emplace(*sinks.trace_csv);
-  if (sinks.can_log != nullptr) can_writer_.emplace(*sinks.can_log, "can0", rig::DirectionMark::kRxTx);
+  if (sinks.can_log != nullptr)
+    can_writer_.emplace(*sinks.can_log, "can0", rig::DirectionMark::kRxTx);
   delivered_vio_.reserve(8);
   logged_frames_.reserve(64);
   total_ticks_ = static_cast<std::uint64_t>(

@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "rig/candump_log.h"
-#include "rig/sensor_frame.h"
 #include "rig/socketcan_bus.h"
+#include "rig/tactile_protocol.h"
 
 namespace hilrig::rig {
 namespace {
@@ -26,12 +26,12 @@ constexpr std::int64_t kWaitSliceNs = 200'000'000;
 constexpr int kMaxWaitSlices = 25;  // bounds each wait at 5 s; vcan answers in microseconds
 
 // Deterministic codes that differ per node and round, so a swapped or stale frame is caught.
-MagneticSample SampleFor(std::uint8_t node_id, int round) {
-  MagneticSample sample;
+TactileSample SampleFor(std::uint8_t node_id, int round) {
+  TactileSample sample;
   sample.node_id = node_id;
-  sample.x_code = static_cast<std::int16_t>(100 * node_id + round);
-  sample.y_code = static_cast<std::int16_t>(-50 * node_id - round);
-  sample.z_code = static_cast<std::int16_t>(-12000 + 7 * round);
+  sample.code = {static_cast<std::uint16_t>(100 * node_id + round),
+                 static_cast<std::uint16_t>(-50 * node_id - round),
+                 static_cast<std::uint16_t>(-12000 + 7 * round)};
   sample.sequence = static_cast<std::uint8_t>(round);
   return sample;
 }
@@ -49,7 +49,7 @@ std::vector<TimedCanFrame> ReceiveFrames(SocketCanBus& bus, std::size_t count) {
 int Run(const std::string& interface, int rounds) {
   Result<std::unique_ptr<SocketCanBus>> nodes = OpenSocketCan(interface);
   const std::array<CanFilter, 1> sample_ids = {
-      CanFilter{.id = kSensorSampleBaseId, .mask = 0x7F0, .extended = false, .inverted = false}};
+      CanFilter{.id = kTactileSampleBaseId, .mask = 0x7F0, .extended = false, .inverted = false}};
   Result<std::unique_ptr<SocketCanBus>> dut =
       OpenSocketCan(interface, {.filters = {sample_ids.begin(), sample_ids.end()}});
   if (!nodes.ok() || !dut.ok()) {
@@ -65,7 +65,7 @@ int Run(const std::string& interface, int rounds) {
   std::uint64_t samples_decoded = 0;
   for (int round = 0; round < rounds; ++round) {
     for (std::uint8_t node = kFirstTactileNodeId; node <= kReferenceNodeId; ++node) {
-      const CanFrame frame = EncodeMagneticSample(SampleFor(node, round));
+      const CanFrame frame = EncodeTactileSample(SampleFor(node, round));
       if (Result<void> sent = node_bus.Send(frame, 0); !sent) {
         std::printf("vcan_exchange: send failed: %s\n", sent.error().message.c_str());
         return 1;
@@ -79,7 +79,7 @@ int Run(const std::string& interface, int rounds) {
     }
     for (std::size_t i = 0; i < samples.size(); ++i) {
       std::printf("RX dut   %s\n", FormatCandumpLine(samples[i], interface).c_str());
-      const Result<MagneticSample> decoded = DecodeMagneticSample(samples[i].frame);
+      const Result<TactileSample> decoded = DecodeTactileSample(samples[i].frame);
       const auto expected_node = static_cast<std::uint8_t>(kFirstTactileNodeId + i);
       if (!decoded.ok() || !(decoded.value() == SampleFor(expected_node, round))) {
         std::printf("vcan_exchange: round %d node %d: frame does not decode to what was sent\n",
