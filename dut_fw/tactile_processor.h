@@ -198,19 +198,6 @@ const char* TactileNodeStatusName(const TactileNodeState<S>& node) {
   return node.last_reference_stale ? "stale_reference" : DecodeStatusName(node.last_status);
 }
 
-// Starts the no-load window again (e.g. back on the ground with the pads free), keeping the
-// sequence tracking and counters. The nodes drop out of the sums until they are zeroed again.
-template <typename S>
-void RestartTactileZeroing(TactileProcessorState<S>& state) {
-  for (TactileNodeState<S>& node : state.nodes) {
-    node.zero = ZeroOffsetState<S>{};
-    node.offset_b.setZero();
-    node.zeroed = false;
-    node.force_sensor_n.setZero();
-    node.has_force = false;
-  }
-}
-
 // A reference magnetometer sample. Saturation (reported by the node or at a code rail) is kept in
 // the stored reading rather than skipped: the newest reference is the one that matches the
 // tactile samples that follow, and CompensateReading then flags them as saturated instead of

@@ -88,7 +88,7 @@ rig::Result<proto::Report> RunToDirectory(const proto::Scenario& spec, const std
   can_log.close();
   if (!trace || !can_log)
     return rig::MakeError("error while writing logs into " + out_dir.string());
-  if (auto written = WriteReportJson(report, (out_dir / "report.json").string()); !written) {
+  if (auto written = WriteJsonFile(report, (out_dir / "report.json").string()); !written) {
     return written.error();
   }
   if (auto written = WriteJunitXml(report, (out_dir / "junit.xml").string()); !written) {

@@ -1,7 +1,5 @@
 #include "host/cli/tactile_commands.h"
 
-#include <google/protobuf/util/json_util.h>
-
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -12,6 +10,7 @@
 #include "fixtures/calibration/calibration_file.h"
 #include "fixtures/calibration/calibration_procedure.h"
 #include "host/cli/cli.h"
+#include "host/report/report_files.h"
 #include "host/sensors/tactile/film_field_factory.h"
 
 namespace hilrig::host {
@@ -61,14 +60,6 @@ rig::Result<void> PrepareOutDir(const std::string& out_dir) {
   std::error_code error;
   fs::create_directories(out_dir, error);
   if (error) return rig::MakeError("cannot create " + out_dir + ": " + error.message());
-  return {};
-}
-
-rig::Result<void> WriteText(const fs::path& path, const std::string& text) {
-  std::ofstream file(path, std::ios::binary | std::ios::trunc);
-  file << text;
-  file.close();
-  if (!file) return rig::MakeError("cannot write " + path.string());
   return {};
 }
 
@@ -169,14 +160,8 @@ int AccuracyCommand(const std::vector<std::string>& args, const CliStreams& io) 
   proto::AccuracyReport report = fixtures::MeasureAccuracy(
       bench, *options.value().film, calibration.value(), options.value().seed + 1000);
   report.set_field_fidelity(options.value().fidelity);
-  std::string json;
-  google::protobuf::util::JsonPrintOptions json_options;
-  json_options.add_whitespace = true;
-  json_options.always_print_primitive_fields = true;
-  json_options.preserve_proto_field_names = true;
-  (void)google::protobuf::util::MessageToJsonString(report, &json, json_options);
   const fs::path path = fs::path(options.value().out_dir) / "accuracy.json";
-  if (auto written = WriteText(path, json); !written) {
+  if (auto written = WriteJsonFile(report, path.string()); !written) {
     return Fail(io, "accuracy", written.error().message);
   }
   PrintAccuracy(report, io.out);

@@ -7,9 +7,8 @@
 #include <sstream>
 
 namespace hilrig::host {
-namespace {
 
-rig::Result<void> WriteFile(const std::string& path, const std::string& content) {
+rig::Result<void> WriteTextFile(const std::string& path, const std::string& content) {
   std::ofstream file(path, std::ios::binary | std::ios::trunc);
   if (!file) return rig::MakeError("cannot write " + path);
   file << content;
@@ -17,6 +16,8 @@ rig::Result<void> WriteFile(const std::string& path, const std::string& content)
   if (!file) return rig::MakeError("error while writing " + path);
   return {};
 }
+
+namespace {
 
 std::string XmlEscape(const std::string& text) {
   std::string escaped;
@@ -61,15 +62,15 @@ const char* VerdictName(proto::Verdict verdict) { return verdict == proto::PASS 
 
 }  // namespace
 
-rig::Result<void> WriteReportJson(const proto::Report& report, const std::string& path) {
+rig::Result<void> WriteJsonFile(const google::protobuf::Message& message, const std::string& path) {
   std::string json;
   google::protobuf::util::JsonPrintOptions options;
   options.add_whitespace = true;
   options.always_print_primitive_fields = true;
   options.preserve_proto_field_names = true;
-  const auto status = google::protobuf::util::MessageToJsonString(report, &json, options);
-  if (!status.ok()) return rig::MakeError("cannot render report: " + status.ToString());
-  return WriteFile(path, json);
+  const auto status = google::protobuf::util::MessageToJsonString(message, &json, options);
+  if (!status.ok()) return rig::MakeError("cannot render " + path + ": " + status.ToString());
+  return WriteTextFile(path, json);
 }
 
 rig::Result<void> WriteJunitXml(const proto::Report& report, const std::string& path) {
@@ -96,7 +97,7 @@ rig::Result<void> WriteJunitXml(const proto::Report& report, const std::string& 
       << "<testsuites>\n  <testsuite name=\"" << XmlEscape(report.scenario()) << "\" tests=\""
       << tests << "\" failures=\"" << failures << "\" time=\"" << report.wall_s() << "\">\n"
       << cases.str() << "  </testsuite>\n</testsuites>\n";
-  return WriteFile(path, xml.str());
+  return WriteTextFile(path, xml.str());
 }
 
 std::string FormatEnvelopeLine(const proto::EnvelopeResult& result) {

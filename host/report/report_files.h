@@ -1,7 +1,10 @@
 // Writes a run report in its file forms: report.json (the protobuf JSON rendering of
-// proto/report.proto) and junit.xml (one test case per envelope, so CI systems show each check),
-// and renders the console lines `hilrig run` prints.
+// proto/report.proto; WriteJsonFile serves the other result messages too) and junit.xml (one test
+// case per envelope, so CI systems show each check), and renders the console lines `hilrig run`
+// prints.
 #pragma once
+
+#include <google/protobuf/message.h>
 
 #include <string>
 
@@ -10,7 +13,9 @@
 
 namespace hilrig::host {
 
-rig::Result<void> WriteReportJson(const proto::Report& report, const std::string& path);
+// Any of the rig's result messages (report, accuracy) as protobuf JSON, field names as in .proto.
+rig::Result<void> WriteJsonFile(const google::protobuf::Message& message, const std::string& path);
+rig::Result<void> WriteTextFile(const std::string& path, const std::string& content);
 rig::Result<void> WriteJunitXml(const proto::Report& report, const std::string& path);
 
 // "PASS  altitude_error  worst 0.0123 at 12.3 s  limit [-, 0.05]" (+ "(expected FAIL)" etc.).

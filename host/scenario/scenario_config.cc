@@ -17,9 +17,10 @@ Eigen::Vector3d ToEigen(const proto::Vector3& vector) {
   return {vector.x(), vector.y(), vector.z()};
 }
 
+// The spec's value when it set one, else the default.
 template <typename T>
-double Or(bool has, T value, double fallback) {
-  return has ? static_cast<double>(value) : fallback;
+T Or(bool has, const T& value, const T& fallback) {
+  return has ? value : fallback;
 }
 
 QuadrotorParams ResolveVehicle(const proto::Scenario& spec) {
@@ -78,36 +79,30 @@ void ResolveSensors(const proto::Scenario& spec, ScenarioConfig& config) {
   }
 }
 
-template <typename T>
-T OrValue(bool has, T value, T fallback) {
-  return has ? value : fallback;
-}
-
 void ResolveHallSensors(const proto::Scenario& spec, const std::string& spec_directory,
                         HallSensorConfig& hall) {
   const proto::Tactile& tactile = spec.models().tactile();
   const bool noise = spec.models().noise() == proto::NOISE_ON;
   TactileSensorParams base;
-  base.earth_field_enabled = OrValue(tactile.has_earth_field(), tactile.earth_field(), true);
+  base.earth_field_enabled = Or(tactile.has_earth_field(), tactile.earth_field(), true);
   base.silicone.damping_enabled =
-      OrValue(tactile.has_silicone_damping(), tactile.silicone_damping(), true);
+      Or(tactile.has_silicone_damping(), tactile.silicone_damping(), true);
   base.silicone.stiffening_enabled =
-      OrValue(tactile.has_silicone_stiffening(), tactile.silicone_stiffening(), false);
-  base.chip.noise_enabled = noise && OrValue(tactile.has_chip_noise(), tactile.chip_noise(), true);
-  base.chip.drift_enabled = OrValue(tactile.has_chip_drift(), tactile.chip_drift(), true);
-  base.chip.saturation_enabled =
-      OrValue(tactile.has_chip_saturation(), tactile.chip_saturation(), true);
-  base.chip.encoding_enabled = OrValue(tactile.has_chip_encoding(), tactile.chip_encoding(), true);
+      Or(tactile.has_silicone_stiffening(), tactile.silicone_stiffening(), false);
+  base.chip.noise_enabled = noise && Or(tactile.has_chip_noise(), tactile.chip_noise(), true);
+  base.chip.drift_enabled = Or(tactile.has_chip_drift(), tactile.chip_drift(), true);
+  base.chip.saturation_enabled = Or(tactile.has_chip_saturation(), tactile.chip_saturation(), true);
+  base.chip.encoding_enabled = Or(tactile.has_chip_encoding(), tactile.chip_encoding(), true);
   hall.tactile_enabled = tactile.enabled();
   hall.tactile = DefaultTactileLayout(base);
   hall.reference = DefaultReferenceSensor();
   hall.reference.chip = base.chip;
   hall.reference.earth_field_enabled = base.earth_field_enabled;
-  hall.field_fidelity = OrValue(tactile.has_field_fidelity(), tactile.field_fidelity(),
-                                std::string(kDefaultFilmFidelity));
+  hall.field_fidelity =
+      Or(tactile.has_field_fidelity(), tactile.field_fidelity(), std::string(kDefaultFilmFidelity));
   hall.node_rate_hz = Or(tactile.has_node_rate_hz(), tactile.node_rate_hz(), 50.0);
   hall.temperature_c = Or(tactile.has_temperature_c(), tactile.temperature_c(), 25.0);
-  hall.compensation = OrValue(tactile.has_compensation(), tactile.compensation(), true);
+  hall.compensation = Or(tactile.has_compensation(), tactile.compensation(), true);
   hall.zeroing_s = Or(tactile.has_zeroing_s(), tactile.zeroing_s(), 1.0);
   if (tactile.has_calibration_file()) {
     const std::filesystem::path file(tactile.calibration_file());

@@ -8,6 +8,7 @@
 #include <set>
 
 #include "dut_fw/sensor_node.h"
+#include "host/plant/quadrotor.h"
 #include "host/sensors/tactile/film_field_factory.h"
 
 namespace hilrig::host {
@@ -241,11 +242,14 @@ void CheckEnvelopes(const proto::Scenario& scenario, const ProblemList& problems
 // With every rotor at full thrust the vehicle must at least hover, or no scenario can fly it.
 void CheckCanLift(const proto::Scenario& scenario, const ProblemList& problems) {
   const proto::Vehicle& vehicle = scenario.vehicle();
-  const double mass_kg = vehicle.has_mass_kg() ? vehicle.mass_kg() : 0.556;
-  const double max_thrust_n =
-      vehicle.has_max_thrust_per_rotor_n() ? vehicle.max_thrust_per_rotor_n() : 4.0;
-  const double gravity_m_s2 =
-      scenario.environment().has_gravity_m_s2() ? scenario.environment().gravity_m_s2() : 9.81;
+  const QuadrotorParams defaults;
+  const double mass_kg = vehicle.has_mass_kg() ? vehicle.mass_kg() : defaults.body.mass_kg;
+  const double max_thrust_n = vehicle.has_max_thrust_per_rotor_n()
+                                  ? vehicle.max_thrust_per_rotor_n()
+                                  : defaults.rotors.max_thrust_n;
+  const double gravity_m_s2 = scenario.environment().has_gravity_m_s2()
+                                  ? scenario.environment().gravity_m_s2()
+                                  : defaults.gravity_m_s2;
   if (mass_kg > 0 && 4 * max_thrust_n <= mass_kg * gravity_m_s2) {
     problems.Add("max_thrust_per_rotor_n", "four rotors cannot lift the vehicle's weight (" +
                                                std::to_string(mass_kg * gravity_m_s2) + " N)");

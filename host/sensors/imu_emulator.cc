@@ -5,11 +5,8 @@
 namespace hilrig::host {
 namespace {
 
-inline Eigen::Vector3d GaussianVector(RandomStream& rng, double sigma) {
-  const double x = rng.Gaussian();
-  const double y = rng.Gaussian();
-  const double z = rng.Gaussian();
-  return {sigma * x, sigma * y, sigma * z};
+Eigen::Vector3d GaussianVector(RandomStream& rng, double sigma) {
+  return sigma * StandardGaussianVector(rng);
 }
 
 }  // namespace

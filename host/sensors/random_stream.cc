@@ -173,4 +173,11 @@ double RandomStream::GaussianSlowPath(int layer, double u, double x) {
   }
 }
 
+Eigen::Vector3d StandardGaussianVector(RandomStream& rng) {
+  const double x = rng.Gaussian();
+  const double y = rng.Gaussian();
+  const double z = rng.Gaussian();
+  return {x, y, z};
+}
+
 }  // namespace hilrig::host

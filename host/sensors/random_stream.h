@@ -11,6 +11,7 @@
 #ifndef HILRIG_HOST_SENSORS_RANDOM_STREAM_H_
 #define HILRIG_HOST_SENSORS_RANDOM_STREAM_H_
 
+#include <Eigen/Core>
 #include <array>
 #include <cstdint>
 
@@ -57,6 +58,9 @@ class RandomStream {
 
   std::array<std::uint64_t, 4> s_{};
 };
+
+// Three standard normal draws in x, y, z order, for the per-axis noise of the emulators.
+Eigen::Vector3d StandardGaussianVector(RandomStream& rng);
 
 }  // namespace hilrig::host
 

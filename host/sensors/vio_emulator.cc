@@ -20,10 +20,10 @@ void CaptureVio(const VioParams& params, VioState& state, const RigidBodyState& 
   pose.orientation = body.orientation;
   if (params.noise_enabled) {
     RandomStream& rng = state.rng;
-    const double px = rng.Gaussian(), py = rng.Gaussian(), pz = rng.Gaussian();
-    const double rx = rng.Gaussian(), ry = rng.Gaussian(), rz = rng.Gaussian();
-    pose.position_m += params.position_noise_m * Eigen::Vector3d(px, py, pz);
-    const Eigen::Vector3d rotation_vector = params.attitude_noise_rad * Eigen::Vector3d(rx, ry, rz);
+    const Eigen::Vector3d position_draw = StandardGaussianVector(rng);
+    const Eigen::Vector3d rotation_draw = StandardGaussianVector(rng);
+    pose.position_m += params.position_noise_m * position_draw;
+    const Eigen::Vector3d rotation_vector = params.attitude_noise_rad * rotation_draw;
     const double angle = rotation_vector.norm();
     if (angle > 0.0) {
       pose.orientation =

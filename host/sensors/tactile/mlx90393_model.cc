@@ -19,7 +19,6 @@ Mlx90393AxisCounts QuantizeMlx90393Axis(double field_t, double lsb_t, std::int32
 Mlx90393Sample SampleMlx90393(const Mlx90393Params& params, Mlx90393State& state,
                               const Eigen::Vector3d& field_sensor_t, double temperature_c) {
   Mlx90393Sample sample;
-  sample.field_t_true = field_sensor_t;
 
   Eigen::Vector3d sensed = field_sensor_t;
   if (params.drift_enabled) {
@@ -29,13 +28,9 @@ Mlx90393Sample SampleMlx90393(const Mlx90393Params& params, Mlx90393State& state
   }
   if (params.noise_enabled) {
     // Always three draws in axis order, so the stream stays aligned across configurations.
-    const double nx = state.rng.Gaussian();
-    const double ny = state.rng.Gaussian();
-    const double nz = state.rng.Gaussian();
-    sensed +=
-        Eigen::Vector3d(params.noise_xy_t * nx, params.noise_xy_t * ny, params.noise_z_t * nz);
+    sensed += Eigen::Vector3d(params.noise_xy_t, params.noise_xy_t, params.noise_z_t)
+                  .cwiseProduct(StandardGaussianVector(state.rng));
   }
-  sample.field_t_sensed = sensed;
 
   HILRIG_CHECK(dut_fw::IsValidSetting(params.setting), "MLX90393 GAIN_SEL 0..7, RES 0..3");
   const std::uint8_t res = params.setting.resolution;

@@ -65,8 +65,6 @@ struct Mlx90393State {
 struct Mlx90393Sample {
   std::array<std::uint16_t, 3> code{};  // result words as read from the chip
   bool saturated = false;  // any axis at or beyond a rail of its RES range, or not finite
-  Eigen::Vector3d field_t_true = Eigen::Vector3d::Zero();    // the input
-  Eigen::Vector3d field_t_sensed = Eigen::Vector3d::Zero();  // after drift and noise, unquantized
 };
 
 // One axis of quantization: field / lsb rounded half away from zero, clipped to

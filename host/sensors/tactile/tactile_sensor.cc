@@ -37,7 +37,6 @@ TactileReading SampleTactileSensor(const TactileSensorParams& params, TactileSen
       SampleMlx90393(params.chip, state.chip, reading.field_sensor_t, temperature_c);
   reading.code = chip.code;
   reading.saturated = chip.saturated;
-  reading.field_sensed_t = chip.field_t_sensed;
   return reading;
 }
 

@@ -48,7 +48,6 @@ struct TactileReading {
   Eigen::Vector3d film_field_t = Eigen::Vector3d::Zero();          // film only, sensor frame
   Eigen::Vector3d earth_field_sensor_t = Eigen::Vector3d::Zero();  // Earth only, sensor frame
   Eigen::Vector3d field_sensor_t = Eigen::Vector3d::Zero();        // true total at the chip
-  Eigen::Vector3d field_sensed_t = Eigen::Vector3d::Zero();        // after drift and noise
 };
 
 // Initial state: film at rest, the chip's noise stream seeded from the scenario seed and the

@@ -86,3 +86,20 @@ TEST(RotorsTest, AllocationMatrixMatchesTorqueAndCollective) {
 
 }  // namespace
 }  // namespace hilrig::host
+
+#include "dut_fw/mixer.h"
+
+namespace hilrig::host {
+namespace {
+
+// The plant and the DUT firmware each state the rotor layout; they must be the same airframe.
+TEST(RotorLayoutTest, PlantAllocationMatchesTheFirmwareMixers) {
+  const RotorParams params;
+  const dut_fw::MixerGeometry<double> geometry{params.arm_length_m, params.torque_per_thrust_m,
+                                               params.max_thrust_n};
+  EXPECT_TRUE(
+      RotorAllocationMatrix(params).isApprox(dut_fw::AllocationMatrix<double>(geometry), 1e-15));
+}
+
+}  // namespace
+}  // namespace hilrig::host

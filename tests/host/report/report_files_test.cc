@@ -50,7 +50,7 @@ fs::path TempFile(const std::string& name) { return fs::path(::testing::TempDir(
 
 TEST(ReportFilesTest, JsonRoundTripsToTheSameReport) {
   const proto::Report report = TwoEnvelopeReport();
-  ASSERT_TRUE(WriteReportJson(report, TempFile("report.json").string()).ok());
+  ASSERT_TRUE(WriteJsonFile(report, TempFile("report.json").string()).ok());
   proto::Report parsed;
   ASSERT_TRUE(
       google::protobuf::util::JsonStringToMessage(ReadFile(TempFile("report.json")), &parsed).ok());
@@ -62,7 +62,6 @@ TEST(ReportFilesTest, JunitHasOneEscapedCasePerEnvelopeAndFailsTheUnmetOne) {
   const std::string xml = ReadFile(TempFile("junit.xml"));
   EXPECT_THAT(xml, HasSubstr("testsuite name=\"hover &lt;&amp;&gt;\" tests=\"2\" failures=\"1\""));
   EXPECT_THAT(xml, HasSubstr("name=\"tilt &quot;max&quot;\""));
-  EXPECT_EQ(std::count(xml.begin(), xml.end(), '\n') > 0, true);
   EXPECT_EQ(xml.find("<failure"), xml.rfind("<failure"));  // exactly one failure
 }
 
@@ -74,7 +73,7 @@ TEST(ReportFilesTest, IncompleteRunIsAFailedCase) {
 }
 
 TEST(ReportFilesTest, WritingIntoAMissingFolderIsAnError) {
-  EXPECT_FALSE(WriteReportJson(TwoEnvelopeReport(), "/nonexistent/dir/report.json").ok());
+  EXPECT_FALSE(WriteJsonFile(TwoEnvelopeReport(), "/nonexistent/dir/report.json").ok());
 }
 
 TEST(ReportFilesTest, EnvelopeLineShowsVerdictWorstValueTimeAndLimit) {
