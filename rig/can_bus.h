@@ -12,6 +12,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -23,6 +24,7 @@ namespace hilrig::rig {
 // Flag bits of a Linux canid_t (linux/can.h), for translating filters to and from the kernel.
 inline constexpr std::uint32_t kCanEffFlag = 0x80000000U;
 inline constexpr std::uint32_t kCanRtrFlag = 0x40000000U;
+inline constexpr std::uint32_t kCanErrFlag = 0x20000000U;    // in a frame's can_id
 inline constexpr std::uint32_t kCanInvFilter = 0x20000000U;  // in a filter's can_id
 inline constexpr std::uint32_t kCanSffMask = 0x000007FFU;
 inline constexpr std::uint32_t kCanEffMask = 0x1FFFFFFFU;
@@ -101,6 +103,55 @@ struct BusCounters {
   std::uint32_t transmit_error_count = 0;
   std::uint32_t receive_error_count = 0;
 };
+
+// What error frames say, typed. Every backend receives Linux-style error frames (see above), so
+// this one decoder serves SocketCAN and gs_usb alike.
+enum class BusEventKind {
+  kBusOff,            // controller left the bus (CAN_ERR_BUSOFF)
+  kRestarted,         // controller restarted after bus-off (CAN_ERR_RESTARTED)
+  kErrorWarning,      // an error counter reached 96 (CAN_ERR_CRTL_{RX,TX}_WARNING)
+  kErrorPassive,      // an error counter reached 128 (CAN_ERR_CRTL_{RX,TX}_PASSIVE)
+  kErrorActive,       // counters back under 96 (CAN_ERR_CRTL_ACTIVE)
+  kAckError,          // a sent frame was not acknowledged: nobody else on the bus (CAN_ERR_ACK)
+  kRxOverflow,        // the controller's receive buffer overflowed (CAN_ERR_CRTL_RX_OVERFLOW)
+  kTxOverflow,        // the controller's transmit buffer overflowed (CAN_ERR_CRTL_TX_OVERFLOW)
+  kTxTimeout,         // the driver gave up on a frame (CAN_ERR_TX_TIMEOUT)
+  kLostArbitration,   // (CAN_ERR_LOSTARB); data[0] holds the bit position
+  kProtocolError,     // bit, form, stuff, CRC... (CAN_ERR_PROT); details in the raw frame
+  kBusError,          // unspecified bus error (CAN_ERR_BUSERROR)
+  kTransceiverError,  // wiring faults the transceiver reports (CAN_ERR_TRX)
+  kSocketOverflow,    // the kernel dropped frames because this socket was not drained in time
+};
+
+const char* BusEventKindName(BusEventKind kind);
+
+struct BusEvent {
+  BusEventKind kind = BusEventKind::kBusError;
+  std::int64_t time_ns = 0;
+  // For warning and passive: whether the TX (true) or RX (false) counter crossed the level. When
+  // both did, two events are emitted.
+  bool tx = false;
+  // Error counters when the frame carries them (CAN_ERR_CNT), else 0 and has_counters false.
+  bool has_counters = false;
+  std::uint8_t tx_error_count = 0;
+  std::uint8_t rx_error_count = 0;
+  // kSocketOverflow: frames lost since the previous event.
+  std::uint32_t dropped_frames = 0;
+  // The error frame the event came from, so nothing the kernel said is lost.
+  CanFrame frame;
+};
+
+// Decodes one Linux error frame into events, in a fixed order (bus-off and state changes first).
+// Pure: exposed so the decoding is tested on any kernel. A non-error frame yields nothing.
+std::vector<BusEvent> DecodeErrorFrame(const CanFrame& frame, std::int64_t time_ns);
+
+// Applies decoded events to a bus state, as the controller's state machine would.
+BusState NextBusState(BusState state, const BusEvent& event);
+
+// The state one error frame's events announce, if any. A frame can announce several (bus-off with
+// passive, say); the most severe wins, as in the Linux driver's state update. For a backend that
+// applies each frame as a whole rather than event by event.
+std::optional<BusState> AnnouncedBusState(std::span<const BusEvent> events);
 
 class CanBus {
  public:

@@ -20,12 +20,11 @@
 #include <string_view>
 #include <utility>
 
+#include "rig/can_bus.h"
 #include "rig/can_frame.h"
 #include "rig/result.h"
 
 namespace hilrig::rig {
-
-inline constexpr std::uint32_t kCanErrFlag = 0x20000000;
 
 // Whether a line ends with the direction token of `candump -x` (and python-can's writer): " T" for
 // a frame this node sent (tx_echo), " R" for one it received. Parsing sets tx_echo from it.

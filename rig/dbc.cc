@@ -4,10 +4,10 @@
 #include <fstream>
 #include <sstream>
 
+#include "rig/can_bus.h"
+
 namespace hilrig::rig {
 namespace {
-
-constexpr std::uint32_t kDbcExtendedFlag = 0x80000000u;
 
 // A cursor over one line; every Read* skips leading blanks first.
 class LineReader {
@@ -77,8 +77,8 @@ Result<DbcMessage> ParseMessage(LineReader& line, std::size_t line_number) {
   DbcMessage message;
   const std::optional<std::uint64_t> id = line.Unsigned();
   if (!id || *id > 0xFFFFFFFFu) return LineError(line_number, "BO_ needs a numeric id");
-  message.extended = (*id & kDbcExtendedFlag) != 0;
-  message.id = static_cast<std::uint32_t>(*id & ~kDbcExtendedFlag);
+  message.extended = (*id & kCanEffFlag) != 0;
+  message.id = static_cast<std::uint32_t>(*id & ~kCanEffFlag);
   message.name = std::string(line.Token(":"));
   if (message.name.empty() || !line.Consume(':')) {
     return LineError(line_number, "BO_ needs '<name>:'");

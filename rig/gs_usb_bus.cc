@@ -172,12 +172,16 @@ bool GsUsbBus::NoteUnplug() {
     unplugged_ = true;
     state_ = BusState::kBusOff;
     // Frames the device never confirmed will not be confirmed now.
-    for (std::optional<CanFrame>& slot : in_flight_) {
-      if (slot) ++counters_.frames_dropped_tx;
-      slot.reset();
-    }
+    DropInFlight();
   }
   return true;
+}
+
+void GsUsbBus::DropInFlight() {
+  for (std::optional<CanFrame>& slot : in_flight_) {
+    if (slot) ++counters_.frames_dropped_tx;
+    slot.reset();
+  }
 }
 
 Result<void> GsUsbBus::FailSend(Error error) {
@@ -200,7 +204,7 @@ Result<void> GsUsbBus::Send(const CanFrame& frame, std::int64_t now_ns) {
   if (free_slot == in_flight_.end()) {
     // The echoes that would free a slot may already be waiting in the IN pipe: collect them
     // (and whatever arrived with them, kept for the next Receive) before giving up.
-    DrainPipe(now_ns, held_, held_count_);
+    DrainPipe(now_ns, held_);
     free_slot = FindFreeSlot();
   }
   if (free_slot == in_flight_.end()) {
@@ -226,16 +230,14 @@ std::vector<std::optional<CanFrame>>::iterator GsUsbBus::FindFreeSlot() {
 }
 
 std::size_t GsUsbBus::Receive(std::int64_t now_ns, std::vector<TimedCanFrame>& out) {
-  std::size_t appended = held_count_;
+  const std::size_t before = out.size();
   out.insert(out.end(), held_.begin(), held_.end());
   held_.clear();
-  held_count_ = 0;
-  DrainPipe(now_ns, out, appended);
-  return appended;
+  DrainPipe(now_ns, out);
+  return out.size() - before;
 }
 
-void GsUsbBus::DrainPipe(std::int64_t now_ns, std::vector<TimedCanFrame>& out,
-                         std::size_t& appended) {
+void GsUsbBus::DrainPipe(std::int64_t now_ns, std::vector<TimedCanFrame>& out) {
   std::array<std::uint8_t, kGsUsbMaxHostFrameBytes> packet{};
   for (std::size_t k = 0; k < options_.max_packets_per_receive && !unplugged_ && started_; ++k) {
     Result<std::size_t> got = transport_->BulkIn(packet, /*timeout_ms=*/0);
@@ -244,12 +246,12 @@ void GsUsbBus::DrainPipe(std::int64_t now_ns, std::vector<TimedCanFrame>& out,
       return;  // a failed transfer has no frame to give; the next call tries again
     }
     if (got.value() == 0) return;
-    HandlePacket(std::span(packet).first(got.value()), now_ns, out, appended);
+    HandlePacket(std::span(packet).first(got.value()), now_ns, out);
   }
 }
 
 void GsUsbBus::HandlePacket(std::span<const std::uint8_t> packet, std::int64_t now_ns,
-                            std::vector<TimedCanFrame>& out, std::size_t& appended) {
+                            std::vector<TimedCanFrame>& out) {
   Result<GsUsbHostFrame> decoded = DecodeGsUsbHostFrame(packet, hardware_timestamps_);
   if (!decoded) {
     ++counters_.frames_dropped_malformed;
@@ -259,22 +261,21 @@ void GsUsbBus::HandlePacket(std::span<const std::uint8_t> packet, std::int64_t n
   if (host_frame.channel != options_.channel) return;  // another channel's traffic
   const std::int64_t time_ns = FrameTimeNs(host_frame, now_ns);
   if (host_frame.is_tx_echo()) {
-    HandleEcho(host_frame, time_ns, out, appended);
+    HandleEcho(host_frame, time_ns, out);
     return;
   }
   if (host_frame.overflow) ++counters_.frames_dropped_rx_overflow;
   if (host_frame.frame.error) {
-    HandleErrorFrame(host_frame.frame, time_ns, out, appended);
+    HandleErrorFrame(host_frame.frame, time_ns, out);
     return;
   }
   if (!FilterAccepts(filters_, host_frame.frame)) return;
   out.push_back(TimedCanFrame{host_frame.frame, time_ns, /*tx_echo=*/false});
-  ++appended;
   ++counters_.frames_received;
 }
 
 void GsUsbBus::HandleEcho(const GsUsbHostFrame& host_frame, std::int64_t time_ns,
-                          std::vector<TimedCanFrame>& out, std::size_t& appended) {
+                          std::vector<TimedCanFrame>& out) {
   if (host_frame.echo_id >= in_flight_.size() || !in_flight_[host_frame.echo_id]) {
     ++counters_.frames_dropped_malformed;  // an echo for nothing we sent
     return;
@@ -284,26 +285,26 @@ void GsUsbBus::HandleEcho(const GsUsbHostFrame& host_frame, std::int64_t time_ns
   in_flight_[host_frame.echo_id].reset();
   if (!receive_own_frames_) return;
   out.push_back(TimedCanFrame{sent, time_ns, /*tx_echo=*/true});
-  ++appended;
 }
 
 void GsUsbBus::HandleErrorFrame(const CanFrame& frame, std::int64_t time_ns,
-                                std::vector<TimedCanFrame>& out, std::size_t& appended) {
-  const GsUsbErrorReport report = DecodeGsUsbErrorFrame(frame);
-  if (report.state) state_ = *report.state;
+                                std::vector<TimedCanFrame>& out) {
+  const std::vector<BusEvent> events = DecodeErrorFrame(frame, time_ns);
+  if (const std::optional<BusState> announced = AnnouncedBusState(events)) state_ = *announced;
+  for (const BusEvent& event : events) {
+    if (event.kind == BusEventKind::kRxOverflow) ++counters_.frames_dropped_rx_overflow;
+  }
   if (state_ == BusState::kBusOff) {
     // The controller discards its TX queue on bus-off, so those echoes will never come.
-    for (std::optional<CanFrame>& slot : in_flight_) {
-      if (slot) ++counters_.frames_dropped_tx;
-      slot.reset();
-    }
+    DropInFlight();
   }
-  if (report.rx_overflow) ++counters_.frames_dropped_rx_overflow;
-  if (report.transmit_error_count) counters_.transmit_error_count = *report.transmit_error_count;
-  if (report.receive_error_count) counters_.receive_error_count = *report.receive_error_count;
+  // A counters-only frame yields no event, so the counters are read from the frame itself.
+  if (frame.id & can_error::kCounters) {
+    counters_.transmit_error_count = frame.data[6];
+    counters_.receive_error_count = frame.data[7];
+  }
   if ((frame.id & error_mask_) == 0) return;
   out.push_back(TimedCanFrame{frame, time_ns, /*tx_echo=*/false});
-  ++appended;
 }
 
 std::int64_t GsUsbBus::FrameTimeNs(const GsUsbHostFrame& host_frame, std::int64_t now_ns) {

@@ -97,13 +97,15 @@ class GsUsbBus final : public CanBus {
   bool NoteUnplug();
   std::vector<std::optional<CanFrame>>::iterator FindFreeSlot();
   // Reads what the IN pipe holds now, without waiting.
-  void DrainPipe(std::int64_t now_ns, std::vector<TimedCanFrame>& out, std::size_t& appended);
+  void DrainPipe(std::int64_t now_ns, std::vector<TimedCanFrame>& out);
   void HandlePacket(std::span<const std::uint8_t> packet, std::int64_t now_ns,
-                    std::vector<TimedCanFrame>& out, std::size_t& appended);
+                    std::vector<TimedCanFrame>& out);
   void HandleEcho(const GsUsbHostFrame& host_frame, std::int64_t time_ns,
-                  std::vector<TimedCanFrame>& out, std::size_t& appended);
+                  std::vector<TimedCanFrame>& out);
   void HandleErrorFrame(const CanFrame& frame, std::int64_t time_ns,
-                        std::vector<TimedCanFrame>& out, std::size_t& appended);
+                        std::vector<TimedCanFrame>& out);
+  // Forgets every frame waiting for its echo, counting each as dropped before transmission.
+  void DropInFlight();
   std::int64_t FrameTimeNs(const GsUsbHostFrame& host_frame, std::int64_t now_ns);
 
   std::unique_ptr<GsUsbTransport> transport_;
@@ -119,7 +121,6 @@ class GsUsbBus final : public CanBus {
   std::vector<std::optional<CanFrame>> in_flight_;  // indexed by echo_id
   // Frames read while Send looked for echoes, handed out by the next Receive.
   std::vector<TimedCanFrame> held_;
-  std::size_t held_count_ = 0;
   std::vector<CanFilter> filters_;
   std::uint32_t error_mask_ = 0;
   bool receive_own_frames_ = false;

@@ -295,36 +295,6 @@ Result<GsUsbHostFrame> DecodeGsUsbHostFrame(std::span<const std::uint8_t> bytes,
   return host_frame;
 }
 
-GsUsbErrorReport DecodeGsUsbErrorFrame(const CanFrame& error_frame) {
-  HILRIG_CHECK(error_frame.error, "DecodeGsUsbErrorFrame needs an error frame");
-  GsUsbErrorReport report;
-  const std::uint32_t classes = error_frame.id;
-  const std::uint8_t controller = error_frame.data[1];
-  if (classes & can_error::kController) {
-    report.rx_overflow = (controller & can_error::kCtrlRxOverflow) != 0;
-    report.tx_overflow = (controller & can_error::kCtrlTxOverflow) != 0;
-  }
-  // The most severe news wins, as in the Linux driver's state update.
-  if (classes & can_error::kBusOff) {
-    report.state = BusState::kBusOff;
-  } else if (classes & can_error::kRestarted) {
-    report.state = BusState::kErrorActive;
-  } else if (classes & can_error::kController) {
-    if (controller & (can_error::kCtrlRxPassive | can_error::kCtrlTxPassive)) {
-      report.state = BusState::kErrorPassive;
-    } else if (controller & (can_error::kCtrlRxWarning | can_error::kCtrlTxWarning)) {
-      report.state = BusState::kErrorWarning;
-    } else if (controller & can_error::kCtrlActive) {
-      report.state = BusState::kErrorActive;
-    }
-  }
-  if (classes & can_error::kCounters) {
-    report.transmit_error_count = error_frame.data[6];
-    report.receive_error_count = error_frame.data[7];
-  }
-  return report;
-}
-
 GsUsbUnwrappedTime UnwrapGsUsbTimestamp(GsUsbTimestampUnwrapper state, std::uint32_t timestamp_us) {
   if (!state.started) {
     state.started = true;

@@ -78,7 +78,6 @@ inline constexpr std::uint16_t kGsUsbHostFormatValue = 1;  // wValue of the host
 inline constexpr std::uint32_t kGsUsbEchoIdRx = 0xFFFFFFFF;
 inline constexpr std::uint32_t kGsUsbModeReset = 0;
 inline constexpr std::uint32_t kGsUsbModeStart = 1;
-inline constexpr std::uint32_t kCanErrFlag = 0x20000000U;  // CAN_ERR_FLAG in a canid_t
 
 inline constexpr std::size_t kGsUsbHostConfigBytes = 4;
 inline constexpr std::size_t kGsUsbDeviceConfigBytes = 12;
@@ -187,17 +186,6 @@ std::vector<std::uint8_t> EncodeGsUsbHostFrame(const GsUsbHostFrame& host_frame)
 // ValidateFrame refuses are errors.
 Result<GsUsbHostFrame> DecodeGsUsbHostFrame(std::span<const std::uint8_t> bytes,
                                             bool timestamps_on);
-
-// What a Linux-style error frame from the device says about the controller.
-struct GsUsbErrorReport {
-  std::optional<BusState> state;  // set when the frame announces a state change
-  bool rx_overflow = false;
-  bool tx_overflow = false;
-  std::optional<std::uint8_t> transmit_error_count;  // from a kCounters frame
-  std::optional<std::uint8_t> receive_error_count;
-};
-// `error_frame` must have error set.
-GsUsbErrorReport DecodeGsUsbErrorFrame(const CanFrame& error_frame);
 
 // Extends the device's 32-bit microsecond clock (which wraps every ~71.6 minutes) to 64-bit
 // nanoseconds. Each timestamp is taken as the previous one plus the signed 32-bit difference, so

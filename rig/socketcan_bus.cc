@@ -15,7 +15,8 @@
 #include <cerrno>
 #include <chrono>
 #include <cstring>
-#include <functional>
+#include <deque>
+#include <iterator>
 #include <thread>
 #include <utility>
 
@@ -26,6 +27,23 @@ namespace {
 
 using RawProtocol = boost::asio::generic::raw_protocol;
 using RawSocket = boost::asio::basic_raw_socket<RawProtocol>;
+
+// The shared error-frame decoder (can_bus.h) names linux/can/error.h's bits itself.
+static_assert(can_error::kBusOff == CAN_ERR_BUSOFF && can_error::kRestarted == CAN_ERR_RESTARTED &&
+              can_error::kController == CAN_ERR_CRTL && can_error::kNoAck == CAN_ERR_ACK &&
+              can_error::kTxTimeout == CAN_ERR_TX_TIMEOUT &&
+              can_error::kLostArbitration == CAN_ERR_LOSTARB &&
+              can_error::kProtocol == CAN_ERR_PROT && can_error::kBusError == CAN_ERR_BUSERROR &&
+              can_error::kTransceiver == CAN_ERR_TRX && can_error::kCounters == CAN_ERR_CNT);
+static_assert(can_error::kCtrlRxOverflow == CAN_ERR_CRTL_RX_OVERFLOW &&
+              can_error::kCtrlTxOverflow == CAN_ERR_CRTL_TX_OVERFLOW &&
+              can_error::kCtrlRxWarning == CAN_ERR_CRTL_RX_WARNING &&
+              can_error::kCtrlTxWarning == CAN_ERR_CRTL_TX_WARNING &&
+              can_error::kCtrlRxPassive == CAN_ERR_CRTL_RX_PASSIVE &&
+              can_error::kCtrlTxPassive == CAN_ERR_CRTL_TX_PASSIVE &&
+              can_error::kCtrlActive == CAN_ERR_CRTL_ACTIVE &&
+              can_error::kProtTypeTx == CAN_ERR_PROT_TX);
+static_assert(kCanErrFlag == CAN_ERR_FLAG && kCanEffFlag == CAN_EFF_FLAG);
 
 // Error classes whose frames change the controller state: always subscribed so state() is right.
 constexpr can_err_mask_t kStateErrorClasses =
@@ -96,122 +114,7 @@ Result<void> SetSocketOption(int fd, int level, int name, const void* value, soc
   return {};
 }
 
-BusEvent MakeEvent(BusEventKind kind, const CanFrame& frame, std::int64_t time_ns) {
-  BusEvent event;
-  event.kind = kind;
-  event.time_ns = time_ns;
-  event.frame = frame;
-  if (frame.id & CAN_ERR_CNT) {
-    event.has_counters = true;
-    event.tx_error_count = frame.data[6];
-    event.rx_error_count = frame.data[7];
-  }
-  return event;
-}
-
 }  // namespace
-
-const char* BusEventKindName(BusEventKind kind) {
-  switch (kind) {
-    case BusEventKind::kBusOff:
-      return "bus-off";
-    case BusEventKind::kRestarted:
-      return "restarted";
-    case BusEventKind::kErrorWarning:
-      return "error-warning";
-    case BusEventKind::kErrorPassive:
-      return "error-passive";
-    case BusEventKind::kErrorActive:
-      return "error-active";
-    case BusEventKind::kAckError:
-      return "ack-error";
-    case BusEventKind::kRxOverflow:
-      return "rx-overflow";
-    case BusEventKind::kTxOverflow:
-      return "tx-overflow";
-    case BusEventKind::kTxTimeout:
-      return "tx-timeout";
-    case BusEventKind::kLostArbitration:
-      return "lost-arbitration";
-    case BusEventKind::kProtocolError:
-      return "protocol-error";
-    case BusEventKind::kBusError:
-      return "bus-error";
-    case BusEventKind::kTransceiverError:
-      return "transceiver-error";
-    case BusEventKind::kSocketOverflow:
-      return "socket-overflow";
-  }
-  return "unknown";
-}
-
-std::vector<BusEvent> DecodeErrorFrame(const CanFrame& frame, std::int64_t time_ns) {
-  std::vector<BusEvent> events;
-  if (!frame.error) return events;
-  const std::uint32_t classes = frame.id;
-  const std::uint8_t controller = frame.data[1];
-  auto add = [&](BusEventKind kind, bool tx = false) {
-    BusEvent event = MakeEvent(kind, frame, time_ns);
-    event.tx = tx;
-    events.push_back(std::move(event));
-  };
-  // State changes first, so a reader replaying events in order ends in the right state.
-  if (classes & CAN_ERR_BUSOFF) add(BusEventKind::kBusOff);
-  if (classes & CAN_ERR_RESTARTED) add(BusEventKind::kRestarted);
-  if (classes & CAN_ERR_CRTL) {
-    if (controller & CAN_ERR_CRTL_RX_PASSIVE) add(BusEventKind::kErrorPassive, false);
-    if (controller & CAN_ERR_CRTL_TX_PASSIVE) add(BusEventKind::kErrorPassive, true);
-    if (controller & CAN_ERR_CRTL_RX_WARNING) add(BusEventKind::kErrorWarning, false);
-    if (controller & CAN_ERR_CRTL_TX_WARNING) add(BusEventKind::kErrorWarning, true);
-    if (controller & CAN_ERR_CRTL_ACTIVE) add(BusEventKind::kErrorActive);
-    if (controller & CAN_ERR_CRTL_RX_OVERFLOW) add(BusEventKind::kRxOverflow);
-    if (controller & CAN_ERR_CRTL_TX_OVERFLOW) add(BusEventKind::kTxOverflow, true);
-  }
-  if (classes & CAN_ERR_ACK) add(BusEventKind::kAckError, true);
-  if (classes & CAN_ERR_TX_TIMEOUT) add(BusEventKind::kTxTimeout, true);
-  if (classes & CAN_ERR_LOSTARB) add(BusEventKind::kLostArbitration, true);
-  if (classes & CAN_ERR_PROT) add(BusEventKind::kProtocolError, (frame.data[2] & CAN_ERR_PROT_TX));
-  if (classes & CAN_ERR_BUSERROR) add(BusEventKind::kBusError);
-  if (classes & CAN_ERR_TRX) add(BusEventKind::kTransceiverError);
-  return events;
-}
-
-BusState NextBusState(BusState state, const BusEvent& event) {
-  switch (event.kind) {
-    case BusEventKind::kBusOff:
-      return BusState::kBusOff;
-    case BusEventKind::kRestarted:
-    case BusEventKind::kErrorActive:
-      return BusState::kErrorActive;
-    // Linux reports the level of the worse counter, so a warning after passive is a recovery.
-    case BusEventKind::kErrorPassive:
-      return BusState::kErrorPassive;
-    case BusEventKind::kErrorWarning:
-      // When one frame says RX passive and TX warning, passive (reported first) must stand.
-      return state == BusState::kErrorPassive &&
-                     event.frame.data[1] & (CAN_ERR_CRTL_RX_PASSIVE | CAN_ERR_CRTL_TX_PASSIVE)
-                 ? BusState::kErrorPassive
-                 : BusState::kErrorWarning;
-    default:
-      return state;
-  }
-}
-
-SendRetryOutcome SendWithRetry(const std::function<int()>& attempt, int max_retries,
-                               std::int64_t first_pause_ns,
-                               const std::function<void(std::int64_t)>& pause) {
-  SendRetryOutcome outcome;
-  std::int64_t pause_ns = first_pause_ns;
-  for (;;) {
-    outcome.error_number = attempt();
-    if (outcome.error_number == EINTR) continue;
-    const bool queue_full = outcome.error_number == ENOBUFS || outcome.error_number == EAGAIN;
-    if (!queue_full || outcome.retries >= max_retries) return outcome;
-    ++outcome.retries;
-    pause(pause_ns);
-    pause_ns *= 2;
-  }
-}
 
 struct SocketCanBus::Impl {
   Impl() : socket(io) {}
@@ -224,7 +127,7 @@ struct SocketCanBus::Impl {
   BusState state = BusState::kErrorActive;
   BusCounters counters;
   SocketCanStats stats;
-  std::vector<BusEvent> events;
+  std::deque<BusEvent> events;        // drop-oldest at max_buffered_events
   std::uint32_t last_drop_count = 0;  // SO_RXQ_OVFL is cumulative per socket
 
   int fd() { return socket.native_handle(); }
@@ -253,7 +156,7 @@ struct SocketCanBus::Impl {
       counters.receive_error_count = event.rx_error_count;
     }
     if (events.size() >= options.max_buffered_events) {
-      events.erase(events.begin());
+      events.pop_front();
       ++stats.events_discarded;
     }
     events.push_back(std::move(event));
@@ -453,7 +356,6 @@ std::size_t SocketCanBus::Receive(std::int64_t now_ns, std::vector<TimedCanFrame
 void SocketCanBus::SetFilters(std::span<const CanFilter> filters) {
   Result<void> applied = impl_->ApplyFilters(filters);
   HILRIG_CHECK(applied.ok(), applied.error().message);
-  impl_->options.filters.assign(filters.begin(), filters.end());
 }
 
 void SocketCanBus::SetReceiveErrorFrames(bool enabled) {
@@ -468,10 +370,8 @@ void SocketCanBus::SetErrorFrameMask(std::uint32_t class_mask) {
 
 Result<void> SocketCanBus::SetReceiveOwnFrames(bool enabled) {
   const int value = enabled ? 1 : 0;
-  Result<void> applied = SetSocketOption(impl_->fd(), SOL_CAN_RAW, CAN_RAW_RECV_OWN_MSGS, &value,
-                                         sizeof(value), "CAN_RAW_RECV_OWN_MSGS");
-  if (applied) impl_->options.receive_own_frames = enabled;
-  return applied;
+  return SetSocketOption(impl_->fd(), SOL_CAN_RAW, CAN_RAW_RECV_OWN_MSGS, &value, sizeof(value),
+                         "CAN_RAW_RECV_OWN_MSGS");
 }
 
 BusState SocketCanBus::state() const { return impl_->state; }
@@ -494,8 +394,14 @@ bool SocketCanBus::WaitReadable(std::int64_t timeout_ns) {
   return readable;
 }
 
-std::vector<BusEvent> SocketCanBus::TakeEvents() { return std::exchange(impl_->events, {}); }
-const std::vector<BusEvent>& SocketCanBus::events() const { return impl_->events; }
+std::vector<BusEvent> SocketCanBus::TakeEvents() {
+  std::deque<BusEvent>& events = impl_->events;
+  std::vector<BusEvent> taken(std::make_move_iterator(events.begin()),
+                              std::make_move_iterator(events.end()));
+  events.clear();
+  return taken;
+}
+const std::deque<BusEvent>& SocketCanBus::events() const { return impl_->events; }
 SocketCanStats SocketCanBus::stats() const { return impl_->stats; }
 const std::string& SocketCanBus::interface_name() const { return impl_->interface_name; }
 bool SocketCanBus::fd_capable() const { return impl_->fd_capable; }

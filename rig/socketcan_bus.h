@@ -34,9 +34,10 @@
 // Threading: one thread per bus, like every CanBus.
 #pragma once
 
+#include <cerrno>
 #include <cstddef>
 #include <cstdint>
-#include <functional>
+#include <deque>
 #include <memory>
 #include <span>
 #include <string>
@@ -48,48 +49,6 @@
 
 namespace hilrig::rig {
 
-enum class BusEventKind {
-  kBusOff,            // controller left the bus (CAN_ERR_BUSOFF)
-  kRestarted,         // controller restarted after bus-off (CAN_ERR_RESTARTED)
-  kErrorWarning,      // an error counter reached 96 (CAN_ERR_CRTL_{RX,TX}_WARNING)
-  kErrorPassive,      // an error counter reached 128 (CAN_ERR_CRTL_{RX,TX}_PASSIVE)
-  kErrorActive,       // counters back under 96 (CAN_ERR_CRTL_ACTIVE)
-  kAckError,          // a sent frame was not acknowledged: nobody else on the bus (CAN_ERR_ACK)
-  kRxOverflow,        // the controller's receive buffer overflowed (CAN_ERR_CRTL_RX_OVERFLOW)
-  kTxOverflow,        // the controller's transmit buffer overflowed (CAN_ERR_CRTL_TX_OVERFLOW)
-  kTxTimeout,         // the driver gave up on a frame (CAN_ERR_TX_TIMEOUT)
-  kLostArbitration,   // (CAN_ERR_LOSTARB); data[0] holds the bit position
-  kProtocolError,     // bit, form, stuff, CRC... (CAN_ERR_PROT); details in the raw frame
-  kBusError,          // unspecified bus error (CAN_ERR_BUSERROR)
-  kTransceiverError,  // wiring faults the transceiver reports (CAN_ERR_TRX)
-  kSocketOverflow,    // the kernel dropped frames because this socket was not drained in time
-};
-
-const char* BusEventKindName(BusEventKind kind);
-
-struct BusEvent {
-  BusEventKind kind = BusEventKind::kBusError;
-  std::int64_t time_ns = 0;
-  // For warning and passive: whether the TX (true) or RX (false) counter crossed the level. When
-  // both did, two events are emitted.
-  bool tx = false;
-  // Error counters when the frame carries them (CAN_ERR_CNT), else 0 and has_counters false.
-  bool has_counters = false;
-  std::uint8_t tx_error_count = 0;
-  std::uint8_t rx_error_count = 0;
-  // kSocketOverflow: frames lost since the previous event.
-  std::uint32_t dropped_frames = 0;
-  // The error frame the event came from, so nothing the kernel said is lost.
-  CanFrame frame;
-};
-
-// Decodes one Linux error frame into events, in a fixed order (bus-off and state changes first).
-// Pure: exposed so the decoding is tested on any kernel. A non-error frame yields nothing.
-std::vector<BusEvent> DecodeErrorFrame(const CanFrame& frame, std::int64_t time_ns);
-
-// Applies decoded events to a bus state, as the controller's state machine would.
-BusState NextBusState(BusState state, const BusEvent& event);
-
 // The bounded retry Send applies to a full TX queue, kept apart so it is tested without a kernel.
 // `attempt` makes one send and returns 0 or an errno value; ENOBUFS and EAGAIN (queue full) are
 // retried up to max_retries times with `pause(pause_ns)` between, the pause doubling each time;
@@ -98,9 +57,22 @@ struct SendRetryOutcome {
   int error_number = 0;  // 0 when the frame was sent
   int retries = 0;       // queue-full retries made
 };
-SendRetryOutcome SendWithRetry(const std::function<int()>& attempt, int max_retries,
-                               std::int64_t first_pause_ns,
-                               const std::function<void(std::int64_t)>& pause);
+// A template on its callables, so Send's lambdas are called directly and nothing allocates.
+template <typename Attempt, typename Pause>
+SendRetryOutcome SendWithRetry(Attempt&& attempt, int max_retries, std::int64_t first_pause_ns,
+                               Pause&& pause) {
+  SendRetryOutcome outcome;
+  std::int64_t pause_ns = first_pause_ns;
+  for (;;) {
+    outcome.error_number = attempt();
+    if (outcome.error_number == EINTR) continue;
+    const bool queue_full = outcome.error_number == ENOBUFS || outcome.error_number == EAGAIN;
+    if (!queue_full || outcome.retries >= max_retries) return outcome;
+    ++outcome.retries;
+    pause(pause_ns);
+    pause_ns *= 2;
+  }
+}
 
 struct SocketCanOptions {
   std::vector<CanFilter> filters;  // empty: accept every frame
@@ -149,7 +121,7 @@ class SocketCanBus final : public CanBus {
   // Events decoded since the last call, oldest first. Events are decoded while Receive drains
   // the socket, so call Receive first.
   std::vector<BusEvent> TakeEvents();
-  const std::vector<BusEvent>& events() const;
+  const std::deque<BusEvent>& events() const;
 
   SocketCanStats stats() const;
   const std::string& interface_name() const;

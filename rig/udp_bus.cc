@@ -147,6 +147,12 @@ UdpBus::~UdpBus() = default;
 
 std::uint16_t UdpBus::local_port() const { return socket_->local.port(); }
 
+std::string UdpBus::local_address() const {
+  boost::system::error_code error;
+  const udp::endpoint bound = socket_->socket.local_endpoint(error);
+  return error ? std::string() : bound.address().to_string();
+}
+
 Result<void> UdpBus::Send(const CanFrame& frame, std::int64_t now_ns) {
   if (Result<void> valid = ValidateFrame(frame); !valid) {
     ++counters_.send_failures;

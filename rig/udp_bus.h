@@ -78,6 +78,8 @@ class UdpBus final : public CanBus {
   BusCounters counters() const override { return counters_; }
 
   std::uint16_t local_port() const;
+  // The address the socket is actually bound to, as the kernel reports it (e.g. "127.0.0.1").
+  std::string local_address() const;
 
  private:
   struct Socket;  // keeps Boost.Asio out of this header

@@ -216,25 +216,6 @@ TEST(GsUsbProtocolTest, UnreachableBitrateIsAnError) {
   EXPECT_NE(timing.error().message.find("0.5 %"), std::string::npos) << timing.error().message;
 }
 
-TEST(GsUsbProtocolTest, ErrorFramesDecodeIntoStates) {
-  EXPECT_EQ(DecodeGsUsbErrorFrame(CanFrame::ErrorFrame(can_error::kBusOff, {})).state,
-            BusState::kBusOff);
-  EXPECT_EQ(DecodeGsUsbErrorFrame(CanFrame::ErrorFrame(can_error::kRestarted, {})).state,
-            BusState::kErrorActive);
-  EXPECT_EQ(DecodeGsUsbErrorFrame(
-                CanFrame::ErrorFrame(can_error::kController, {0, can_error::kCtrlTxWarning}))
-                .state,
-            BusState::kErrorWarning);
-  const GsUsbErrorReport passive = DecodeGsUsbErrorFrame(CanFrame::ErrorFrame(
-      can_error::kController | can_error::kCounters,
-      {0, can_error::kCtrlRxPassive | can_error::kCtrlRxOverflow, 0, 0, 0, 0, 90, 128}));
-  EXPECT_EQ(passive.state, BusState::kErrorPassive);
-  EXPECT_TRUE(passive.rx_overflow);
-  EXPECT_EQ(passive.transmit_error_count, 90);
-  EXPECT_EQ(passive.receive_error_count, 128);
-  EXPECT_FALSE(DecodeGsUsbErrorFrame(CanFrame::ErrorFrame(can_error::kNoAck, {})).state);
-}
-
 TEST(GsUsbProtocolTest, TimestampUnwrapCrossesThe32BitWrap) {
   GsUsbTimestampUnwrapper state;
   const std::vector<std::uint32_t> device_us = {0xFFFFFF00, 0xFFFFFFFF, 0x00000010, 0x00001000};

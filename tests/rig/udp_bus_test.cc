@@ -139,6 +139,9 @@ TEST(UdpBusTest, BindsLoopbackByDefault) {
 
   EXPECT_EQ(UdpBusConfig{}.address, "127.0.0.1");
   EXPECT_EQ(pair[1]->local_port(), pair[0]->local_port() + 1);
+  // What the sockets are really bound to, not just what the config says.
+  EXPECT_EQ(pair[0]->local_address(), "127.0.0.1");
+  EXPECT_EQ(pair[1]->local_address(), "127.0.0.1");
 }
 
 TEST(UdpBusTest, PortInUseIsAnErrorNamingThePort) {
