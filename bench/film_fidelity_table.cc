@@ -44,8 +44,8 @@ Eigen::Vector3d ZeroedS(const FilmFieldModel& film, const FilmConstants<double>&
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<std::string> levels = {"tiles:4",  "tiles:8", "tiles:16", "tiles:32",
-                                     "tiles:64", "map:16",  "map:32"};
+  std::vector<std::string> levels = {"tiles:4", "tiles:8", "tiles:16", "tiles:32", "tiles:64",
+                                     "map:16",  "map:32",  "opmap:16", "opmap:32"};
   if (argc > 1) levels.assign(argv + 1, argv + argc);
   const auto reference = hilrig::host::MakeFilmField("tiles:128").value();
   const hilrig::fixtures::CalibrationBench bench;

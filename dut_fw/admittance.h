@@ -8,8 +8,9 @@
 // and the offset then uses the new rate. Per axis, with c = D/M and k = K/M, the discrete map is
 // stable iff  0 < c·dt < 2  and  k·dt² + 2·c·dt < 4,  i.e.  dt < (√(c² + 4k) − c) / k.
 // MaxStableAdmittanceDt() evaluates that bound; keep the control period well below it (for the
-// defaults of flight_controller.h, M = 1 kg, D = 12 N·s/m, K = 36 N/m, the bound is 0.138 s, far
-// above the 1 ms control step; only a very light virtual mass with heavy damping gets close).
+// defaults of flight_controller.h the stiffest axis, z with M = 1 kg, D = 20 N·s/m, K = 100 N/m,
+// bounds it at 0.083 s, and x, y with D = 12 N·s/m, K = 36 N/m at 0.138 s, both far above the 1 ms
+// control step; only a very light virtual mass with heavy damping gets close).
 #pragma once
 
 #include <algorithm>

@@ -1,8 +1,9 @@
 // The whole flight controller of the DUT, wired from its parts: estimator (IMU + delayed VIO) ->
 // admittance (external force bends the reference) -> position PD (thrust vector, desired
-// attitude) -> attitude P / rate PID (body torque) -> mixer (rotor thrusts). The class holds only
-// the constant parameters; everything that evolves lives in FlightControllerState, owned by the
-// caller, so a run is reproducible and the controller can be stepped from any thread or process.
+// attitude; the same external force is fed forward into the thrust) -> attitude P / rate PID
+// (body torque) -> mixer (rotor thrusts). The class holds only the constant parameters; everything
+// that evolves lives in FlightControllerState, owned by the caller, so a run is reproducible and
+// the controller can be stepped from any thread or process.
 //
 // Default tuning for the 0.556 kg vehicle (J ≈ diag(3e-3, 3e-3, 5e-3) kg m², arm 0.1 m,
 // κ = 0.016 m, 4 N per rotor, rotor lag 0.03 s), innermost first so each loop sees the one below
@@ -16,8 +17,16 @@
 //  - Position loop: 2.5 rad/s, ζ = 0.9 horizontally; 3 rad/s, ζ = 1 vertically (no overshoot into
 //    the ground or the object); tilt ≤ 35°; collective in [0.1 m g, 0.9 × 4 rotors × 4 N] so the
 //    mixer keeps torque headroom.
-//  - Admittance: M = 1 kg, D = 12 N·s/m, K = 36 N/m per axis: critically damped at 6 rad/s, 2.8 cm
-//    of give per newton.
+//  - Admittance, tuned for grasping: horizontally M = 1 kg, D = 12 N·s/m, K = 36 N/m (critically
+//    damped at 6 rad/s, 2.8 cm of give per newton, so a push is yielded to visibly); vertically
+//    M = 1 kg, D = 20 N·s/m, K = 100 N/m (critically damped at 10 rad/s, 1 cm of sag per newton:
+//    a held 240 g load moves the desired altitude down 2.4 cm). The stiffer z keeps a payload from
+//    dragging the vehicle toward the ground or the object below it.
+//  - Load feed-forward (load_feedforward): the measured external force is subtracted from the
+//    thrust (position_controller.h), so the weight of a held object is carried by feed-forward and
+//    not by the position error; with it the admittance offset f/K is the only static position
+//    error under a payload (without it the PD adds f/(m Kp): 0.35 m for a 180 g bottle). The
+//    switch exists for tests and ablations; the admittance sees the force either way.
 //  - Estimator: all poles at 0.9 per VIO update (see state_estimator.h).
 #pragma once
 
@@ -41,6 +50,7 @@ struct FlightControllerParams {
   AttitudeGains<S> attitude;
   MixerGeometry<S> mixer;
   EstimatorGains<S> estimator;
+  bool load_feedforward = true;  // false: the force bends the reference only (the ablation)
 };
 
 template <typename S>
@@ -56,8 +66,8 @@ FlightControllerParams<S> DefaultFlightControllerParams(S mass_kg) {
   p.mixer.max_thrust_per_rotor_n = S(4);
 
   p.admittance.mass_kg = Vec3<S>::Constant(S(1));
-  p.admittance.damping_n_s_per_m = Vec3<S>::Constant(S(12));
-  p.admittance.stiffness_n_per_m = Vec3<S>::Constant(S(36));
+  p.admittance.damping_n_s_per_m = Vec3<S>(S(12), S(12), S(20));
+  p.admittance.stiffness_n_per_m = Vec3<S>(S(36), S(36), S(100));
 
   p.position.kp_per_s2 = Vec3<S>(S(6.25), S(6.25), S(9));
   p.position.kv_per_s = Vec3<S>(S(4.5), S(4.5), S(6));
@@ -133,8 +143,11 @@ class FlightController {
     const Reference<S> safe_reference = AllFinite(reference) ? reference : HoldHere(est);
     out.desired = StepAdmittance(params_.admittance, state.admittance, safe_reference,
                                  external_force_world_n, dt_s);
-    const PositionCommand<S> command = ComputePositionCommand(
-        params_.position, out.desired, est.position_m, est.velocity_m_s, est.orientation);
+    const Vec3<S> feedforward_n =
+        params_.load_feedforward ? external_force_world_n : Vec3<S>::Zero();
+    const PositionCommand<S> command =
+        ComputePositionCommand(params_.position, out.desired, est.position_m, est.velocity_m_s,
+                               est.orientation, feedforward_n);
     out.collective_thrust_n = command.collective_thrust_n;
     out.attitude_desired = command.attitude_desired;
     out.torque_body_nm = StepAttitude(params_.attitude, state.attitude, command.attitude_desired,

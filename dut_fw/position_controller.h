@@ -2,9 +2,18 @@
 // produces the thrust vector the vehicle must point along, then splits it into a desired attitude
 // (for the attitude loop) and a collective thrust (for the mixer).
 //
-//   a_cmd = p̈d + Kv (ṗd − ṗ) + Kp (pd − p),   F = m (a_cmd + g e_z)        (world frame)
+//   a_cmd = p̈d + Kv (ṗd − ṗ) + Kp (pd − p),   F = m (a_cmd + g e_z) − f_ext        (world frame)
 //
-// Limits, in this order and for these reasons:
+// f_ext is the contacts' measured force on the vehicle (the tactile sum rotated into the world).
+// m is the vehicle alone, so without the −f_ext term a held object's weight would be fought only by
+// the PD and sag the vehicle by m_obj g / (m Kp) (≈ 0.35 m for a 180 g bottle at Kp = 9 s⁻²). The
+// tactile pads measure that load directly, so the thrust carries it as a feed-forward (a held
+// weight makes f_ext.z < 0 and the thrust grows); the admittance upstream still sees the same
+// force, so its deliberate give f/K becomes the only static position error under a payload. A
+// non-finite force is ignored (zero feed-forward): a broken tactile sample must never reach the
+// rotors.
+//
+// Limits, applied after the feed-forward, in this order and for these reasons:
 //  1. F_z is floored at max(min collective, 1e-3 m g) and capped at the max collective: rotors
 //     cannot pull down, and a positive floor keeps the thrust direction (hence the desired
 //     attitude) defined in a free-fall command.
@@ -73,19 +82,26 @@ Quat<S> AttitudeFromThrustAndYaw(const Vec3<S>& thrust, S yaw_rad) {
 }
 
 template <typename S>
-PositionCommand<S> ComputePositionCommand(const PositionGains<S>& gains,
-                                          const NoDeduce<Reference<S>>& desired,
-                                          const NoDeduce<Vec3<S>>& position_m,
-                                          const NoDeduce<Vec3<S>>& velocity_m_s,
-                                          const NoDeduce<Quat<S>>& attitude) {
+PositionCommand<S> ComputePositionCommand(
+    const PositionGains<S>& gains, const NoDeduce<Reference<S>>& desired,
+    const NoDeduce<Vec3<S>>& position_m, const NoDeduce<Vec3<S>>& velocity_m_s,
+    const NoDeduce<Quat<S>>& attitude,
+    const NoDeduce<Vec3<S>>& external_force_world_n = Vec3<S>::Zero()) {
   const S weight_n = gains.mass_kg * gains.gravity_m_s2;
+  const Vec3<S> feedforward_n =
+      AllFinite(external_force_world_n) ? external_force_world_n : Vec3<S>::Zero();
   const Vec3<S> accel_cmd_m_s2 = desired.acceleration_m_s2 +
                                  gains.kv_per_s.cwiseProduct(desired.velocity_m_s - velocity_m_s) +
                                  gains.kp_per_s2.cwiseProduct(desired.position_m - position_m);
   Vec3<S> thrust_n = gains.mass_kg * accel_cmd_m_s2;
   thrust_n.z() += weight_n;
-  // A non-finite input would otherwise reach the motors; hovering level is the least bad answer.
-  if (!AllFinite(thrust_n)) thrust_n = Vec3<S>(S(0), S(0), weight_n);
+  thrust_n -= feedforward_n;
+  // A non-finite input would otherwise reach the motors; hovering level (still carrying the
+  // measured load, if that is finite) is the least bad answer.
+  if (!AllFinite(thrust_n)) {
+    const S load_hover_n = weight_n - feedforward_n.z();
+    thrust_n = Vec3<S>(S(0), S(0), std::isfinite(load_hover_n) ? load_hover_n : weight_n);
+  }
 
   const S max_tilt_rad = std::clamp(gains.max_tilt_rad, S(0), S(85.0 * EIGEN_PI / 180.0));
   const S max_thrust_n = gains.max_collective_thrust_n;

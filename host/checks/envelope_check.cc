@@ -18,9 +18,26 @@ double EnvelopeCheck::Margin(double value) const {
   return margin;
 }
 
+std::optional<double> EnvelopeCheck::CheckedValue(const TraceSample& sample,
+                                                  EnvelopeProgress& progress) const {
+  const double value = SignalValue(sample, spec_.signal());
+  if (!spec_.has_mean_over_s()) return value;
+  // Half a microsecond of slack so that a window of whole trace periods counts as full.
+  constexpr double kSlackS = 5e-7;
+  auto& window = progress.window;
+  window.emplace_back(sample.time_s, value);
+  while (sample.time_s - window.front().first >= spec_.mean_over_s() - kSlackS) window.pop_front();
+  if (sample.time_s - from_s_ < spec_.mean_over_s() - kSlackS) return std::nullopt;
+  double sum = 0;
+  for (const auto& [time_s, windowed] : window) sum += windowed;
+  return sum / static_cast<double>(window.size());
+}
+
 bool EnvelopeCheck::Observe(const TraceSample& sample, EnvelopeProgress& progress) const {
   if (sample.time_s < from_s_ || sample.time_s > until_s_) return false;
-  const double value = SignalValue(sample, spec_.signal());
+  const std::optional<double> checked = CheckedValue(sample, progress);
+  if (!checked) return false;
+  const double value = *checked;
   const double margin = Margin(value);
   ++progress.samples_checked;
   if (margin < progress.worst_margin || progress.samples_checked == 1) {

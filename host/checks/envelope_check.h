@@ -1,11 +1,15 @@
 // Envelope checks: a signal of the trace must stay inside [lower, upper] over a time window. The
 // same code grades a run online (sample by sample, so a run can abort at the first violation) and
 // offline (over a recorded trace). A sample that is NaN or infinite counts as a violation: a check
-// never passes on numbers that are not there.
+// never passes on numbers that are not there. With `mean_over_s` the check reads the mean of the
+// signal over that trailing window (a NaN anywhere in the window makes the mean NaN).
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <limits>
+#include <optional>
+#include <utility>
 
 #include "host/trace/trace_sample.h"
 #include "proto/report.pb.h"
@@ -20,6 +24,7 @@ struct EnvelopeProgress {
   double worst_at_s = 0;
   bool violated = false;
   double first_violation_at_s = 0;
+  std::deque<std::pair<double, double>> window;  // (time, value) for mean_over_s
 };
 
 class EnvelopeCheck {
@@ -37,6 +42,8 @@ class EnvelopeCheck {
  private:
   // Distance inside the bounds: positive inside, negative outside, -inf for a non-finite value.
   double Margin(double value) const;
+  // The value to check at this sample, or nothing while the mean's window is still filling.
+  std::optional<double> CheckedValue(const TraceSample& sample, EnvelopeProgress& progress) const;
 
   proto::Envelope spec_;
   double from_s_;

@@ -45,4 +45,25 @@ std::optional<dut_fw::TactileProcessorParams<double>> FirmwareTactileParamsFor(
   return params;
 }
 
+dut_fw::GraspAdmittanceParams<double> FirmwareGraspParamsFor(const ScenarioConfig& config) {
+  const GripperConfig& gripper = config.gripper;
+  dut_fw::GraspAdmittanceParams<double> params;
+  params.mass = gripper.controller_mass.value_or(params.mass);
+  params.damping = gripper.controller_damping.value_or(params.damping);
+  params.stiffness = gripper.controller_stiffness.value_or(params.stiffness);
+  params.open_angle_rad = gripper.servo.min_angle_rad;
+  params.closed_angle_rad = gripper.servo.max_angle_rad;
+  params.force_feedback = gripper.force_feedback;
+  // The firmware knows its own servo: how long a move to the reference angle takes before force
+  // feedback may start integrating.
+  params.servo_max_rate_rad_s = gripper.servo.max_rate_rad_s;
+  params.servo_settle_s = 3 * gripper.servo.time_constant_s;
+  return params;
+}
+
+DutFirmware FirmwareFor(const ScenarioConfig& config) {
+  return {FirmwareParamsFor(config.vehicle), FirmwareTactileParamsFor(config),
+          FirmwareGraspParamsFor(config), config.gripper.external_force_in_position_loop};
+}
+
 }  // namespace hilrig::host

@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "dut_fw/flight_controller.h"
+#include "dut_fw/grasp_controller.h"
 #include "dut_fw/tactile_processor.h"
 #include "host/plant/quadrotor.h"
 #include "host/scenario/scenario_config.h"
@@ -18,5 +19,20 @@ dut_fw::FlightControllerParams<double> FirmwareParamsFor(const QuadrotorParams& 
 // Empty when the scene has no tactile nodes. Needs config.hall_sensors.calibration loaded.
 std::optional<dut_fw::TactileProcessorParams<double>> FirmwareTactileParamsFor(
     const ScenarioConfig& config);
+
+// The grasp admittance with the scene's gains and ablation switch; the servo's range is the
+// gripper's.
+dut_fw::GraspAdmittanceParams<double> FirmwareGraspParamsFor(const ScenarioConfig& config);
+
+// Everything the DUT is flashed with.
+struct DutFirmware {
+  dut_fw::FlightControllerParams<double> flight;
+  std::optional<dut_fw::TactileProcessorParams<double>> tactile;
+  dut_fw::GraspAdmittanceParams<double> grasp;
+  // false: the ablation that keeps the tactile force out of the admittance and the thrust.
+  bool external_force_in_position_loop = true;
+};
+
+DutFirmware FirmwareFor(const ScenarioConfig& config);
 
 }  // namespace hilrig::host

@@ -36,6 +36,11 @@ struct SetpointMessage {
   Eigen::Vector3d velocity_m_s = Eigen::Vector3d::Zero();
   Eigen::Vector3d acceleration_m_s2 = Eigen::Vector3d::Zero();
   double yaw_rad = 0;
+  // The grasp command rides with the setpoint: open the frame (false), or regulate the grasp force
+  // at grasp_force_n starting from the servo angle where contact is expected.
+  bool grasp_regulate = false;
+  double grasp_force_n = 0;
+  double grasp_reference_angle_rad = 0;
 };
 
 struct ActuatorMessage {
@@ -50,6 +55,11 @@ struct ActuatorMessage {
       Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
       Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
   bool tactile_ready = false;
+  double servo_angle_rad = 0;  // the gripper servo command
+  // Telemetry of the force-aware loops: the grasp force estimate sum |f_i . n_i| and the external
+  // force R_WB sum R_BSi f_i, as the DUT computed them this step (zero until its pads are zeroed).
+  double grasp_force_estimate_n = 0;
+  Eigen::Vector3d external_force_world_n = Eigen::Vector3d::Zero();
 };
 
 }  // namespace hilrig::host

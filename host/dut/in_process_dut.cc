@@ -4,11 +4,12 @@
 
 namespace hilrig::host {
 
-InProcessDut::InProcessDut(const dut_fw::FlightControllerParams<double>& params,
-                           const std::optional<dut_fw::TactileProcessorParams<double>>& tactile,
-                           std::unique_ptr<rig::CanBus> bus, double control_period_s)
-    : controller_(params),
-      tactile_params_(tactile),
+InProcessDut::InProcessDut(const DutFirmware& firmware, std::unique_ptr<rig::CanBus> bus,
+                           double control_period_s)
+    : controller_(firmware.flight),
+      grasp_params_(firmware.grasp),
+      external_force_in_position_loop_(firmware.external_force_in_position_loop),
+      tactile_params_(firmware.tactile),
       bus_(std::move(bus)),
       control_period_s_(control_period_s) {
   reference_.position_m.setZero();
@@ -33,6 +34,10 @@ void InProcessDut::SendSetpoint(const SetpointMessage& message) {
   reference_.velocity_m_s = message.velocity_m_s;
   reference_.acceleration_m_s2 = message.acceleration_m_s2;
   reference_.yaw_rad = message.yaw_rad;
+  grasp_command_.mode =
+      message.grasp_regulate ? dut_fw::GraspMode::kForce : dut_fw::GraspMode::kOpen;
+  grasp_command_.force_n = message.grasp_force_n;
+  grasp_command_.reference_angle_rad = message.grasp_reference_angle_rad;
 }
 
 void InProcessDut::DrainBus(std::int64_t now_ns) {
@@ -68,27 +73,41 @@ DutCounters InProcessDut::counters() const {
   return counters;
 }
 
-void InProcessDut::FillTactileTelemetry(std::int64_t now_ns, ActuatorMessage& command) const {
-  if (!tactile_params_) return;
+InProcessDut::TactileForces InProcessDut::SummarizeForces(std::int64_t now_ns) const {
+  TactileForces forces;
+  if (!tactile_params_) return forces;
   const auto summary = dut_fw::SummarizeTactile(*tactile_params_, tactile_state_, now_ns);
-  command.tactile_ready = summary.ready;
-  for (std::size_t i = 0; i < command.tactile_force_sensor_n.size(); ++i) {
-    command.tactile_force_sensor_n[i] = tactile_state_.nodes[i].force_sensor_n;
-  }
+  if (!summary.ready) return forces;
+  forces.external_world_n =
+      dut_fw::Rotate<double>(state_.estimator.orientation, summary.external_force_body_n);
+  forces.grasp_n = summary.grasp_force_n;
+  forces.valid = true;
+  return forces;
 }
 
 rig::Result<ActuatorMessage> InProcessDut::Step(std::uint64_t tick, std::int64_t now_ns) {
   DrainBus(now_ns);
-  const Eigen::Vector3d no_external_force_n = Eigen::Vector3d::Zero();
-  const auto output = controller_.Step(state_, reference_, no_external_force_n, control_period_s_);
+  const TactileForces tactile = SummarizeForces(now_ns);
+  const Eigen::Vector3d loop_force_n =
+      external_force_in_position_loop_ ? tactile.external_world_n : Eigen::Vector3d::Zero();
+  const auto output = controller_.Step(state_, reference_, loop_force_n, control_period_s_);
+  const auto grasp = dut_fw::StepGraspController(grasp_params_, grasp_state_, grasp_command_,
+                                                 tactile.grasp_n, tactile.valid, control_period_s_);
   ActuatorMessage command;
   command.stamp = {commands_sent_++, now_ns};
   command.answers_sequence = tick;
   command.rotor_thrust_n = output.rotor_thrust_n;
   command.armed = output.armed;
+  command.servo_angle_rad = grasp.servo_angle_rad;
   command.estimated_position_m = state_.estimator.position_m;
-  // Tactile force stays out of the position loop until the grasping work wires it in.
-  FillTactileTelemetry(now_ns, command);
+  command.tactile_ready = tactile.valid;
+  command.grasp_force_estimate_n = tactile.grasp_n;
+  command.external_force_world_n = tactile.external_world_n;
+  if (tactile_params_) {
+    for (std::size_t i = 0; i < command.tactile_force_sensor_n.size(); ++i) {
+      command.tactile_force_sensor_n[i] = tactile_state_.nodes[i].force_sensor_n;
+    }
+  }
   return command;
 }
 

@@ -8,8 +8,10 @@
 #include <vector>
 
 #include "dut_fw/flight_controller.h"
+#include "dut_fw/grasp_controller.h"
 #include "dut_fw/tactile_processor.h"
 #include "host/dut/dut_port.h"
+#include "host/dut/firmware_config.h"
 #include "rig/can_bus.h"
 #include "rig/tactile_link_monitor.h"
 
@@ -18,11 +20,10 @@ namespace hilrig::host {
 class InProcessDut final : public DutPort {
  public:
   // `bus` is the DUT's own endpoint on the CAN bus; `control_period_s` is its control step;
-  // `tactile` configures the tactile front end (empty: the scene has no tactile nodes, and
-  // reference magnetometer frames are only counted).
-  InProcessDut(const dut_fw::FlightControllerParams<double>& params,
-               const std::optional<dut_fw::TactileProcessorParams<double>>& tactile,
-               std::unique_ptr<rig::CanBus> bus, double control_period_s);
+  // `firmware.tactile` configures the tactile front end (empty: the scene has no tactile nodes,
+  // and reference magnetometer frames are only counted).
+  InProcessDut(const DutFirmware& firmware, std::unique_ptr<rig::CanBus> bus,
+               double control_period_s);
 
   void SendImu(const ImuMessage& message) override;
   void SendVio(const VioMessage& message) override;
@@ -33,11 +34,22 @@ class InProcessDut final : public DutPort {
 
  private:
   void DrainBus(std::int64_t now_ns);
-  void FillTactileTelemetry(std::int64_t now_ns, ActuatorMessage& command) const;
+  // The tactile front end's sums at `now_ns`, rotated into the world with the estimated attitude;
+  // nothing until every pad is zeroed and fresh.
+  struct TactileForces {
+    Eigen::Vector3d external_world_n = Eigen::Vector3d::Zero();
+    double grasp_n = 0;
+    bool valid = false;
+  };
+  TactileForces SummarizeForces(std::int64_t now_ns) const;
 
   dut_fw::FlightController<double> controller_;
   dut_fw::FlightControllerState<double> state_;
   dut_fw::Reference<double> reference_;
+  dut_fw::GraspAdmittanceParams<double> grasp_params_;
+  dut_fw::GraspControllerState<double> grasp_state_;
+  dut_fw::GraspCommand<double> grasp_command_;
+  bool external_force_in_position_loop_;
   std::optional<dut_fw::TactileProcessorParams<double>> tactile_params_;
   dut_fw::TactileProcessorState<double> tactile_state_{};
   std::unique_ptr<rig::CanBus> bus_;

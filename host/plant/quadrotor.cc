@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 
 namespace hilrig::host {
 namespace {
@@ -14,12 +15,15 @@ Eigen::Quaterniond YawQuaternion(double yaw_rad) {
 
 QuadrotorState StepQuadrotor(const QuadrotorParams& params, const QuadrotorState& state,
                              const std::array<double, kRotorCount>& commanded_thrust_n,
-                             const Eigen::Vector3d& external_force_world_n, double dt_s) {
+                             const Eigen::Vector3d& external_force_world_n, double dt_s,
+                             double payload_mass_kg) {
   QuadrotorState next = state;
   next.ground_contact = false;
   next.rotors = StepRotors(params.rotors, state.rotors, commanded_thrust_n, dt_s);
 
-  const double mass = params.body.mass_kg;
+  RigidBodyParams body = params.body;
+  if (payload_mass_kg > 0 && std::isfinite(payload_mass_kg)) body.mass_kg += payload_mass_kg;
+  const double mass = body.mass_kg;
   const double g = params.gravity_m_s2;
   const Eigen::Matrix3d r_wb = state.body.orientation.toRotationMatrix();
   const double collective = CollectiveThrust(next.rotors);
@@ -40,7 +44,7 @@ QuadrotorState StepQuadrotor(const QuadrotorParams& params, const QuadrotorState
 
   next.on_ground = false;
   next.airborne_once = true;
-  next.body = StepRigidBody(params.body, state.body, wrench, g, dt_s, params.integrator);
+  next.body = StepRigidBody(body, state.body, wrench, g, dt_s, params.integrator);
   // Thrust written directly in the body frame so that hover reads exactly (0, 0, T/m).
   next.specific_force_body_m_s2 = (r_wb.transpose() * non_thrust_force) / mass;
   next.specific_force_body_m_s2.z() += collective / mass;

@@ -49,9 +49,12 @@ struct QuadrotorState {
   Eigen::Vector3d specific_force_body_m_s2 = {0.0, 0.0, 9.81};
 };
 
+// `payload_mass_kg` is mass held rigidly at the body origin this step (a grasped object): it adds
+// to the translational mass and the weight, not to the inertia (a point mass at the centre).
 QuadrotorState StepQuadrotor(const QuadrotorParams& params, const QuadrotorState& state,
                              const std::array<double, kRotorCount>& commanded_thrust_n,
-                             const Eigen::Vector3d& external_force_world_n, double dt_s);
+                             const Eigen::Vector3d& external_force_world_n, double dt_s,
+                             double payload_mass_kg = 0.0);
 
 // m g / 4: the per-rotor thrust that holds a level vehicle still.
 double HoverThrustPerRotor(const QuadrotorParams& params);

@@ -120,11 +120,25 @@ std::string FormatEnvelopeLine(const proto::EnvelopeResult& result) {
 }
 
 std::string FormatTimingLine(const proto::Report& report) {
-  char buffer[160];
+  char buffer[200];
   std::snprintf(buffer, sizeof(buffer),
-                "real-time factor %.0fx (%.3g s simulated in %.3g s wall, %s)",
+                "real-time factor %.0fx (%.3g s simulated in %.3g s wall, %s; setup %.3g s)",
                 report.real_time_factor(), report.simulated_s(), report.wall_s(),
-                report.stop_reason().c_str());
+                report.stop_reason().c_str(), report.setup_s());
+  return buffer;
+}
+
+std::string FormatObjectLine(const proto::ObjectOutcome& outcome) {
+  char buffer[200];
+  if (outcome.damage() == "none") {
+    std::snprintf(buffer, sizeof(buffer), "object %s: undamaged, %s, peak %.3g N per pad",
+                  outcome.fixture().c_str(), outcome.final_state().c_str(),
+                  outcome.peak_normal_force_n());
+  } else {
+    std::snprintf(buffer, sizeof(buffer), "object %s: %s at %.3g s, %s, peak %.3g N per pad",
+                  outcome.fixture().c_str(), outcome.damage().c_str(), outcome.damaged_at_s(),
+                  outcome.final_state().c_str(), outcome.peak_normal_force_n());
+  }
   return buffer;
 }
 

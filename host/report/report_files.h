@@ -21,6 +21,9 @@ rig::Result<void> WriteJunitXml(const proto::Report& report, const std::string& 
 // "PASS  altitude_error  worst 0.0123 at 12.3 s  limit [-, 0.05]" (+ "(expected FAIL)" etc.).
 std::string FormatEnvelopeLine(const proto::EnvelopeResult& result);
 
+// "object balloon: burst at 12.3 s, destroyed, peak 0.46 N per pad".
+std::string FormatObjectLine(const proto::ObjectOutcome& outcome);
+
 // The last line of a run: simulated and wall time and the real-time factor.
 std::string FormatTimingLine(const proto::Report& report);
 

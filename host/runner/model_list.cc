@@ -52,6 +52,21 @@ void AppendModelList(const ScenarioConfig& config, const std::string& dut_descri
                  silicone.stiffening_enabled ? " stiffening" : " linear", ", ", chip,
                  hall.compensation ? "; DUT compensates" : "; DUT does not compensate"));
   }
+  if (config.gripper.enabled) {
+    const ServoParams& servo = config.gripper.servo;
+    Add(report, "gripper_servo",
+        Describe("own position loop, tau ", servo.time_constant_s, " s, ", servo.max_rate_rad_s,
+                 " rad/s, stall ", servo.stall_torque_nm, " N m; frame shrinks ",
+                 config.gripper.frame.closing_m_per_rad * 1e3, " mm/rad"));
+    std::string objects;
+    for (const ObjectPlacement& placement : config.gripper.objects) {
+      objects += (objects.empty() ? "" : ", ") + placement.fixture;
+    }
+    Add(report, "grasp_contact",
+        Describe("quasi-static pad and object compliance in series, Coulomb friction with stick "
+                 "and slip, stand, damage criteria; objects: ",
+                 objects));
+  }
   Add(report, "can_bus", Describe("emulated, ", config.can_bitrate_bps / 1e3, " kbit/s"));
   Add(report, "dut", dut_description);
 }

@@ -17,6 +17,15 @@ void RunStatistics::Add(const TraceSample& sample) {
   horizontal_error_m_.Add(SignalValue(sample, proto::HORIZONTAL_ERROR_M));
   altitude_error_m_.Add(SignalValue(sample, proto::ALTITUDE_ERROR_M));
   tilt_deg_.Add(sample.tilt_deg);
+  if (!grasp_scene_) return;
+  ++grasp_samples_;
+  grasp_estimate_error_n_.Add(SignalValue(sample, proto::GRASP_FORCE_ERROR_N));
+  load_estimate_error_n_.Add(SignalValue(sample, proto::LOAD_ESTIMATE_ERROR_N));
+  grasp_force_peak_n_ = std::max(grasp_force_peak_n_, sample.grasp_force_n);
+  if (sample.grasp_force_setpoint_n > 0 && sample.grasp_settled_s >= kGraspSettleS) {
+    ++settled_samples_;
+    grasp_tracking_error_n_.Add(std::abs(sample.grasp_force_n - sample.grasp_force_setpoint_n));
+  }
 }
 
 void RunStatistics::AppendMetrics(proto::Report& report) const {
@@ -30,6 +39,17 @@ void RunStatistics::AppendMetrics(proto::Report& report) const {
   append("horizontal_error", horizontal_error_m_, "m");
   append("altitude_error", altitude_error_m_, "m");
   append("tilt", tilt_deg_, "deg");
+  if (grasp_samples_ == 0) return;
+  const auto append_over = [&](const std::string& name, const Accumulator& accumulator,
+                               std::uint64_t samples) {
+    const double n = std::max<double>(1, static_cast<double>(samples));
+    AddMetric(report, name + "_rms", std::sqrt(accumulator.sum_squares / n), "N");
+    AddMetric(report, name + "_max", accumulator.max, "N");
+  };
+  append_over("grasp_force_tracking_error", grasp_tracking_error_n_, settled_samples_);
+  append_over("grasp_force_estimate_error", grasp_estimate_error_n_, grasp_samples_);
+  append_over("load_estimate_error", load_estimate_error_n_, grasp_samples_);
+  AddMetric(report, "grasp_force_peak", grasp_force_peak_n_, "N");
 }
 
 void AddMetric(proto::Report& report, const std::string& name, double value,

@@ -1,5 +1,7 @@
 // Summary statistics of a run's trace that go into the report as metrics: RMS and maximum of the
-// position, horizontal and altitude errors over every trace sample.
+// position, horizontal and altitude errors over every trace sample and, in grasp scenes, of the
+// grasp force against its setpoint once settled, of the DUT's grasp force and load estimates
+// against the truth, and the peak grasp force.
 #pragma once
 
 #include <cstdint>
@@ -11,8 +13,11 @@ namespace hilrig::host {
 
 class RunStatistics {
  public:
+  explicit RunStatistics(bool grasp_scene = false) : grasp_scene_(grasp_scene) {}
   void Add(const TraceSample& sample);
   void AppendMetrics(proto::Report& report) const;
+  // A grasp force regulation counts as settled this long after its command changed.
+  static constexpr double kGraspSettleS = 5.0;
 
  private:
   struct Accumulator {
@@ -26,6 +31,13 @@ class RunStatistics {
   Accumulator horizontal_error_m_;
   Accumulator altitude_error_m_;
   Accumulator tilt_deg_;
+  bool grasp_scene_;
+  std::uint64_t grasp_samples_ = 0;
+  std::uint64_t settled_samples_ = 0;
+  Accumulator grasp_tracking_error_n_;  // |true - setpoint| while regulating, settled
+  Accumulator grasp_estimate_error_n_;  // |estimate - true|
+  Accumulator load_estimate_error_n_;   // |estimate - true|
+  double grasp_force_peak_n_ = 0;
 };
 
 void AddMetric(proto::Report& report, const std::string& name, double value,

@@ -11,6 +11,7 @@
 #include "host/checks/envelope_check.h"
 #include "host/dut/firmware_config.h"
 #include "host/dut/in_process_dut.h"
+#include "host/runner/gripper_scene.h"
 #include "host/runner/hall_sensor_nodes.h"
 #include "host/runner/model_list.h"
 #include "host/runner/run_statistics.h"
@@ -81,6 +82,8 @@ class LockstepRunner::Impl {
   void SampleSensors(std::int64_t now_ns);
   bool ControlStep(std::uint64_t control_tick, std::int64_t now_ns);
   Eigen::Vector3d DisturbanceAt(double time_s) const;
+  void StepPlant(std::int64_t now_ns);
+  void FillGraspTrace(TraceSample& sample) const;
   bool RecordTrace(std::int64_t now_ns);
   void AppendBusMetrics(std::int64_t now_ns, proto::Report& report);
   void DrainCanLog(std::int64_t now_ns);
@@ -99,6 +102,9 @@ class LockstepRunner::Impl {
   ImuState imu_;
   VioState vio_;
   HallSensorNodes hall_sensors_;
+  std::optional<GripperScene> gripper_;
+  GripperCommand grasp_command_;
+  double grasp_command_since_s_ = 0;
   std::int64_t imu_period_ns_;
   std::int64_t next_imu_ns_ = 0;
   std::uint64_t imu_sequence_ = 0;
@@ -116,6 +122,7 @@ class LockstepRunner::Impl {
   RunStatistics statistics_;
   std::string stop_reason_ = "completed";
   std::uint64_t can_frames_logged_ = 0;
+  std::uint64_t non_finite_samples_ = 0;
   std::int64_t next_progress_wall_ns_ = kProgressPeriodNs;
   std::int64_t wall_start_ns_ = 0;
   std::uint64_t tick_ = 0;
@@ -135,12 +142,12 @@ LockstepRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
                                         config.seed, static_cast<std::uint64_t>(StreamId::kImu)))),
       hall_sensors_(config.hall_sensors, config.earth_field, config.seed, FilmFieldFor(config),
                     bus_.Connect("hall-sensor-nodes")),
-      imu_period_ns_(std::llround(1e9 / config.imu.rate_hz)) {
+      imu_period_ns_(std::llround(1e9 / config.imu.rate_hz)),
+      statistics_(config.gripper.enabled) {
   const double control_period_s =
       Seconds(config.physics_step_ns) * static_cast<double>(config.control_every_ticks);
-  dut_ = std::make_unique<InProcessDut>(FirmwareParamsFor(config.vehicle),
-                                        FirmwareTactileParamsFor(config), bus_.Connect("dut"),
-                                        control_period_s);
+  dut_ = std::make_unique<InProcessDut>(FirmwareFor(config), bus_.Connect("dut"), control_period_s);
+  if (config.gripper.enabled) gripper_.emplace(config, config.hall_sensors.tactile);
   // A scenario starting in the air starts hovering, rotors spun up; on the ground it starts at
   // rest.
   const Eigen::Vector3d& start_m = config.initial_reference.position_m;
@@ -182,17 +189,27 @@ void LockstepRunner::Impl::SampleSensors(std::int64_t now_ns) {
     dut_->SendVio(
         {{vio_sequence_++, now_ns}, pose.capture_time_ns, pose.position_m, pose.orientation});
   }
-  // No contact model yet: nothing presses on the pads.
-  hall_sensors_.Tick(now_ns, plant_.body.orientation, kNoPadForce);
+  hall_sensors_.Tick(now_ns, plant_.body.orientation,
+                     gripper_ ? gripper_->pad_forces() : kNoPadForce);
 }
 
 bool LockstepRunner::Impl::ControlStep(std::uint64_t control_tick, std::int64_t now_ns) {
   current_reference_ = reference_.Evaluate(Seconds(now_ns));
+  if (gripper_) {
+    const GripperCommand grasp = gripper_->CommandAt(Seconds(now_ns));
+    if (grasp.regulate != grasp_command_.regulate || grasp.force_n != grasp_command_.force_n) {
+      grasp_command_since_s_ = Seconds(now_ns);
+    }
+    grasp_command_ = grasp;
+  }
   dut_->SendSetpoint({{setpoint_sequence_++, now_ns},
                       current_reference_.position_m,
                       current_reference_.velocity_m_s,
                       current_reference_.acceleration_m_s2,
-                      current_reference_.yaw_rad});
+                      current_reference_.yaw_rad,
+                      grasp_command_.regulate,
+                      grasp_command_.force_n,
+                      grasp_command_.reference_angle_rad});
   auto command = dut_->Step(control_tick, now_ns);
   if (!command) {
     stop_reason_ = "dut failed: " + command.error().message;
@@ -213,6 +230,36 @@ Eigen::Vector3d LockstepRunner::Impl::DisturbanceAt(double time_s) const {
   return force_n;
 }
 
+// The gripper moves first, against the vehicle as it is, so that the vehicle step carries the held
+// object's mass and the contacts' force of this tick.
+void LockstepRunner::Impl::StepPlant(std::int64_t now_ns) {
+  const double dt_s = Seconds(config_.physics_step_ns);
+  Eigen::Vector3d force_world_n = DisturbanceAt(Seconds(now_ns));
+  double payload_kg = 0;
+  if (gripper_) {
+    gripper_->Step(Seconds(now_ns), command_.servo_angle_rad, plant_, dt_s);
+    force_world_n += gripper_->forces().force_on_vehicle_world_n;
+    payload_kg = gripper_->forces().payload_mass_kg;
+  }
+  plant_ = StepQuadrotor(config_.vehicle, plant_, command_.rotor_thrust_n, force_world_n, dt_s,
+                         payload_kg);
+}
+
+void LockstepRunner::Impl::FillGraspTrace(TraceSample& sample) const {
+  const GraspForces& forces = gripper_->forces();
+  sample.grasp_force_n = forces.grasp_force_n;
+  sample.grasp_force_estimate_n = command_.grasp_force_estimate_n;
+  sample.grasp_force_setpoint_n = grasp_command_.regulate ? grasp_command_.force_n : 0.0;
+  sample.grasp_settled_s = sample.time_s - grasp_command_since_s_;
+  sample.load_n = -gripper_->ContactForceWorld(plant_.body.orientation).z();
+  sample.load_estimate_n = -command_.external_force_world_n.z();
+  sample.object_mass_kg = gripper_->grasp().object_mass_kg;
+  sample.servo_angle_rad = gripper_->servo().angle_rad;
+  sample.servo_command_rad = command_.servo_angle_rad;
+  sample.object_damaged = gripper_->any_damaged();
+  sample.object_dropped = gripper_->any_dropped();
+}
+
 bool LockstepRunner::Impl::RecordTrace(std::int64_t now_ns) {
   TraceSample sample;
   sample.time_s = Seconds(now_ns);
@@ -223,15 +270,19 @@ bool LockstepRunner::Impl::RecordTrace(std::int64_t now_ns) {
   sample.tilt_deg = TiltDeg(plant_.body.orientation);
   sample.rotor_thrust_n = plant_.rotors.thrust_n;
   sample.estimated_position_m = command_.estimated_position_m;
+  const auto& applied_n = gripper_ ? gripper_->pad_forces() : kNoPadForce;
   for (int i = 0; i < kTactileSensorCount; ++i) {
     const double decoded_n = command_.tactile_force_sensor_n[i].norm();
     sample.tactile_force_max_n = std::max(sample.tactile_force_max_n, decoded_n);
     sample.tactile_force_error_max_n =
         std::max(sample.tactile_force_error_max_n,
-                 (command_.tactile_force_sensor_n[i] - kNoPadForce[i]).norm());
+                 (command_.tactile_force_sensor_n[i] - applied_n[i]).norm());
   }
+  if (gripper_) FillGraspTrace(sample);
+  if (!AllSignalsFinite(sample)) ++non_finite_samples_;
   statistics_.Add(sample);
   if (trace_writer_) trace_writer_->Write(sample);
+  if (sinks_.plot_trace != nullptr) sinks_.plot_trace->Add(sample);
   bool abort = false;
   for (std::size_t i = 0; i < checks_.size(); ++i) {
     if (checks_[i].Observe(sample, check_progress_[i]) && checks_[i].spec().abort_on_violation()) {
@@ -271,8 +322,7 @@ bool LockstepRunner::Impl::Tick() {
     ended_ = true;
     return false;
   }
-  plant_ = StepQuadrotor(config_.vehicle, plant_, command_.rotor_thrust_n,
-                         DisturbanceAt(Seconds(now_ns)), Seconds(config_.physics_step_ns));
+  StepPlant(now_ns);
   clock_.AdvanceNs(config_.physics_step_ns);
   ++tick_;
   if (tick_ % static_cast<std::uint64_t>(config_.trace_every_ticks) == 0) {
@@ -340,6 +390,13 @@ proto::Report LockstepRunner::Impl::Finish() {
             "count");
   AppendBusMetrics(now_ns, report);
   AddMetric(report, "ground_impacts", plant_.ground_impacts, "count");
+  AddMetric(report, "non_finite_trace_samples", static_cast<double>(non_finite_samples_), "count");
+  if (gripper_) {
+    for (const proto::ObjectOutcome& outcome : gripper_->Outcomes())
+      *report.add_objects() = outcome;
+    AddMetric(report, "grasp_elastic_energy_peak", gripper_->peak_elastic_energy_j(), "J");
+    AddMetric(report, "grasp_elastic_energy_bound", gripper_->elastic_energy_bound_j(), "J");
+  }
   AppendModelList(config_, dut_->description(), report);
   return report;
 }

@@ -9,6 +9,7 @@
 #include <memory>
 #include <ostream>
 
+#include "host/report/run_plots.h"
 #include "host/scenario/scenario_config.h"
 #include "proto/report.pb.h"
 #include "rig/clock.h"
@@ -19,6 +20,7 @@ struct RunSinks {
   std::ostream* trace_csv = nullptr;  // optional
   std::ostream* can_log = nullptr;    // optional, candump -l format
   std::ostream* progress = nullptr;   // optional, a line every few wall seconds on long runs
+  PlotTrace* plot_trace = nullptr;    // optional, the columns the run's plots need
 };
 
 struct RunControl {

@@ -1,12 +1,15 @@
 #include "host/scenario/scenario_config.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <numbers>
 
 #include "fixtures/calibration/calibration_file.h"
 #include "fixtures/calibration/calibration_procedure.h"
+#include "fixtures/objects/object_fixtures.h"
 #include "host/sensors/tactile/film_field_factory.h"
+#include "rig/check.h"
 
 namespace hilrig::host {
 namespace {
@@ -125,6 +128,43 @@ void ResolveSimulation(const proto::Simulation& simulation, ScenarioConfig& conf
   config.can_bitrate_bps = Or(simulation.has_can_bitrate_bps(), simulation.can_bitrate_bps(), 1e6);
 }
 
+ObjectPlacement ResolveObject(const proto::GraspObject& spec, double at_s,
+                              double default_stand_height_m) {
+  auto fixture = fixtures::ObjectFixture(spec.fixture());
+  HILRIG_CHECK(fixture.ok(), "object fixtures are validated before the run");
+  ObjectPlacement placement;
+  placement.at_s = at_s;
+  placement.fixture = spec.fixture();
+  placement.object = WithStiffnessScale(
+      fixture.value(), Or(spec.has_stiffness_scale(), spec.stiffness_scale(), 1.0));
+  placement.object.mass_kg = Or(spec.has_mass_kg(), spec.mass_kg(), placement.object.mass_kg);
+  placement.stand_height_m =
+      Or(spec.has_stand_height_m(), spec.stand_height_m(), default_stand_height_m);
+  return placement;
+}
+
+void ResolveGripper(const proto::Scenario& spec, GripperConfig& gripper) {
+  gripper.enabled = spec.has_object();
+  const proto::Gripper& hardware = spec.models().gripper();
+  gripper.servo.stall_torque_nm =
+      Or(hardware.has_stall_torque_nm(), hardware.stall_torque_nm(), gripper.servo.stall_torque_nm);
+  gripper.servo.max_rate_rad_s =
+      Or(hardware.has_max_rate_rad_s(), hardware.max_rate_rad_s(), gripper.servo.max_rate_rad_s);
+  gripper.servo.time_constant_s =
+      Or(hardware.has_servo_time_constant_s(), hardware.servo_time_constant_s(),
+         gripper.servo.time_constant_s);
+  const proto::GraspController& controller = spec.grasp_controller();
+  if (controller.has_mass()) gripper.controller_mass = controller.mass();
+  if (controller.has_damping()) gripper.controller_damping = controller.damping();
+  if (controller.has_stiffness()) gripper.controller_stiffness = controller.stiffness();
+  gripper.force_feedback = Or(controller.has_force_feedback(), controller.force_feedback(), true);
+  gripper.external_force_in_position_loop = Or(controller.has_external_force_in_position_loop(),
+                                               controller.external_force_in_position_loop(), true);
+  if (!gripper.enabled) return;
+  const double default_stand_m = spec.vehicle().initial_position_m().z();
+  gripper.objects.push_back(ResolveObject(spec.object(), 0.0, default_stand_m));
+}
+
 void ResolveTimeline(const proto::Scenario& spec, ScenarioConfig& config) {
   double yaw_rad = config.initial_reference.yaw_rad;
   for (const proto::TimelineEntry& entry : spec.timeline()) {
@@ -136,6 +176,19 @@ void ResolveTimeline(const proto::Scenario& spec, ScenarioConfig& config) {
     } else if (entry.has_disturbance()) {
       config.disturbances.push_back({entry.at_s(), entry.disturbance().duration_s(),
                                      ToEigen(entry.disturbance().force_world_n())});
+    } else if (entry.has_grasp()) {
+      const proto::Grasp& grasp = entry.grasp();
+      GraspCommandEvent event{entry.at_s(), !grasp.open(), grasp.force_n(), std::nullopt};
+      if (grasp.has_reference_angle_rad()) event.reference_angle_rad = grasp.reference_angle_rad();
+      config.gripper.grasps.push_back(event);
+    } else if (entry.has_pour()) {
+      config.gripper.pours.push_back(
+          {entry.at_s(), entry.pour().mass_kg(), entry.pour().duration_s()});
+    } else if (entry.has_remove_support()) {
+      config.gripper.support_removals_s.push_back(entry.at_s());
+    } else if (entry.has_present_object()) {
+      config.gripper.objects.push_back(ResolveObject(entry.present_object(), entry.at_s(),
+                                                     spec.vehicle().initial_position_m().z()));
     }
   }
 }
@@ -151,12 +204,17 @@ ScenarioConfig ResolveScenario(const proto::Scenario& spec,
   config.vehicle = ResolveVehicle(spec);
   ResolveSensors(spec, config);
   ResolveHallSensors(spec, spec_directory, config.hall_sensors);
+  ResolveGripper(spec, config.gripper);
   ResolveSimulation(spec.simulation(), config);
 
   const double initial_yaw_rad = spec.vehicle().initial_yaw_deg() * kDegToRad;
   config.initial_reference.position_m = ToEigen(spec.vehicle().initial_position_m());
   config.initial_reference.yaw_rad = initial_yaw_rad;
   ResolveTimeline(spec, config);
+  const auto by_time = [](const auto& a, const auto& b) { return a.at_s < b.at_s; };
+  std::stable_sort(config.gripper.objects.begin(), config.gripper.objects.end(), by_time);
+  std::stable_sort(config.gripper.grasps.begin(), config.gripper.grasps.end(), by_time);
+  std::sort(config.gripper.support_removals_s.begin(), config.gripper.support_removals_s.end());
   config.envelopes.assign(spec.envelopes().begin(), spec.envelopes().end());
   config.models = spec.models();
   return config;

@@ -9,7 +9,10 @@
 #include <string>
 #include <vector>
 
+#include "host/plant/gripper_frame.h"
+#include "host/plant/object_model.h"
 #include "host/plant/quadrotor.h"
+#include "host/plant/servo.h"
 #include "host/scenario/reference_trajectory.h"
 #include "host/sensors/earth_field.h"
 #include "host/sensors/imu_emulator.h"
@@ -41,6 +44,45 @@ struct HallSensorConfig {
   std::optional<proto::Calibration> calibration;  // filled by LoadTactileCalibration
 };
 
+// An object put on its stand at `at_s` (0: the scene's initial object).
+struct ObjectPlacement {
+  double at_s = 0;
+  std::string fixture;
+  ObjectParams object;
+  double stand_height_m = 0;
+};
+
+struct GraspCommandEvent {
+  double at_s = 0;
+  bool regulate = false;  // false: open the frame
+  double force_n = 0;
+  std::optional<double> reference_angle_rad;  // unset: 2 mm before the current object's surface
+};
+
+struct PourEvent {
+  double at_s = 0;
+  double mass_kg = 0;
+  double duration_s = 0;
+};
+
+// The gripper (servo, frame), the objects it meets, the grasp commands and mass flows of the
+// timeline, and the DUT's grasp controller settings. `enabled` when the spec has an object.
+struct GripperConfig {
+  bool enabled = false;
+  ServoParams servo;
+  GripperFrameParams frame;
+  std::vector<ObjectPlacement> objects;  // in time order; objects[0] is there from the start
+  std::vector<GraspCommandEvent> grasps;
+  std::vector<PourEvent> pours;
+  std::vector<double> support_removals_s;  // the stand is taken away at these times
+  // DUT firmware settings (unset gains: the firmware's defaults).
+  std::optional<double> controller_mass;
+  std::optional<double> controller_damping;
+  std::optional<double> controller_stiffness;
+  bool force_feedback = true;
+  bool external_force_in_position_loop = true;
+};
+
 struct ScenarioConfig {
   std::string name;
   std::uint64_t seed = 1;
@@ -54,6 +96,7 @@ struct ScenarioConfig {
   ImuParams imu;
   VioParams vio;
   HallSensorConfig hall_sensors;
+  GripperConfig gripper;
   EarthField earth_field;
 
   ReferenceSample initial_reference;  // also where the vehicle starts, at rest
@@ -65,6 +108,7 @@ struct ScenarioConfig {
 
 // `seed_override` replaces the spec's seed (the --seed flag); relative file names in the spec are
 // taken from `spec_directory`.
+// The spec must have passed ValidateScenario (unknown fixtures abort here).
 ScenarioConfig ResolveScenario(const proto::Scenario& spec,
                                std::optional<std::uint64_t> seed_override,
                                const std::string& spec_directory = "");

@@ -8,6 +8,7 @@
 #include <set>
 
 #include "dut_fw/sensor_node.h"
+#include "fixtures/objects/object_fixtures.h"
 #include "host/plant/quadrotor.h"
 #include "host/sensors/tactile/film_field_factory.h"
 
@@ -181,6 +182,48 @@ void CheckSimulation(const proto::Simulation& simulation, const ProblemList& pro
   }
 }
 
+void CheckObject(const proto::GraspObject& object, const ProblemList& problems) {
+  if (object.fixture().empty()) {
+    problems.AddHere("fixture is required");
+  } else if (auto fixture = fixtures::ObjectFixture(object.fixture()); !fixture) {
+    problems.Add("fixture", fixture.error().message);
+  }
+  RequirePositive(object.has_stiffness_scale(), object.stiffness_scale(), "stiffness_scale",
+                  problems);
+  RequirePositive(object.has_mass_kg(), object.mass_kg(), "mass_kg", problems);
+  RequirePositive(object.has_stand_height_m(), object.stand_height_m(), "stand_height_m", problems);
+}
+
+// The grasp force comes from the pads, so a regulating grasp needs them; the servo cannot squeeze
+// harder than its stall torque allows (about 10 N over the six pads), so a larger target is a typo.
+void CheckGrasp(const proto::Scenario& scenario, const proto::Grasp& grasp,
+                const ProblemList& problems) {
+  if (!scenario.has_object()) problems.AddHere("commands the gripper, but the scene has no object");
+  if (grasp.open()) return;
+  if (!grasp.has_force_n()) problems.AddHere("force_n is required (or open: true)");
+  if (grasp.has_force_n() && !(grasp.force_n() > 0 && grasp.force_n() <= 20)) {
+    problems.Add("force_n", "must be in (0, 20] N");
+  }
+  if (!scenario.models().tactile().enabled()) {
+    problems.AddHere("regulates the grasp force, which needs models.tactile.enabled");
+  }
+}
+
+void CheckGraspController(const proto::GraspController& controller, const ProblemList& problems) {
+  RequirePositive(controller.has_mass(), controller.mass(), "mass", problems);
+  RequirePositive(controller.has_damping(), controller.damping(), "damping", problems);
+  RequireNonNegative(controller.has_stiffness(), controller.stiffness(), "stiffness", problems);
+}
+
+void CheckGripper(const proto::Gripper& gripper, const ProblemList& problems) {
+  RequirePositive(gripper.has_stall_torque_nm(), gripper.stall_torque_nm(), "stall_torque_nm",
+                  problems);
+  RequirePositive(gripper.has_max_rate_rad_s(), gripper.max_rate_rad_s(), "max_rate_rad_s",
+                  problems);
+  RequirePositive(gripper.has_servo_time_constant_s(), gripper.servo_time_constant_s(),
+                  "servo_time_constant_s", problems);
+}
+
 void CheckTimeline(const proto::Scenario& scenario, const ProblemList& problems) {
   const double duration_s = scenario.simulation().duration_s();
   for (int i = 0; i < scenario.timeline_size(); ++i) {
@@ -203,8 +246,35 @@ void CheckTimeline(const proto::Scenario& scenario, const ProblemList& problems)
         RequirePositive(entry.disturbance().has_duration_s(), entry.disturbance().duration_s(),
                         "duration_s", here.Nested("disturbance"));
         break;
+      case proto::TimelineEntry::kGrasp:
+        CheckGrasp(scenario, entry.grasp(), here.Nested("grasp"));
+        break;
+      case proto::TimelineEntry::kPour: {
+        const ProblemList pour = here.Nested("pour");
+        if (!entry.pour().has_mass_kg()) pour.AddHere("mass_kg is required");
+        RequirePositive(entry.pour().has_mass_kg(), entry.pour().mass_kg(), "mass_kg", pour);
+        if (!entry.pour().has_duration_s()) pour.AddHere("duration_s is required");
+        RequirePositive(entry.pour().has_duration_s(), entry.pour().duration_s(), "duration_s",
+                        pour);
+        if (!scenario.has_object()) pour.AddHere("pours into the object, but the scene has none");
+        break;
+      }
+      case proto::TimelineEntry::kRemoveSupport:
+        if (!scenario.has_object()) {
+          here.Nested("remove_support").AddHere("the scene has no object on a stand");
+        }
+        break;
+      case proto::TimelineEntry::kPresentObject:
+        CheckObject(entry.present_object(), here.Nested("present_object"));
+        if (!scenario.has_object()) {
+          here.Nested("present_object")
+              .AddHere("replaces the scene's object: set `object` for the first one");
+        }
+        break;
       case proto::TimelineEntry::ACTION_NOT_SET:
-        here.AddHere("needs an action: setpoint or disturbance");
+        here.AddHere(
+            "needs an action: setpoint, disturbance, grasp, pour, present_object or "
+            "remove_support");
         break;
     }
   }
@@ -231,10 +301,16 @@ void CheckEnvelopes(const proto::Scenario& scenario, const ProblemList& problems
       here.Add("from_s", "must not be after until_s");
     }
     RequireNonNegative(envelope.has_from_s(), envelope.from_s(), "from_s", here);
+    RequirePositive(envelope.has_mean_over_s(), envelope.mean_over_s(), "mean_over_s", here);
     const bool tactile_signal = envelope.signal() == proto::TACTILE_FORCE_N ||
                                 envelope.signal() == proto::TACTILE_FORCE_ERROR_N;
     if (tactile_signal && !scenario.models().tactile().enabled()) {
       here.Add("signal", "watches the tactile pads, but models.tactile.enabled is false");
+    }
+    const bool grasp_signal =
+        envelope.signal() >= proto::GRASP_FORCE_N && envelope.signal() <= proto::SERVO_ANGLE_RAD;
+    if (grasp_signal && !scenario.has_object()) {
+      here.Add("signal", "watches the grasp, but the scene has no object");
     }
   }
 }
@@ -271,6 +347,9 @@ std::vector<FieldProblem> ValidateScenario(const proto::Scenario& scenario) {
   } else {
     CheckSimulation(scenario.simulation(), root.Nested("simulation"));
   }
+  if (scenario.has_object()) CheckObject(scenario.object(), root.Nested("object"));
+  CheckGripper(scenario.models().gripper(), root.Nested("models").Nested("gripper"));
+  CheckGraspController(scenario.grasp_controller(), root.Nested("grasp_controller"));
   CheckTimeline(scenario, root);
   CheckEnvelopes(scenario, root);
   if (scenario.environment().has_gravity_m_s2() && !(scenario.environment().gravity_m_s2() > 0)) {

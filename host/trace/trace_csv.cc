@@ -8,7 +8,9 @@ TraceCsvWriter::TraceCsvWriter(std::ostream& out) : out_(out) {
   out_ << "time_s,x_m,y_m,z_m,ref_x_m,ref_y_m,ref_z_m,vx_m_s,vy_m_s,vz_m_s,roll_deg,pitch_deg,"
           "yaw_deg,tilt_deg,position_error_m,horizontal_error_m,altitude_error_m,thrust0_n,"
           "thrust1_n,thrust2_n,thrust3_n,est_x_m,est_y_m,est_z_m,tactile_force_max_n,"
-          "tactile_force_error_max_n\n";
+          "tactile_force_error_max_n,grasp_force_n,grasp_force_estimate_n,grasp_force_setpoint_n,"
+          "load_n,load_estimate_n,object_mass_kg,servo_angle_rad,servo_command_rad,"
+          "object_damaged,object_dropped\n";
   line_.reserve(512);
 }
 
@@ -34,6 +36,16 @@ void TraceCsvWriter::Write(const TraceSample& sample) {
   for (int i = 0; i < 3; ++i) Append(sample.estimated_position_m(i));
   Append(sample.tactile_force_max_n);
   Append(sample.tactile_force_error_max_n);
+  Append(sample.grasp_force_n);
+  Append(sample.grasp_force_estimate_n);
+  Append(sample.grasp_force_setpoint_n);
+  Append(sample.load_n);
+  Append(sample.load_estimate_n);
+  Append(sample.object_mass_kg);
+  Append(sample.servo_angle_rad);
+  Append(sample.servo_command_rad);
+  Append(sample.object_damaged ? 1.0 : 0.0);
+  Append(sample.object_dropped ? 1.0 : 0.0);
   line_ += '\n';
   out_.write(line_.data(), static_cast<std::streamsize>(line_.size()));
 }

@@ -22,9 +22,25 @@ struct TraceSample {
   Eigen::Vector3d estimated_position_m = Eigen::Vector3d::Zero();
   double tactile_force_max_n = 0;        // largest decoded pad force (DUT)
   double tactile_force_error_max_n = 0;  // largest |decoded - applied| pad force
+  // Grasp scenes (all zero without an object).
+  double grasp_force_n = 0;           // true: sum of the pads' normal forces
+  double grasp_force_estimate_n = 0;  // the DUT's sum |f_i . n_i|
+  double grasp_force_setpoint_n = 0;  // f_d while the DUT regulates, else 0
+  double grasp_settled_s = 0;         // time since the grasp command last changed
+  double load_n = 0;                  // true vertical contact force on the vehicle, down > 0
+  double load_estimate_n = 0;         // the DUT's, from its external force estimate
+  double object_mass_kg = 0;
+  double servo_angle_rad = 0;
+  double servo_command_rad = 0;
+  bool object_damaged = false;
+  bool object_dropped = false;
 };
 
 // The value of `signal` in `sample` (NaN for SIGNAL_UNSPECIFIED).
 double SignalValue(const TraceSample& sample, proto::Signal signal);
+
+// Every signal an envelope can watch is finite (a NaN anywhere is a model or DUT defect worth
+// counting even where no envelope looks).
+bool AllSignalsFinite(const TraceSample& sample);
 
 }  // namespace hilrig::host

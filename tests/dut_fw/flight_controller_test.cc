@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <deque>
+#include <limits>
 #include <new>
 #include <vector>
 
@@ -99,12 +100,15 @@ struct Sample {
   bool armed;
 };
 
-// Closed loop: plant + perfect IMU + VIO (30 Hz, 40 ms late) + controller in scalar S.
+// Closed loop: plant + perfect IMU + VIO (30 Hz, 40 ms late) + controller in scalar S. The
+// external force acts on the plant and is measured exactly by the controller.
 template <typename S>
 std::vector<Sample> Fly(const Reference<S>& reference, double duration_s,
                         const Eigen::Vector3d& external_force_n = Eigen::Vector3d::Zero(),
-                        double force_from_s = 0.0) {
-  const FlightController<S> controller(DefaultFlightControllerParams<S>(S(kMassKg)));
+                        double force_from_s = 0.0, bool load_feedforward = true) {
+  FlightControllerParams<S> params = DefaultFlightControllerParams<S>(S(kMassKg));
+  params.load_feedforward = load_feedforward;
+  const FlightController<S> controller(params);
   FlightControllerState<S> state;
   Plant plant;
   struct Pose {
@@ -231,11 +235,80 @@ TYPED_TEST(FlightControllerTest, ExternalForceIsAbsorbedByTheAdmittance) {
 
   const std::vector<Sample> trace = Fly<S>(HoverAt<S>(0, 0, 1), 12.0, push_n, 4.0);
 
-  // Desired moves by f/K; the PD loop lags it by f/(m kp) more (it has no integrator).
+  // Desired moves by f/K; the thrust cancels the measured push, so the PD has no static error
+  // and the vehicle sits on the desired position.
   const Sample& last = trace.back();
   EXPECT_NEAR(last.desired_m.x(), 0.3 / 36.0, 1e-4);
-  EXPECT_NEAR(last.position_m.x(), 0.3 / 36.0 + 0.3 / (kMassKg * 6.25), 1e-3);
+  EXPECT_NEAR(last.position_m.x(), 0.3 / 36.0, 1e-3);
   EXPECT_NEAR(last.position_m.z(), 1.0, 2e-3);
+}
+
+// The weight of a held 180 g bottle, as the pads measure it: the contacts pull the vehicle down.
+const Eigen::Vector3d kBottleForceN(0.0, 0.0, -1.77);
+
+TYPED_TEST(FlightControllerTest, HeldLoadSagsOnlyByTheAdmittanceOffset) {
+  using S = TypeParam;
+
+  const std::vector<Sample> trace = Fly<S>(HoverAt<S>(0, 0, 1), 12.0, kBottleForceN, 4.0);
+
+  // z admittance K = 100 N/m: desired drops by f/K; the fed-forward thrust carries the load.
+  const Sample& last = trace.back();
+  EXPECT_NEAR(last.desired_m.z(), 1.0 - 1.77 / 100.0, 1e-4);
+  EXPECT_NEAR(last.position_m.z(), 1.0 - 1.77 / 100.0, 1e-3);
+}
+
+TYPED_TEST(FlightControllerTest, WithoutLoadFeedForwardThePdSagsUnderTheLoad) {
+  using S = TypeParam;
+
+  const std::vector<Sample> trace =
+      Fly<S>(HoverAt<S>(0, 0, 1), 12.0, kBottleForceN, 4.0, /*load_feedforward=*/false);
+
+  // The admittance still gives f/K; the PD (no integrator) adds f/(m kp_z), 0.35 m.
+  const Sample& last = trace.back();
+  EXPECT_NEAR(last.desired_m.z(), 1.0 - 1.77 / 100.0, 1e-4);
+  EXPECT_NEAR(last.position_m.z(), 1.0 - 1.77 / 100.0 - 1.77 / (kMassKg * 9.0), 2e-3);
+}
+
+// One armed step hovering level at (0, 0, 1), with `force_n` measured.
+template <typename S>
+FlightControllerOutput<S> HoverStep(const FlightControllerParams<S>& params, const Vec3<S>& force_n,
+                                    FlightControllerState<S>& state) {
+  const FlightController<S> controller(params);
+  controller.OnImu(state, Vec3<S>::Zero(), Vec3<S>(S(0), S(0), S(kG)), 0);
+  controller.OnVio(state, Vec3<S>(S(0), S(0), S(1)), Quat<S>::Identity(), 0);
+  controller.OnImu(state, Vec3<S>::Zero(), Vec3<S>(S(0), S(0), S(kG)), kTickNs);
+  return controller.Step(state, HoverAt<S>(0, 0, 1), force_n, S(1e-3));
+}
+
+TYPED_TEST(FlightControllerTest, LoadFeedForwardSwitchRemovesExactlyTheMeasuredLoad) {
+  using S = TypeParam;
+  const FlightControllerParams<S> with = DefaultFlightControllerParams<S>(S(kMassKg));
+  FlightControllerParams<S> without = with;
+  without.load_feedforward = false;
+  const Vec3<S> force_n = kBottleForceN.cast<S>();
+  FlightControllerState<S> state_with, state_without;
+
+  const FlightControllerOutput<S> on = HoverStep<S>(with, force_n, state_with);
+  const FlightControllerOutput<S> off = HoverStep<S>(without, force_n, state_without);
+
+  // Same admittance step in both (it sees the force either way); level, so collective = F_z.
+  EXPECT_EQ(state_with.admittance.offset_m, state_without.admittance.offset_m);
+  EXPECT_NEAR(on.collective_thrust_n - off.collective_thrust_n, 1.77, 1e-5);
+}
+
+TYPED_TEST(FlightControllerTest, NonFiniteForceReachesNeitherLoop) {
+  using S = TypeParam;
+  const FlightControllerParams<S> params = DefaultFlightControllerParams<S>(S(kMassKg));
+  const Vec3<S> nan_n(S(0), S(0), std::numeric_limits<S>::quiet_NaN());
+  FlightControllerState<S> state_nan, state_zero;
+
+  const FlightControllerOutput<S> bad = HoverStep<S>(params, nan_n, state_nan);
+  const FlightControllerOutput<S> zero = HoverStep<S>(params, Vec3<S>::Zero(), state_zero);
+
+  EXPECT_EQ(bad.collective_thrust_n, zero.collective_thrust_n);
+  EXPECT_EQ(bad.rotor_thrust_n, zero.rotor_thrust_n);
+  EXPECT_EQ(state_nan.admittance.offset_m, Vec3<S>::Zero());
+  EXPECT_EQ(state_nan.admittance.rejected_inputs, 1u);
 }
 
 TEST(FlightControllerPrecision, FloatAndDoubleAgree) {

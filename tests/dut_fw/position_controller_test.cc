@@ -164,5 +164,76 @@ TYPED_TEST(PositionControllerTest, NonFiniteInputFallsBackToLevelHover) {
   EXPECT_NEAR(cmd.attitude_desired.angularDistance(Quat<S>::Identity()), 0.0, 1e-3);
 }
 
+TYPED_TEST(PositionControllerTest, HeldLoadIsCarriedByTheThrust) {
+  using S = TypeParam;
+  const Vec3<S> here(S(0), S(0), S(1));
+  const Vec3<S> load_n(S(0), S(0), S(-1.77));  // a held 180 g bottle pulls the vehicle down
+
+  const PositionCommand<S> cmd = ComputePositionCommand<S>(
+      Gains<S>(), At<S>(S(0), S(0), S(1)), here, Vec3<S>::Zero(), Quat<S>::Identity(), load_n);
+
+  EXPECT_NEAR(cmd.collective_thrust_n, kMassKg * kG + 1.77, 1e-5);
+  EXPECT_NEAR(cmd.thrust_world_n.z(), kMassKg * kG + 1.77, 1e-5);
+  EXPECT_NEAR(cmd.attitude_desired.angularDistance(Quat<S>::Identity()), 0.0, 1e-3);
+}
+
+TYPED_TEST(PositionControllerTest, SidewaysContactForceIsOpposed) {
+  using S = TypeParam;
+  const Vec3<S> push_n(S(0.3), S(-0.2), S(0));
+
+  const PositionCommand<S> cmd =
+      ComputePositionCommand<S>(Gains<S>(), At<S>(S(0), S(0), S(0)), Vec3<S>::Zero(),
+                                Vec3<S>::Zero(), Quat<S>::Identity(), push_n);
+
+  EXPECT_NEAR(cmd.thrust_world_n.x(), -0.3, 1e-6);
+  EXPECT_NEAR(cmd.thrust_world_n.y(), 0.2, 1e-6);
+  EXPECT_NEAR(cmd.thrust_world_n.z(), kMassKg * kG, 1e-5);
+}
+
+TYPED_TEST(PositionControllerTest, LoadFeedForwardIsLimitedLikeTheRest) {
+  using S = TypeParam;
+  const Vec3<S> lift_n(S(0), S(0), S(10));    // contacts pushing up harder than the weight
+  const Vec3<S> heavy_n(S(0), S(0), S(-20));  // a load beyond the rotors
+
+  const PositionCommand<S> lifted =
+      ComputePositionCommand<S>(Gains<S>(), At<S>(S(0), S(0), S(0)), Vec3<S>::Zero(),
+                                Vec3<S>::Zero(), Quat<S>::Identity(), lift_n);
+  const PositionCommand<S> heavy =
+      ComputePositionCommand<S>(Gains<S>(), At<S>(S(0), S(0), S(0)), Vec3<S>::Zero(),
+                                Vec3<S>::Zero(), Quat<S>::Identity(), heavy_n);
+
+  EXPECT_NEAR(lifted.collective_thrust_n, 0.5, 1e-6);  // m g − 10 < 0: the floor
+  EXPECT_NEAR(heavy.collective_thrust_n, 14.4, 1e-5);  // m g + 20 > max: the cap
+}
+
+TYPED_TEST(PositionControllerTest, NonFiniteExternalForceIsIgnored) {
+  using S = TypeParam;
+  const Vec3<S> here(S(0.1), S(0), S(1));
+  const S nan = std::numeric_limits<S>::quiet_NaN();
+  const S inf = std::numeric_limits<S>::infinity();
+
+  const PositionCommand<S> zero = ComputePositionCommand<S>(
+      Gains<S>(), At<S>(S(0), S(0), S(1)), here, Vec3<S>::Zero(), Quat<S>::Identity());
+  for (const Vec3<S>& bad_n : {Vec3<S>(nan, S(0), S(-1.77)), Vec3<S>(S(0), S(0), -inf)}) {
+    const PositionCommand<S> cmd = ComputePositionCommand<S>(
+        Gains<S>(), At<S>(S(0), S(0), S(1)), here, Vec3<S>::Zero(), Quat<S>::Identity(), bad_n);
+
+    EXPECT_EQ(cmd.thrust_world_n, zero.thrust_world_n);
+    EXPECT_EQ(cmd.collective_thrust_n, zero.collective_thrust_n);
+  }
+}
+
+TYPED_TEST(PositionControllerTest, NonFiniteStateFallsBackToHoverCarryingTheLoad) {
+  using S = TypeParam;
+  const Vec3<S> bad(std::numeric_limits<S>::quiet_NaN(), S(0), S(0));
+
+  const PositionCommand<S> cmd =
+      ComputePositionCommand<S>(Gains<S>(), At<S>(S(0), S(0), S(0)), bad, Vec3<S>::Zero(),
+                                Quat<S>::Identity(), Vec3<S>(S(0), S(0), S(-1.77)));
+
+  EXPECT_NEAR(cmd.collective_thrust_n, kMassKg * kG + 1.77, 1e-5);
+  EXPECT_NEAR(cmd.attitude_desired.angularDistance(Quat<S>::Identity()), 0.0, 1e-3);
+}
+
 }  // namespace
 }  // namespace hilrig::dut_fw

@@ -25,6 +25,15 @@ FilmCentreBox FilmWorkingVolume() {
   return {Eigen::Vector3d(-0.003, -0.003, -0.012), Eigen::Vector3d(0.003, 0.003, -0.008)};
 }
 
+FilmCentreBox PadOperatingVolume(const SiliconeParams& silicone,
+                                 const Eigen::Vector3d& max_force_pad_n, double margin) {
+  const Eigen::Vector3d reach_m = StaticDisplacement(silicone, max_force_pad_n);
+  const Eigen::Vector3d rest_m = silicone.rest_pose.centre_m;
+  const Eigen::Vector3d lateral_m(margin * reach_m.x(), margin * reach_m.y(), 0);
+  return {rest_m - lateral_m - Eigen::Vector3d(0, 0, (margin - 1) * reach_m.z()),
+          rest_m + lateral_m + Eigen::Vector3d(0, 0, margin * reach_m.z())};
+}
+
 FieldMapFilmField::FieldMapFilmField(std::shared_ptr<const FilmFieldModel> source,
                                      const FieldMapGrid& grid)
     : source_(std::move(source)), grid_(grid) {

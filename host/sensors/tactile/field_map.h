@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "host/sensors/tactile/film_field.h"
+#include "host/sensors/tactile/silicone_model.h"
 
 namespace hilrig::host {
 
@@ -28,6 +29,17 @@ struct FilmCentreBox {
 
 // The design's working volume: film centre x, y in ±3 mm, z in -10 ± 2 mm.
 FilmCentreBox FilmWorkingVolume();
+
+// The film poses that pad forces up to `max_force_pad_n` (per pad axis: shear x, shear y, normal
+// compression) reach on `silicone`, with `margin` on every reach: the volume a sensor is used in.
+// Shear goes both ways; normal force only compresses, so below the rest pose the box keeps just
+// the margin's share.
+FilmCentreBox PadOperatingVolume(const SiliconeParams& silicone,
+                                 const Eigen::Vector3d& max_force_pad_n, double margin = 1.2);
+
+// The force reach the calibration jigs load a pad to (0-3 N normal, +-1.5 N shear): the
+// operating volume of the "opmap" fidelity level and of the compensation fit.
+inline const Eigen::Vector3d kPadCalibrationReachN(1.5, 1.5, 3.0);
 
 struct FieldMapGrid {
   // The working volume with a 1 mm margin in every direction.

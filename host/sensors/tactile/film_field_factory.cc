@@ -21,15 +21,23 @@ rig::Result<int> ParseTiles(std::string_view text, std::string_view fidelity) {
 }  // namespace
 
 rig::Result<FilmFidelity> ParseFilmFidelity(std::string_view fidelity) {
-  const bool map = fidelity == "map" || fidelity.starts_with("map:");
+  const bool operating_map = fidelity.starts_with("opmap:");
+  const bool map = fidelity == "map" || fidelity.starts_with("map:") || operating_map;
   if (!map && !fidelity.starts_with("tiles:")) {
     return rig::MakeError("unknown field fidelity \"" + std::string(fidelity) +
-                          "\" (expected tiles:N or map:N)");
+                          "\" (expected tiles:N, map:N or opmap:N)");
   }
   const std::string_view count = fidelity == "map" ? "32" : fidelity.substr(fidelity.find(':') + 1);
   const auto tiles = ParseTiles(count, fidelity);
   if (!tiles) return tiles.error();
-  return FilmFidelity{map, tiles.value()};
+  return FilmFidelity{map, tiles.value(), operating_map};
+}
+
+FieldMapGrid OperatingVolumeMapGrid() {
+  FieldMapGrid grid;
+  grid.box = PadOperatingVolume(SiliconeParams{}, kPadCalibrationReachN);
+  grid.nodes = Eigen::Vector3i(9, 9, 9);
+  return grid;
 }
 
 rig::Result<std::shared_ptr<const FilmFieldModel>> MakeFilmField(std::string_view fidelity) {
@@ -38,7 +46,10 @@ rig::Result<std::shared_ptr<const FilmFieldModel>> MakeFilmField(std::string_vie
   auto tiled =
       std::make_shared<const TiledFilmField>(FilmGeometry{}, parsed.value().tiles_per_side);
   if (!parsed.value().field_map) return std::shared_ptr<const FilmFieldModel>(tiled);
-  return std::shared_ptr<const FilmFieldModel>(std::make_shared<const FieldMapFilmField>(tiled));
+  const FieldMapGrid grid =
+      parsed.value().operating_volume ? OperatingVolumeMapGrid() : FieldMapGrid{};
+  return std::shared_ptr<const FilmFieldModel>(
+      std::make_shared<const FieldMapFilmField>(tiled, grid));
 }
 
 }  // namespace hilrig::host

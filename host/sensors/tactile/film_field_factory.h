@@ -1,12 +1,16 @@
 // Builds a film field model from its fidelity name, as scenarios and the CLI name it:
-// "tiles:N" (N x N cuboid tiles, 1 <= N <= 128) or "map:N" (a field map tabulated from tiles:N;
-// "map" alone is map:32). The film geometry is the default FilmGeometry.
+// "tiles:N" (N x N cuboid tiles, 1 <= N <= 128), "map:N" (a field map over the working volume
+// tabulated from tiles:N; "map" alone is map:32) or "opmap:N" (a 9^3 field map over the default
+// pad's operating volume, the film poses that 0-3 N normal and +-1.5 N shear reach, from tiles:N:
+// tighter cells where contact scenes actually go; poses outside it fall back to tiles:N). The film
+// geometry is the default FilmGeometry.
 #pragma once
 
 #include <memory>
 #include <string>
 #include <string_view>
 
+#include "host/sensors/tactile/field_map.h"
 #include "host/sensors/tactile/film_field.h"
 #include "rig/result.h"
 
@@ -19,7 +23,11 @@ inline constexpr std::string_view kDefaultFilmFidelity = "tiles:32";
 struct FilmFidelity {
   bool field_map = false;
   int tiles_per_side = 0;
+  bool operating_volume = false;  // the map covers the pad's operating volume (opmap)
 };
+
+// The grid of "opmap:N".
+FieldMapGrid OperatingVolumeMapGrid();
 
 // Checks a fidelity name without building anything.
 rig::Result<FilmFidelity> ParseFilmFidelity(std::string_view fidelity);

@@ -99,5 +99,53 @@ TEST(EnvelopeCheckTest, OneSidedBoundUsesOnlyThatSide) {
   EXPECT_TRUE(check.Observe(sample, progress));
 }
 
+// Noise of +-0.3 around 1.0 stays outside [0.9, 1.1] sample by sample, but its mean over a
+// window of whole periods is exactly 1.0.
+TEST(EnvelopeCheckTest, MeanOverAWindowPassesNoiseThatSamplesFail) {
+  proto::Envelope envelope = AltitudeEnvelope(0.9, 1.1);
+  envelope.set_mean_over_s(0.04);
+  const EnvelopeCheck mean_check(envelope);
+  const EnvelopeCheck sample_check(AltitudeEnvelope(0.9, 1.1));
+  EnvelopeProgress mean_progress, sample_progress;
+  for (int i = 0; i < 100; ++i) {
+    const TraceSample sample = AtAltitude(i * 0.01, i % 2 == 0 ? 1.3 : 0.7);
+    mean_check.Observe(sample, mean_progress);
+    sample_check.Observe(sample, sample_progress);
+  }
+  EXPECT_EQ(sample_check.Result(sample_progress).verdict(), proto::FAIL);
+  const proto::EnvelopeResult mean = mean_check.Result(mean_progress);
+  EXPECT_EQ(mean.verdict(), proto::PASS);
+  EXPECT_NEAR(mean.worst_value(), 1.0, 1e-12);
+  // The first mean is checked once the window is full, at 0.04 s: 96 checks (0.04 .. 0.99), each
+  // over the four latest samples.
+  EXPECT_EQ(mean.samples_checked(), 96u);
+}
+
+TEST(EnvelopeCheckTest, MeanOverAWindowStillCatchesADrift) {
+  proto::Envelope envelope = AltitudeEnvelope(0.9, 1.1);
+  envelope.set_mean_over_s(0.1);
+  const EnvelopeCheck check(envelope);
+  EnvelopeProgress progress;
+  for (int i = 0; i < 100; ++i) check.Observe(AtAltitude(i * 0.01, 1.0 + i * 0.005), progress);
+  const proto::EnvelopeResult result = check.Result(progress);
+  EXPECT_EQ(result.verdict(), proto::FAIL);
+  // The mean over the ten samples i-9..i is 1 + 0.005 (i - 4.5): above 1.1 first at i = 25.
+  EXPECT_NEAR(result.first_violation_at_s(), 0.25, 0.011);
+}
+
+TEST(EnvelopeCheckTest, NaNInTheMeansWindowIsAViolation) {
+  proto::Envelope envelope = AltitudeEnvelope(0.9, 1.1);
+  envelope.set_mean_over_s(0.05);
+  const EnvelopeCheck check(envelope);
+  EnvelopeProgress progress;
+  for (int i = 0; i < 20; ++i) {
+    const double z = i == 10 ? std::numeric_limits<double>::quiet_NaN() : 1.0;
+    check.Observe(AtAltitude(i * 0.01, z), progress);
+  }
+  const proto::EnvelopeResult result = check.Result(progress);
+  EXPECT_EQ(result.verdict(), proto::FAIL);
+  EXPECT_NEAR(result.first_violation_at_s(), 0.10, 1e-9);
+}
+
 }  // namespace
 }  // namespace hilrig::host

@@ -17,7 +17,8 @@ class InProcessDutTest : public ::testing::Test {
  protected:
   InProcessDutTest()
       : node_(bus_.Connect("node")),
-        dut_(FirmwareParamsFor(vehicle_), std::nullopt, bus_.Connect("dut"), kControlPeriodS) {}
+        dut_(DutFirmware{FirmwareParamsFor(vehicle_), std::nullopt, {}, true}, bus_.Connect("dut"),
+             kControlPeriodS) {}
 
   // Feeds a level, still vehicle at 1 m for `ticks` control periods with a hover setpoint.
   ActuatorMessage HoverFor(int ticks) {
@@ -83,6 +84,41 @@ TEST_F(InProcessDutTest, NonFiniteImuSampleDoesNotReachTheMotors) {
   const ActuatorMessage command = dut_.Step(101, 101'000'000).value();
   for (double thrust_n : command.rotor_thrust_n) EXPECT_TRUE(std::isfinite(thrust_n));
   EXPECT_TRUE(command.estimated_position_m.allFinite());
+}
+
+TEST_F(InProcessDutTest, KeepsTheFrameOpenUntilAGraspIsCommanded) {
+  const ActuatorMessage command = HoverFor(10);
+  EXPECT_EQ(command.servo_angle_rad, dut_fw::GraspAdmittanceParams<double>{}.open_angle_rad);
+}
+
+// Without tactile nodes the grasp force estimate is never valid, so a regulating grasp holds the
+// mission's reference angle instead of winding the servo closed on a force it cannot see.
+TEST_F(InProcessDutTest, GraspWithoutAForceEstimateHoldsTheReferenceAngle) {
+  HoverFor(1);
+  SetpointMessage setpoint;
+  setpoint.position_m = Eigen::Vector3d(0, 0, 1);
+  setpoint.grasp_regulate = true;
+  setpoint.grasp_force_n = 0.6;
+  setpoint.grasp_reference_angle_rad = 0.5;
+  dut_.SendSetpoint(setpoint);
+  ActuatorMessage command;
+  for (int i = 2; i < 50; ++i) command = dut_.Step(i, i * 1'000'000).value();
+  EXPECT_DOUBLE_EQ(command.servo_angle_rad, 0.5);
+  EXPECT_FALSE(command.tactile_ready);
+}
+
+TEST(InProcessDutAblationTest, WithoutForceFeedbackTheGraspClosesTheFrameOpenLoop) {
+  rig::EmulatedBus bus;
+  DutFirmware firmware{FirmwareParamsFor(QuadrotorParams{}), std::nullopt, {}, true};
+  firmware.grasp.force_feedback = false;
+  firmware.grasp.closed_angle_rad = 1.4;
+  InProcessDut dut(firmware, bus.Connect("dut"), kControlPeriodS);
+  SetpointMessage setpoint;
+  setpoint.grasp_regulate = true;
+  setpoint.grasp_force_n = 0.6;
+  setpoint.grasp_reference_angle_rad = 0.5;
+  dut.SendSetpoint(setpoint);
+  EXPECT_DOUBLE_EQ(dut.Step(0, 0).value().servo_angle_rad, 1.4);
 }
 
 }  // namespace

@@ -1,0 +1,523 @@
+#include "host/plant/grasp_contact.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace hilrig::host {
+namespace {
+
+// The series solve stops once a Newton step moves the indentation by less than this fraction of
+// the overlap; with quadratic convergence the step taken then leaves an error of order 1e-20.
+constexpr double kSeriesTolerance = 1e-10;
+constexpr int kSeriesNewtonTries = 30;
+constexpr int kSeriesMaxIterations = 200;
+// Held -> on stand needs the object's centre this far below the stand, so a frame hovering exactly
+// at the lift threshold does not flip modes every tick.
+constexpr double kStandHysteresisM = 1e-9;
+// For six pads every 60 deg, A = sum_i o_i o_i^T = 3 I in the ring plane.
+constexpr double kImbalanceGain = 2.0 / kGripperPadCount;
+
+bool PositiveFinite(double value) { return std::isfinite(value) && value > 0; }
+
+// The handful of checks the per-tick paths need (no strings, no allocation); ValidateGraspScene
+// gives the messages.
+bool SceneUsable(const GraspSceneParams& p) {
+  const ObjectParams& o = p.object;
+  return PositiveFinite(o.half_width_m) && PositiveFinite(o.stiffness) && o.exponent >= 1.0 &&
+         o.exponent <= 3.0 && o.stiffening_length_m > 0 && std::isfinite(o.friction_static) &&
+         o.friction_static >= 0 && std::isfinite(o.friction_kinetic) && o.friction_kinetic >= 0 &&
+         PositiveFinite(p.frame.open_radius_m) && PositiveFinite(p.frame.closing_m_per_rad) &&
+         std::isfinite(p.frame.height_m) && std::isfinite(p.frame.first_azimuth_rad) &&
+         PositiveFinite(p.pad_stiffness_n_per_m.x()) &&
+         PositiveFinite(p.pad_stiffness_n_per_m.y()) &&
+         PositiveFinite(p.pad_stiffness_n_per_m.z()) && std::isfinite(p.pad_stiffening_per_m2) &&
+         p.pad_stiffening_per_m2 >= 0 && std::isfinite(p.stand_height_m) &&
+         PositiveFinite(p.pad_half_height_m);
+}
+
+// What the series solve itself needs, for the servo load's inner loop; StepGrasp checks the rest.
+bool ContactUsable(const GraspSceneParams& p) {
+  const ObjectParams& o = p.object;
+  return PositiveFinite(o.half_width_m) && PositiveFinite(o.stiffness) && o.exponent >= 1.0 &&
+         o.exponent <= 3.0 && o.stiffening_length_m > 0 &&
+         PositiveFinite(p.pad_stiffness_n_per_m.z()) && p.pad_stiffening_per_m2 >= 0 &&
+         std::isfinite(p.pad_stiffening_per_m2);
+}
+
+bool HasObject(GraspMode mode) {
+  return mode == GraspMode::kOnStand || mode == GraspMode::kHeld || mode == GraspMode::kSliding;
+}
+
+double PadForce(double k, double beta, double d) { return k * d * (1.0 + beta * d * d); }
+double PadStiffness(double k, double beta, double d) { return k * (1.0 + 3.0 * beta * d * d); }
+double PadEnergy(double k, double beta, double d) {
+  const double d2 = d * d;
+  return k * d2 * (0.5 + 0.25 * beta * d2);
+}
+
+// Object indentation if the pad took none of the overlap's compliance, blended with the overlap
+// itself: within a factor of two of the answer for power laws, which is all Newton needs.
+double SeriesGuess(const ObjectParams& object, double pad_k, double overlap) {
+  const double ratio = pad_k * overlap / object.stiffness;
+  double object_only = 0.0;
+  if (object.exponent == 1.0) {
+    object_only = ratio;
+  } else if (object.exponent == 1.5) {
+    object_only = std::cbrt(ratio * ratio);
+  } else {
+    object_only = std::pow(ratio, 1.0 / object.exponent);
+  }
+  return object_only * overlap / (object_only + overlap);
+}
+
+bool InputsFinite(const GraspVehicleSample& v, double angle_rad, double dt_s) {
+  return v.position_m.allFinite() && v.orientation.coeffs().allFinite() &&
+         v.orientation.squaredNorm() > 0 && v.specific_force_body_m_s2.allFinite() &&
+         std::isfinite(v.gravity_m_s2) && std::isfinite(angle_rad) && std::isfinite(dt_s) &&
+         dt_s > 0;
+}
+
+bool StateFinite(const GraspState& s) {
+  return std::isfinite(s.object_mass_kg) && s.object_mass_kg > 0 &&
+         std::isfinite(s.object_height_m) && std::isfinite(s.stand_anchor_m) &&
+         std::isfinite(s.slip_m) && std::isfinite(s.slip_rate_m_s) &&
+         std::isfinite(s.peak_normal_force_n) && std::isfinite(s.peak_indentation_m);
+}
+
+// What every mode handler needs about this step.
+struct StepContext {
+  const GraspSceneParams& params;
+  const GraspVehicleSample& vehicle;
+  Eigen::Matrix3d world_from_body;
+  double frame_height_m;
+  double body_up_z;  // world z of the body's up axis: converts body-z offsets into heights
+  SeriesContact contact;
+  double mass_kg;
+  double shear_stiffness_n_per_m;  // k_t, all six pads together
+  double dt_s;
+};
+
+// Fills the pad forces from per-pad normals and the shear the pads carry (shared by normal force).
+void FillPadForces(const std::array<double, kGripperPadCount>& normals, double shear_n,
+                   GraspForces& out) {
+  double grasp = 0.0;
+  for (double n : normals) grasp += n;
+  out.normal_force_n = normals;
+  out.grasp_force_n = grasp;
+  out.shear_force_n = shear_n;
+  for (int i = 0; i < kGripperPadCount; ++i) {
+    const double share = grasp > 0 ? shear_n * normals[i] / grasp : 0.0;
+    out.pad_force_n[i] = Eigen::Vector3d(0.0, -share, normals[i]);
+  }
+}
+
+std::array<double, kGripperPadCount> SymmetricNormals(const StepContext& ctx) {
+  std::array<double, kGripperPadCount> normals;
+  normals.fill(ctx.contact.force_n);
+  return normals;
+}
+
+// Normals that also push the object horizontally with `horizontal_body_n` (body x, y): the pads
+// opposite the push press harder, dN_i = -o_i . (A^-1 F_h).
+std::array<double, kGripperPadCount> ImbalancedNormals(const StepContext& ctx,
+                                                       const Eigen::Vector3d& horizontal_body_n) {
+  std::array<double, kGripperPadCount> normals;
+  const double azimuth0 = ctx.params.frame.first_azimuth_rad;
+  const double vx = kImbalanceGain * horizontal_body_n.x();
+  const double vy = kImbalanceGain * horizontal_body_n.y();
+  // Rotating the first outward vector by 60 deg per pad avoids six sin/cos per tick.
+  const double c60 = 0.5;
+  const double s60 = std::sqrt(3.0) / 2.0;
+  double ox = std::cos(azimuth0);
+  double oy = std::sin(azimuth0);
+  for (int i = 0; i < kGripperPadCount; ++i) {
+    normals[i] = std::max(0.0, ctx.contact.force_n - (ox * vx + oy * vy));
+    const double next_x = c60 * ox - s60 * oy;
+    oy = s60 * ox + c60 * oy;
+    ox = next_x;
+  }
+  return normals;
+}
+
+double Sum(const std::array<double, kGripperPadCount>& values) {
+  double sum = 0.0;
+  for (double v : values) sum += v;
+  return sum;
+}
+
+double ShearEnergy(const StepContext& ctx, double shear_n) {
+  return shear_n * shear_n / (2.0 * ctx.shear_stiffness_n_per_m);
+}
+
+// Height of the object's centre while the pads carry it with `shear_n` (their shear deflection
+// included), from the no-shear offset and the slip.
+double CarriedObjectHeight(const StepContext& ctx, const GraspState& s, double shear_n) {
+  const double offset = s.stand_anchor_m - s.slip_m + shear_n / ctx.shear_stiffness_n_per_m;
+  return ctx.frame_height_m - ctx.body_up_z * offset;
+}
+
+void PutBackOnStand(const StepContext& ctx, GraspState& s) {
+  // Fold the slip into the anchor so the stand's stick law starts with the shear the pads had.
+  s.stand_anchor_m -= s.slip_m;
+  s.slip_m = 0.0;
+  s.slip_rate_m_s = 0.0;
+  s.object_height_m = ctx.params.stand_height_m;
+  s.mode = GraspMode::kOnStand;
+}
+
+void StepHeld(const StepContext& ctx, GraspState& s, GraspForces& out);
+
+// The stand was taken away under the object: whatever grips it now carries it.
+void LoseTheStand(const StepContext& ctx, GraspState& s, GraspForces& out) {
+  if (!(ctx.contact.force_n > 0)) {
+    s.mode = GraspMode::kDropped;
+    out = GraspForces{};
+    return;
+  }
+  if (!s.gripped) s.stand_anchor_m = ctx.frame_height_m - s.object_height_m;
+  s.mode = GraspMode::kHeld;
+  s.slip_m = 0.0;
+  s.slip_rate_m_s = 0.0;
+  StepHeld(ctx, s, out);
+}
+
+void StepOnStand(const StepContext& ctx, GraspState& s, GraspForces& out) {
+  if (!ctx.params.stand_present) return LoseTheStand(ctx, s, out);
+  const ObjectParams& object = ctx.params.object;
+  s.object_height_m = ctx.params.stand_height_m;
+  const double grasp = kGripperPadCount * ctx.contact.force_n;
+  if (!(grasp > 0)) {
+    FillPadForces(SymmetricNormals(ctx), 0.0, out);
+    return;
+  }
+  const double offset = ctx.frame_height_m - s.object_height_m;
+  if (!s.gripped) s.stand_anchor_m = offset;
+  const double k_t = ctx.shear_stiffness_n_per_m;
+  double shear = k_t * (offset - s.stand_anchor_m);
+  const double cap = object.friction_static * grasp;
+  if (std::abs(shear) > cap) {
+    shear = std::copysign(cap, shear);
+    s.stand_anchor_m = offset - shear / k_t;  // the pads slide over the object to the cap
+  }
+  FillPadForces(SymmetricNormals(ctx), shear, out);
+  out.force_on_vehicle_world_n = Eigen::Vector3d(0.0, 0.0, -shear);
+  out.elastic_energy_j += ShearEnergy(ctx, shear);
+  if (shear >= ctx.mass_kg * ctx.vehicle.gravity_m_s2) {
+    s.mode = GraspMode::kHeld;
+    s.slip_m = 0.0;
+    s.slip_rate_m_s = 0.0;
+  }
+}
+
+void StepHeld(const StepContext& ctx, GraspState& s, GraspForces& out) {
+  const ObjectParams& object = ctx.params.object;
+  const Eigen::Vector3d required_n = ctx.mass_kg * ctx.vehicle.specific_force_body_m_s2;
+  const auto normals = ImbalancedNormals(ctx, required_n);
+  const double shear = required_n.z();
+  FillPadForces(normals, shear, out);
+  out.payload_mass_kg = ctx.mass_kg;
+  out.elastic_energy_j += ShearEnergy(ctx, shear);
+
+  const double height = CarriedObjectHeight(ctx, s, shear);
+  if (ctx.params.stand_present && height < ctx.params.stand_height_m - kStandHysteresisM) {
+    PutBackOnStand(ctx, s);
+    return;
+  }
+  s.object_height_m = height;
+  const double grasp = out.grasp_force_n;
+  if (!(grasp > 0) || std::abs(shear) > object.friction_static * grasp) {
+    s.mode = GraspMode::kSliding;
+    s.slip_rate_m_s = 0.0;
+  }
+}
+
+void StepSliding(const StepContext& ctx, GraspState& s, GraspForces& out) {
+  const ObjectParams& object = ctx.params.object;
+  const Eigen::Vector3d& specific_force = ctx.vehicle.specific_force_body_m_s2;
+  const Eigen::Vector3d horizontal_n(ctx.mass_kg * specific_force.x(),
+                                     ctx.mass_kg * specific_force.y(), 0.0);
+  const auto normals = ImbalancedNormals(ctx, horizontal_n);
+  const double grasp = Sum(normals);
+
+  double friction = 0.0;
+  const double rate = s.slip_rate_m_s;
+  if (rate == 0.0) {
+    const double needed = ctx.mass_kg * specific_force.z();
+    if (grasp > 0 && std::abs(needed) <= object.friction_static * grasp) {
+      s.mode = GraspMode::kHeld;  // re-sticks; the held step computes the forces
+      return;
+    }
+    friction = std::copysign(object.friction_kinetic * grasp, needed);
+  } else {
+    friction = -std::copysign(object.friction_kinetic * grasp, rate);
+  }
+  const double relative_acceleration = friction / ctx.mass_kg - specific_force.z();
+  const double next_rate = rate + relative_acceleration * ctx.dt_s;
+  if (rate != 0.0 && next_rate * rate <= 0) {
+    // Friction stops it within the step: it covers the distance of a uniform deceleration and
+    // rests, so the next step decides whether it sticks.
+    s.slip_m += 0.5 * rate * (-rate / relative_acceleration);
+    s.slip_rate_m_s = 0.0;
+  } else {
+    s.slip_rate_m_s = next_rate;
+    s.slip_m += next_rate * ctx.dt_s;  // semi-implicit Euler
+  }
+
+  const double height = CarriedObjectHeight(ctx, s, friction);
+  if (std::abs(s.slip_m) > ctx.params.pad_half_height_m) {
+    s.mode = GraspMode::kDropped;
+    s.object_height_m = height;
+    s.slip_rate_m_s = 0.0;
+    out = GraspForces{};
+    return;
+  }
+  FillPadForces(normals, friction, out);
+  out.force_on_vehicle_world_n =
+      -(ctx.world_from_body * (horizontal_n + Eigen::Vector3d(0.0, 0.0, friction)));
+  out.elastic_energy_j += ShearEnergy(ctx, friction);
+  if (ctx.params.stand_present && height <= ctx.params.stand_height_m) {
+    PutBackOnStand(ctx, s);
+    return;
+  }
+  s.object_height_m = height;
+}
+
+void RecordDamage(const ObjectParams& object, const GraspForces& out, GraspState& s) {
+  if (s.damage != DamageMode::kNone || object.damage_mode == DamageMode::kNone) return;
+  for (double normal : out.normal_force_n) {
+    if (DamageReached(object, normal, out.indentation_m)) {
+      s.damage = object.damage_mode;
+      if (s.damage == DamageMode::kBurst || s.damage == DamageMode::kShatter) {
+        s.mode = GraspMode::kDestroyed;
+      }
+      return;
+    }
+  }
+}
+
+}  // namespace
+
+const char* GraspModeName(GraspMode mode) {
+  switch (mode) {
+    case GraspMode::kNoObject:
+      return "no_object";
+    case GraspMode::kOnStand:
+      return "on_stand";
+    case GraspMode::kHeld:
+      return "held";
+    case GraspMode::kSliding:
+      return "sliding";
+    case GraspMode::kDropped:
+      return "dropped";
+    case GraspMode::kDestroyed:
+      return "destroyed";
+  }
+  return "unknown";
+}
+
+rig::Result<void> ValidateGraspScene(const GraspSceneParams& p) {
+  if (auto object = ValidateObject(p.object); !object.ok()) return object;
+  if (auto frame = ValidateGripperFrame(p.frame); !frame.ok()) return frame;
+  if (!p.pad_stiffness_n_per_m.allFinite() || !(p.pad_stiffness_n_per_m.minCoeff() > 0)) {
+    return rig::MakeError("grasp scene: pad_stiffness_n_per_m: every axis must be finite and > 0");
+  }
+  if (!std::isfinite(p.pad_stiffening_per_m2) || p.pad_stiffening_per_m2 < 0) {
+    return rig::MakeError("grasp scene: pad_stiffening_per_m2: must be finite and >= 0");
+  }
+  if (!std::isfinite(p.stand_height_m)) {
+    return rig::MakeError("grasp scene: stand_height_m: must be finite");
+  }
+  if (!PositiveFinite(p.pad_half_height_m)) {
+    return rig::MakeError("grasp scene: pad_half_height_m: must be finite and > 0");
+  }
+  return {};
+}
+
+GraspState InitialGraspState(const GraspSceneParams& params) {
+  GraspState state;
+  state.mode = ValidateGraspScene(params).ok() ? GraspMode::kOnStand : GraspMode::kNoObject;
+  state.object_mass_kg = std::isfinite(params.object.mass_kg) ? params.object.mass_kg : 0.0;
+  state.object_height_m = std::isfinite(params.stand_height_m) ? params.stand_height_m : 0.0;
+  return state;
+}
+
+SeriesContact SolveSeriesContact(const ObjectParams& object, double pad_k, double pad_beta,
+                                 double overlap, double split_hint) {
+  SeriesContact c;
+  if (!(overlap > 0) || !std::isfinite(overlap)) return c;
+  const bool object_linear = object.exponent == 1.0 && std::isinf(object.stiffening_length_m);
+  if (object_linear && pad_beta == 0.0) {
+    const double k = object.stiffness;
+    const double sum = k + pad_k;
+    c.indentation_m = overlap * (pad_k / sum);
+    c.pad_compression_m = overlap * (k / sum);
+    c.stiffness_n_per_m = k * (pad_k / sum);
+    c.force_n = overlap * c.stiffness_n_per_m;
+    return c;
+  }
+
+  // Force balance h(d) = F_object(d) - F_pad(overlap - d), increasing in d on [0, overlap].
+  double lo = 0.0;
+  double hi = overlap;
+  double d =
+      split_hint > 0 && split_hint < 1 ? split_hint * overlap : SeriesGuess(object, pad_k, overlap);
+  if (!(d > lo && d < hi)) d = 0.5 * overlap;
+  double object_force = 0.0;
+  double object_k = 0.0;
+  double pad_force = 0.0;
+  double pad_k_now = pad_k;
+  double step = 0.0;  // the last, accepted Newton step (applied to the values below by linearity)
+  for (int iteration = 0; iteration < kSeriesMaxIterations; ++iteration) {
+    const double pad_d = overlap - d;
+    object_force = ObjectContactForceAndStiffness(object, d, &object_k);
+    pad_force = PadForce(pad_k, pad_beta, pad_d);
+    pad_k_now = PadStiffness(pad_k, pad_beta, pad_d);
+    const double residual = object_force - pad_force;
+    step = 0.0;
+    if (residual > 0) {
+      hi = d;
+    } else if (residual < 0) {
+      lo = d;
+    } else {
+      break;
+    }
+    // Newton is quadratic here: once its step is this small, taking it leaves an error far below
+    // rounding, and the forces follow it to first order without another evaluation.
+    const double newton = -residual / (object_k + pad_k_now);
+    if (std::abs(newton) <= kSeriesTolerance * overlap) {
+      step = newton;
+      break;
+    }
+    if (hi - lo <= kSeriesTolerance * overlap) break;
+    const double next = d + newton;
+    const bool newton_ok = iteration < kSeriesNewtonTries && next > lo && next < hi;
+    d = newton_ok ? next : 0.5 * (lo + hi);
+  }
+
+  c.indentation_m = std::clamp(d + step, 0.0, overlap);
+  c.pad_compression_m = overlap - c.indentation_m;
+  // Read the force off the softer side: its displacement is the large, well-resolved one, so the
+  // force keeps full relative precision even when the other side is 1e9 times stiffer.
+  c.force_n = object_k <= pad_k_now ? object_force + object_k * step : pad_force - pad_k_now * step;
+  c.stiffness_n_per_m =
+      object_k + pad_k_now > 0 ? object_k * pad_k_now / (object_k + pad_k_now) : 0.0;
+  return c;
+}
+
+double SymmetricNormalForce(const GraspSceneParams& params, const GraspState& state,
+                            double angle_rad, double* indentation_m) {
+  if (indentation_m != nullptr) *indentation_m = 0.0;
+  if (!HasObject(state.mode) || !std::isfinite(angle_rad) || !ContactUsable(params)) return 0.0;
+  const double overlap = params.object.half_width_m - PadSurfaceRadius(params.frame, angle_rad);
+  const SeriesContact c =
+      SolveSeriesContact(params.object, params.pad_stiffness_n_per_m.z(),
+                         params.pad_stiffening_per_m2, overlap, state.contact_split_hint);
+  if (!std::isfinite(c.force_n) || !(c.force_n >= 0)) return 0.0;
+  if (indentation_m != nullptr) *indentation_m = c.indentation_m;
+  return c.force_n;
+}
+
+GraspServoLoad::GraspServoLoad(const GraspSceneParams& params, const GraspState& state)
+    : params_(params), state_(state) {}
+
+double GraspServoLoad::TorqueAt(double angle_rad) const {
+  const double torque = params_.frame.closing_m_per_rad * kGripperPadCount *
+                        SymmetricNormalForce(params_, state_, angle_rad);
+  return std::isfinite(torque) ? torque : 0.0;
+}
+
+double GraspServoLoad::TorqueAndSlopeAt(double angle_rad, double* slope_nm_per_rad) const {
+  *slope_nm_per_rad = 0.0;
+  if (!HasObject(state_.mode) || !std::isfinite(angle_rad) || !ContactUsable(params_)) return 0.0;
+  const double closing = params_.frame.closing_m_per_rad;
+  const double radius = PadSurfaceRadius(params_.frame, angle_rad);
+  const double overlap = params_.object.half_width_m - radius;
+  const SeriesContact c =
+      SolveSeriesContact(params_.object, params_.pad_stiffness_n_per_m.z(),
+                         params_.pad_stiffening_per_m2, overlap, state_.contact_split_hint);
+  const double torque = closing * kGripperPadCount * c.force_n;
+  if (!(torque >= 0) || !std::isfinite(torque) || !std::isfinite(c.stiffness_n_per_m)) return 0.0;
+  // d(overlap)/d(angle) = closing while the pads have not reached the centre.
+  *slope_nm_per_rad = radius > 0 ? closing * closing * kGripperPadCount * c.stiffness_n_per_m : 0.0;
+  return torque;
+}
+
+GraspForces StepGrasp(const GraspSceneParams& params, GraspState& state,
+                      const GraspVehicleSample& vehicle, double frame_angle_rad, double dt_s) {
+  GraspForces out;
+  if (!HasObject(state.mode)) {
+    state.gripped = false;
+    return out;
+  }
+  if (!InputsFinite(vehicle, frame_angle_rad, dt_s) || !StateFinite(state) ||
+      !SceneUsable(params)) {
+    return out;
+  }
+  const double overlap =
+      params.object.half_width_m - PadSurfaceRadius(params.frame, frame_angle_rad);
+  const Eigen::Matrix3d world_from_body = vehicle.orientation.normalized().toRotationMatrix();
+  StepContext ctx{
+      params,
+      vehicle,
+      world_from_body,
+      vehicle.position_m.z() + world_from_body(2, 2) * params.frame.height_m,
+      world_from_body(2, 2),
+      SolveSeriesContact(params.object, params.pad_stiffness_n_per_m.z(),
+                         params.pad_stiffening_per_m2, overlap, state.contact_split_hint),
+      state.object_mass_kg,
+      kGripperPadCount * params.pad_stiffness_n_per_m.y(),
+      dt_s};
+  if (!std::isfinite(ctx.contact.force_n)) return out;
+  if (overlap > 0) state.contact_split_hint = ctx.contact.indentation_m / overlap;
+
+  // A transition re-runs the new mode's handler in the same step; a mode already visited this
+  // step is not run again, so the step always ends (the last handler's forces stand).
+  unsigned visited = 0;
+  for (;;) {
+    const GraspMode mode = state.mode;
+    visited |= 1u << static_cast<unsigned>(mode);
+    out = GraspForces{};
+    switch (mode) {
+      case GraspMode::kOnStand:
+        StepOnStand(ctx, state, out);
+        break;
+      case GraspMode::kHeld:
+        StepHeld(ctx, state, out);
+        break;
+      case GraspMode::kSliding:
+        StepSliding(ctx, state, out);
+        break;
+      default:
+        break;
+    }
+    if (state.mode == mode || !HasObject(state.mode) ||
+        (visited & (1u << static_cast<unsigned>(state.mode))) != 0) {
+      break;
+    }
+  }
+  if (!HasObject(state.mode)) {  // dropped this step: nothing touches the pads any more
+    state.gripped = false;
+    return GraspForces{};
+  }
+
+  out.indentation_m = ctx.contact.indentation_m;
+  out.elastic_energy_j +=
+      kGripperPadCount * (PadEnergy(params.pad_stiffness_n_per_m.z(), params.pad_stiffening_per_m2,
+                                    ctx.contact.pad_compression_m) +
+                          ObjectContactEnergy(params.object, ctx.contact.indentation_m));
+  state.gripped = out.grasp_force_n > 0;
+  for (double normal : out.normal_force_n) {
+    state.peak_normal_force_n = std::max(state.peak_normal_force_n, normal);
+  }
+  state.peak_indentation_m = std::max(state.peak_indentation_m, out.indentation_m);
+  RecordDamage(params.object, out, state);
+  return out;
+}
+
+void PourMass(GraspState& state, double added_mass_kg) {
+  if (!std::isfinite(added_mass_kg) || added_mass_kg <= 0) return;
+  state.object_mass_kg += added_mass_kg;
+}
+
+}  // namespace hilrig::host

@@ -1,0 +1,94 @@
+#include "host/report/run_plots.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <initializer_list>
+
+#include "host/report/report_files.h"
+#include "host/report/svg_plot.h"
+
+namespace hilrig::host {
+namespace {
+
+PlotSeries Series(std::string name, const std::vector<double>& time_s,
+                  const std::vector<double>& value, bool dashed = false) {
+  PlotSeries series;
+  series.name = std::move(name);
+  series.time_s = time_s;
+  series.value = value;
+  series.dashed = dashed;
+  return series;
+}
+
+// Every envelope on one of `signals`, as a band.
+std::vector<PlotBand> BandsFor(const std::vector<proto::Envelope>& envelopes,
+                               std::initializer_list<proto::Signal> signals) {
+  std::vector<PlotBand> bands;
+  for (const proto::Envelope& envelope : envelopes) {
+    if (std::find(signals.begin(), signals.end(), envelope.signal()) == signals.end()) continue;
+    PlotBand band;
+    band.name = "envelope " + envelope.name();
+    if (envelope.has_lower()) band.lower = envelope.lower();
+    if (envelope.has_upper()) band.upper = envelope.upper();
+    if (envelope.has_from_s()) band.from_s = envelope.from_s();
+    if (envelope.has_until_s()) band.until_s = envelope.until_s();
+    band.expect_fail = envelope.expect() == proto::FAIL;
+    bands.push_back(std::move(band));
+  }
+  return bands;
+}
+
+}  // namespace
+
+void PlotTrace::Add(const TraceSample& sample) {
+  time_s.push_back(sample.time_s);
+  grasp_force_n.push_back(sample.grasp_force_n);
+  grasp_force_estimate_n.push_back(sample.grasp_force_estimate_n);
+  grasp_force_setpoint_n.push_back(sample.grasp_force_setpoint_n);
+  load_n.push_back(sample.load_n);
+  load_estimate_n.push_back(sample.load_estimate_n);
+  altitude_error_m.push_back(SignalValue(sample, proto::ALTITUDE_ERROR_M));
+  horizontal_error_m.push_back(SignalValue(sample, proto::HORIZONTAL_ERROR_M));
+}
+
+rig::Result<std::vector<std::string>> WriteRunPlots(const PlotTrace& trace,
+                                                    const std::vector<proto::Envelope>& envelopes,
+                                                    bool grasp_scene, const std::string& out_dir) {
+  std::vector<std::pair<std::string, TimePlot>> plots;
+  if (grasp_scene) {
+    TimePlot force;
+    force.title = "Grasp force";
+    force.y_label = "force (N)";
+    force.series = {Series("true (plant)", trace.time_s, trace.grasp_force_n),
+                    Series("DUT estimate", trace.time_s, trace.grasp_force_estimate_n),
+                    Series("setpoint f_d", trace.time_s, trace.grasp_force_setpoint_n, true)};
+    force.bands = BandsFor(envelopes, {proto::GRASP_FORCE_N, proto::GRASP_FORCE_ESTIMATE_N});
+    plots.emplace_back("force.svg", std::move(force));
+
+    TimePlot load;
+    load.title = "Vertical load of the grasped object on the vehicle";
+    load.y_label = "load (N)";
+    load.series = {Series("true (plant)", trace.time_s, trace.load_n),
+                   Series("DUT estimate", trace.time_s, trace.load_estimate_n)};
+    load.bands = BandsFor(envelopes, {proto::LOAD_N});
+    plots.emplace_back("load.svg", std::move(load));
+  }
+  TimePlot position;
+  position.title = "Position error";
+  position.y_label = "error (m)";
+  position.series = {Series("altitude error", trace.time_s, trace.altitude_error_m),
+                     Series("horizontal error", trace.time_s, trace.horizontal_error_m)};
+  position.bands = BandsFor(
+      envelopes, {proto::ALTITUDE_ERROR_M, proto::HORIZONTAL_ERROR_M, proto::POSITION_ERROR_M});
+  plots.emplace_back("position.svg", std::move(position));
+
+  std::vector<std::string> written;
+  for (const auto& [file, plot] : plots) {
+    const std::string path = (std::filesystem::path(out_dir) / file).string();
+    if (auto result = WriteTextFile(path, RenderSvg(plot)); !result) return result.error();
+    written.push_back(file);
+  }
+  return written;
+}
+
+}  // namespace hilrig::host

@@ -1,0 +1,111 @@
+// Renders the time plots of a run report (force and position against time, with the envelopes
+// drawn as allowed regions) as standalone SVG 1.1 text. RenderSvg is a pure function of the plot
+// description: no files, no clock, no locale, so the same description always gives byte-identical
+// text and a run's plots are as reproducible as its trace. The layout constants, the tick choice
+// and the decimation are public so that tests can compute expected pixels independently.
+#pragma once
+
+#include <cstddef>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace hilrig::host {
+
+struct PlotSeries {
+  std::string name;            // legend label, e.g. "grasp force (true)"
+  std::vector<double> time_s;  // same length as value; a non-finite time is a gap too
+  std::vector<double> value;   // NaN / Inf = a gap in the line
+  std::string color;           // CSS colour; empty = the next colour of kSeriesPalette
+  bool dashed = false;
+};
+
+// An envelope: the allowed region over a time window.
+struct PlotBand {
+  std::string name;                    // legend label, e.g. "envelope grasp_force"
+  std::optional<double> lower, upper;  // at least one; a non-finite limit counts as absent
+  double from_s = 0;
+  double until_s = std::numeric_limits<double>::infinity();  // clipped to the plotted time range
+  bool expect_fail = false;  // an ablation's envelope: drawn red dashed, said so in the legend
+};
+
+struct TimePlot {
+  std::string title;
+  std::string y_label;  // with unit, e.g. "force (N)"; the unit in parentheses labels band limits
+  std::vector<PlotSeries> series;
+  std::vector<PlotBand> bands;
+  int width_px = 900, height_px = 360;       // clamped to [kMinWidthPx or kMinHeightPx, kMaxSizePx]
+  std::size_t max_points_per_series = 2000;  // longer series are min/max decimated
+};
+
+// The whole SVG document. Deterministic: the same plot gives byte-identical text.
+std::string RenderSvg(const TimePlot& plot);
+
+// Okabe-Ito colours (colour-blind safe), handed in order to series without a colour. Green is
+// last because allowed bands are green.
+inline constexpr const char* kSeriesPalette[] = {"#0072B2", "#D55E00", "#CC79A7", "#E69F00",
+                                                 "#56B4E9", "#000000", "#009E73"};
+
+// Layout. The plot area sits kPlotMarginLeftPx from the left, kPlotMarginTopPx from the top and
+// kPlotMarginRightPx from the right; below it come kAxisBelowPx of tick labels and x label, then
+// (if there are entries) kLegendGapPx and one kLegendRowPx row per legend row. Legend entries
+// (series first, then bands) fill kLegendColumnsWide columns when the document is at least
+// kLegendWideFromPx wide, else one. If that leaves less than kMinPlotHeightPx for the plot, the
+// document grows taller instead.
+inline constexpr double kPlotMarginLeftPx = 72;
+inline constexpr double kPlotMarginRightPx = 24;
+inline constexpr double kPlotMarginTopPx = 36;
+inline constexpr double kAxisBelowPx = 44;
+inline constexpr double kLegendGapPx = 6;
+inline constexpr double kLegendRowPx = 16;
+inline constexpr int kLegendColumnsWide = 2;
+inline constexpr int kLegendWideFromPx = 600;
+inline constexpr double kMinPlotHeightPx = 100;
+inline constexpr int kMinWidthPx = 320;
+inline constexpr int kMinHeightPx = 200;
+inline constexpr int kMaxSizePx = 20000;
+
+struct PlotRect {
+  double left_px = 0, top_px = 0, width_px = 0, height_px = 0;
+};
+
+struct PlotLayout {
+  int doc_width_px = 0, doc_height_px = 0;
+  PlotRect area;  // the axes frame; every mark is drawn inside it
+  int legend_columns = 1, legend_rows = 0;
+};
+
+PlotLayout LayoutOf(const TimePlot& plot);
+
+// kExtendToTicks widens the axis to the enclosing multiples of the step (the time axis ends on a
+// round time); kTicksWithin keeps the axis as given and labels the multiples inside it (the value
+// axis keeps its 5 % padding without wasting a whole step).
+enum class TickFit { kExtendToTicks, kTicksWithin };
+
+struct AxisTicks {
+  double lo = 0, hi = 1;       // the axis range after fitting
+  double step = 0;             // 1, 2 or 5 x 10^k
+  std::vector<double> values;  // ascending, at most 8 (at least 4 unless the range is odd)
+  std::vector<std::string>
+      labels;  // fixed decimals from the step: "0.3", never 0.30000000000000004
+};
+
+// Needs finite lo < hi; anything else gets a fallback axis around what is usable (never NaN).
+AxisTicks NiceTicks(double lo, double hi, TickFit fit);
+
+struct PlotPoint {
+  double time_s = 0, value = 0;  // both NaN for a gap marker
+};
+
+// Reduces a series to at most 2 x max(1, max_points / 2) finite points (plus gap markers) when it
+// is longer than max_points: equal-count index buckets each keep their min and max in sample
+// order, so a one-sample spike survives. Shorter series come back unchanged. Samples with a
+// non-finite time or value become gap markers; lengths are cut to the shorter of the two.
+std::vector<PlotPoint> DecimateMinMax(const std::vector<double>& time_s,
+                                      const std::vector<double>& value, std::size_t max_points);
+
+// &, <, >, ", ' as entities; control characters XML 1.0 forbids become '?'.
+std::string EscapeXmlText(const std::string& text);
+
+}  // namespace hilrig::host

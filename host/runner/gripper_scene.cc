@@ -1,0 +1,130 @@
+#include "host/runner/gripper_scene.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "host/sensors/tactile/silicone_model.h"
+#include "rig/check.h"
+
+namespace hilrig::host {
+namespace {
+
+// Where the mission expects contact: this far before the object's surface (its size known to
+// about this much), so the first command of a grasp never lands inside the object. The force
+// loop closes the last stretch at f_d / B_theta, about 10 mrad/s, so the margin is kept small.
+constexpr double kApproachMarginM = 0.0005;
+
+GraspSceneParams SceneFor(const ScenarioConfig& config, const TactileSensorParams& pad) {
+  GraspSceneParams scene;
+  scene.frame = config.gripper.frame;
+  scene.pad_stiffness_n_per_m = SiliconeStiffness(pad.silicone);
+  scene.pad_stiffening_per_m2 =
+      pad.silicone.stiffening_enabled ? pad.silicone.stiffening_per_m2 : 0.0;
+  return scene;
+}
+
+}  // namespace
+
+GripperScene::GripperScene(const ScenarioConfig& config,
+                           const std::array<TactileSensorParams, kTactileSensorCount>& pads)
+    : config_(config.gripper),
+      scene_(SceneFor(config, pads[0])),
+      gravity_m_s2_(config.vehicle.gravity_m_s2) {
+  HILRIG_CHECK(config_.enabled && !config_.objects.empty(), "a gripper scene needs an object");
+  for (int i = 0; i < kTactileSensorCount; ++i) {
+    body_from_pad_[i] = pads[i].mounting_body_from_sensor.toRotationMatrix();
+  }
+  servo_.angle_rad = config_.servo.min_angle_rad;
+  Present(config_.objects[0]);
+  next_object_ = 1;
+}
+
+void GripperScene::Present(const ObjectPlacement& placement) {
+  if (next_object_ > 0) finished_.push_back(Outcomes().back());
+  scene_.object = placement.object;
+  scene_.stand_height_m = placement.stand_height_m;
+  scene_.stand_present = true;
+  grasp_ = InitialGraspState(scene_);
+  current_ = proto::ObjectOutcome();
+  current_.set_fixture(placement.fixture);
+  damaged_at_s_ = -1;
+}
+
+GripperCommand GripperScene::CommandAt(double time_s) const {
+  GripperCommand command;
+  for (const GraspCommandEvent& event : config_.grasps) {
+    if (event.at_s > time_s) break;
+    command.regulate = event.regulate;
+    command.force_n = event.force_n;
+    command.reference_angle_rad = event.reference_angle_rad.value_or(
+        AngleForPadRadius(scene_.frame, scene_.object.half_width_m + kApproachMarginM));
+  }
+  return command;
+}
+
+double GripperScene::PourRateKgPerS(double time_s) const {
+  double rate = 0;
+  for (const PourEvent& pour : config_.pours) {
+    if (time_s >= pour.at_s && time_s < pour.at_s + pour.duration_s) {
+      rate += pour.mass_kg / pour.duration_s;
+    }
+  }
+  return rate;
+}
+
+void GripperScene::Step(double time_s, double servo_command_rad, const QuadrotorState& vehicle,
+                        double dt_s) {
+  while (next_object_ < config_.objects.size() && config_.objects[next_object_].at_s <= time_s) {
+    Present(config_.objects[next_object_]);
+    ++next_object_;
+  }
+  while (next_support_removal_ < config_.support_removals_s.size() &&
+         config_.support_removals_s[next_support_removal_] <= time_s) {
+    scene_.stand_present = false;
+    ++next_support_removal_;
+  }
+  if (!config_.pours.empty()) PourMass(grasp_, PourRateKgPerS(time_s) * dt_s);
+  servo_ =
+      StepServo(config_.servo, servo_, servo_command_rad, GraspServoLoad(scene_, grasp_), dt_s);
+  GraspVehicleSample sample;
+  sample.position_m = vehicle.body.position_m;
+  sample.orientation = vehicle.body.orientation;
+  sample.specific_force_body_m_s2 = vehicle.specific_force_body_m_s2;
+  sample.gravity_m_s2 = gravity_m_s2_;
+  forces_ = StepGrasp(scene_, grasp_, sample, servo_.angle_rad, dt_s);
+  if (grasp_.damage != DamageMode::kNone && damaged_at_s_ < 0) {
+    damaged_at_s_ = time_s;
+    any_damaged_ = true;
+  }
+  if (grasp_.mode == GraspMode::kDropped) any_dropped_ = true;
+  // NaN must show, not vanish in std::max.
+  peak_elastic_energy_j_ = std::isnan(forces_.elastic_energy_j)
+                               ? forces_.elastic_energy_j
+                               : std::max(peak_elastic_energy_j_, forces_.elastic_energy_j);
+}
+
+double GripperScene::elastic_energy_bound_j() const {
+  return config_.servo.stall_torque_nm *
+         (config_.servo.max_angle_rad - config_.servo.min_angle_rad);
+}
+
+Eigen::Vector3d GripperScene::ContactForceWorld(const Eigen::Quaterniond& attitude) const {
+  Eigen::Vector3d body_n = Eigen::Vector3d::Zero();
+  for (int i = 0; i < kTactileSensorCount; ++i)
+    body_n += body_from_pad_[i] * forces_.pad_force_n[i];
+  return attitude * body_n;
+}
+
+std::vector<proto::ObjectOutcome> GripperScene::Outcomes() const {
+  std::vector<proto::ObjectOutcome> outcomes = finished_;
+  proto::ObjectOutcome current = current_;
+  current.set_damage(DamageModeName(grasp_.damage));
+  if (damaged_at_s_ >= 0) current.set_damaged_at_s(damaged_at_s_);
+  current.set_final_state(GraspModeName(grasp_.mode));
+  current.set_peak_normal_force_n(grasp_.peak_normal_force_n);
+  current.set_peak_indentation_m(grasp_.peak_indentation_m);
+  outcomes.push_back(current);
+  return outcomes;
+}
+
+}  // namespace hilrig::host

@@ -1,0 +1,85 @@
+// The grasp side of a scene, as the runner steps it: the servo that shrinks the frame, the pads
+// against the current object (contact, friction, slip, the stand, damage), the objects the
+// timeline puts on the stand, and the scripted mass flows poured into them. Each tick it takes the
+// DUT's servo command and the vehicle as it is, and leaves behind the pad forces the Hall sensor
+// nodes read next, the force and payload the vehicle step takes, and what the trace and report
+// show. The models are host/plant (servo, gripper_frame, grasp_contact); this class only
+// sequences them and resolves the timeline, so it holds no physics of its own.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <vector>
+
+#include "host/plant/grasp_contact.h"
+#include "host/plant/quadrotor.h"
+#include "host/plant/servo.h"
+#include "host/scenario/scenario_config.h"
+#include "proto/report.pb.h"
+
+namespace hilrig::host {
+
+// What the mission asks of the gripper at a given time.
+struct GripperCommand {
+  bool regulate = false;
+  double force_n = 0;
+  double reference_angle_rad = 0;
+};
+
+class GripperScene {
+ public:
+  // `config.gripper.enabled` must be true; `pads` gives the pads' silicone and mountings.
+  GripperScene(const ScenarioConfig& config,
+               const std::array<TactileSensorParams, kTactileSensorCount>& pads);
+
+  // The grasp command in force at `time_s` (the latest timeline grasp at or before it).
+  GripperCommand CommandAt(double time_s) const;
+
+  // One physics tick: objects due are put on the stand, pours add mass, the servo moves toward
+  // `servo_command_rad` against the grasp's load and the contact is solved for the vehicle's state.
+  void Step(double time_s, double servo_command_rad, const QuadrotorState& vehicle, double dt_s);
+
+  const GraspForces& forces() const { return forces_; }
+  const GraspState& grasp() const { return grasp_; }
+  const ServoState& servo() const { return servo_; }
+  const GraspSceneParams& scene() const { return scene_; }
+  const std::array<Eigen::Vector3d, kTactileSensorCount>& pad_forces() const {
+    return forces_.pad_force_n;
+  }
+  // The contacts' force on the vehicle in the world frame, summed from the pad forces: what ideal
+  // pads would tell the DUT. Includes the held object's share that the vehicle step carries as
+  // payload mass.
+  Eigen::Vector3d ContactForceWorld(const Eigen::Quaterniond& attitude) const;
+  // Has any object been damaged / dropped so far.
+  bool any_damaged() const { return any_damaged_; }
+  bool any_dropped() const { return any_dropped_; }
+  // Largest elastic energy stored in pads and object so far, and the bound physics puts on it: the
+  // servo cannot do more work on the grasp than its stall torque over its whole range.
+  double peak_elastic_energy_j() const { return peak_elastic_energy_j_; }
+  double elastic_energy_bound_j() const;
+
+  // One outcome per object presented so far (the current one as it is now).
+  std::vector<proto::ObjectOutcome> Outcomes() const;
+
+ private:
+  void Present(const ObjectPlacement& placement);
+  double PourRateKgPerS(double time_s) const;
+
+  const GripperConfig& config_;
+  std::array<Eigen::Matrix3d, kTactileSensorCount> body_from_pad_;
+  GraspSceneParams scene_;
+  double gravity_m_s2_;
+  GraspState grasp_;
+  ServoState servo_;
+  GraspForces forces_;
+  std::size_t next_object_ = 0;
+  std::size_t next_support_removal_ = 0;
+  std::vector<proto::ObjectOutcome> finished_;
+  proto::ObjectOutcome current_;
+  double damaged_at_s_ = -1;
+  bool any_damaged_ = false;
+  bool any_dropped_ = false;
+  double peak_elastic_energy_j_ = 0;
+};
+
+}  // namespace hilrig::host
