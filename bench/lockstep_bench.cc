@@ -18,21 +18,31 @@
 namespace hilrig::host {
 namespace {
 
-ScenarioConfig LongHover() {
-  auto spec = LoadScenario(std::string(HILRIG_SOURCE_DIR) + "/scenarios/hover.textproto");
+// A shipped scenario, run for a day: its timeline is over early and the rest is steady state.
+ScenarioConfig LongRunOf(const std::string& scenario) {
+  auto spec =
+      LoadScenario(std::string(HILRIG_SOURCE_DIR) + "/scenarios/" + scenario + ".textproto");
   if (!spec) {
     std::fprintf(stderr, "%s\n", spec.error().message.c_str());
     std::abort();
   }
   spec.value().mutable_simulation()->set_duration_s(86400);
-  return ResolveScenario(spec.value(), std::nullopt);
+  ScenarioConfig config = ResolveScenario(spec.value(), std::nullopt);
+  if (auto calibrated = LoadTactileCalibration(config); !calibrated) {
+    std::fprintf(stderr, "%s\n", calibrated.error().message.c_str());
+    std::abort();
+  }
+  return config;
 }
 
-void BM_LockstepTick(benchmark::State& state) {
-  const ScenarioConfig config = LongHover();
+// One lockstep tick of `scenario` after `warm_up_s` of simulated time.
+void TickScenario(benchmark::State& state, const std::string& scenario, double warm_up_s) {
+  const ScenarioConfig config = LongRunOf(scenario);
   std::ostringstream trace, can_log;
   const rig::SteadyClock wall_clock;
   LockstepRunner runner(config, {&trace, &can_log, nullptr}, {&wall_clock, nullptr});
+  for (int i = 0; i < static_cast<int>(warm_up_s * 1000); ++i) runner.Tick();
+  trace.str("");
   std::uint64_t ticks = 0;
   for (auto _ : state) {
     if (!runner.Tick()) state.SkipWithError("run ended");
@@ -42,7 +52,18 @@ void BM_LockstepTick(benchmark::State& state) {
   state.counters["real_time_factor"] = benchmark::Counter(
       1e-3 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
+
+void BM_LockstepTick(benchmark::State& state) { TickScenario(state, "hover", 0); }
 BENCHMARK(BM_LockstepTick);
+
+// Seven Hall sensor nodes on CAN, nothing touching the pads.
+void BM_TactileHoverTick(benchmark::State& state) { TickScenario(state, "tactile_hover", 25); }
+BENCHMARK(BM_TactileHoverTick);
+
+// The balloon held at its regulated force: servo, contact, six pads through the sensor model and
+// CAN, and the DUT's grasp and force-aware position loops, every tick.
+void BM_BalloonGraspTick(benchmark::State& state) { TickScenario(state, "balloon_grasp", 30); }
+BENCHMARK(BM_BalloonGraspTick);
 
 void BM_QuadrotorStep(benchmark::State& state) {
   const QuadrotorParams params;

@@ -36,6 +36,7 @@
 // is left out of the sums.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -322,6 +323,27 @@ TactileSummary<S> SummarizeTactile(const TactileProcessorParams<S>& params,
   }
   summary.ready = all_ready;
   return summary;
+}
+
+// The last time up to which SummarizeTactile gives the answer it gives at `now_ns` if no sample
+// arrives in between: the moment the first contributing node goes stale. A controller stepping
+// faster than its sensors sample can keep the summary until then instead of re-summing six nodes
+// every step. A sample stamped after `now_ns` makes it `now_ns` (nothing to keep).
+template <typename S>
+std::int64_t TactileSummaryValidUntil(const TactileProcessorParams<S>& params,
+                                      const TactileProcessorState<S>& state,
+                                      NoDeduce<std::int64_t> now_ns) {
+  std::int64_t until = std::numeric_limits<std::int64_t>::max();
+  for (const TactileNodeState<S>& node : state.nodes) {
+    if (!node.zeroed || !node.has_force) continue;
+    if (node.last_force_ns > now_ns) return now_ns;
+    if (tactile_processor_internal::OlderThan(now_ns, node.last_force_ns,
+                                              params.max_sample_age_ns)) {
+      continue;  // already stale; only a new sample brings it back
+    }
+    until = std::min(until, node.last_force_ns + params.max_sample_age_ns);
+  }
+  return until;
 }
 
 }  // namespace hilrig::dut_fw

@@ -54,6 +54,7 @@ void InProcessDut::DrainBus(std::int64_t now_ns) {
     if (sample == nullptr) continue;  // status frames and other hosts' commands
     ++counters_.sensor_samples;
     if (!tactile_params_) continue;
+    summary_dirty_ = true;
     const bool saturated = (sample->status & rig::kSampleStatusSaturated) != 0;
     if (sample->node_id == rig::kReferenceNodeId) {
       dut_fw::OnReferenceSample(*tactile_params_, tactile_state_, sample->code, sample->sequence,
@@ -73,14 +74,19 @@ DutCounters InProcessDut::counters() const {
   return counters;
 }
 
-InProcessDut::TactileForces InProcessDut::SummarizeForces(std::int64_t now_ns) const {
+InProcessDut::TactileForces InProcessDut::SummarizeForces(std::int64_t now_ns) {
   TactileForces forces;
   if (!tactile_params_) return forces;
-  const auto summary = dut_fw::SummarizeTactile(*tactile_params_, tactile_state_, now_ns);
-  if (!summary.ready) return forces;
+  if (summary_dirty_ || now_ns > summary_valid_until_ns_) {
+    summary_ = dut_fw::SummarizeTactile(*tactile_params_, tactile_state_, now_ns);
+    summary_valid_until_ns_ =
+        dut_fw::TactileSummaryValidUntil(*tactile_params_, tactile_state_, now_ns);
+    summary_dirty_ = false;
+  }
+  if (!summary_.ready) return forces;
   forces.external_world_n =
-      dut_fw::Rotate<double>(state_.estimator.orientation, summary.external_force_body_n);
-  forces.grasp_n = summary.grasp_force_n;
+      dut_fw::Rotate<double>(state_.estimator.orientation, summary_.external_force_body_n);
+  forces.grasp_n = summary_.grasp_force_n;
   forces.valid = true;
   return forces;
 }

@@ -41,7 +41,7 @@ class InProcessDut final : public DutPort {
     double grasp_n = 0;
     bool valid = false;
   };
-  TactileForces SummarizeForces(std::int64_t now_ns) const;
+  TactileForces SummarizeForces(std::int64_t now_ns);
 
   dut_fw::FlightController<double> controller_;
   dut_fw::FlightControllerState<double> state_;
@@ -52,6 +52,11 @@ class InProcessDut final : public DutPort {
   bool external_force_in_position_loop_;
   std::optional<dut_fw::TactileProcessorParams<double>> tactile_params_;
   dut_fw::TactileProcessorState<double> tactile_state_{};
+  // The front end's sums only change with a new sample or when a node goes stale, so they are
+  // kept between control steps (the 50 Hz nodes feed a 1 kHz loop).
+  dut_fw::TactileSummary<double> summary_;
+  bool summary_dirty_ = true;
+  std::int64_t summary_valid_until_ns_ = 0;
   std::unique_ptr<rig::CanBus> bus_;
   double control_period_s_;
   std::vector<rig::TimedCanFrame> received_;

@@ -97,7 +97,14 @@ void ResolveHallSensors(const proto::Scenario& spec, const std::string& spec_dir
   base.chip.saturation_enabled = Or(tactile.has_chip_saturation(), tactile.chip_saturation(), true);
   base.chip.encoding_enabled = Or(tactile.has_chip_encoding(), tactile.chip_encoding(), true);
   hall.tactile_enabled = tactile.enabled();
-  hall.tactile = DefaultTactileLayout(base);
+  // The pads sit on the gripper frame: chips at the frame's open radius plus the film standoff
+  // (their positions move in as the frame closes; their orientations do not change).
+  const GripperFrameParams frame;
+  TactileRingGeometry ring;
+  ring.radius_m = frame.open_radius_m + frame.film_standoff_m;
+  ring.height_m = frame.height_m;
+  ring.first_azimuth_rad = frame.first_azimuth_rad;
+  hall.tactile = DefaultTactileLayout(base, ring);
   hall.reference = DefaultReferenceSensor();
   hall.reference.chip = base.chip;
   hall.reference.earth_field_enabled = base.earth_field_enabled;

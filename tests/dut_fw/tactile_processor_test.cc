@@ -381,6 +381,38 @@ TYPED_TEST(TactileProcessorTest, SilentNodeDropsOutOfTheSumsAndClearsReady) {
   EXPECT_EQ(past_limit.grasp_force_n, S(5));
 }
 
+// The summary may be kept until the first fresh node goes stale: it is the same at that moment and
+// different one nanosecond later.
+TYPED_TEST(TactileProcessorTest, SummaryStaysValidUntilTheFirstFreshNodeGoesStale) {
+  using S = TypeParam;
+  TactileProcessorParams<S> params;
+  TactileProcessorState<S> state;
+  const std::int64_t now_ns = 1'000'000'000;
+  for (int i = 0; i < 6; ++i) {
+    params.nodes[i].node_id = std::uint8_t(i + 1);
+    SetForce<S>(state, i, Vec3<S>(S(0), S(0), S(1)), now_ns - 1'000'000 * (i + 1));
+  }
+  // Node 6 (slot 5) sampled 6 ms ago goes stale first.
+  const std::int64_t until = TactileSummaryValidUntil(params, state, now_ns);
+  EXPECT_EQ(until, now_ns - 6'000'000 + params.max_sample_age_ns);
+  EXPECT_EQ(SummarizeTactile(params, state, until).nodes_contributing, 6);
+  EXPECT_EQ(SummarizeTactile(params, state, until + 1).nodes_contributing, 5);
+}
+
+TYPED_TEST(TactileProcessorTest, SummaryValidityIgnoresStaleNodesAndDistrustsFutureStamps) {
+  using S = TypeParam;
+  TactileProcessorParams<S> params;
+  TactileProcessorState<S> state;
+  const std::int64_t now_ns = 1'000'000'000;
+  for (int i = 0; i < 6; ++i) params.nodes[i].node_id = std::uint8_t(i + 1);
+  SetForce<S>(state, 0, Vec3<S>(S(0), S(0), S(1)), now_ns - 10 * params.max_sample_age_ns);
+  SetForce<S>(state, 1, Vec3<S>(S(0), S(0), S(1)), now_ns - 1'000'000);
+  EXPECT_EQ(TactileSummaryValidUntil(params, state, now_ns),
+            now_ns - 1'000'000 + params.max_sample_age_ns);
+  SetForce<S>(state, 2, Vec3<S>(S(0), S(0), S(1)), now_ns + 5);
+  EXPECT_EQ(TactileSummaryValidUntil(params, state, now_ns), now_ns);
+}
+
 TYPED_TEST(TactileProcessorTest, InvalidChipSettingIsFlaggedWithoutNaN) {
   using S = TypeParam;
   const Airframe airframe;

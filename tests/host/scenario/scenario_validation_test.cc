@@ -1,0 +1,129 @@
+// The grasp parts of a spec: objects, grasp commands, pours, hand-overs and the signals that watch
+// them are checked before anything runs, each problem pointing at its field.
+#include "host/scenario/scenario_validation.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "host/scenario/scenario_loader.h"
+
+namespace hilrig::host {
+namespace {
+
+using ::testing::HasSubstr;
+
+constexpr const char* kGraspScene = R"(name: "grasp"
+vehicle { initial_position_m { z: 0.5 } }
+models { tactile { enabled: true } }
+object { fixture: "balloon" }
+simulation { duration_s: 10 }
+timeline { at_s: 1 grasp { force_n: 0.6 } }
+envelopes { name: "force" signal: GRASP_FORCE_N upper: 0.65 }
+)";
+
+std::string ErrorOf(const std::string& text) {
+  const auto result = ParseScenario(text, "spec.textproto");
+  EXPECT_FALSE(result.ok()) << "expected an error for:\n" << text;
+  return result.ok() ? std::string() : result.error().message;
+}
+
+TEST(ScenarioValidationTest, AcceptsAGraspScene) {
+  const auto result = ParseScenario(kGraspScene, "spec.textproto");
+  EXPECT_TRUE(result.ok()) << result.error().message;
+}
+
+TEST(ScenarioValidationTest, EveryShippedScenarioIsValid) {
+  for (const char* name : {"balloon_grasp", "balloon_ablation", "load_ramp", "bottle_feedback",
+                           "bottle_ablation", "objects"}) {
+    const auto result =
+        LoadScenario(std::string(HILRIG_SOURCE_DIR) + "/scenarios/" + name + ".textproto");
+    EXPECT_TRUE(result.ok()) << name << ": " << result.error().message;
+  }
+}
+
+TEST(ScenarioValidationTest, UnknownFixtureListsTheKnownOnes) {
+  std::string spec = kGraspScene;
+  spec.replace(spec.find("\"balloon\""), 9, "\"vase\"");
+  const std::string error = ErrorOf(spec);
+  EXPECT_THAT(error, HasSubstr("object.fixture"));
+  EXPECT_THAT(error, HasSubstr("balloon"));
+  EXPECT_THAT(error, HasSubstr("glass_cup"));
+}
+
+TEST(ScenarioValidationTest, StiffnessScaleMustBePositive) {
+  std::string spec = kGraspScene;
+  spec.replace(spec.find("fixture: \"balloon\""), 18, "fixture: \"balloon\" stiffness_scale: 0");
+  const std::string error = ErrorOf(spec);
+  EXPECT_THAT(error, HasSubstr("object.stiffness_scale: must be > 0"));
+}
+
+TEST(ScenarioValidationTest, GraspWithoutAnObjectIsRejected) {
+  const std::string error = ErrorOf(R"(name: "x"
+models { tactile { enabled: true } }
+simulation { duration_s: 2 }
+timeline { at_s: 1 grasp { force_n: 0.6 } }
+)");
+  EXPECT_THAT(error,
+              HasSubstr("timeline[0].grasp: commands the gripper, but the scene has no object"));
+}
+
+TEST(ScenarioValidationTest, RegulatingGraspNeedsTheTactilePads) {
+  const std::string error = ErrorOf(R"(name: "x"
+object { fixture: "egg" }
+simulation { duration_s: 2 }
+timeline { at_s: 1 grasp { force_n: 2 } }
+)");
+  EXPECT_THAT(error, HasSubstr("needs models.tactile.enabled"));
+}
+
+TEST(ScenarioValidationTest, GraspForceBeyondTheServoIsATypo) {
+  const std::string error =
+      ErrorOf(std::string(kGraspScene) + "timeline { at_s: 2 grasp { force_n: 65 } }\n");
+  EXPECT_THAT(error, HasSubstr("timeline[1].grasp.force_n: must be in (0, 20] N"));
+}
+
+TEST(ScenarioValidationTest, GraspNeedsAForceOrOpen) {
+  const std::string error = ErrorOf(std::string(kGraspScene) + "timeline { at_s: 2 grasp { } }\n");
+  EXPECT_THAT(error, HasSubstr("force_n is required (or open: true)"));
+}
+
+TEST(ScenarioValidationTest, PourNeedsAPositiveMassAndDuration) {
+  const std::string error =
+      ErrorOf(std::string(kGraspScene) + "timeline { at_s: 2 pour { mass_kg: -1 } }\n");
+  EXPECT_THAT(error, HasSubstr("timeline[1].pour.mass_kg: must be > 0"));
+  EXPECT_THAT(error, HasSubstr("timeline[1].pour: duration_s is required"));
+}
+
+TEST(ScenarioValidationTest, GraspSignalNeedsAnObject) {
+  const std::string error = ErrorOf(R"(name: "x"
+simulation { duration_s: 2 }
+envelopes { name: "d" signal: OBJECT_DAMAGED upper: 0 }
+)");
+  EXPECT_THAT(error,
+              HasSubstr("envelopes[0].signal: watches the grasp, but the scene has no object"));
+}
+
+TEST(ScenarioValidationTest, ControllerGainsMustBePositive) {
+  const std::string error =
+      ErrorOf(std::string(kGraspScene) + "grasp_controller { damping: -3 mass: 0 }\n");
+  EXPECT_THAT(error, HasSubstr("grasp_controller.damping: must be > 0"));
+  EXPECT_THAT(error, HasSubstr("grasp_controller.mass: must be > 0"));
+}
+
+TEST(ScenarioValidationTest, MeanWindowMustBePositive) {
+  const std::string error =
+      ErrorOf(std::string(kGraspScene) +
+              "envelopes { name: \"m\" signal: GRASP_FORCE_N upper: 1 mean_over_s: -1 }\n");
+  EXPECT_THAT(error, HasSubstr("envelopes[1].mean_over_s: must be > 0"));
+}
+
+TEST(ScenarioValidationTest, HandOverWithoutAnObjectIsRejected) {
+  const std::string error = ErrorOf(R"(name: "x"
+simulation { duration_s: 2 }
+timeline { at_s: 1 remove_support { } }
+)");
+  EXPECT_THAT(error, HasSubstr("timeline[0].remove_support"));
+}
+
+}  // namespace
+}  // namespace hilrig::host
