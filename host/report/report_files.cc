@@ -6,6 +6,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "host/report/xml_text.h"
+
 namespace hilrig::host {
 
 rig::Result<void> WriteTextFile(const std::string& path, const std::string& content) {
@@ -18,32 +20,6 @@ rig::Result<void> WriteTextFile(const std::string& path, const std::string& cont
 }
 
 namespace {
-
-std::string XmlEscape(const std::string& text) {
-  std::string escaped;
-  for (char c : text) {
-    switch (c) {
-      case '&':
-        escaped += "&amp;";
-        break;
-      case '<':
-        escaped += "&lt;";
-        break;
-      case '>':
-        escaped += "&gt;";
-        break;
-      case '"':
-        escaped += "&quot;";
-        break;
-      case '\'':
-        escaped += "&apos;";
-        break;
-      default:
-        escaped += c;
-    }
-  }
-  return escaped;
-}
 
 std::string FormatNumber(double value) {
   char buffer[32];
@@ -77,24 +53,24 @@ rig::Result<void> WriteJunitXml(const proto::Report& report, const std::string& 
   int failures = 0;
   std::ostringstream cases;
   for (const proto::EnvelopeResult& result : report.envelopes()) {
-    cases << "    <testcase classname=\"" << XmlEscape(report.scenario()) << "\" name=\""
-          << XmlEscape(result.name()) << "\">\n";
+    cases << "    <testcase classname=\"" << EscapeXmlText(report.scenario()) << "\" name=\""
+          << EscapeXmlText(result.name()) << "\">\n";
     if (!result.meets_expectation()) {
       ++failures;
-      cases << "      <failure message=\"" << XmlEscape(FormatEnvelopeLine(result)) << "\"/>\n";
+      cases << "      <failure message=\"" << EscapeXmlText(FormatEnvelopeLine(result)) << "\"/>\n";
     }
     cases << "    </testcase>\n";
   }
   if (report.stop_reason() != "completed") {
     ++failures;
-    cases << "    <testcase classname=\"" << XmlEscape(report.scenario())
+    cases << "    <testcase classname=\"" << EscapeXmlText(report.scenario())
           << "\" name=\"run completes\">\n      <failure message=\""
-          << XmlEscape(report.stop_reason()) << "\"/>\n    </testcase>\n";
+          << EscapeXmlText(report.stop_reason()) << "\"/>\n    </testcase>\n";
   }
   const int tests = report.envelopes_size() + (report.stop_reason() != "completed" ? 1 : 0);
   std::ostringstream xml;
   xml << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-      << "<testsuites>\n  <testsuite name=\"" << XmlEscape(report.scenario()) << "\" tests=\""
+      << "<testsuites>\n  <testsuite name=\"" << EscapeXmlText(report.scenario()) << "\" tests=\""
       << tests << "\" failures=\"" << failures << "\" time=\"" << report.wall_s() << "\">\n"
       << cases.str() << "  </testsuite>\n</testsuites>\n";
   return WriteTextFile(path, xml.str());

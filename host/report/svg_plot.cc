@@ -265,34 +265,6 @@ std::vector<PlotPoint> DecimateMinMax(const std::vector<double>& time_s,
   return out;
 }
 
-std::string EscapeXmlText(const std::string& text) {
-  std::string escaped;
-  escaped.reserve(text.size());
-  for (char c : text) {
-    switch (c) {
-      case '&':
-        escaped += "&amp;";
-        break;
-      case '<':
-        escaped += "&lt;";
-        break;
-      case '>':
-        escaped += "&gt;";
-        break;
-      case '"':
-        escaped += "&quot;";
-        break;
-      case '\'':
-        escaped += "&apos;";
-        break;
-      default:
-        const auto byte = static_cast<unsigned char>(c);
-        escaped += (byte < 0x20 && c != '\t' && c != '\n' && c != '\r') || byte == 0x7F ? '?' : c;
-    }
-  }
-  return escaped;
-}
-
 PlotLayout LayoutOf(const TimePlot& plot) {
   PlotLayout layout;
   layout.doc_width_px = std::clamp(plot.width_px, kMinWidthPx, kMaxSizePx);

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "host/report/xml_text.h"
+
 namespace hilrig::host {
 
 struct PlotSeries {
@@ -104,8 +106,5 @@ struct PlotPoint {
 // non-finite time or value become gap markers; lengths are cut to the shorter of the two.
 std::vector<PlotPoint> DecimateMinMax(const std::vector<double>& time_s,
                                       const std::vector<double>& value, std::size_t max_points);
-
-// &, <, >, ", ' as entities; control characters XML 1.0 forbids become '?'.
-std::string EscapeXmlText(const std::string& text);
 
 }  // namespace hilrig::host

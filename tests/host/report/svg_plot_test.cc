@@ -639,12 +639,6 @@ TEST(RenderSvgTest, EscapesEveryXmlSpecialCharacter) {
   EXPECT_EQ(WellFormedError(svg), "");
 }
 
-TEST(EscapeXmlTextTest, ReplacesControlCharacters) {
-  EXPECT_EQ(EscapeXmlText(std::string("a\x01"
-                                      "b\tc")),
-            "a?b\tc");
-}
-
 TimePlot RichPlot() {
   TimePlot plot;
   plot.title = "position & force";
