@@ -83,6 +83,7 @@ class LockstepRunner::Impl {
   bool ControlStep(std::uint64_t control_tick, std::int64_t now_ns);
   Eigen::Vector3d DisturbanceAt(double time_s) const;
   void StepPlant(std::int64_t now_ns);
+  bool PlantFinite() const;
   void FillGraspTrace(TraceSample& sample) const;
   bool RecordTrace(std::int64_t now_ns);
   void AppendBusMetrics(std::int64_t now_ns, proto::Report& report);
@@ -146,7 +147,20 @@ LockstepRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
       statistics_(config.gripper.enabled) {
   const double control_period_s =
       Seconds(config.physics_step_ns) * static_cast<double>(config.control_every_ticks);
-  dut_ = std::make_unique<InProcessDut>(FirmwareFor(config), bus_.Connect("dut"), control_period_s);
+  if (control.dut_factory) {
+    auto dut = control.dut_factory(config, bus_.Connect("dut"), control_period_s);
+    if (dut) {
+      dut_ = std::move(dut).value();
+    } else {
+      stop_reason_ = "dut failed to start: " + dut.error().message;
+      ended_ = true;
+      dut_ = std::make_unique<InProcessDut>(FirmwareFor(config), bus_.Connect("dut-unused"),
+                                            control_period_s);
+    }
+  } else {
+    dut_ =
+        std::make_unique<InProcessDut>(FirmwareFor(config), bus_.Connect("dut"), control_period_s);
+  }
   if (config.gripper.enabled) gripper_.emplace(config, config.hall_sensors.tactile);
   // A scenario starting in the air starts hovering, rotors spun up; on the ground it starts at
   // rest.
@@ -172,7 +186,7 @@ LockstepRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
       std::llround(config.duration_s * 1e9 / static_cast<double>(config.physics_step_ns)));
   wall_start_ns_ = control.wall_clock->NowNs();
   next_progress_wall_ns_ = wall_start_ns_ + kProgressPeriodNs;
-  ended_ = total_ticks_ == 0;
+  ended_ = ended_ || total_ticks_ == 0;
 }
 
 void LockstepRunner::Impl::SampleSensors(std::int64_t now_ns) {
@@ -243,6 +257,12 @@ void LockstepRunner::Impl::StepPlant(std::int64_t now_ns) {
   }
   plant_ = StepQuadrotor(config_.vehicle, plant_, command_.rotor_thrust_n, force_world_n, dt_s,
                          payload_kg);
+}
+
+bool LockstepRunner::Impl::PlantFinite() const {
+  const RigidBodyState& body = plant_.body;
+  return body.position_m.allFinite() && body.velocity_m_s.allFinite() &&
+         body.orientation.coeffs().allFinite() && body.angular_velocity_rad_s.allFinite();
 }
 
 void LockstepRunner::Impl::FillGraspTrace(TraceSample& sample) const {
@@ -323,6 +343,14 @@ bool LockstepRunner::Impl::Tick() {
     return false;
   }
   StepPlant(now_ns);
+  if (!PlantFinite()) {
+    // A step size or model the integrator cannot hold: say so and stop, instead of carrying NaN
+    // through the trace.
+    stop_reason_ = "numerical instability: the plant state is not finite after " +
+                   std::to_string(Seconds(now_ns)) + " s";
+    ended_ = true;
+    return false;
+  }
   clock_.AdvanceNs(config_.physics_step_ns);
   ++tick_;
   if (tick_ % static_cast<std::uint64_t>(config_.trace_every_ticks) == 0) {

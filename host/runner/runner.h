@@ -6,12 +6,15 @@
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <ostream>
 
+#include "host/dut/dut_port.h"
 #include "host/report/run_plots.h"
 #include "host/scenario/scenario_config.h"
 #include "proto/report.pb.h"
+#include "rig/can_bus.h"
 #include "rig/clock.h"
 
 namespace hilrig::host {
@@ -23,9 +26,15 @@ struct RunSinks {
   PlotTrace* plot_trace = nullptr;    // optional, the columns the run's plots need
 };
 
+// Builds the DUT the runner talks to, given the scene, the DUT's own endpoint on the emulated CAN
+// bus and the control period. Unset: the in-process dut_fw (InProcessDut).
+using DutFactory = std::function<rig::Result<std::unique_ptr<DutPort>>(
+    const ScenarioConfig& config, std::unique_ptr<rig::CanBus> bus, double control_period_s)>;
+
 struct RunControl {
   const rig::Clock* wall_clock = nullptr;             // required; only for timing the run
   const std::atomic<bool>* stop_requested = nullptr;  // optional, e.g. set by SIGINT
+  DutFactory dut_factory;                             // optional; default in-process
 };
 
 // A run that can be stepped tick by tick (benchmarks, tests); RunScenario() drives one to its end.
