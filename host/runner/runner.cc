@@ -255,8 +255,11 @@ void LockstepRunner::Impl::StepPlant(std::int64_t now_ns) {
     force_world_n += gripper_->forces().force_on_vehicle_world_n;
     payload_kg = gripper_->forces().payload_mass_kg;
   }
-  plant_ = StepQuadrotor(config_.vehicle, plant_, command_.rotor_thrust_n, force_world_n, dt_s,
-                         payload_kg);
+  const double substep_s = dt_s / config_.plant_substeps;
+  for (int i = 0; i < config_.plant_substeps; ++i) {
+    plant_ = StepQuadrotor(config_.vehicle, plant_, command_.rotor_thrust_n, force_world_n,
+                           substep_s, payload_kg);
+  }
 }
 
 bool LockstepRunner::Impl::PlantFinite() const {

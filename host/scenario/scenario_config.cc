@@ -133,6 +133,8 @@ void ResolveSimulation(const proto::Simulation& simulation, ScenarioConfig& conf
   config.trace_every_ticks = static_cast<int>(std::lround(
       physics_rate_hz / Or(simulation.has_trace_rate_hz(), simulation.trace_rate_hz(), 100.0)));
   config.can_bitrate_bps = Or(simulation.has_can_bitrate_bps(), simulation.can_bitrate_bps(), 1e6);
+  config.plant_substeps = static_cast<int>(
+      Or(simulation.has_plant_substeps(), simulation.plant_substeps(), std::uint32_t{1}));
 }
 
 ObjectPlacement ResolveObject(const proto::GraspObject& spec, double at_s,

@@ -90,6 +90,7 @@ struct ScenarioConfig {
   std::int64_t physics_step_ns = 1'000'000;
   int control_every_ticks = 1;
   int trace_every_ticks = 10;
+  int plant_substeps = 1;
   double can_bitrate_bps = 1e6;
 
   QuadrotorParams vehicle;

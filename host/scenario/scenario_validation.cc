@@ -176,6 +176,10 @@ void CheckSimulation(const proto::Simulation& simulation, const ProblemList& pro
                "control_rate_hz", problems);
   CheckDivides(simulation.has_trace_rate_hz(), simulation.trace_rate_hz(), physics_rate_hz,
                "trace_rate_hz", problems);
+  if (simulation.has_plant_substeps() &&
+      !(simulation.plant_substeps() >= 1 && simulation.plant_substeps() <= 1000)) {
+    problems.Add("plant_substeps", "must be in [1, 1000]");
+  }
   if (simulation.has_can_bitrate_bps() &&
       !(simulation.can_bitrate_bps() >= 10e3 && simulation.can_bitrate_bps() <= 8e6)) {
     problems.Add("can_bitrate_bps", "must be in [10 kbit/s, 8 Mbit/s]");
