@@ -107,3 +107,34 @@ BENCHMARK(BM_ImuSample);
 
 }  // namespace
 }  // namespace hilrig::host
+
+namespace hilrig::host {
+namespace {
+
+// One 1 ms step of a tumbling body with a constant torque, per integrator (the argument is the
+// Integrator value: 0 semi-implicit Euler, 1 RK4, 2 midpoint, 3 Dormand-Prince at 1e-6).
+void BM_RigidBodyStep(benchmark::State& state) {
+  const auto integrator = static_cast<Integrator>(state.range(0));
+  RigidBodyParams params;
+  params.inertia_kg_m2 = {2e-3, 3e-3, 5e-3};
+  Wrench wrench;
+  wrench.force_world_n = {0.0, 0.0, params.mass_kg * 9.81};
+  wrench.torque_body_nm = {1e-4, -2e-4, 5e-5};
+  RigidBodyState body;
+  body.angular_velocity_rad_s = {3.0, -1.0, 2.0};
+  const RigidBodyIntegratorOptions options;
+  IntegratorStats stats;
+  std::uint64_t substeps = 0;
+  for (auto _ : state) {
+    body = StepRigidBody(params, body, wrench, 9.81, 1e-3, integrator, options, &stats);
+    substeps += stats.accepted_substeps + stats.rejected_substeps;
+    benchmark::DoNotOptimize(body);
+  }
+  state.SetLabel(IntegratorName(integrator));
+  state.counters["substeps_per_step"] =
+      static_cast<double>(substeps) / static_cast<double>(state.iterations());
+}
+BENCHMARK(BM_RigidBodyStep)->DenseRange(0, 3);
+
+}  // namespace
+}  // namespace hilrig::host

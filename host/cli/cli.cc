@@ -2,13 +2,18 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <optional>
 
+#include "host/bench/work_precision.h"
+#include "host/cli/bench_command.h"
 #include "host/cli/cli_args.h"
 #include "host/cli/tactile_commands.h"
+#include "host/dut/firmware_config.h"
+#include "host/dut/process_dut.h"
 #include "host/report/report_files.h"
 #include "host/runner/runner.h"
 #include "host/scenario/scenario_config.h"
@@ -24,32 +29,73 @@ constexpr const char* kUsage =
     "usage:\n"
     "  hilrig run FILE.textproto [--out DIR] [--seed N]   run one scenario\n"
     "  hilrig run DIR/ [--out DIR] [--seed N]             run every *.textproto in DIR\n"
+    "      run options: --dut inproc|process (the DUT in this process, the default, or in\n"
+    "      its own dut_emu process over the HIL link, lockstep) [--dut-timeout-s S]\n"
+    "      (how long a dut process may take to answer a tick; default 1)\n"
     "  hilrig check FILE.textproto...                     validate scenario specs\n"
+    "  hilrig bench --out DIR [--scenes a,b] [--duration-s S] [--quick]\n"
+    "                                                     work-precision sweep\n"
     "  hilrig calibrate --out DIR [--seed N] [--field F]  calibrate the tactile sensors\n"
     "  hilrig accuracy --calibration FILE --out DIR [--seed N] [--field F]\n"
     "                                                     held-out force error\n"
     "  hilrig decode --calibration FILE                   stdin 'bx by bz' (T) -> S\n"
     "  hilrig help                                        this text\n"
     "run writes report.json, junit.xml, trace.csv and can.log into --out (default\n"
-    "hilrig_out/<scenario>). Exit codes: 0 every check met its expected verdict,\n"
+    "hilrig_out/<scenario>); run FILE --reference also runs the tight reference fidelity\n"
+    "and adds reference_error_* metrics. Exit codes: 0 every check met its expected verdict,\n"
     "1 a check did not or the run was cut short, 2 bad input or usage.\n";
 
 struct RunOptions {
   std::string target;
   std::optional<std::string> out_dir;
   std::optional<std::uint64_t> seed;
+  bool reference = false;  // --reference: also run the reference fidelity and compare
+  DutFactory dut_factory;  // --dut process; unset: in process
 };
 
 using Streams = CliStreams;
 
-rig::Result<RunOptions> ParseRunOptions(const std::vector<std::string>& args) {
-  auto parsed = ParseCliArgs(args, {"--out", "--seed"});
+// --dut inproc|process and --dut-timeout-s; an unset factory is the in-process DUT.
+rig::Result<DutFactory> ParseDutOptions(const CliArgs& cli) {
+  const std::string* mode = cli.Option("--dut");
+  const std::string* timeout = cli.Option("--dut-timeout-s");
+  if (mode != nullptr && *mode != "inproc" && *mode != "process") {
+    return rig::MakeError("--dut \"" + *mode + "\": expected inproc or process");
+  }
+  const bool process = mode != nullptr && *mode == "process";
+  if (timeout != nullptr && !process) return rig::MakeError("--dut-timeout-s needs --dut process");
+  if (!process) return DutFactory();
+  ProcessDutOptions options;
+  if (timeout != nullptr) {
+    char* end = nullptr;
+    options.answer_timeout_s = std::strtod(timeout->c_str(), &end);
+    if (timeout->empty() || *end != '\0') {
+      return rig::MakeError("--dut-timeout-s \"" + *timeout + "\" is not a number");
+    }
+  }
+  if (auto valid = ValidateProcessDutOptions(options); !valid) {
+    return rig::MakeError("--dut-timeout-s: " + valid.error().message);
+  }
+  return DutFactory([options](const ScenarioConfig& config, std::unique_ptr<rig::CanBus> bus,
+                              double control_period_s) -> rig::Result<std::unique_ptr<DutPort>> {
+    auto dut = ProcessDut::Start(FirmwareFor(config), std::move(bus), control_period_s, options);
+    if (!dut) return dut.error();
+    return std::unique_ptr<DutPort>(std::move(dut).value());
+  });
+}
+
+rig::Result<RunOptions> ParseRunOptions(std::vector<std::string> args) {
+  const auto reference = std::remove(args.begin() + 1, args.end(), std::string("--reference"));
+  const bool with_reference = reference != args.end();
+  args.erase(reference, args.end());
+  auto parsed = ParseCliArgs(args, {"--out", "--seed", "--dut", "--dut-timeout-s"});
   if (!parsed) return parsed.error();
   const CliArgs& cli = parsed.value();
   if (cli.positional.size() != 1) {
     return rig::MakeError("run takes one scenario file or folder");
   }
   RunOptions options;
+  options.reference = with_reference;
   options.target = cli.positional.front();
   if (const std::string* out = cli.Option("--out")) options.out_dir = *out;
   if (const std::string* seed_text = cli.Option("--seed")) {
@@ -57,6 +103,9 @@ rig::Result<RunOptions> ParseRunOptions(const std::vector<std::string>& args) {
     if (!seed) return seed.error();
     options.seed = seed.value();
   }
+  auto dut = ParseDutOptions(cli);
+  if (!dut) return dut.error();
+  options.dut_factory = std::move(dut).value();
   return options;
 }
 
@@ -68,7 +117,8 @@ struct ScenarioOutcome {
 
 rig::Result<proto::Report> RunToDirectory(const proto::Scenario& spec, const std::string& spec_path,
                                           const fs::path& out_dir,
-                                          std::optional<std::uint64_t> seed, const Streams& io) {
+                                          std::optional<std::uint64_t> seed, bool reference,
+                                          const DutFactory& dut_factory, const Streams& io) {
   std::error_code error;
   fs::create_directories(out_dir, error);
   if (error) return rig::MakeError("cannot create " + out_dir.string() + ": " + error.message());
@@ -84,7 +134,7 @@ rig::Result<proto::Report> RunToDirectory(const proto::Scenario& spec, const std
   }
   PlotTrace plot_trace;
   proto::Report report = RunScenario(config, {&trace, &can_log, &io.err, &plot_trace},
-                                     {&wall_clock, io.stop_requested});
+                                     {&wall_clock, io.stop_requested, dut_factory});
   report.set_spec_file(spec_path);
   // Calibrating at start and tabulating field maps happen before the first tick; the real-time
   // factor is the stepping loop's, and this is the rest.
@@ -94,6 +144,13 @@ rig::Result<proto::Report> RunToDirectory(const proto::Scenario& spec, const std
       WriteRunPlots(plot_trace, config.envelopes, config.gripper.enabled, out_dir.string());
   if (!plots) return plots.error();
   for (const std::string& plot : plots.value()) report.add_plots(plot);
+  if (reference) {
+    auto compared = CompareWithReference(config, spec, fs::path(spec_path).parent_path().string(),
+                                         ReferenceFidelity(false),
+                                         {&wall_clock, io.stop_requested, dut_factory});
+    if (!compared) return rig::MakeError(spec_path + ": --reference: " + compared.error().message);
+    AddReferenceMetrics(compared.value(), report);
+  }
   trace.close();
   can_log.close();
   if (!trace || !can_log)
@@ -108,7 +165,8 @@ rig::Result<proto::Report> RunToDirectory(const proto::Scenario& spec, const std
 }
 
 ScenarioOutcome RunOneFile(const std::string& path, const fs::path& out_dir,
-                           std::optional<std::uint64_t> seed, const Streams& io) {
+                           std::optional<std::uint64_t> seed, const Streams& io,
+                           bool reference = false, const DutFactory& dut_factory = {}) {
   ScenarioOutcome outcome;
   outcome.name = fs::path(path).stem().string();
   auto spec = LoadScenario(path);
@@ -116,7 +174,7 @@ ScenarioOutcome RunOneFile(const std::string& path, const fs::path& out_dir,
     io.err << spec.error().message << "\n";
     return outcome;
   }
-  auto report = RunToDirectory(spec.value(), path, out_dir, seed, io);
+  auto report = RunToDirectory(spec.value(), path, out_dir, seed, reference, dut_factory, io);
   if (!report) {
     io.err << "hilrig: " << report.error().message << "\n";
     return outcome;
@@ -172,7 +230,7 @@ int RunFolder(const RunOptions& options, const Streams& io) {
     if (io.stop_requested != nullptr && io.stop_requested->load()) break;
     io.out << "== " << file << "\n";
     const fs::path out_dir = out_root / fs::path(file).stem();
-    outcomes.push_back(RunOneFile(file, out_dir, options.seed, io));
+    outcomes.push_back(RunOneFile(file, out_dir, options.seed, io, false, options.dut_factory));
     if (outcomes.back().exit_code != kExitBadInput) PrintRun(outcomes.back(), io);
   }
   int exit_code = kExitPass;
@@ -201,7 +259,9 @@ int RunCommand(const std::vector<std::string>& args, const Streams& io) {
   }
   const fs::path out_dir =
       options.value().out_dir.value_or((fs::path("hilrig_out") / fs::path(target).stem()).string());
-  const ScenarioOutcome outcome = RunOneFile(target, out_dir, options.value().seed, io);
+  const ScenarioOutcome outcome =
+      RunOneFile(target, out_dir, options.value().seed, io, options.value().reference,
+                 options.value().dut_factory);
   if (outcome.exit_code != kExitBadInput) PrintRun(outcome, io);
   return outcome.exit_code;
 }
@@ -242,6 +302,7 @@ int RunCli(const std::vector<std::string>& args, std::ostream& out, std::ostream
   }
   if (args[0] == "run") return RunCommand(args, io);
   if (args[0] == "check") return CheckCommand(args, io);
+  if (args[0] == "bench") return BenchCommand(args, io);
   if (args[0] == "calibrate") return CalibrateCommand(args, io);
   if (args[0] == "accuracy") return AccuracyCommand(args, io);
   if (args[0] == "decode") return DecodeCommand(args, io, in != nullptr ? *in : std::cin);

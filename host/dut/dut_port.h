@@ -7,6 +7,8 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "host/dut/hil_messages.h"
 #include "rig/result.h"
@@ -21,6 +23,9 @@ struct DutCounters {
   std::uint64_t sensor_samples = 0;       // Hall sensor node samples, all seven nodes
   std::uint64_t sensor_sequence_gaps = 0;
   std::uint64_t sensor_samples_lost = 0;
+  // Tactile samples the front end could not turn into force (saturated, singular S(B), stale
+  // reference, ...), summed over the six pads.
+  std::uint64_t tactile_samples_flagged = 0;
 };
 
 class DutPort {
@@ -37,6 +42,10 @@ class DutPort {
 
   virtual DutCounters counters() const = 0;
   virtual std::string description() const = 0;
+
+  // Named counters of the link to the DUT (messages, named link errors, ...) for the run report;
+  // a DUT without a link has none.
+  virtual std::vector<std::pair<std::string, double>> link_metrics() const { return {}; }
 };
 
 }  // namespace hilrig::host

@@ -14,25 +14,33 @@
 
 namespace hilrig::host {
 
-dut_fw::FlightControllerParams<double> FirmwareParamsFor(const QuadrotorParams& vehicle);
+// Each is built for the firmware's scalar: double as on the host, or float as on the target
+// (explicitly instantiated for both).
+template <typename S = double>
+dut_fw::FlightControllerParams<S> FirmwareParamsFor(const QuadrotorParams& vehicle);
 
 // Empty when the scene has no tactile nodes. Needs config.hall_sensors.calibration loaded.
-std::optional<dut_fw::TactileProcessorParams<double>> FirmwareTactileParamsFor(
+template <typename S = double>
+std::optional<dut_fw::TactileProcessorParams<S>> FirmwareTactileParamsFor(
     const ScenarioConfig& config);
 
 // The grasp admittance with the scene's gains and ablation switch; the servo's range is the
 // gripper's.
-dut_fw::GraspAdmittanceParams<double> FirmwareGraspParamsFor(const ScenarioConfig& config);
+template <typename S = double>
+dut_fw::GraspAdmittanceParams<S> FirmwareGraspParamsFor(const ScenarioConfig& config);
 
 // Everything the DUT is flashed with.
-struct DutFirmware {
-  dut_fw::FlightControllerParams<double> flight;
-  std::optional<dut_fw::TactileProcessorParams<double>> tactile;
-  dut_fw::GraspAdmittanceParams<double> grasp;
+template <typename S>
+struct BasicDutFirmware {
+  dut_fw::FlightControllerParams<S> flight;
+  std::optional<dut_fw::TactileProcessorParams<S>> tactile;
+  dut_fw::GraspAdmittanceParams<S> grasp;
   // false: the ablation that keeps the tactile force out of the admittance and the thrust.
   bool external_force_in_position_loop = true;
 };
+using DutFirmware = BasicDutFirmware<double>;
 
-DutFirmware FirmwareFor(const ScenarioConfig& config);
+template <typename S = double>
+BasicDutFirmware<S> FirmwareFor(const ScenarioConfig& config);
 
 }  // namespace hilrig::host

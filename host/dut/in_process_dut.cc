@@ -1,17 +1,19 @@
 #include "host/dut/in_process_dut.h"
 
+#include <type_traits>
 #include <variant>
 
 namespace hilrig::host {
 
-InProcessDut::InProcessDut(const DutFirmware& firmware, std::unique_ptr<rig::CanBus> bus,
-                           double control_period_s)
+template <typename S>
+BasicInProcessDut<S>::BasicInProcessDut(const BasicDutFirmware<S>& firmware,
+                                        std::unique_ptr<rig::CanBus> bus, double control_period_s)
     : controller_(firmware.flight),
       grasp_params_(firmware.grasp),
       external_force_in_position_loop_(firmware.external_force_in_position_loop),
       tactile_params_(firmware.tactile),
       bus_(std::move(bus)),
-      control_period_s_(control_period_s) {
+      control_period_s_(S(control_period_s)) {
   reference_.position_m.setZero();
   reference_.velocity_m_s.setZero();
   reference_.acceleration_m_s2.setZero();
@@ -19,28 +21,39 @@ InProcessDut::InProcessDut(const DutFirmware& firmware, std::unique_ptr<rig::Can
   received_.reserve(64);
 }
 
-void InProcessDut::SendImu(const ImuMessage& message) {
+template <typename S>
+std::string BasicInProcessDut<S>::description() const {
+  return std::is_same_v<S, float> ? "in-process dut_fw (float)" : "in-process dut_fw (double)";
+}
+
+template <typename S>
+void BasicInProcessDut<S>::SendImu(const ImuMessage& message) {
   ++counters_.imu_messages;
-  controller_.OnImu(state_, message.gyro_rad_s, message.accel_m_s2, message.stamp.time_ns);
+  controller_.OnImu(state_, message.gyro_rad_s.cast<S>(), message.accel_m_s2.cast<S>(),
+                    message.stamp.time_ns);
 }
 
-void InProcessDut::SendVio(const VioMessage& message) {
+template <typename S>
+void BasicInProcessDut<S>::SendVio(const VioMessage& message) {
   ++counters_.vio_messages;
-  controller_.OnVio(state_, message.position_m, message.orientation, message.capture_time_ns);
+  controller_.OnVio(state_, message.position_m.cast<S>(), message.orientation.cast<S>(),
+                    message.capture_time_ns);
 }
 
-void InProcessDut::SendSetpoint(const SetpointMessage& message) {
-  reference_.position_m = message.position_m;
-  reference_.velocity_m_s = message.velocity_m_s;
-  reference_.acceleration_m_s2 = message.acceleration_m_s2;
-  reference_.yaw_rad = message.yaw_rad;
+template <typename S>
+void BasicInProcessDut<S>::SendSetpoint(const SetpointMessage& message) {
+  reference_.position_m = message.position_m.cast<S>();
+  reference_.velocity_m_s = message.velocity_m_s.cast<S>();
+  reference_.acceleration_m_s2 = message.acceleration_m_s2.cast<S>();
+  reference_.yaw_rad = S(message.yaw_rad);
   grasp_command_.mode =
       message.grasp_regulate ? dut_fw::GraspMode::kForce : dut_fw::GraspMode::kOpen;
-  grasp_command_.force_n = message.grasp_force_n;
-  grasp_command_.reference_angle_rad = message.grasp_reference_angle_rad;
+  grasp_command_.force_n = S(message.grasp_force_n);
+  grasp_command_.reference_angle_rad = S(message.grasp_reference_angle_rad);
 }
 
-void InProcessDut::DrainBus(std::int64_t now_ns) {
+template <typename S>
+void BasicInProcessDut<S>::DrainBus(std::int64_t now_ns) {
   received_.clear();
   bus_->Receive(now_ns, received_);
   for (const rig::TimedCanFrame& timed : received_) {
@@ -66,15 +79,19 @@ void InProcessDut::DrainBus(std::int64_t now_ns) {
   }
 }
 
-DutCounters InProcessDut::counters() const {
+template <typename S>
+DutCounters BasicInProcessDut<S>::counters() const {
   DutCounters counters = counters_;
   const rig::TactileNodeCounters link = link_monitor_.Totals();
   counters.sensor_sequence_gaps = link.sequence_gaps;
   counters.sensor_samples_lost = link.lost_samples;
+  for (const auto& node : tactile_state_.nodes) counters.tactile_samples_flagged += node.flagged;
   return counters;
 }
 
-InProcessDut::TactileForces InProcessDut::SummarizeForces(std::int64_t now_ns) {
+template <typename S>
+typename BasicInProcessDut<S>::TactileForces BasicInProcessDut<S>::SummarizeForces(
+    std::int64_t now_ns) {
   TactileForces forces;
   if (!tactile_params_) return forces;
   if (summary_dirty_ || now_ns > summary_valid_until_ns_) {
@@ -85,36 +102,43 @@ InProcessDut::TactileForces InProcessDut::SummarizeForces(std::int64_t now_ns) {
   }
   if (!summary_.ready) return forces;
   forces.external_world_n =
-      dut_fw::Rotate<double>(state_.estimator.orientation, summary_.external_force_body_n);
+      dut_fw::Rotate<S>(state_.estimator.orientation, summary_.external_force_body_n);
   forces.grasp_n = summary_.grasp_force_n;
   forces.valid = true;
   return forces;
 }
 
-rig::Result<ActuatorMessage> InProcessDut::Step(std::uint64_t tick, std::int64_t now_ns) {
+template <typename S>
+rig::Result<ActuatorMessage> BasicInProcessDut<S>::Step(std::uint64_t tick, std::int64_t now_ns) {
   DrainBus(now_ns);
   const TactileForces tactile = SummarizeForces(now_ns);
-  const Eigen::Vector3d loop_force_n =
-      external_force_in_position_loop_ ? tactile.external_world_n : Eigen::Vector3d::Zero();
+  const dut_fw::Vec3<S> loop_force_n =
+      external_force_in_position_loop_ ? tactile.external_world_n : dut_fw::Vec3<S>::Zero();
   const auto output = controller_.Step(state_, reference_, loop_force_n, control_period_s_);
   const auto grasp = dut_fw::StepGraspController(grasp_params_, grasp_state_, grasp_command_,
                                                  tactile.grasp_n, tactile.valid, control_period_s_);
   ActuatorMessage command;
   command.stamp = {commands_sent_++, now_ns};
   command.answers_sequence = tick;
-  command.rotor_thrust_n = output.rotor_thrust_n;
+  for (std::size_t i = 0; i < command.rotor_thrust_n.size(); ++i) {
+    command.rotor_thrust_n[i] = double(output.rotor_thrust_n[i]);
+  }
   command.armed = output.armed;
-  command.servo_angle_rad = grasp.servo_angle_rad;
-  command.estimated_position_m = state_.estimator.position_m;
+  command.servo_angle_rad = double(grasp.servo_angle_rad);
+  command.estimated_position_m = state_.estimator.position_m.template cast<double>();
   command.tactile_ready = tactile.valid;
-  command.grasp_force_estimate_n = tactile.grasp_n;
-  command.external_force_world_n = tactile.external_world_n;
+  command.grasp_force_estimate_n = double(tactile.grasp_n);
+  command.external_force_world_n = tactile.external_world_n.template cast<double>();
   if (tactile_params_) {
     for (std::size_t i = 0; i < command.tactile_force_sensor_n.size(); ++i) {
-      command.tactile_force_sensor_n[i] = tactile_state_.nodes[i].force_sensor_n;
+      command.tactile_force_sensor_n[i] =
+          tactile_state_.nodes[i].force_sensor_n.template cast<double>();
     }
   }
   return command;
 }
+
+template class BasicInProcessDut<double>;
+template class BasicInProcessDut<float>;
 
 }  // namespace hilrig::host

@@ -74,8 +74,8 @@ double SeriesGuess(const ObjectParams& object, double pad_k, double overlap) {
 bool InputsFinite(const GraspVehicleSample& v, double angle_rad, double dt_s) {
   return v.position_m.allFinite() && v.orientation.coeffs().allFinite() &&
          v.orientation.squaredNorm() > 0 && v.specific_force_body_m_s2.allFinite() &&
-         std::isfinite(v.gravity_m_s2) && std::isfinite(angle_rad) && std::isfinite(dt_s) &&
-         dt_s > 0;
+         v.velocity_m_s.allFinite() && std::isfinite(v.gravity_m_s2) && std::isfinite(angle_rad) &&
+         std::isfinite(dt_s) && dt_s > 0;
 }
 
 bool StateFinite(const GraspState& s) {
@@ -194,11 +194,14 @@ void StepOnStand(const StepContext& ctx, GraspState& s, GraspForces& out) {
   const double offset = ctx.frame_height_m - s.object_height_m;
   if (!s.gripped) s.stand_anchor_m = offset;
   const double k_t = ctx.shear_stiffness_n_per_m;
-  double shear = k_t * (offset - s.stand_anchor_m);
+  const double c_t = kGripperPadCount * ctx.params.pad_damping_n_s_per_m.y();
+  const double frame_rise_m_s = ctx.vehicle.velocity_m_s.z();
+  double shear = k_t * (offset - s.stand_anchor_m) + c_t * frame_rise_m_s;
   const double cap = object.friction_static * grasp;
   if (std::abs(shear) > cap) {
     shear = std::copysign(cap, shear);
-    s.stand_anchor_m = offset - shear / k_t;  // the pads slide over the object to the cap
+    // The pads slide over the object to the cap.
+    s.stand_anchor_m = offset - (shear - c_t * frame_rise_m_s) / k_t;
   }
   FillPadForces(SymmetricNormals(ctx), shear, out);
   out.force_on_vehicle_world_n = Eigen::Vector3d(0.0, 0.0, -shear);

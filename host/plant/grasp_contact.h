@@ -19,7 +19,8 @@
 // frame centre (body origin + R_WB (0, 0, height_m)); k_t = 6 x the pad's shear stiffness (y).
 // - kOnStand: the object rests with its centre at stand_height_m. When the pads start gripping
 //   (normal force after none) the stick anchor is set to frame height - object height; the pads
-//   then carry shear k_t ((frame height - object height) - anchor), capped at +-mu_s x grasp force
+//   then carry shear k_t ((frame height - object height) - anchor) + c_t (frame's vertical
+//   speed), c_t = 6 x the pad's shear damping (y), capped at +-mu_s x grasp force
 //   (at the cap the pads slide over the object and the anchor follows). The stand pushes up with
 //   whatever of the weight the shear does not carry and never pulls; once the shear reaches m g
 //   the object lifts (kHeld). The vehicle gets -shear along world z. The object's horizontal
@@ -77,6 +78,11 @@ struct GraspSceneParams {
   GripperFrameParams frame;
   // One pad: (shear x, shear y, normal); the runner passes SiliconeStiffness(pad).
   Eigen::Vector3d pad_stiffness_n_per_m = {1.5e3, 1.5e3, 5.6e3};
+  // One pad's Kelvin-Voigt damping (shear x, shear y, normal); the runner passes
+  // SiliconeDamping(pad). It damps the stick spring that holds an object on its stand against the
+  // vehicle's motion: without it that spring (6 x 1.5 N/mm against the vehicle) is an undamped
+  // stiff mode sampled once per tick.
+  Eigen::Vector3d pad_damping_n_s_per_m = Eigen::Vector3d::Zero();
   // Pad normal F = k d (1 + beta d^2); 0 = linear (the runner passes beta when stiffening is on).
   double pad_stiffening_per_m2 = 0.0;
   double stand_height_m = 0.5;  // world z of the object's centre while it rests on its stand
@@ -119,6 +125,7 @@ struct GraspVehicleSample {  // the vehicle as it is at the start of this step
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();             // body origin, world
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  // R_WB
   Eigen::Vector3d specific_force_body_m_s2 = {0, 0, 9.81};  // accelerometer on the body (last step)
+  Eigen::Vector3d velocity_m_s = Eigen::Vector3d::Zero();   // body origin, world
   double gravity_m_s2 = 9.81;
 };
 

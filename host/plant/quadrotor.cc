@@ -11,6 +11,25 @@ Eigen::Quaterniond YawQuaternion(double yaw_rad) {
   return Eigen::Quaterniond(Eigen::AngleAxisd(yaw_rad, Eigen::Vector3d::UnitZ()));
 }
 
+// The body as the vertical rail holds it: yaw kept, roll and pitch removed, only vertical
+// velocity, no rotation.
+RigidBodyState OnVerticalRail(const RigidBodyState& body) {
+  RigidBodyState railed = body;
+  const Eigen::Matrix3d r_wb = body.orientation.toRotationMatrix();
+  railed.orientation = YawQuaternion(std::atan2(r_wb(1, 0), r_wb(0, 0)));
+  railed.velocity_m_s.head<2>().setZero();
+  railed.angular_velocity_rad_s.setZero();
+  return railed;
+}
+
+// Bolted down: the pose stays, and the accelerometer reads the stand holding it against gravity.
+void HoldOnStand(const QuadrotorParams& params, QuadrotorState& next) {
+  next.body.velocity_m_s.setZero();
+  next.body.angular_velocity_rad_s.setZero();
+  next.specific_force_body_m_s2 =
+      next.body.orientation.conjugate() * Eigen::Vector3d(0.0, 0.0, params.gravity_m_s2);
+}
+
 }  // namespace
 
 QuadrotorState StepQuadrotor(const QuadrotorParams& params, const QuadrotorState& state,
@@ -20,19 +39,28 @@ QuadrotorState StepQuadrotor(const QuadrotorParams& params, const QuadrotorState
   QuadrotorState next = state;
   next.ground_contact = false;
   next.rotors = StepRotors(params.rotors, state.rotors, commanded_thrust_n, dt_s);
+  if (params.fidelity == VehicleFidelity::kFixedStand) {
+    HoldOnStand(params, next);
+    return next;
+  }
+  const bool on_rail = params.fidelity == VehicleFidelity::kVertical1Dof;
+  const RigidBodyState start = on_rail ? OnVerticalRail(state.body) : state.body;
+  next.body = start;
 
   RigidBodyParams body = params.body;
   if (payload_mass_kg > 0 && std::isfinite(payload_mass_kg)) body.mass_kg += payload_mass_kg;
   const double mass = body.mass_kg;
   const double g = params.gravity_m_s2;
-  const Eigen::Matrix3d r_wb = state.body.orientation.toRotationMatrix();
+  const Eigen::Matrix3d r_wb = start.orientation.toRotationMatrix();
   const double collective = CollectiveThrust(next.rotors);
-  const Eigen::Vector3d non_thrust_force =
-      external_force_world_n - params.linear_drag_n_s_per_m * state.body.velocity_m_s;
+  Eigen::Vector3d non_thrust_force =
+      external_force_world_n - params.linear_drag_n_s_per_m * start.velocity_m_s;
+  if (on_rail) non_thrust_force.head<2>().setZero();  // the rail takes horizontal loads
 
   Wrench wrench;
   wrench.force_world_n = r_wb.col(2) * collective + non_thrust_force;
-  wrench.torque_body_nm = RotorTorqueBody(params.rotors, next.rotors);
+  wrench.torque_body_nm =
+      on_rail ? Eigen::Vector3d::Zero() : RotorTorqueBody(params.rotors, next.rotors);
 
   if (state.on_ground && wrench.force_world_n.z() <= mass * g) {
     next.body.position_m.z() = 0.0;
@@ -44,7 +72,13 @@ QuadrotorState StepQuadrotor(const QuadrotorParams& params, const QuadrotorState
 
   next.on_ground = false;
   next.airborne_once = true;
-  next.body = StepRigidBody(body, state.body, wrench, g, dt_s, params.integrator);
+  RigidBodyIntegratorOptions options;
+  options.tolerance = params.integrator_tolerance;
+  IntegratorStats stats;
+  next.body = StepRigidBody(body, start, wrench, g, dt_s, params.integrator, options, &stats);
+  next.integrator_accepted_substeps += stats.accepted_substeps;
+  next.integrator_rejected_substeps += stats.rejected_substeps;
+  next.integrator_failures += stats.failed ? 1 : 0;
   // Thrust written directly in the body frame so that hover reads exactly (0, 0, T/m).
   next.specific_force_body_m_s2 = (r_wb.transpose() * non_thrust_force) / mass;
   next.specific_force_body_m_s2.z() += collective / mass;
@@ -53,8 +87,7 @@ QuadrotorState StepQuadrotor(const QuadrotorParams& params, const QuadrotorState
     const double impact_speed = std::max(0.0, -next.body.velocity_m_s.z());
     // The ground removed the whole velocity within this step; the accelerometer sees that
     // average deceleration as a spike, as a real one would (smeared over one tick).
-    const Eigen::Vector3d accel_world =
-        -state.body.velocity_m_s / dt_s + Eigen::Vector3d(0.0, 0.0, g);
+    const Eigen::Vector3d accel_world = -start.velocity_m_s / dt_s + Eigen::Vector3d(0.0, 0.0, g);
     next.specific_force_body_m_s2 = next.body.orientation.conjugate() * accel_world;
     next.body.position_m.z() = 0.0;
     next.body.velocity_m_s.setZero();

@@ -12,6 +12,11 @@
 //   velocity and angular rate removed (no bounce, no sliding), and records the impact (count,
 //   downward speed, `ground_contact` for that one step). Touching down after any time in the air,
 //   gentle landings included, counts; checks decide by the impact speed what was a crash.
+//
+// Fidelity levels reduce the motion while the rotors and the accelerometer's view stay real:
+// kVertical1Dof rides a frictionless vertical rail (level, yaw fixed, no rotation; the rail takes
+// horizontal loads and rotor torques), kFixedStand is bolted to a stand where it starts (nothing
+// moves; the specific force is the stand's reaction to gravity).
 #ifndef HILRIG_HOST_PLANT_QUADROTOR_H_
 #define HILRIG_HOST_PLANT_QUADROTOR_H_
 
@@ -24,12 +29,22 @@
 
 namespace hilrig::host {
 
+// Mirrors proto VehicleFidelity.
+enum class VehicleFidelity {
+  kFull6Dof,
+  kVertical1Dof,  // altitude only: level, no horizontal motion, no rotation
+  kFixedStand,    // bolted to a test stand: nothing moves, rotors and sensors run
+};
+
 struct QuadrotorParams {
   RigidBodyParams body;
   RotorParams rotors;
   double linear_drag_n_s_per_m = 0.05;  // F_drag = -c v, world frame, isotropic
   double gravity_m_s2 = 9.81;
   Integrator integrator = Integrator::kRk4;
+  // Error tolerance of Integrator::kDormandPrince per step (see RigidBodyIntegratorOptions).
+  double integrator_tolerance = 1e-6;
+  VehicleFidelity fidelity = VehicleFidelity::kFull6Dof;
 };
 
 struct QuadrotorState {
@@ -47,6 +62,11 @@ struct QuadrotorState {
   // Non-gravitational acceleration in the body frame, averaged over the last step: what an
   // accelerometer measures. Resting level on the ground it is (0, 0, +g).
   Eigen::Vector3d specific_force_body_m_s2 = {0.0, 0.0, 9.81};
+  // Integrator work since the start, for reports: substeps taken and rejected (fixed-step
+  // integrators take one per airborne step), and steps that could not be taken at all.
+  std::uint64_t integrator_accepted_substeps = 0;
+  std::uint64_t integrator_rejected_substeps = 0;
+  std::uint64_t integrator_failures = 0;
 };
 
 // `payload_mass_kg` is mass held rigidly at the body origin this step (a grasped object): it adds

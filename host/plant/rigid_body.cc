@@ -1,12 +1,15 @@
 #include "host/plant/rigid_body.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace hilrig::host {
 namespace {
 
-// Quaternion kept as raw (x, y, z, w) coefficients inside RK4 so that intermediate stages can
-// be scaled and added without Eigen's unit-quaternion semantics getting in the way.
+// Quaternion kept as raw (x, y, z, w) coefficients inside the Runge-Kutta methods so that
+// intermediate stages can be scaled and added without Eigen's unit-quaternion semantics getting in
+// the way.
 using QuatCoeffs = Eigen::Vector4d;
 
 // dq/dt = 1/2 q ⊗ (0, w) with w in the body frame.
@@ -41,58 +44,275 @@ inline Eigen::Quaterniond DeltaRotation(const Eigen::Vector3d& w, double dt) {
                             k * half_angle.z());
 }
 
+// The whole body state as one vector for the Runge-Kutta methods: position, velocity,
+// quaternion coefficients (x, y, z, w), body rate. Fixed size, so no stage allocates.
+using StateVector = Eigen::Matrix<double, 13, 1>;
+constexpr int kPos = 0;
+constexpr int kVel = 3;
+constexpr int kQuat = 6;
+constexpr int kRate = 10;
+
+StateVector Pack(const RigidBodyState& state) {
+  StateVector y;
+  y.segment<3>(kPos) = state.position_m;
+  y.segment<3>(kVel) = state.velocity_m_s;
+  y.segment<4>(kQuat) = state.orientation.coeffs();
+  y.segment<3>(kRate) = state.angular_velocity_rad_s;
+  return y;
+}
+
+RigidBodyState Unpack(const StateVector& y) {
+  RigidBodyState state;
+  state.position_m = y.segment<3>(kPos);
+  state.velocity_m_s = y.segment<3>(kVel);
+  state.orientation.coeffs() = y.segment<4>(kQuat);
+  state.angular_velocity_rad_s = y.segment<3>(kRate);
+  // Keeps R_WB a rotation; the drift per step is O(h^5) but accumulates over hours otherwise.
+  state.orientation.normalize();
+  return state;
+}
+
+// The right-hand side for one step: everything held over the step is computed once here.
+class Dynamics {
+ public:
+  Dynamics(const RigidBodyParams& params, const Wrench& wrench, double gravity_m_s2)
+      : inertia_(params.inertia_kg_m2),
+        inv_inertia_(params.inertia_kg_m2.cwiseInverse()),
+        torque_(wrench.torque_body_nm),
+        held_accel_(wrench.force_world_n / params.mass_kg +
+                    Eigen::Vector3d(0.0, 0.0, -gravity_m_s2)),
+        anchor_(wrench.spring_anchor_world_m),
+        stiffness_per_kg_(wrench.spring_stiffness_n_per_m / params.mass_kg),
+        damping_per_kg_(wrench.spring_damping_n_s_per_m / params.mass_kg),
+        has_spring_(wrench.spring_stiffness_n_per_m != 0.0 ||
+                    wrench.spring_damping_n_s_per_m != 0.0) {}
+
+  // Without the spring the acceleration is constant over the step and the translation has a
+  // closed form, which every method but semi-implicit Euler reproduces exactly.
+  bool translation_exact() const { return !has_spring_; }
+  const Eigen::Vector3d& held_accel() const { return held_accel_; }
+
+  Eigen::Vector3d LinearAcceleration(const Eigen::Vector3d& p, const Eigen::Vector3d& v) const {
+    if (!has_spring_) return held_accel_;
+    return held_accel_ - stiffness_per_kg_ * (p - anchor_) - damping_per_kg_ * v;
+  }
+
+  Eigen::Vector3d AngularAccel(const Eigen::Vector3d& w) const {
+    return AngularAcceleration(inertia_, inv_inertia_, torque_, w);
+  }
+
+  StateVector Derivative(const StateVector& y) const {
+    StateVector dy;
+    dy.segment<3>(kPos) = y.segment<3>(kVel);
+    dy.segment<3>(kVel) = LinearAcceleration(y.segment<3>(kPos), y.segment<3>(kVel));
+    dy.segment<4>(kQuat) = QuatDerivative(y.segment<4>(kQuat), y.segment<3>(kRate));
+    dy.segment<3>(kRate) = AngularAccel(y.segment<3>(kRate));
+    return dy;
+  }
+
+ private:
+  Eigen::Vector3d inertia_;
+  Eigen::Vector3d inv_inertia_;
+  Eigen::Vector3d torque_;
+  Eigen::Vector3d held_accel_;
+  Eigen::Vector3d anchor_;
+  double stiffness_per_kg_;
+  double damping_per_kg_;
+  bool has_spring_;
+};
+
+// Overwrites the translation with the closed form when the acceleration is constant, so the
+// Runge-Kutta methods do not add round-off to an exact answer.
+void ApplyExactTranslation(const Dynamics& dynamics, const RigidBodyState& start, double h,
+                           RigidBodyState& next) {
+  if (!dynamics.translation_exact()) return;
+  const Eigen::Vector3d& accel = dynamics.held_accel();
+  next.position_m = start.position_m + start.velocity_m_s * h + 0.5 * accel * h * h;
+  next.velocity_m_s = start.velocity_m_s + accel * h;
+}
+
+RigidBodyState SemiImplicitEulerStep(const Dynamics& dynamics, const RigidBodyState& state,
+                                     double h) {
+  RigidBodyState next;
+  next.velocity_m_s =
+      state.velocity_m_s + dynamics.LinearAcceleration(state.position_m, state.velocity_m_s) * h;
+  next.position_m = state.position_m + next.velocity_m_s * h;
+  next.angular_velocity_rad_s =
+      state.angular_velocity_rad_s + dynamics.AngularAccel(state.angular_velocity_rad_s) * h;
+  next.orientation = state.orientation * DeltaRotation(next.angular_velocity_rad_s, h);
+  next.orientation.normalize();
+  return next;
+}
+
+RigidBodyState MidpointStep(const Dynamics& dynamics, const RigidBodyState& state, double h) {
+  const StateVector y0 = Pack(state);
+  const StateVector k1 = dynamics.Derivative(y0);
+  const StateVector k2 = dynamics.Derivative(y0 + 0.5 * h * k1);
+  RigidBodyState next = Unpack(y0 + h * k2);
+  ApplyExactTranslation(dynamics, state, h, next);
+  return next;
+}
+
+RigidBodyState Rk4Step(const Dynamics& dynamics, const RigidBodyState& state, double h) {
+  const StateVector y0 = Pack(state);
+  const StateVector k1 = dynamics.Derivative(y0);
+  const StateVector k2 = dynamics.Derivative(y0 + 0.5 * h * k1);
+  const StateVector k3 = dynamics.Derivative(y0 + 0.5 * h * k2);
+  const StateVector k4 = dynamics.Derivative(y0 + h * k3);
+  RigidBodyState next = Unpack(y0 + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4));
+  ApplyExactTranslation(dynamics, state, h, next);
+  return next;
+}
+
+// Dormand & Prince (1980), "A family of embedded Runge-Kutta formulae", RK5(4)7M. The fifth-order
+// solution propagates; the difference to the embedded fourth-order one estimates the error.
+namespace dp {
+constexpr double a21 = 1.0 / 5.0;
+constexpr double a31 = 3.0 / 40.0, a32 = 9.0 / 40.0;
+constexpr double a41 = 44.0 / 45.0, a42 = -56.0 / 15.0, a43 = 32.0 / 9.0;
+constexpr double a51 = 19372.0 / 6561.0, a52 = -25360.0 / 2187.0, a53 = 64448.0 / 6561.0,
+                 a54 = -212.0 / 729.0;
+constexpr double a61 = 9017.0 / 3168.0, a62 = -355.0 / 33.0, a63 = 46732.0 / 5247.0,
+                 a64 = 49.0 / 176.0, a65 = -5103.0 / 18656.0;
+// Fifth-order weights; they are also the last stage's row, which makes the method FSAL.
+constexpr double b1 = 35.0 / 384.0, b3 = 500.0 / 1113.0, b4 = 125.0 / 192.0, b5 = -2187.0 / 6784.0,
+                 b6 = 11.0 / 84.0;
+// Fifth minus fourth-order weights.
+constexpr double e1 = 71.0 / 57600.0, e3 = -71.0 / 16695.0, e4 = 71.0 / 1920.0,
+                 e5 = -17253.0 / 339200.0, e6 = 22.0 / 525.0, e7 = -1.0 / 40.0;
+}  // namespace dp
+
+// Largest per-component error relative to its allowance; <= 1 accepts the substep.
+double ScaledError(const StateVector& error, const StateVector& y0, const StateVector& y1,
+                   double tolerance) {
+  const StateVector scale =
+      (y0.cwiseAbs().cwiseMax(y1.cwiseAbs()).array() * tolerance + tolerance).matrix();
+  const double worst = error.cwiseQuotient(scale).cwiseAbs().maxCoeff();
+  return std::isfinite(worst) ? worst : std::numeric_limits<double>::infinity();
+}
+
+double StepFactor(const RigidBodyIntegratorOptions& options, double error, bool after_reject) {
+  const double max_growth = after_reject ? 1.0 : options.max_growth;
+  if (error == 0.0) return max_growth;
+  const double proposed = options.safety_factor * std::pow(error, -0.2);
+  return std::clamp(proposed, options.min_growth, max_growth);
+}
+
+RigidBodyState NotFinite() {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  RigidBodyState state;
+  state.position_m.setConstant(nan);
+  state.velocity_m_s.setConstant(nan);
+  state.orientation.coeffs().setConstant(nan);
+  state.angular_velocity_rad_s.setConstant(nan);
+  return state;
+}
+
+RigidBodyState DormandPrinceStep(const Dynamics& dynamics, const RigidBodyState& state, double dt,
+                                 const RigidBodyIntegratorOptions& options,
+                                 IntegratorStats& stats) {
+  using namespace dp;
+  StateVector y = Pack(state);
+  StateVector k1 = dynamics.Derivative(y);
+  double t = 0.0;
+  double h = dt;  // try the whole step first: in smooth flight it is accepted at once
+  bool after_reject = false;
+  while (t < dt) {
+    if (stats.accepted_substeps + stats.rejected_substeps >= options.max_substeps) {
+      stats.failed = true;
+      return NotFinite();
+    }
+    const bool last = h >= dt - t;
+    if (last) h = dt - t;
+    if (t + h == t) {  // the step size underflowed: the motion cannot be resolved
+      stats.failed = true;
+      return NotFinite();
+    }
+    const StateVector k2 = dynamics.Derivative(y + h * (a21 * k1));
+    const StateVector k3 = dynamics.Derivative(y + h * (a31 * k1 + a32 * k2));
+    const StateVector k4 = dynamics.Derivative(y + h * (a41 * k1 + a42 * k2 + a43 * k3));
+    const StateVector k5 = dynamics.Derivative(y + h * (a51 * k1 + a52 * k2 + a53 * k3 + a54 * k4));
+    const StateVector k6 =
+        dynamics.Derivative(y + h * (a61 * k1 + a62 * k2 + a63 * k3 + a64 * k4 + a65 * k5));
+    StateVector y1 = y + h * (b1 * k1 + b3 * k3 + b4 * k4 + b5 * k5 + b6 * k6);
+    const StateVector k7 = dynamics.Derivative(y1);
+    const StateVector error = h * (e1 * k1 + e3 * k3 + e4 * k4 + e5 * k5 + e6 * k6 + e7 * k7);
+    const double scaled = ScaledError(error, y, y1, options.tolerance);
+    const double factor = StepFactor(options, scaled, after_reject);
+    if (scaled <= 1.0) {
+      ++stats.accepted_substeps;
+      y1.segment<4>(kQuat).normalize();
+      y = y1;
+      k1 = k7;  // first same as last
+      t = last ? dt : t + h;
+      after_reject = false;
+    } else {
+      ++stats.rejected_substeps;
+      after_reject = true;
+    }
+    h *= factor;
+  }
+  RigidBodyState next = Unpack(y);
+  ApplyExactTranslation(dynamics, state, dt, next);
+  return next;
+}
+
+bool UsableOptions(const RigidBodyIntegratorOptions& options) {
+  return options.tolerance > 0.0 && options.tolerance < 1.0 && options.safety_factor > 0.0 &&
+         options.safety_factor <= 1.0 && options.min_growth > 0.0 && options.min_growth < 1.0 &&
+         options.max_growth > 1.0 && std::isfinite(options.max_growth) && options.max_substeps > 0;
+}
+
 }  // namespace
 
 RigidBodyState StepRigidBody(const RigidBodyParams& params, const RigidBodyState& state,
                              const Wrench& wrench, double gravity_m_s2, double dt_s,
                              Integrator integrator) {
-  const Eigen::Vector3d& inertia = params.inertia_kg_m2;
-  const Eigen::Vector3d inv_inertia = inertia.cwiseInverse();
-  const Eigen::Vector3d accel =
-      wrench.force_world_n / params.mass_kg + Eigen::Vector3d(0.0, 0.0, -gravity_m_s2);
-  const Eigen::Vector3d& tau = wrench.torque_body_nm;
+  return StepRigidBody(params, state, wrench, gravity_m_s2, dt_s, integrator,
+                       RigidBodyIntegratorOptions{});
+}
 
-  RigidBodyState next;
-  if (integrator == Integrator::kSemiImplicitEuler) {
-    next.velocity_m_s = state.velocity_m_s + accel * dt_s;
-    next.position_m = state.position_m + next.velocity_m_s * dt_s;
-    next.angular_velocity_rad_s =
-        state.angular_velocity_rad_s +
-        AngularAcceleration(inertia, inv_inertia, tau, state.angular_velocity_rad_s) * dt_s;
-    next.orientation = state.orientation * DeltaRotation(next.angular_velocity_rad_s, dt_s);
-  } else {
-    // Constant acceleration: RK4 reproduces the closed form exactly, so skip the stages.
-    next.position_m = state.position_m + state.velocity_m_s * dt_s + 0.5 * accel * dt_s * dt_s;
-    next.velocity_m_s = state.velocity_m_s + accel * dt_s;
-
-    const double h = dt_s;
-    const QuatCoeffs q0 = state.orientation.coeffs();
-    const Eigen::Vector3d& w0 = state.angular_velocity_rad_s;
-
-    const QuatCoeffs kq1 = QuatDerivative(q0, w0);
-    const Eigen::Vector3d kw1 = AngularAcceleration(inertia, inv_inertia, tau, w0);
-
-    const QuatCoeffs q2 = q0 + 0.5 * h * kq1;
-    const Eigen::Vector3d w2 = w0 + 0.5 * h * kw1;
-    const QuatCoeffs kq2 = QuatDerivative(q2, w2);
-    const Eigen::Vector3d kw2 = AngularAcceleration(inertia, inv_inertia, tau, w2);
-
-    const QuatCoeffs q3 = q0 + 0.5 * h * kq2;
-    const Eigen::Vector3d w3 = w0 + 0.5 * h * kw2;
-    const QuatCoeffs kq3 = QuatDerivative(q3, w3);
-    const Eigen::Vector3d kw3 = AngularAcceleration(inertia, inv_inertia, tau, w3);
-
-    const QuatCoeffs q4 = q0 + h * kq3;
-    const Eigen::Vector3d w4 = w0 + h * kw3;
-    const QuatCoeffs kq4 = QuatDerivative(q4, w4);
-    const Eigen::Vector3d kw4 = AngularAcceleration(inertia, inv_inertia, tau, w4);
-
-    next.orientation.coeffs() = q0 + (h / 6.0) * (kq1 + 2.0 * kq2 + 2.0 * kq3 + kq4);
-    next.angular_velocity_rad_s = w0 + (h / 6.0) * (kw1 + 2.0 * kw2 + 2.0 * kw3 + kw4);
+RigidBodyState StepRigidBody(const RigidBodyParams& params, const RigidBodyState& state,
+                             const Wrench& wrench, double gravity_m_s2, double dt_s,
+                             Integrator integrator, const RigidBodyIntegratorOptions& options,
+                             IntegratorStats* stats) {
+  IntegratorStats local;
+  IntegratorStats& out = stats != nullptr ? *stats : local;
+  out = IntegratorStats{};
+  const bool adaptive = integrator == Integrator::kDormandPrince;
+  if (!(dt_s > 0.0) || !std::isfinite(dt_s) || (adaptive && !UsableOptions(options))) {
+    out.failed = true;
+    return state;
   }
-  // Keeps R_WB a rotation; the drift per step is O(h^5) but accumulates over hours otherwise.
-  next.orientation.normalize();
-  return next;
+  const Dynamics dynamics(params, wrench, gravity_m_s2);
+  switch (integrator) {
+    case Integrator::kSemiImplicitEuler:
+      out.accepted_substeps = 1;
+      return SemiImplicitEulerStep(dynamics, state, dt_s);
+    case Integrator::kMidpoint:
+      out.accepted_substeps = 1;
+      return MidpointStep(dynamics, state, dt_s);
+    case Integrator::kDormandPrince:
+      return DormandPrinceStep(dynamics, state, dt_s, options, out);
+    case Integrator::kRk4:
+      break;
+  }
+  out.accepted_substeps = 1;
+  return Rk4Step(dynamics, state, dt_s);
+}
+
+const char* IntegratorName(Integrator integrator) {
+  switch (integrator) {
+    case Integrator::kSemiImplicitEuler:
+      return "semi-implicit Euler";
+    case Integrator::kMidpoint:
+      return "midpoint RK2";
+    case Integrator::kDormandPrince:
+      return "Dormand-Prince RK5(4)";
+    case Integrator::kRk4:
+      break;
+  }
+  return "RK4";
 }
 
 double MechanicalEnergy(const RigidBodyParams& params, const RigidBodyState& state,

@@ -17,7 +17,7 @@ constexpr double kLegendCharPx = 6.2;  // average glyph width at 11 px, to keep 
 constexpr double kLegendSwatchPx = 24;
 constexpr const char* kBandColor = "#009E73";
 constexpr const char* kFailBandColor = "#C00000";
-constexpr const char* kGridColor = "#E3E3E3";
+constexpr const char* kGridColor = kSvgGridColor;
 constexpr const char* kEnDash = "\xE2\x80\x93";
 constexpr const char* kEllipsis = "\xE2\x80\xA6";
 
@@ -612,6 +612,30 @@ std::string RenderSvg(const TimePlot& plot) {
   }
   out += Legend(plot, colors, frame, layout);
   return out + "</svg>\n";
+}
+
+std::string SvgPx(double value) { return Px(value); }
+
+std::string SvgAttr(std::string_view name, const std::string& value) { return Attr(name, value); }
+
+std::string SvgLine(double x1, double y1, double x2, double y2, const std::string& extra) {
+  return Line(x1, y1, x2, y2, extra);
+}
+
+std::string SvgText(double x, double y, const std::string& anchor, const std::string& raw_text,
+                    const std::string& extra) {
+  return Text(x, y, anchor, raw_text, extra);
+}
+
+std::string SvgDocumentStart(int width_px, int height_px) {
+  PlotLayout layout;
+  layout.doc_width_px = width_px;
+  layout.doc_height_px = height_px;
+  return Header(layout);
+}
+
+std::string SvgTruncated(const std::string& text, std::size_t max_chars) {
+  return Truncated(text, max_chars);
 }
 
 }  // namespace hilrig::host

@@ -9,6 +9,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "host/report/xml_text.h"
@@ -106,5 +107,28 @@ struct PlotPoint {
 // non-finite time or value become gap markers; lengths are cut to the shorter of the two.
 std::vector<PlotPoint> DecimateMinMax(const std::vector<double>& time_s,
                                       const std::vector<double>& value, std::size_t max_points);
+
+// Building blocks for other plot kinds (host/report/scatter_plot.h) drawn in the same style:
+// locale-free numbers, escaped text, and the document header. Each is what RenderSvg itself uses.
+inline constexpr const char* kSvgGridColor = "#E3E3E3";
+
+// A pixel coordinate with two decimals; never "nan", "inf" or "-0" (non-finite gives "0").
+std::string SvgPx(double value);
+
+// ` name="value"`; `value` must already be escaped.
+std::string SvgAttr(std::string_view name, const std::string& value);
+
+// A <line> element; `extra` is appended raw inside the tag (attributes).
+std::string SvgLine(double x1, double y1, double x2, double y2, const std::string& extra);
+
+// A <text> element; `raw_text` is escaped here, `extra` is appended raw inside the tag.
+std::string SvgText(double x, double y, const std::string& anchor, const std::string& raw_text,
+                    const std::string& extra = "");
+
+// The XML declaration, the opening <svg> of a width x height document and its white background.
+std::string SvgDocumentStart(int width_px, int height_px);
+
+// `text` cut to at most `max_chars` UTF-8 characters, the last one an ellipsis when cut.
+std::string SvgTruncated(const std::string& text, std::size_t max_chars);
 
 }  // namespace hilrig::host

@@ -18,6 +18,7 @@ GraspSceneParams SceneFor(const ScenarioConfig& config, const TactileSensorParam
   GraspSceneParams scene;
   scene.frame = config.gripper.frame;
   scene.pad_stiffness_n_per_m = SiliconeStiffness(pad.silicone);
+  scene.pad_damping_n_s_per_m = SiliconeDamping(pad.silicone);
   scene.pad_stiffening_per_m2 =
       pad.silicone.stiffening_enabled ? pad.silicone.stiffening_per_m2 : 0.0;
   return scene;
@@ -90,6 +91,7 @@ void GripperScene::Step(double time_s, double servo_command_rad, const Quadrotor
   sample.position_m = vehicle.body.position_m;
   sample.orientation = vehicle.body.orientation;
   sample.specific_force_body_m_s2 = vehicle.specific_force_body_m_s2;
+  sample.velocity_m_s = vehicle.body.velocity_m_s;
   sample.gravity_m_s2 = gravity_m_s2_;
   forces_ = StepGrasp(scene_, grasp_, sample, servo_.angle_rad, dt_s);
   if (grasp_.damage != DamageMode::kNone && damaged_at_s_ < 0) {

@@ -50,9 +50,11 @@ void HallSensorNodes::TickNode(Node& node, const Eigen::Vector3d& pad_force_n,
                                const Eigen::Quaterniond& attitude_world_body, std::int64_t now_ns) {
   if (node.firmware.SampleDue(now_ns)) {
     const double period_s = 1.0 / std::max<double>(1, node.firmware.rate_hz());
-    const TactileReading reading =
-        SampleTactileSensor(*node.params, node.model, *film_, pad_force_n, attitude_world_body,
-                            earth_field_.field_world_t, config_.temperature_c, period_s);
+    const TactileReading reading = SampleTactileSensor(
+        *node.params, node.model, *film_, pad_force_n, attitude_world_body,
+        earth_field_.field_world_t, config_.temperature_c, period_s,
+        config_.stray_fields.empty() ? Eigen::Vector3d::Zero()
+                                     : StrayFieldAt(node.params->node_id, now_ns));
     Send(node.firmware.TakeSample(now_ns, dut_fw::ChipConversion{reading.code, false}), now_ns);
   }
   if (node.firmware.StatusDue(now_ns)) {
@@ -60,6 +62,18 @@ void HallSensorNodes::TickNode(Node& node, const Eigen::Vector3d& pad_force_n,
         static_cast<std::int16_t>(std::lround(config_.temperature_c * 100)));
     Send(node.firmware.TakeStatus(now_ns), now_ns);
   }
+}
+
+Eigen::Vector3d HallSensorNodes::StrayFieldAt(std::uint8_t node_id, std::int64_t now_ns) const {
+  const double time_s = static_cast<double>(now_ns) / 1e9;
+  Eigen::Vector3d field_t = Eigen::Vector3d::Zero();
+  for (const StrayFieldEvent& stray : config_.stray_fields) {
+    if (stray.node_id == node_id && time_s >= stray.at_s &&
+        time_s < stray.at_s + stray.duration_s) {
+      field_t += stray.field_sensor_t;
+    }
+  }
+  return field_t;
 }
 
 void HallSensorNodes::Tick(std::int64_t now_ns, const Eigen::Quaterniond& attitude_world_body,

@@ -22,7 +22,8 @@ class HallSensorNodes {
   HallSensorNodes(const HallSensorConfig& config, const EarthField& earth_field, std::uint64_t seed,
                   std::shared_ptr<const FilmFieldModel> film, std::unique_ptr<rig::CanBus> bus);
 
-  // Runs every node's firmware at `now_ns`: samples and status frames that are due go out.
+  // Runs every node's firmware at `now_ns`: samples and status frames that are due go out. Stray
+  // fields of the timeline (config.stray_fields) are added at their nodes while they last.
   void Tick(std::int64_t now_ns, const Eigen::Quaterniond& attitude_world_body,
             const std::array<Eigen::Vector3d, kTactileSensorCount>& pad_force_n);
 
@@ -39,6 +40,7 @@ class HallSensorNodes {
 
   void TickNode(Node& node, const Eigen::Vector3d& pad_force_n,
                 const Eigen::Quaterniond& attitude_world_body, std::int64_t now_ns);
+  Eigen::Vector3d StrayFieldAt(std::uint8_t node_id, std::int64_t now_ns) const;
   void Send(const dut_fw::NodeFrame& frame, std::int64_t now_ns);
 
   const HallSensorConfig& config_;

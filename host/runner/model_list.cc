@@ -18,15 +18,33 @@ std::string Describe(const Parts&... parts) {
   return text.str();
 }
 
+const char* VehicleFidelityName(VehicleFidelity fidelity) {
+  switch (fidelity) {
+    case VehicleFidelity::kVertical1Dof:
+      return "vertical 1-DoF (altitude only, level, no rotation)";
+    case VehicleFidelity::kFixedStand:
+      return "fixed stand (nothing moves; rotors and sensors run)";
+    case VehicleFidelity::kFull6Dof:
+      break;
+  }
+  return "full 6-DoF rigid body";
+}
+
 }  // namespace
 
 void AppendModelList(const ScenarioConfig& config, const std::string& dut_description,
                      proto::Report& report) {
-  const bool rk4 = config.vehicle.integrator == Integrator::kRk4;
+  const QuadrotorParams& vehicle = config.vehicle;
+  const std::string tolerance = vehicle.integrator == Integrator::kDormandPrince
+                                    ? Describe(" (tolerance ", vehicle.integrator_tolerance, ")")
+                                    : std::string();
   Add(report, "vehicle",
-      Describe("full 6-DoF rigid body, ", config.vehicle.body.mass_kg, " kg, ",
-               rk4 ? "RK4" : "semi-implicit Euler", " at ", 1e9 / config.physics_step_ns,
-               " Hz, flat ground"));
+      Describe(VehicleFidelityName(vehicle.fidelity), ", ", vehicle.body.mass_kg, " kg, ",
+               IntegratorName(vehicle.integrator), tolerance, " at ", 1e9 / config.physics_step_ns,
+               " Hz",
+               config.plant_substeps > 1 ? Describe(" x ", config.plant_substeps, " substeps")
+                                         : std::string(),
+               ", flat ground"));
   Add(report, "rotors",
       config.vehicle.rotors.instantaneous
           ? std::string("instantaneous thrust")

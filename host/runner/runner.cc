@@ -419,6 +419,9 @@ proto::Report LockstepRunner::Impl::Finish() {
   AddMetric(report, "dut_sensor_samples", static_cast<double>(counters.sensor_samples), "count");
   AddMetric(report, "dut_sensor_samples_lost", static_cast<double>(counters.sensor_samples_lost),
             "count");
+  AddMetric(report, "dut_tactile_samples_flagged",
+            static_cast<double>(counters.tactile_samples_flagged), "count");
+  for (const auto& [name, value] : dut_->link_metrics()) AddMetric(report, name, value, "count");
   AppendBusMetrics(now_ns, report);
   AddMetric(report, "ground_impacts", plant_.ground_impacts, "count");
   AddMetric(report, "non_finite_trace_samples", static_cast<double>(non_finite_samples_), "count");

@@ -26,6 +26,30 @@ T Or(bool has, const T& value, const T& fallback) {
   return has ? value : fallback;
 }
 
+Integrator ResolveIntegrator(proto::Integrator integrator) {
+  switch (integrator) {
+    case proto::INTEGRATOR_SEMI_IMPLICIT_EULER:
+      return Integrator::kSemiImplicitEuler;
+    case proto::INTEGRATOR_MIDPOINT:
+      return Integrator::kMidpoint;
+    case proto::INTEGRATOR_DORMAND_PRINCE:
+      return Integrator::kDormandPrince;
+    default:
+      return Integrator::kRk4;
+  }
+}
+
+VehicleFidelity ResolveFidelity(proto::VehicleFidelity fidelity) {
+  switch (fidelity) {
+    case proto::VEHICLE_VERTICAL_1DOF:
+      return VehicleFidelity::kVertical1Dof;
+    case proto::VEHICLE_FIXED_STAND:
+      return VehicleFidelity::kFixedStand;
+    default:
+      return VehicleFidelity::kFull6Dof;
+  }
+}
+
 QuadrotorParams ResolveVehicle(const proto::Scenario& spec) {
   const proto::Vehicle& vehicle = spec.vehicle();
   QuadrotorParams params;
@@ -44,9 +68,11 @@ QuadrotorParams ResolveVehicle(const proto::Scenario& spec) {
                                     vehicle.linear_drag_n_s_per_m(), params.linear_drag_n_s_per_m);
   params.gravity_m_s2 = Or(spec.environment().has_gravity_m_s2(), spec.environment().gravity_m_s2(),
                            params.gravity_m_s2);
-  params.integrator = spec.models().integrator() == proto::INTEGRATOR_SEMI_IMPLICIT_EULER
-                          ? Integrator::kSemiImplicitEuler
-                          : Integrator::kRk4;
+  params.integrator = ResolveIntegrator(spec.models().integrator());
+  params.integrator_tolerance =
+      Or(spec.models().has_integrator_tolerance(), spec.models().integrator_tolerance(),
+         params.integrator_tolerance);
+  params.fidelity = ResolveFidelity(spec.models().vehicle());
   return params;
 }
 
@@ -193,6 +219,11 @@ void ResolveTimeline(const proto::Scenario& spec, ScenarioConfig& config) {
     } else if (entry.has_pour()) {
       config.gripper.pours.push_back(
           {entry.at_s(), entry.pour().mass_kg(), entry.pour().duration_s()});
+    } else if (entry.has_stray_field()) {
+      const proto::StrayField& stray = entry.stray_field();
+      config.hall_sensors.stray_fields.push_back({entry.at_s(), stray.duration_s(),
+                                                  static_cast<std::uint8_t>(stray.node()),
+                                                  ToEigen(stray.field_sensor_t())});
     } else if (entry.has_remove_support()) {
       config.gripper.support_removals_s.push_back(entry.at_s());
     } else if (entry.has_present_object()) {

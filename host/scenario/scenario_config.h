@@ -30,6 +30,13 @@ struct DisturbanceCommand {
   Eigen::Vector3d force_world_n = Eigen::Vector3d::Zero();
 };
 
+struct StrayFieldEvent {
+  double at_s = 0;
+  double duration_s = 0;
+  std::uint8_t node_id = 0;
+  Eigen::Vector3d field_sensor_t = Eigen::Vector3d::Zero();
+};
+
 // The seven Hall sensor nodes and the DUT's tactile front end, resolved from models.tactile.
 struct HallSensorConfig {
   bool tactile_enabled = false;  // nodes 1..6; the reference node 7 is always there
@@ -42,6 +49,7 @@ struct HallSensorConfig {
   double zeroing_s = 1;
   std::string calibration_file;  // resolved against the spec's folder; empty: calibrate at start
   std::optional<proto::Calibration> calibration;  // filled by LoadTactileCalibration
+  std::vector<StrayFieldEvent> stray_fields;      // from the timeline
 };
 
 // An object put on its stand at `at_s` (0: the scene's initial object).

@@ -98,6 +98,16 @@ void CheckVehicle(const proto::Vehicle& vehicle, const ProblemList& problems) {
   }
 }
 
+// The adaptive integrator's error bound is relative and absolute at once; at 1 or above it no
+// longer bounds anything, and 0 could never be met.
+void CheckIntegratorTolerance(const proto::Models& models, const ProblemList& problems) {
+  if (!models.has_integrator_tolerance()) return;
+  const double tolerance = models.integrator_tolerance();
+  if (!(tolerance > 0 && tolerance < 1)) {
+    problems.Add("integrator_tolerance", "must be > 0 and < 1, got " + std::to_string(tolerance));
+  }
+}
+
 void CheckSensors(const proto::Models& models, const ProblemList& problems) {
   const ProblemList imu = problems.Nested("imu");
   RequirePositive(models.imu().has_rate_hz(), models.imu().rate_hz(), "rate_hz", imu);
@@ -141,6 +151,7 @@ void CheckSensors(const proto::Models& models, const ProblemList& problems) {
       hall.Add("field_fidelity", film.error().message);
     }
   }
+  CheckIntegratorTolerance(models, problems);
 }
 
 // A rate must divide the physics rate so that it lands on whole ticks.
@@ -261,6 +272,18 @@ void CheckTimeline(const proto::Scenario& scenario, const ProblemList& problems)
         RequirePositive(entry.pour().has_duration_s(), entry.pour().duration_s(), "duration_s",
                         pour);
         if (!scenario.has_object()) pour.AddHere("pours into the object, but the scene has none");
+        break;
+      }
+      case proto::TimelineEntry::kStrayField: {
+        const ProblemList stray = here.Nested("stray_field");
+        const proto::StrayField& field = entry.stray_field();
+        if (!field.has_node() || field.node() < 1 || field.node() > 7) {
+          stray.Add("node", "must be a Hall sensor node, 1..7");
+        } else if (field.node() <= 6 && !scenario.models().tactile().enabled()) {
+          stray.Add("node", "is a tactile pad, but models.tactile.enabled is false");
+        }
+        if (!field.has_duration_s()) stray.AddHere("duration_s is required");
+        RequirePositive(field.has_duration_s(), field.duration_s(), "duration_s", stray);
         break;
       }
       case proto::TimelineEntry::kRemoveSupport:

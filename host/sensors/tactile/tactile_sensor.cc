@@ -18,7 +18,7 @@ TactileReading SampleTactileSensor(const TactileSensorParams& params, TactileSen
                                    const FilmFieldModel& film, const Eigen::Vector3d& force_pad_n,
                                    const Eigen::Quaterniond& vehicle_attitude_world_body,
                                    const Eigen::Vector3d& earth_field_world_t, double temperature_c,
-                                   double dt_s) {
+                                   double dt_s, const Eigen::Vector3d& stray_field_sensor_t) {
   TactileReading reading;
   reading.node_id = params.node_id;
 
@@ -31,7 +31,9 @@ TactileReading SampleTactileSensor(const TactileSensorParams& params, TactileSen
     reading.earth_field_sensor_t = EarthFieldInSensorFrame(
         vehicle_attitude_world_body, params.mounting_body_from_sensor, earth_field_world_t);
   }
-  reading.field_sensor_t = reading.film_field_t + reading.earth_field_sensor_t;
+  reading.stray_field_sensor_t = stray_field_sensor_t;
+  reading.field_sensor_t =
+      reading.film_field_t + reading.earth_field_sensor_t + reading.stray_field_sensor_t;
 
   const Mlx90393Sample chip =
       SampleMlx90393(params.chip, state.chip, reading.field_sensor_t, temperature_c);

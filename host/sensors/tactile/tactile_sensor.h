@@ -47,6 +47,7 @@ struct TactileReading {
   FilmPose film_pose;                                              // chip frame
   Eigen::Vector3d film_field_t = Eigen::Vector3d::Zero();          // film only, sensor frame
   Eigen::Vector3d earth_field_sensor_t = Eigen::Vector3d::Zero();  // Earth only, sensor frame
+  Eigen::Vector3d stray_field_sensor_t = Eigen::Vector3d::Zero();  // anything else, sensor frame
   Eigen::Vector3d field_sensor_t = Eigen::Vector3d::Zero();        // true total at the chip
 };
 
@@ -57,11 +58,12 @@ TactileSensorState InitialTactileSensorState(const TactileSensorParams& params,
 
 // Advances the silicone by dt_s under force_pad_n (pad frame, see silicone_model.h) and samples
 // the chip at the new film pose. With film_present false the force and film model are ignored.
-TactileReading SampleTactileSensor(const TactileSensorParams& params, TactileSensorState& state,
-                                   const FilmFieldModel& film, const Eigen::Vector3d& force_pad_n,
-                                   const Eigen::Quaterniond& vehicle_attitude_world_body,
-                                   const Eigen::Vector3d& earth_field_world_t, double temperature_c,
-                                   double dt_s);
+// `stray_field_sensor_t` is any other field at the chip (a tool or magnet nearby), chip frame.
+TactileReading SampleTactileSensor(
+    const TactileSensorParams& params, TactileSensorState& state, const FilmFieldModel& film,
+    const Eigen::Vector3d& force_pad_n, const Eigen::Quaterniond& vehicle_attitude_world_body,
+    const Eigen::Vector3d& earth_field_world_t, double temperature_c, double dt_s,
+    const Eigen::Vector3d& stray_field_sensor_t = Eigen::Vector3d::Zero());
 
 }  // namespace hilrig::host
 

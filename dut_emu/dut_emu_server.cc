@@ -1,0 +1,394 @@
+#include "dut_emu/dut_emu_server.h"
+
+#include <time.h>
+#include <unistd.h>
+
+#include <charconv>
+#include <chrono>
+#include <span>
+
+#include "host/dut/in_process_dut.h"
+#include "host/link/dut_config_codec.h"
+#include "host/link/hil_link_codec.h"
+#include "host/link/hil_link_socket.h"
+#include "rig/socketcan_bus.h"
+
+namespace hilrig::dut_emu {
+namespace {
+
+using host::LinkReceiveStatus;
+
+constexpr int kHandshakeTimeoutMs = 5000;
+constexpr int kStopCheckMs = 100;  // how often a waiting DUT looks at stop_requested
+
+template <typename T>
+rig::Result<T> ParseNumber(const std::string& text, const std::string& what) {
+  T value{};
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc() || end != text.data() + text.size()) {
+    return rig::MakeError(what + " \"" + text + "\" is not a valid number");
+  }
+  return value;
+}
+
+std::vector<std::string> Split(const std::string& text, char separator) {
+  std::vector<std::string> parts;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t at = text.find(separator, start);
+    parts.push_back(text.substr(start, at - start));
+    if (at == std::string::npos) return parts;
+    start = at + 1;
+  }
+}
+
+// The DUT's bus as InProcessDut sees it. In lockstep the frames of a step are first staged (the
+// server waits until all announced frames are in) and stamped with the runner's times; Receive
+// then hands over exactly those. Frames nobody announced (a bench with real sensor nodes) pass
+// straight through with the inner bus's own stamps.
+class StagedCanBus final : public rig::CanBus {
+ public:
+  explicit StagedCanBus(std::unique_ptr<rig::CanBus> inner) : inner_(std::move(inner)) {}
+
+  std::size_t Pump(std::int64_t now_ns) { return inner_->Receive(now_ns, staged_); }
+  std::size_t staged() const { return staged_.size(); }
+  void Restamp(std::span<const std::int64_t> times_ns) {
+    for (std::size_t i = 0; i < staged_.size() && i < times_ns.size(); ++i) {
+      staged_[i].time_ns = times_ns[i];
+    }
+  }
+
+  rig::Result<void> Send(const rig::CanFrame& frame, std::int64_t now_ns) override {
+    return inner_->Send(frame, now_ns);
+  }
+  std::size_t Receive(std::int64_t now_ns, std::vector<rig::TimedCanFrame>& out) override {
+    const std::size_t staged = staged_.size();
+    out.insert(out.end(), staged_.begin(), staged_.end());
+    staged_.clear();
+    return staged + inner_->Receive(now_ns, out);
+  }
+  void SetFilters(std::span<const rig::CanFilter> filters) override { inner_->SetFilters(filters); }
+  void SetReceiveErrorFrames(bool enabled) override { inner_->SetReceiveErrorFrames(enabled); }
+  void SetErrorFrameMask(std::uint32_t class_mask) override {
+    inner_->SetErrorFrameMask(class_mask);
+  }
+  rig::Result<void> SetReceiveOwnFrames(bool enabled) override {
+    return inner_->SetReceiveOwnFrames(enabled);
+  }
+  rig::BusState state() const override { return inner_->state(); }
+  rig::BusCounters counters() const override { return inner_->counters(); }
+
+ private:
+  std::unique_ptr<rig::CanBus> inner_;
+  std::vector<rig::TimedCanFrame> staged_;
+};
+
+rig::Result<std::unique_ptr<rig::CanBus>> OpenBus(const CanSpec& spec) {
+  if (spec.kind == CanSpec::Kind::kSocketCan) {
+    auto bus = rig::OpenSocketCan(spec.interface);
+    if (!bus) return bus.error();
+    return std::unique_ptr<rig::CanBus>(std::move(bus).value());
+  }
+  auto bus = rig::UdpBus::Open(spec.udp);
+  if (!bus) return bus.error();
+  return std::unique_ptr<rig::CanBus>(std::move(bus).value());
+}
+
+// One session: the handshake, then message after message until the end.
+class Session {
+ public:
+  Session(const DutEmuOptions& options, const std::atomic<bool>* stop, std::ostream& log,
+          std::unique_ptr<host::LinkConnection> link)
+      : options_(options), stop_(stop), log_(log), link_(std::move(link)) {}
+
+  int Run(std::unique_ptr<rig::CanBus> bus);
+
+ private:
+  bool Stopping() const { return stop_ != nullptr && stop_->load(); }
+  int Fail(const std::string& reason);
+  int Stopped();  // a clean end on request: a bye without error
+  rig::Result<proto::LinkMessage> ReceiveWithin(int timeout_ms, const char* waiting_for);
+  rig::Result<void> Handshake(std::unique_ptr<rig::CanBus> bus);
+  // nullopt: go on; a value: the session ends with this exit code.
+  std::optional<int> Handle(const proto::LinkMessage& message);
+  std::optional<int> HandleStep(const proto::StepRequest& step);
+  rig::Result<void> WaitForFrames(const proto::StepRequest& step);
+
+  const DutEmuOptions& options_;
+  const std::atomic<bool>* stop_;
+  std::ostream& log_;
+  std::unique_ptr<host::LinkConnection> link_;
+  host::LinkSequencer sequencer_;
+  StagedCanBus* bus_ = nullptr;  // owned by dut_
+  std::unique_ptr<host::InProcessDut> dut_;
+};
+
+int Session::Fail(const std::string& reason) {
+  log_ << "dut_emu: " << reason << "\n";
+  proto::LinkMessage bye;
+  bye.mutable_bye()->set_error(true);
+  bye.mutable_bye()->set_reason(reason);
+  sequencer_.Stamp(bye, 0);
+  (void)link_->Send(bye, 200);  // best effort: the link may be what failed
+  return kExitFailed;
+}
+
+rig::Result<proto::LinkMessage> Session::ReceiveWithin(int timeout_ms, const char* waiting_for) {
+  for (int waited_ms = 0; waited_ms < timeout_ms; waited_ms += kStopCheckMs) {
+    if (Stopping())
+      return rig::MakeError("stopped while waiting for the " + std::string(waiting_for));
+    host::LinkReceived received = link_->Receive(kStopCheckMs);
+    if (received.status == LinkReceiveStatus::kMessage) return std::move(received.message);
+    if (received.status == LinkReceiveStatus::kTimeout) continue;
+    if (received.status == LinkReceiveStatus::kClosed) {
+      return rig::MakeError("the runner closed the link before the " + std::string(waiting_for));
+    }
+    return rig::MakeError("link error while waiting for the " + std::string(waiting_for) + ": " +
+                          received.error);
+  }
+  return rig::MakeError("no " + std::string(waiting_for) + " from the runner within " +
+                        std::to_string(timeout_ms) + " ms");
+}
+
+rig::Result<void> Session::Handshake(std::unique_ptr<rig::CanBus> bus) {
+  proto::LinkMessage hello;
+  hello.mutable_hello()->set_role(proto::Hello::DUT);
+  hello.mutable_hello()->set_name("dut_emu " + std::to_string(::getpid()));
+  sequencer_.Stamp(hello, 0);
+  if (auto sent = link_->Send(hello); !sent) return sent.error();
+  auto runner_hello = ReceiveWithin(kHandshakeTimeoutMs, "runner's hello");
+  if (!runner_hello) return runner_hello.error();
+  if (!runner_hello.value().has_hello() ||
+      runner_hello.value().hello().role() != proto::Hello::RUNNER) {
+    return rig::MakeError("the runner's first message is not a runner hello");
+  }
+  auto config = ReceiveWithin(kHandshakeTimeoutMs, "firmware configuration");
+  if (!config) return config.error();
+  if (!config.value().has_config()) {
+    return rig::MakeError("the runner's second message is not the firmware configuration");
+  }
+  auto setup = host::FromDutConfig(config.value().config());
+  if (!setup) return rig::MakeError("bad firmware configuration: " + setup.error().message);
+  auto staged = std::make_unique<StagedCanBus>(std::move(bus));
+  bus_ = staged.get();
+  dut_ = std::make_unique<host::InProcessDut>(setup.value().firmware, std::move(staged),
+                                              setup.value().control_period_s);
+  return {};
+}
+
+rig::Result<void> Session::WaitForFrames(const proto::StepRequest& step) {
+  const std::uint64_t expected = step.can_frames_sent();
+  if (static_cast<std::uint64_t>(step.can_frame_time_ns_size()) != expected) {
+    return rig::MakeError("step request for tick " + std::to_string(step.tick()) + " announces " +
+                          std::to_string(expected) + " CAN frames but carries " +
+                          std::to_string(step.can_frame_time_ns_size()) + " frame times");
+  }
+  // The frames are already on their way over loopback; short naps until they are in, bounded.
+  const auto deadline =
+      std::chrono::steady_clock::now() + std::chrono::milliseconds(options_.frame_wait_timeout_ms);
+  const timespec nap{0, 20'000};
+  bus_->Pump(step.now_ns());
+  while (bus_->staged() < expected && std::chrono::steady_clock::now() < deadline) {
+    ::nanosleep(&nap, nullptr);
+    bus_->Pump(step.now_ns());
+  }
+  if (bus_->staged() != expected) {
+    return rig::MakeError("tick " + std::to_string(step.tick()) + ": " +
+                          std::to_string(bus_->staged()) + " CAN frames arrived, the runner sent " +
+                          std::to_string(expected));
+  }
+  bus_->Restamp({step.can_frame_time_ns().data(), static_cast<std::size_t>(expected)});
+  return {};
+}
+
+std::optional<int> Session::HandleStep(const proto::StepRequest& step) {
+  if (options_.exit_at_tick && step.tick() == *options_.exit_at_tick) {
+    log_ << "dut_emu: test hook: exiting at tick " << step.tick() << "\n";
+    return kExitTestHook;
+  }
+  if (options_.silent_at_tick && step.tick() == *options_.silent_at_tick) {
+    log_ << "dut_emu: test hook: not answering tick " << step.tick() << "\n";
+    return std::nullopt;
+  }
+  if (options_.garbage_at_tick && step.tick() == *options_.garbage_at_tick) {
+    log_ << "dut_emu: test hook: answering tick " << step.tick() << " with garbage\n";
+    // A length prefix of 8 and eight bytes that are no LinkMessage (field 15, wire type 7).
+    (void)link_->SendBytes(std::string("\x08\x7f\xff\xff\xff\xff\xff\xff\xff", 9));
+    return std::nullopt;
+  }
+  if (auto frames = WaitForFrames(step); !frames) return Fail(frames.error().message);
+  auto command = dut_->Step(step.tick(), step.now_ns());
+  if (!command) return Fail("control step failed: " + command.error().message);
+  if (auto sent = link_->Send(host::ToLink(command.value())); !sent) {
+    log_ << "dut_emu: " << sent.error().message << "\n";
+    return kExitFailed;
+  }
+  return std::nullopt;
+}
+
+std::optional<int> Session::Handle(const proto::LinkMessage& message) {
+  switch (message.payload_case()) {
+    case proto::LinkMessage::kImu:
+      dut_->SendImu(host::FromLink(message.imu()));
+      return std::nullopt;
+    case proto::LinkMessage::kVio:
+      dut_->SendVio(host::FromLink(message.vio()));
+      return std::nullopt;
+    case proto::LinkMessage::kSetpoint:
+      dut_->SendSetpoint(host::FromLink(message.setpoint()));
+      return std::nullopt;
+    case proto::LinkMessage::kStep:
+      return HandleStep(message.step());
+    case proto::LinkMessage::kBye:
+      if (message.bye().error()) {
+        log_ << "dut_emu: the runner ended the link: " << message.bye().reason() << "\n";
+      }
+      return kExitOk;
+    default:
+      return Fail(
+          "unexpected " +
+          proto::LinkMessage::descriptor()->FindFieldByNumber(message.payload_case())->name() +
+          " message from the runner");
+  }
+}
+
+int Session::Stopped() {
+  log_ << "dut_emu: stopped by a signal\n";
+  proto::LinkMessage bye;
+  bye.mutable_bye()->set_reason("dut_emu stopped by a signal");
+  sequencer_.Stamp(bye, 0);
+  (void)link_->Send(bye, 200);
+  return kExitOk;
+}
+
+int Session::Run(std::unique_ptr<rig::CanBus> bus) {
+  if (auto ready = Handshake(std::move(bus)); !ready) {
+    return Stopping() ? Stopped() : Fail(ready.error().message);
+  }
+  while (true) {
+    if (Stopping()) return Stopped();
+    host::LinkReceived received = link_->Receive(kStopCheckMs);
+    switch (received.status) {
+      case LinkReceiveStatus::kTimeout:
+        continue;
+      case LinkReceiveStatus::kMessage:
+        if (std::optional<int> done = Handle(received.message)) return *done;
+        continue;
+      case LinkReceiveStatus::kClosed:
+        log_ << "dut_emu: the runner closed the link without a bye\n";
+        return kExitFailed;
+      case LinkReceiveStatus::kLinkError:
+      case LinkReceiveStatus::kSocketError:
+        return Fail("link error: " + received.error);
+    }
+  }
+}
+
+}  // namespace
+
+const char* const kDutEmuUsage =
+    "usage: dut_emu --link HOST:PORT --can udp:BASE_PORT[:INDEX[:COUNT]]|socketcan:IFACE\n"
+    "               [--frame-timeout-ms N]\n"
+    "Connects to the runner's HIL link and runs the dut_fw controller behind it.\n"
+    "Exit codes: 0 the runner said bye or a signal stopped it, 1 the link, the bus or the\n"
+    "runner failed, 2 bad usage.\n";
+
+rig::Result<CanSpec> ParseCanSpec(const std::string& text) {
+  const std::vector<std::string> parts = Split(text, ':');
+  CanSpec spec;
+  if (parts[0] == "socketcan" && parts.size() == 2 && !parts[1].empty()) {
+    spec.kind = CanSpec::Kind::kSocketCan;
+    spec.interface = parts[1];
+    return spec;
+  }
+  if (parts[0] != "udp" || parts.size() < 2 || parts.size() > 4) {
+    return rig::MakeError("--can \"" + text +
+                          "\": expected udp:BASE_PORT[:INDEX[:COUNT]] or socketcan:IFACE");
+  }
+  auto port = ParseNumber<std::uint16_t>(parts[1], "UDP base port");
+  if (!port) return port.error();
+  spec.udp.base_port = port.value();
+  spec.udp.node_index = 1;
+  if (parts.size() >= 3) {
+    auto index = ParseNumber<std::size_t>(parts[2], "UDP node index");
+    if (!index) return index.error();
+    spec.udp.node_index = index.value();
+  }
+  if (parts.size() == 4) {
+    auto count = ParseNumber<std::size_t>(parts[3], "UDP node count");
+    if (!count) return count.error();
+    spec.udp.node_count = count.value();
+  }
+  if (spec.udp.base_port == 0 || spec.udp.node_index >= spec.udp.node_count) {
+    return rig::MakeError("--can \"" + text + "\": port 0, or node index not below node count");
+  }
+  return spec;
+}
+
+rig::Result<DutEmuOptions> ParseDutEmuArgs(const std::vector<std::string>& args) {
+  DutEmuOptions options;
+  bool have_link = false;
+  bool have_can = false;
+  for (std::size_t i = 1; i < args.size(); ++i) {
+    const std::string& flag = args[i];
+    if (i + 1 >= args.size()) return rig::MakeError(flag + " needs a value");
+    const std::string& value = args[++i];
+    if (flag == "--link") {
+      const std::size_t colon = value.rfind(':');
+      if (colon == std::string::npos || colon == 0) {
+        return rig::MakeError("--link \"" + value + "\": expected HOST:PORT");
+      }
+      auto port = ParseNumber<std::uint16_t>(value.substr(colon + 1), "link port");
+      if (!port || port.value() == 0) {
+        return rig::MakeError("--link \"" + value + "\": bad port");
+      }
+      options.link_host = value.substr(0, colon);
+      options.link_port = port.value();
+      have_link = true;
+    } else if (flag == "--can") {
+      auto spec = ParseCanSpec(value);
+      if (!spec) return spec.error();
+      options.can = spec.value();
+      have_can = true;
+    } else if (flag == "--frame-timeout-ms") {
+      auto ms = ParseNumber<int>(value, "--frame-timeout-ms");
+      if (!ms || ms.value() <= 0) return rig::MakeError("--frame-timeout-ms must be positive");
+      options.frame_wait_timeout_ms = ms.value();
+    } else if (flag == "--test-garbage-at-tick" || flag == "--test-exit-at-tick" ||
+               flag == "--test-silent-at-tick") {
+      auto tick = ParseNumber<std::uint64_t>(value, flag);
+      if (!tick) return tick.error();
+      std::optional<std::uint64_t>& hook = flag == "--test-exit-at-tick" ? options.exit_at_tick
+                                           : flag == "--test-silent-at-tick"
+                                               ? options.silent_at_tick
+                                               : options.garbage_at_tick;
+      hook = tick.value();
+    } else {
+      return rig::MakeError("unknown option " + flag);
+    }
+  }
+  if (!have_link || !have_can) return rig::MakeError("--link and --can are required");
+  return options;
+}
+
+int RunDutEmu(const DutEmuOptions& options, const std::atomic<bool>* stop_requested,
+              std::ostream& log, std::unique_ptr<rig::CanBus> bus) {
+  if (!bus) {
+    auto opened = OpenBus(options.can);
+    if (!opened) {
+      log << "dut_emu: CAN bus: " << opened.error().message << "\n";
+      return kExitFailed;
+    }
+    bus = std::move(opened).value();
+  }
+  auto link = host::LinkConnection::Connect(options.link_host, options.link_port,
+                                            options.connect_timeout_ms);
+  if (!link) {
+    log << "dut_emu: " << link.error().message << "\n";
+    return kExitFailed;
+  }
+  Session session(options, stop_requested, log, std::move(link).value());
+  return session.Run(std::move(bus));
+}
+
+}  // namespace hilrig::dut_emu

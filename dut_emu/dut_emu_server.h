@@ -1,0 +1,69 @@
+// dut_emu: the dut_fw controller as its own process, behind the HIL link. It connects to the
+// runner's link, takes the firmware configuration the runner sends, and from then on forwards each
+// link message to an InProcessDut -- the very code the in-process run uses, not a copy -- which
+// reads the tactile sensors from a CAN bus of its own (the loopback UDP bus, or SocketCAN on a
+// bench). A StepRequest is answered with the ActuatorCommand of that tick. In lockstep the request
+// says how many CAN frames the runner put on the bus for this step and when each finished arriving
+// on the emulated bus; the server waits for exactly those frames (the bus and the link are separate
+// channels) and hands them to the DUT with those times, so both runs see the same inputs.
+//
+// The library part lets tests run the server in a thread; dut_emu/main.cc is the executable.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "rig/can_bus.h"
+#include "rig/result.h"
+#include "rig/udp_bus.h"
+
+namespace hilrig::dut_emu {
+
+// Exit codes of dut_emu.
+inline constexpr int kExitOk = 0;        // the runner said bye, or a signal asked us to stop
+inline constexpr int kExitFailed = 1;    // the link or the bus failed, or the runner misbehaved
+inline constexpr int kExitUsage = 2;     // bad command line
+inline constexpr int kExitTestHook = 3;  // --test-exit-at-tick fired
+
+struct CanSpec {
+  enum class Kind { kUdp, kSocketCan };
+  Kind kind = Kind::kUdp;
+  rig::UdpBusConfig udp;  // kUdp
+  std::string interface;  // kSocketCan
+};
+
+// "udp:BASE_PORT[:NODE_INDEX[:NODE_COUNT]]" (index 1 of 2 by default: the runner's forwarder is
+// node 0) or "socketcan:IFACE".
+rig::Result<CanSpec> ParseCanSpec(const std::string& text);
+
+struct DutEmuOptions {
+  std::string link_host = "127.0.0.1";
+  std::uint16_t link_port = 0;
+  CanSpec can;
+  int connect_timeout_ms = 5000;
+  // How long a StepRequest waits for the CAN frames it announces before the DUT gives up.
+  int frame_wait_timeout_ms = 1000;
+  // Test hooks that make the DUT misbehave when asked for this tick: answer with bytes that are
+  // no link frame, exit without a word, or stay silent (and alive).
+  std::optional<std::uint64_t> garbage_at_tick;
+  std::optional<std::uint64_t> exit_at_tick;
+  std::optional<std::uint64_t> silent_at_tick;
+};
+
+// argv[1..] of dut_emu: --link HOST:PORT --can SPEC [--frame-timeout-ms N]
+// [--test-garbage-at-tick T] [--test-exit-at-tick T] [--test-silent-at-tick T].
+rig::Result<DutEmuOptions> ParseDutEmuArgs(const std::vector<std::string>& args);
+
+extern const char* const kDutEmuUsage;
+
+// Runs the DUT until the runner says bye, the link fails or `stop_requested` is set; returns an
+// exit code and says why on `log`. `bus`, when given, replaces the bus options.can describes.
+int RunDutEmu(const DutEmuOptions& options, const std::atomic<bool>* stop_requested,
+              std::ostream& log, std::unique_ptr<rig::CanBus> bus = nullptr);
+
+}  // namespace hilrig::dut_emu

@@ -1,0 +1,43 @@
+// dut_emu: the dut_fw controller as its own process on the HIL link (see dut_emu_server.h).
+#include <signal.h>
+
+#include <atomic>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "dut_emu/dut_emu_server.h"
+
+namespace {
+
+std::atomic<bool> g_stop_requested{false};  // set from the signal handler; lock-free
+
+void RequestStop(int /*signal*/) { g_stop_requested.store(true); }
+
+void InstallSignalHandlers() {
+  struct sigaction action {};
+  action.sa_handler = RequestStop;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGTERM, &action, nullptr);
+  sigaction(SIGINT, &action, nullptr);
+  // Writes to a vanished runner must be errors, not a silent death; sends use MSG_NOSIGNAL too.
+  signal(SIGPIPE, SIG_IGN);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::vector<std::string> args(argv, argv + argc);
+  if (args.size() == 2 && (args[1] == "--help" || args[1] == "-h")) {
+    std::cout << hilrig::dut_emu::kDutEmuUsage;
+    return hilrig::dut_emu::kExitOk;
+  }
+  auto options = hilrig::dut_emu::ParseDutEmuArgs(args);
+  if (!options) {
+    std::cerr << "dut_emu: " << options.error().message << "\n" << hilrig::dut_emu::kDutEmuUsage;
+    return hilrig::dut_emu::kExitUsage;
+  }
+  static_assert(std::atomic<bool>::is_always_lock_free);
+  InstallSignalHandlers();
+  return hilrig::dut_emu::RunDutEmu(options.value(), &g_stop_requested, std::cerr);
+}

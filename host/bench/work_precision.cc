@@ -1,0 +1,596 @@
+#include "host/bench/work_precision.h"
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <iterator>
+
+#include "host/runner/run_statistics.h"
+#include "host/scenario/scenario_validation.h"
+#include "host/sensors/tactile/film_field_factory.h"
+
+namespace hilrig::host {
+namespace {
+
+constexpr double kReferenceTolerance = 1e-10;
+constexpr double kSweepTolerance = 1e-6;
+constexpr int kReferenceSubsteps = 8;
+constexpr double kQuickDurationS = 3;
+constexpr double kTimeMatchS = 1e-6;
+
+std::string Number(double value) {
+  if (!std::isfinite(value)) return std::isnan(value) ? "nan" : (value > 0 ? "inf" : "-inf");
+  std::array<char, 64> buffer{};
+  const auto [end, error] = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value,
+                                          std::chars_format::general, 6);
+  if (error != std::errc()) return "0";
+  return std::string(buffer.data(), end);
+}
+
+std::string CsvField(const std::string& text) {
+  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  std::string quoted = "\"";
+  for (char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return quoted + "\"";
+}
+
+rig::Result<ScenarioConfig> ResolveChecked(const proto::Scenario& spec,
+                                           const std::string& spec_directory,
+                                           std::optional<std::uint64_t> seed) {
+  const std::vector<FieldProblem> problems = ValidateScenario(spec);
+  if (!problems.empty()) {
+    return rig::MakeError(spec.name() + ": " + problems.front().field_path + ": " +
+                          problems.front().message);
+  }
+  if (spec.models().tactile().enabled() && spec.models().tactile().has_field_fidelity()) {
+    if (auto film = MakeFilmField(spec.models().tactile().field_fidelity()); !film) {
+      return rig::MakeError(spec.name() +
+                            ": models.tactile.field_fidelity: " + film.error().message);
+    }
+  }
+  return ResolveScenario(spec, seed, spec_directory);
+}
+
+// A resolved config that shares `calibration` (the DUT is flashed once for every run).
+rig::Result<ScenarioConfig> ResolveWithCalibration(
+    const proto::Scenario& spec, const std::string& spec_directory, std::uint64_t seed,
+    const std::optional<proto::Calibration>& calibration) {
+  auto config = ResolveChecked(spec, spec_directory, seed);
+  if (!config) return config.error();
+  config.value().hall_sensors.calibration = calibration;
+  return config;
+}
+
+double WallPerSimulatedSecond(const proto::Report& report) {
+  return report.simulated_s() > 0 ? report.wall_s() / report.simulated_s() : 0.0;
+}
+
+double Median(std::vector<double> values) {
+  if (values.empty()) return 0;
+  std::sort(values.begin(), values.end());
+  const std::size_t mid = values.size() / 2;
+  return values.size() % 2 == 1 ? values[mid] : 0.5 * (values[mid - 1] + values[mid]);
+}
+
+bool Interrupted(const RunControl& control) {
+  return control.stop_requested != nullptr && control.stop_requested->load();
+}
+
+struct Accumulator {
+  double sum_squares = 0, max = 0;
+  void Add(double error) {
+    sum_squares += error * error;
+    max = std::max(max, error);
+  }
+  double Rms(std::size_t count) const {
+    return count > 0 ? std::sqrt(sum_squares / static_cast<double>(count)) : 0.0;
+  }
+};
+
+bool FiniteAt(const CapturedTrace& trace, std::size_t i) {
+  return std::isfinite(trace.grasp_force_n[i]) && std::isfinite(trace.load_n[i]) &&
+         trace.position_m[i].allFinite();
+}
+
+// Times the stepping loop: cheap runs again without sinks (the median of several, so one noisy
+// run does not decide the front), expensive ones (or timing_repeats <= 1) from the captured run,
+// whose trace capture adds a little to the loop.
+double TimedWallPerSimS(const ScenarioConfig& config, const proto::Report& captured,
+                        const SweepOptions& options, const RunControl& control, int& runs) {
+  if (captured.wall_s() >= options.cheap_run_wall_s || options.timing_repeats <= 1) {
+    runs = 1;
+    return WallPerSimulatedSecond(captured);
+  }
+  std::vector<double> samples;
+  for (int i = 0; i < options.timing_repeats && !Interrupted(control); ++i) {
+    samples.push_back(WallPerSimulatedSecond(RunScenario(config, {}, control)));
+  }
+  runs = static_cast<int>(samples.size());
+  if (samples.empty()) {
+    runs = 1;
+    return WallPerSimulatedSecond(captured);
+  }
+  return Median(samples);
+}
+
+RunResult Evaluate(const PlannedRun& planned, const ScenarioConfig& config,
+                   const CapturedRun& captured, const CapturedTrace& reference,
+                   const SweepOptions& options, const RunControl& control) {
+  RunResult result;
+  result.run = planned;
+  result.step_s = static_cast<double>(config.physics_step_ns) / 1e9 / config.plant_substeps;
+  result.errors = CompareTraces(captured.trace, reference);
+  result.passes_envelopes = captured.report.passed();
+  result.stop_reason = captured.report.stop_reason();
+  result.wall_s_per_sim_s =
+      TimedWallPerSimS(config, captured.report, options, control, result.timing_runs);
+  return result;
+}
+
+std::string RealTimeFactor(double wall_s_per_sim_s) {
+  return wall_s_per_sim_s > 0 ? Number(1 / wall_s_per_sim_s) : "0";
+}
+
+std::string ParetoField(const std::vector<ErrorMetric>& metrics) {
+  if (metrics.empty()) return "-";
+  std::string out;
+  for (ErrorMetric metric : metrics) out.append(out.empty() ? "" : ";").append(MetricName(metric));
+  return out;
+}
+
+std::string IntegratorField(const FidelityChoice& fidelity) {
+  std::string name = IntegratorName(fidelity.integrator);
+  if (fidelity.integrator == proto::INTEGRATOR_DORMAND_PRINCE) {
+    name.append("(")
+        .append(Number(fidelity.integrator_tolerance.value_or(kSweepTolerance)))
+        .append(")");
+  }
+  return name;
+}
+
+std::string MetricUnit(ErrorMetric metric) { return metric == ErrorMetric::kPosition ? "m" : "N"; }
+
+std::string MetricTitle(ErrorMetric metric) {
+  switch (metric) {
+    case ErrorMetric::kGraspForce:
+      return "grasp force";
+    case ErrorMetric::kLoad:
+      return "vertical load";
+    case ErrorMetric::kPosition:
+      return "position";
+  }
+  return "";
+}
+
+// The family a run is drawn in: one per integrator, one for the field sweep, the default alone.
+std::string FamilyOf(const RunResult& run) {
+  switch (run.run.kind) {
+    case RunKind::kIntegrator:
+      return IntegratorField(run.run.fidelity);
+    case RunKind::kField:
+      return "field fidelity";
+    case RunKind::kDefault:
+      return "as shipped";
+    case RunKind::kReference:
+      break;
+  }
+  return "reference";
+}
+
+std::string PointLabel(const RunResult& run) {
+  switch (run.run.kind) {
+    case RunKind::kIntegrator:
+      return "x" + std::to_string(run.run.fidelity.plant_substeps);
+    case RunKind::kField:
+      return run.run.fidelity.field_fidelity;
+    case RunKind::kDefault:
+      return "default";
+    case RunKind::kReference:
+      break;
+  }
+  return "reference";
+}
+
+ScatterPlot PlotFor(const SceneResult& scene, ErrorMetric metric) {
+  ScatterPlot plot;
+  plot.title = scene.scene + ": " + MetricTitle(metric) + " error";
+  plot.x_label = "wall time per simulated second (s)";
+  plot.y_label = "RMS " + MetricTitle(metric) + " error (" + MetricUnit(metric) + ")";
+  for (const RunResult& run : scene.runs) {
+    if (run.run.kind == RunKind::kReference) continue;
+    const std::string family = FamilyOf(run);
+    auto series = std::find_if(plot.series.begin(), plot.series.end(),
+                               [&](const ScatterSeries& s) { return s.name == family; });
+    if (series == plot.series.end()) {
+      plot.series.push_back({family, "", {}});
+      series = std::prev(plot.series.end());
+    }
+    series->points.push_back({run.wall_s_per_sim_s, run.RmsError(metric), PointLabel(run)});
+  }
+  for (std::size_t index : ParetoFront(scene.runs, metric)) {
+    plot.front.push_back(
+        {scene.runs[index].wall_s_per_sim_s, scene.runs[index].RmsError(metric), ""});
+  }
+  return plot;
+}
+
+const RunResult* DefaultRun(const SceneResult& scene) {
+  for (const RunResult& run : scene.runs) {
+    if (run.run.kind == RunKind::kDefault) return &run;
+  }
+  return nullptr;
+}
+
+std::string FrontTable(const SceneResult& scene, ErrorMetric metric) {
+  char line[256];
+  std::snprintf(line, sizeof(line), "%s: %s RMS error (%s), Pareto front\n", scene.scene.c_str(),
+                MetricTitle(metric).c_str(), MetricUnit(metric).c_str());
+  std::string out = line;
+  std::snprintf(line, sizeof(line), "  %-12s %-10s %-10s %-26s %s\n", "wall s/sim s", "error",
+                "kind", "run", "envelopes");
+  out += line;
+  for (std::size_t index : ParetoFront(scene.runs, metric)) {
+    const RunResult& run = scene.runs[index];
+    std::snprintf(line, sizeof(line), "  %-12.4g %-10.3g %-10s %-26s %s\n", run.wall_s_per_sim_s,
+                  run.RmsError(metric), RunKindName(run.run.kind).c_str(),
+                  FidelityLabel(run.run.fidelity).c_str(), run.passes_envelopes ? "pass" : "FAIL");
+    out += line;
+  }
+  return out;
+}
+
+std::string DefaultVerdict(const SceneResult& scene) {
+  const RunResult* run = DefaultRun(scene);
+  if (run == nullptr) return scene.scene + ": no default run\n";
+  std::string on;
+  for (ErrorMetric metric : run->pareto)
+    on.append(on.empty() ? "" : ", ").append(MetricName(metric));
+  std::string out = scene.scene;
+  out.append(": the default (").append(FidelityLabel(run->run.fidelity)).append(", ");
+  out.append(Number(run->wall_s_per_sim_s)).append(" s per simulated s) is ");
+  out.append(on.empty() ? "on no front" : "on the front for ").append(on).append("; it ");
+  out.append(run->passes_envelopes ? "passes" : "does NOT pass").append(" its envelopes\n");
+  return out;
+}
+
+}  // namespace
+
+std::string IntegratorName(proto::Integrator integrator) {
+  switch (integrator) {
+    case proto::INTEGRATOR_SEMI_IMPLICIT_EULER:
+      return "SIE";
+    case proto::INTEGRATOR_MIDPOINT:
+      return "midpoint";
+    case proto::INTEGRATOR_DORMAND_PRINCE:
+      return "DP";
+    case proto::INTEGRATOR_RK4:
+      return "RK4";
+    default:
+      break;
+  }
+  return "integrator" + std::to_string(static_cast<int>(integrator));
+}
+
+std::string FidelityLabel(const FidelityChoice& fidelity) {
+  return IntegratorField(fidelity) + " x" + std::to_string(fidelity.plant_substeps) + " " +
+         fidelity.field_fidelity;
+}
+
+FidelityChoice ReferenceFidelity(bool quick) {
+  return {proto::INTEGRATOR_DORMAND_PRINCE, kReferenceTolerance, kReferenceSubsteps,
+          quick ? "tiles:16" : "tiles:64"};
+}
+
+FidelityChoice SceneFidelity(const proto::Scenario& spec) {
+  FidelityChoice fidelity;
+  fidelity.integrator = spec.models().integrator();
+  if (spec.models().has_integrator_tolerance()) {
+    fidelity.integrator_tolerance = spec.models().integrator_tolerance();
+  }
+  fidelity.plant_substeps = spec.simulation().has_plant_substeps()
+                                ? static_cast<int>(spec.simulation().plant_substeps())
+                                : 1;
+  const proto::Tactile& tactile = spec.models().tactile();
+  fidelity.field_fidelity =
+      tactile.has_field_fidelity() ? tactile.field_fidelity() : std::string(kDefaultFilmFidelity);
+  return fidelity;
+}
+
+proto::Scenario WithFidelity(proto::Scenario spec, const FidelityChoice& fidelity) {
+  proto::Models& models = *spec.mutable_models();
+  models.set_integrator(fidelity.integrator);
+  if (fidelity.integrator_tolerance) {
+    models.set_integrator_tolerance(*fidelity.integrator_tolerance);
+  } else {
+    models.clear_integrator_tolerance();
+  }
+  spec.mutable_simulation()->set_plant_substeps(
+      static_cast<std::uint32_t>(std::max(fidelity.plant_substeps, 0)));
+  if (!fidelity.field_fidelity.empty()) {
+    models.mutable_tactile()->set_field_fidelity(fidelity.field_fidelity);
+  }
+  return spec;
+}
+
+proto::Scenario TruncatedTo(proto::Scenario spec, double duration_s) {
+  spec.mutable_simulation()->set_duration_s(duration_s);
+  auto& timeline = *spec.mutable_timeline();
+  timeline.erase(std::remove_if(timeline.begin(), timeline.end(),
+                                [&](const auto& entry) { return entry.at_s() > duration_s; }),
+                 timeline.end());
+  return spec;
+}
+
+ErrorMetrics CompareTraces(const CapturedTrace& run, const CapturedTrace& reference) {
+  ErrorMetrics metrics;
+  Accumulator force, load, position;
+  std::size_t j = 0;
+  for (std::size_t i = 0; i < reference.size(); ++i) {
+    const double time_s = reference.time_s[i];
+    while (j < run.size() && run.time_s[j] < time_s - kTimeMatchS) ++j;
+    const bool matched = j < run.size() && std::abs(run.time_s[j] - time_s) <= kTimeMatchS;
+    if (!matched || !FiniteAt(run, j) || !FiniteAt(reference, i)) {
+      ++metrics.samples_missing;
+      continue;
+    }
+    ++metrics.samples_compared;
+    force.Add(std::abs(run.grasp_force_n[j] - reference.grasp_force_n[i]));
+    load.Add(std::abs(run.load_n[j] - reference.load_n[i]));
+    position.Add((run.position_m[j] - reference.position_m[i]).norm());
+  }
+  const std::size_t n = metrics.samples_compared;
+  metrics.grasp_force_rms_n = force.Rms(n);
+  metrics.grasp_force_max_n = force.max;
+  metrics.load_rms_n = load.Rms(n);
+  metrics.load_max_n = load.max;
+  metrics.position_rms_m = position.Rms(n);
+  metrics.position_max_m = position.max;
+  return metrics;
+}
+
+CapturedRun RunCaptured(const ScenarioConfig& config, const RunControl& control) {
+  TraceCapture capture;
+  RunSinks sinks;
+  sinks.trace_csv = &capture;
+  CapturedRun run;
+  run.report = RunScenario(config, sinks, control);
+  run.trace = capture.trace();
+  return run;
+}
+
+rig::Result<ReferenceComparison> CompareWithReference(const ScenarioConfig& chosen,
+                                                      const proto::Scenario& spec,
+                                                      const std::string& spec_directory,
+                                                      const FidelityChoice& reference,
+                                                      const RunControl& control) {
+  auto reference_config = ResolveWithCalibration(WithFidelity(spec, reference), spec_directory,
+                                                 chosen.seed, chosen.hall_sensors.calibration);
+  if (!reference_config) return reference_config.error();
+  const CapturedRun reference_run = RunCaptured(reference_config.value(), control);
+  const CapturedRun chosen_run = RunCaptured(chosen, control);
+  for (const CapturedRun* run : {&reference_run, &chosen_run}) {
+    if (run->report.stop_reason() != "completed") {
+      return rig::MakeError(std::string(run == &reference_run ? "reference" : "chosen") +
+                            " run stopped short: " + run->report.stop_reason());
+    }
+  }
+  return ReferenceComparison{CompareTraces(chosen_run.trace, reference_run.trace),
+                             chosen_run.report, reference_run.report};
+}
+
+void AddReferenceMetrics(const ReferenceComparison& comparison, proto::Report& report) {
+  AddMetric(report, "reference_error_grasp_force_rms_n", comparison.errors.grasp_force_rms_n, "N");
+  AddMetric(report, "reference_error_load_rms_n", comparison.errors.load_rms_n, "N");
+  AddMetric(report, "reference_error_position_rms_m", comparison.errors.position_rms_m, "m");
+  AddMetric(report, "reference_wall_s", comparison.reference.wall_s(), "s");
+}
+
+std::string RunKindName(RunKind kind) {
+  switch (kind) {
+    case RunKind::kReference:
+      return "reference";
+    case RunKind::kIntegrator:
+      return "integrator";
+    case RunKind::kField:
+      return "field";
+    case RunKind::kDefault:
+      return "default";
+  }
+  return "unknown";
+}
+
+std::vector<PlannedRun> PlanSweep(const FidelityChoice& scene, bool quick) {
+  const std::vector<proto::Integrator> integrators =
+      quick ? std::vector<proto::Integrator>{proto::INTEGRATOR_SEMI_IMPLICIT_EULER,
+                                             proto::INTEGRATOR_RK4}
+            : std::vector<proto::Integrator>{proto::INTEGRATOR_SEMI_IMPLICIT_EULER,
+                                             proto::INTEGRATOR_MIDPOINT, proto::INTEGRATOR_RK4,
+                                             proto::INTEGRATOR_DORMAND_PRINCE};
+  const std::vector<int> substeps = quick ? std::vector<int>{1, 2} : std::vector<int>{1, 2, 4, 8};
+  const std::vector<std::string> fields =
+      quick ? std::vector<std::string>{"tiles:8", "map:16"}
+            : std::vector<std::string>{"tiles:8", "tiles:16", "tiles:32", "map:16",
+                                       "map:32",  "opmap:16", "opmap:32"};
+  std::vector<PlannedRun> runs;
+  for (proto::Integrator integrator : integrators) {
+    for (int steps : substeps) {
+      FidelityChoice fidelity = scene;
+      fidelity.integrator = integrator;
+      fidelity.integrator_tolerance = integrator == proto::INTEGRATOR_DORMAND_PRINCE
+                                          ? std::optional<double>(kSweepTolerance)
+                                          : std::nullopt;
+      fidelity.plant_substeps = steps;
+      runs.push_back({RunKind::kIntegrator, fidelity});
+    }
+  }
+  for (const std::string& field : fields) {
+    FidelityChoice fidelity = scene;
+    fidelity.field_fidelity = field;
+    runs.push_back({RunKind::kField, fidelity});
+  }
+  runs.push_back({RunKind::kDefault, scene});
+  return runs;
+}
+
+std::string MetricName(ErrorMetric metric) {
+  switch (metric) {
+    case ErrorMetric::kGraspForce:
+      return "grasp_force";
+    case ErrorMetric::kLoad:
+      return "load";
+    case ErrorMetric::kPosition:
+      return "position";
+  }
+  return "unknown";
+}
+
+double RunResult::RmsError(ErrorMetric metric) const {
+  switch (metric) {
+    case ErrorMetric::kGraspForce:
+      return errors.grasp_force_rms_n;
+    case ErrorMetric::kLoad:
+      return errors.load_rms_n;
+    case ErrorMetric::kPosition:
+      return errors.position_rms_m;
+  }
+  return 0;
+}
+
+rig::Result<SceneResult> SweepScene(const proto::Scenario& spec, const std::string& spec_directory,
+                                    const SweepOptions& options, const RunControl& control) {
+  proto::Scenario base = spec;
+  base.mutable_models()->set_noise(proto::NOISE_OFF);
+  const std::optional<double> duration_s =
+      options.duration_s ? options.duration_s
+                         : (options.quick ? std::optional<double>(kQuickDurationS) : std::nullopt);
+  if (duration_s) {
+    if (!(*duration_s > 0) || !std::isfinite(*duration_s)) {
+      return rig::MakeError("duration must be a positive number of seconds");
+    }
+    base = TruncatedTo(std::move(base), std::min(*duration_s, spec.simulation().duration_s()));
+  }
+  const PlannedRun reference{RunKind::kReference, ReferenceFidelity(options.quick)};
+  auto reference_config =
+      ResolveChecked(WithFidelity(base, reference.fidelity), spec_directory, std::nullopt);
+  if (!reference_config) return reference_config.error();
+  if (auto calibrated = LoadTactileCalibration(reference_config.value()); !calibrated) {
+    return rig::MakeError(spec.name() + ": tactile calibration: " + calibrated.error().message);
+  }
+  const ScenarioConfig& ref_config = reference_config.value();
+  const CapturedRun reference_run = RunCaptured(ref_config, control);
+  if (reference_run.report.stop_reason() != "completed") {
+    return rig::MakeError(
+        spec.name() + ": the reference run stopped short: " + reference_run.report.stop_reason());
+  }
+  SceneResult scene;
+  scene.scene = spec.name();
+  scene.runs.push_back(
+      Evaluate(reference, ref_config, reference_run, reference_run.trace, options, control));
+  for (const PlannedRun& planned : PlanSweep(SceneFidelity(spec), options.quick)) {
+    if (Interrupted(control)) return rig::MakeError("interrupted");
+    auto config = ResolveWithCalibration(WithFidelity(base, planned.fidelity), spec_directory,
+                                         ref_config.seed, ref_config.hall_sensors.calibration);
+    if (!config) return config.error();
+    const CapturedRun run = RunCaptured(config.value(), control);
+    scene.runs.push_back(
+        Evaluate(planned, config.value(), run, reference_run.trace, options, control));
+    if (options.progress != nullptr) {
+      *options.progress << scene.scene << ": " << RunKindName(planned.kind) << " "
+                        << FidelityLabel(planned.fidelity) << ": "
+                        << Number(scene.runs.back().wall_s_per_sim_s) << " s/sim s" << std::endl;
+    }
+  }
+  MarkParetoFronts(scene);
+  return scene;
+}
+
+std::vector<std::size_t> ParetoFront(const std::vector<RunResult>& runs, ErrorMetric metric) {
+  std::vector<std::size_t> candidates;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const RunResult& run = runs[i];
+    if (run.run.kind == RunKind::kReference || !run.errors.complete()) continue;
+    if (!std::isfinite(run.wall_s_per_sim_s) || !std::isfinite(run.RmsError(metric))) continue;
+    candidates.push_back(i);
+  }
+  const auto dominates = [&](std::size_t a, std::size_t b) {
+    const double ta = runs[a].wall_s_per_sim_s, tb = runs[b].wall_s_per_sim_s;
+    const double ea = runs[a].RmsError(metric), eb = runs[b].RmsError(metric);
+    return ta <= tb && ea <= eb && (ta < tb || ea < eb);
+  };
+  std::vector<std::size_t> front;
+  for (std::size_t b : candidates) {
+    if (std::none_of(candidates.begin(), candidates.end(),
+                     [&](std::size_t a) { return dominates(a, b); })) {
+      front.push_back(b);
+    }
+  }
+  std::stable_sort(front.begin(), front.end(), [&](std::size_t a, std::size_t b) {
+    return runs[a].wall_s_per_sim_s < runs[b].wall_s_per_sim_s;
+  });
+  return front;
+}
+
+void MarkParetoFronts(SceneResult& scene) {
+  for (RunResult& run : scene.runs) run.pareto.clear();
+  for (ErrorMetric metric : kErrorMetrics) {
+    for (std::size_t index : ParetoFront(scene.runs, metric)) {
+      scene.runs[index].pareto.push_back(metric);
+    }
+  }
+}
+
+std::string WorkPrecisionCsv(const std::vector<SceneResult>& scenes) {
+  std::string out =
+      "scene,kind,integrator,plant_substeps,step_s,field_fidelity,wall_s_per_sim_s,"
+      "real_time_factor,grasp_force_rms_error_n,grasp_force_max_error_n,load_rms_error_n,"
+      "position_rms_error_m,position_max_error_m,passes_envelopes,pareto,load_max_error_n,"
+      "samples_compared,samples_missing,timing_runs,stop_reason\n";
+  for (const SceneResult& scene : scenes) {
+    for (const RunResult& run : scene.runs) {
+      const ErrorMetrics& e = run.errors;
+      const std::vector<std::string> fields = {scene.scene,
+                                               RunKindName(run.run.kind),
+                                               IntegratorField(run.run.fidelity),
+                                               std::to_string(run.run.fidelity.plant_substeps),
+                                               Number(run.step_s),
+                                               run.run.fidelity.field_fidelity,
+                                               Number(run.wall_s_per_sim_s),
+                                               RealTimeFactor(run.wall_s_per_sim_s),
+                                               Number(e.grasp_force_rms_n),
+                                               Number(e.grasp_force_max_n),
+                                               Number(e.load_rms_n),
+                                               Number(e.position_rms_m),
+                                               Number(e.position_max_m),
+                                               run.passes_envelopes ? "true" : "false",
+                                               ParetoField(run.pareto),
+                                               Number(e.load_max_n),
+                                               std::to_string(e.samples_compared),
+                                               std::to_string(e.samples_missing),
+                                               std::to_string(run.timing_runs),
+                                               run.stop_reason};
+      for (std::size_t i = 0; i < fields.size(); ++i) {
+        out.append(i > 0 ? "," : "").append(CsvField(fields[i]));
+      }
+      out += "\n";
+    }
+  }
+  return out;
+}
+
+std::vector<ScatterPlot> WorkPrecisionPlots(const std::vector<SceneResult>& scenes) {
+  std::vector<ScatterPlot> plots;
+  for (const SceneResult& scene : scenes) {
+    for (ErrorMetric metric : kErrorMetrics) plots.push_back(PlotFor(scene, metric));
+  }
+  return plots;
+}
+
+std::string FormatParetoTables(const SceneResult& scene) {
+  std::string out;
+  for (ErrorMetric metric : kErrorMetrics) out += FrontTable(scene, metric) + "\n";
+  return out + DefaultVerdict(scene);
+}
+
+}  // namespace hilrig::host

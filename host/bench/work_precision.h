@@ -1,0 +1,165 @@
+// The work-precision benchmark: what each plant integrator, step size and film field fidelity
+// costs in wall time per simulated second, and how much error it buys against a tight reference
+// run of the same scene. Every run of a scene shares one DUT calibration and runs noise-free, so
+// the differences between runs are the models' and the integrators' only. The sweep (`hilrig
+// bench`) and a single comparison (`hilrig run --reference`) share CompareTraces and the fidelity
+// plumbing here. Nothing here reads a clock: the wall clock comes in with RunControl.
+#pragma once
+
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "host/bench/trace_capture.h"
+#include "host/report/scatter_plot.h"
+#include "host/runner/runner.h"
+#include "host/scenario/scenario_config.h"
+#include "proto/report.pb.h"
+#include "proto/scenario.pb.h"
+#include "rig/result.h"
+
+namespace hilrig::host {
+
+// The model choices a run is made with.
+struct FidelityChoice {
+  proto::Integrator integrator = proto::INTEGRATOR_RK4;
+  std::optional<double> integrator_tolerance;  // Dormand-Prince only; unset: the spec's own
+  int plant_substeps = 1;
+  std::string field_fidelity;  // "tiles:32", "map:16", "opmap:32", ...
+};
+
+// Short names for tables and plots: "SIE", "midpoint", "RK4", "DP".
+std::string IntegratorName(proto::Integrator integrator);
+
+// "RK4 x1 opmap:32", "DP(1e-10) x8 tiles:64".
+std::string FidelityLabel(const FidelityChoice& fidelity);
+
+// Dormand-Prince at 1e-10, 8 plant steps per tick, tiles:64; --quick uses tiles:16.
+FidelityChoice ReferenceFidelity(bool quick);
+
+// The scene's own choices, with the defaults the resolver fills in (RK4, 1 substep, tiles:32).
+FidelityChoice SceneFidelity(const proto::Scenario& spec);
+
+// `spec` with `fidelity` applied (integrator, tolerance, substeps, field fidelity).
+proto::Scenario WithFidelity(proto::Scenario spec, const FidelityChoice& fidelity);
+
+// `spec` cut to `duration_s`: timeline entries after it are dropped so the spec stays valid.
+proto::Scenario TruncatedTo(proto::Scenario spec, double duration_s);
+
+struct ErrorMetrics {
+  std::size_t samples_compared = 0;
+  // Reference samples with no finite counterpart in the run (it ended early, or a signal was not
+  // finite): the errors below then cover only what could be compared.
+  std::size_t samples_missing = 0;
+  double grasp_force_rms_n = 0, grasp_force_max_n = 0;
+  double load_rms_n = 0, load_max_n = 0;
+  double position_rms_m = 0, position_max_m = 0;
+
+  bool complete() const { return samples_missing == 0 && samples_compared > 0; }
+};
+
+// Sample-by-sample |run - reference| of grasp force, vertical load and position (Euclidean), at
+// the trace times both runs share (samples are matched by time, within 1 us).
+ErrorMetrics CompareTraces(const CapturedTrace& run, const CapturedTrace& reference);
+
+struct CapturedRun {
+  proto::Report report;
+  CapturedTrace trace;
+};
+
+// One run with its trace kept in memory (no files).
+CapturedRun RunCaptured(const ScenarioConfig& config, const RunControl& control);
+
+struct ReferenceComparison {
+  ErrorMetrics errors;
+  proto::Report chosen;     // the run at the chosen fidelity
+  proto::Report reference;  // the run at the reference fidelity
+};
+
+// Runs `chosen` (resolved from `spec`, tactile calibration loaded) and the same scene at
+// `reference` fidelity, re-resolved from `spec` with chosen's seed and chosen's DUT calibration,
+// and returns the chosen run's errors against the reference. An error when the reference spec is
+// invalid (e.g. an unknown field fidelity) or a run stopped short of its duration.
+rig::Result<ReferenceComparison> CompareWithReference(const ScenarioConfig& chosen,
+                                                      const proto::Scenario& spec,
+                                                      const std::string& spec_directory,
+                                                      const FidelityChoice& reference,
+                                                      const RunControl& control);
+
+// reference_error_grasp_force_rms_n, reference_error_load_rms_n, reference_error_position_rms_m
+// and reference_wall_s.
+void AddReferenceMetrics(const ReferenceComparison& comparison, proto::Report& report);
+
+// ---------------------------------------------------------------------------------------------
+// The sweep.
+
+enum class RunKind { kReference, kIntegrator, kField, kDefault };
+
+std::string RunKindName(RunKind kind);  // "reference", "integrator", "field", "default"
+
+struct PlannedRun {
+  RunKind kind = RunKind::kIntegrator;
+  FidelityChoice fidelity;
+};
+
+// Every run of one scene after the reference: integrators x step sizes at the scene's field
+// fidelity, field fidelities at the scene's integrator and step, and the scene as shipped.
+std::vector<PlannedRun> PlanSweep(const FidelityChoice& scene, bool quick);
+
+enum class ErrorMetric { kGraspForce, kLoad, kPosition };
+inline constexpr ErrorMetric kErrorMetrics[] = {ErrorMetric::kGraspForce, ErrorMetric::kLoad,
+                                                ErrorMetric::kPosition};
+std::string MetricName(ErrorMetric metric);  // "grasp_force", "load", "position"
+
+struct RunResult {
+  PlannedRun run;
+  double step_s = 0;            // the plant's integration step
+  double wall_s_per_sim_s = 0;  // median over the timing runs, stepping loop only
+  int timing_runs = 0;
+  ErrorMetrics errors;
+  bool passes_envelopes = false;
+  std::string stop_reason;
+  std::vector<ErrorMetric> pareto;  // the metrics on whose front this run lies
+
+  double RmsError(ErrorMetric metric) const;
+};
+
+struct SceneResult {
+  std::string scene;
+  std::vector<RunResult> runs;  // runs[0] is the reference
+};
+
+struct SweepOptions {
+  bool quick = false;
+  std::optional<double> duration_s;  // cut every run of the scene to this; --quick: 3 s
+  // Runs cheaper than cheap_run_wall_s are timed this often more without sinks (median); <= 1:
+  // every run is timed by its captured run alone.
+  int timing_repeats = 3;
+  double cheap_run_wall_s = 2.0;
+  std::ostream* progress = nullptr;  // a line per run
+};
+
+// The whole sweep of one scene: calibration at the reference fidelity, the reference run, then
+// PlanSweep's runs, all noise-free; fronts marked.
+rig::Result<SceneResult> SweepScene(const proto::Scenario& spec, const std::string& spec_directory,
+                                    const SweepOptions& options, const RunControl& control);
+
+// Indices into `runs` of the non-dominated runs (lower time and lower error both better),
+// excluding the reference and runs whose comparison is incomplete, sorted by time.
+std::vector<std::size_t> ParetoFront(const std::vector<RunResult>& runs, ErrorMetric metric);
+
+// Sets RunResult::pareto from ParetoFront for every metric.
+void MarkParetoFronts(SceneResult& scene);
+
+// The CSV, header first, one row per run of every scene.
+std::string WorkPrecisionCsv(const std::vector<SceneResult>& scenes);
+
+// One log-log panel per scene and metric: error against wall time per simulated second.
+std::vector<ScatterPlot> WorkPrecisionPlots(const std::vector<SceneResult>& scenes);
+
+// Per scene and metric, the front as a table, and whether the scene's default is on it and
+// passes its envelopes.
+std::string FormatParetoTables(const SceneResult& scene);
+
+}  // namespace hilrig::host

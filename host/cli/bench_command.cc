@@ -1,0 +1,156 @@
+#include "host/cli/bench_command.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <optional>
+#include <sstream>
+
+#include "host/bench/work_precision.h"
+#include "host/cli/cli.h"
+#include "host/report/report_files.h"
+#include "host/report/scatter_plot.h"
+#include "host/scenario/scenario_loader.h"
+#include "rig/clock.h"
+
+namespace hilrig::host {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kBenchUsage =
+    "usage: hilrig bench --out DIR [--scenes balloon_grasp,load_ramp] [--scenarios DIR]\n"
+    "                    [--duration-s S] [--quick]\n";
+constexpr int kPlotColumns = 3;
+
+struct BenchOptions {
+  fs::path out_dir;
+  std::vector<std::string> scene_files;
+  std::optional<double> duration_s;
+  bool quick = false;
+};
+
+std::vector<std::string> SplitCommas(const std::string& text) {
+  std::vector<std::string> parts;
+  std::stringstream stream(text);
+  std::string part;
+  while (std::getline(stream, part, ',')) {
+    if (!part.empty()) parts.push_back(part);
+  }
+  return parts;
+}
+
+// A scene is a path to a spec, or a name under the scenarios folder.
+std::string SceneFile(const std::string& scene, const fs::path& scenarios_dir) {
+  if (scene.ends_with(".textproto")) return scene;
+  return (scenarios_dir / (scene + ".textproto")).string();
+}
+
+rig::Result<double> ParseDuration(const std::string& text) {
+  std::size_t used = 0;
+  double value = 0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || text.empty() || !std::isfinite(value) || !(value > 0)) {
+    return rig::MakeError("--duration-s must be a positive number of seconds, got \"" + text +
+                          "\"");
+  }
+  return value;
+}
+
+rig::Result<BenchOptions> ParseBenchOptions(std::vector<std::string> args) {
+  BenchOptions options;
+  const auto quick = std::remove(args.begin() + 1, args.end(), std::string("--quick"));
+  options.quick = quick != args.end();
+  args.erase(quick, args.end());
+  auto parsed = ParseCliArgs(args, {"--out", "--scenes", "--scenarios", "--duration-s"});
+  if (!parsed) return parsed.error();
+  const CliArgs& cli = parsed.value();
+  if (!cli.positional.empty()) return rig::MakeError("unexpected argument " + cli.positional[0]);
+  const std::string* out = cli.Option("--out");
+  if (out == nullptr || out->empty()) return rig::MakeError("--out DIR is required");
+  options.out_dir = *out;
+  const std::string* scenarios = cli.Option("--scenarios");
+  const fs::path scenarios_dir = scenarios != nullptr ? *scenarios : "scenarios";
+  const std::string* scenes = cli.Option("--scenes");
+  for (const std::string& scene :
+       SplitCommas(scenes != nullptr ? *scenes : "balloon_grasp,load_ramp")) {
+    options.scene_files.push_back(SceneFile(scene, scenarios_dir));
+  }
+  if (options.scene_files.empty()) return rig::MakeError("--scenes names no scene");
+  if (const std::string* duration = cli.Option("--duration-s")) {
+    auto value = ParseDuration(*duration);
+    if (!value) return value.error();
+    options.duration_s = value.value();
+  }
+  return options;
+}
+
+rig::Result<void> WriteOutputs(const std::vector<SceneResult>& scenes, const fs::path& out_dir) {
+  if (auto written =
+          WriteTextFile((out_dir / "work_precision.csv").string(), WorkPrecisionCsv(scenes));
+      !written) {
+    return written.error();
+  }
+  return WriteTextFile((out_dir / "work_precision.svg").string(),
+                       RenderScatterGrid(WorkPrecisionPlots(scenes), kPlotColumns));
+}
+
+}  // namespace
+
+int BenchCommand(const std::vector<std::string>& args, const CliStreams& io) {
+  auto parsed = ParseBenchOptions(args);
+  if (!parsed) {
+    io.err << "hilrig bench: " << parsed.error().message << "\n" << kBenchUsage;
+    return kExitBadInput;
+  }
+  const BenchOptions& options = parsed.value();
+  std::vector<std::pair<std::string, proto::Scenario>> specs;
+  for (const std::string& file : options.scene_files) {
+    auto spec = LoadScenario(file);
+    if (!spec) {
+      io.err << spec.error().message << "\n";
+      return kExitBadInput;
+    }
+    specs.emplace_back(file, std::move(spec).value());
+  }
+  std::error_code error;
+  fs::create_directories(options.out_dir, error);
+  if (error) {
+    io.err << "hilrig bench: cannot create " << options.out_dir.string() << ": " << error.message()
+           << "\n";
+    return kExitBadInput;
+  }
+  const rig::SteadyClock wall_clock;
+  SweepOptions sweep;
+  sweep.quick = options.quick;
+  sweep.duration_s = options.duration_s;
+  sweep.progress = &io.err;
+  // A quick sweep is for tests: one timed run each, since every run's setup (field maps) costs
+  // more than its 3 s of stepping.
+  if (options.quick) sweep.timing_repeats = 1;
+  std::vector<SceneResult> scenes;
+  for (const auto& [file, spec] : specs) {
+    io.out << "== " << file << "\n";
+    auto scene = SweepScene(spec, fs::path(file).parent_path().string(), sweep,
+                            {&wall_clock, io.stop_requested, {}});
+    if (!scene) {
+      io.err << "hilrig bench: " << scene.error().message << "\n";
+      return kExitCheckFailed;
+    }
+    io.out << FormatParetoTables(scene.value()) << std::endl;
+    scenes.push_back(std::move(scene).value());
+  }
+  if (auto written = WriteOutputs(scenes, options.out_dir); !written) {
+    io.err << "hilrig bench: " << written.error().message << "\n";
+    return kExitBadInput;
+  }
+  io.out << "wrote " << (options.out_dir / "work_precision.csv").string() << " and "
+         << (options.out_dir / "work_precision.svg").string() << "\n";
+  return kExitPass;
+}
+
+}  // namespace hilrig::host

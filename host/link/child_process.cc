@@ -1,0 +1,98 @@
+#include "host/link/child_process.h"
+
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+
+extern char** environ;
+
+namespace hilrig::host {
+namespace {
+
+std::string DescribeStatus(int status) {
+  if (WIFEXITED(status)) return "exited with status " + std::to_string(WEXITSTATUS(status));
+  if (WIFSIGNALED(status)) return "killed by signal " + std::to_string(WTERMSIG(status));
+  return "ended with wait status " + std::to_string(status);
+}
+
+}  // namespace
+
+rig::Result<ChildProcess> ChildProcess::Spawn(const std::vector<std::string>& argv) {
+  if (argv.empty()) return rig::MakeError("no program to start");
+  std::vector<char*> args;
+  for (const std::string& arg : argv) args.push_back(const_cast<char*>(arg.c_str()));
+  args.push_back(nullptr);
+  // Its own process group: a Ctrl-C at the terminal reaches the harness, which then ends the
+  // child itself, instead of both racing to stop.
+  posix_spawnattr_t attributes;
+  ::posix_spawnattr_init(&attributes);
+  ::posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
+  ::posix_spawnattr_setpgroup(&attributes, 0);
+  pid_t pid = -1;
+  const int error =
+      ::posix_spawn(&pid, argv[0].c_str(), nullptr, &attributes, args.data(), environ);
+  ::posix_spawnattr_destroy(&attributes);
+  if (error != 0) return rig::MakeError("cannot start " + argv[0] + ": " + std::strerror(error));
+  return ChildProcess(pid);
+}
+
+ChildProcess::ChildProcess(ChildProcess&& other) noexcept
+    : pid_(other.pid_), exit_(std::move(other.exit_)) {
+  other.pid_ = -1;
+}
+
+ChildProcess& ChildProcess::operator=(ChildProcess&& other) noexcept {
+  if (this != &other) {
+    if (pid_ > 0 && !exit_) Terminate();
+    pid_ = other.pid_;
+    exit_ = std::move(other.exit_);
+    other.pid_ = -1;
+  }
+  return *this;
+}
+
+ChildProcess::~ChildProcess() {
+  if (pid_ > 0 && !exit_) Terminate();
+}
+
+std::optional<std::string> ChildProcess::PollExit() {
+  if (exit_ || pid_ <= 0) return exit_;
+  int status = 0;
+  const pid_t done = ::waitpid(pid_, &status, WNOHANG);
+  if (done == pid_) exit_ = DescribeStatus(status);
+  if (done < 0 && errno == ECHILD) exit_ = "was reaped elsewhere";
+  return exit_;
+}
+
+std::string ChildProcess::Terminate(int grace_ms) {
+  if (pid_ <= 0) return "not started";
+  if (PollExit()) return *exit_;
+  ::kill(pid_, SIGTERM);
+  // Short naps on a child that is going away; bounded by grace_ms.
+  const timespec nap{0, 5'000'000};
+  for (int waited_ms = 0; waited_ms < grace_ms; waited_ms += 5) {
+    if (PollExit()) return *exit_;
+    ::nanosleep(&nap, nullptr);
+  }
+  ::kill(pid_, SIGKILL);
+  int status = 0;
+  while (::waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
+  }
+  exit_ = DescribeStatus(status);
+  return *exit_;
+}
+
+rig::Result<std::string> ExecutableDirectory() {
+  std::error_code error;
+  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
+  if (error) return rig::MakeError("cannot read /proc/self/exe: " + error.message());
+  return self.parent_path().string();
+}
+
+}  // namespace hilrig::host

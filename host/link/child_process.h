@@ -1,0 +1,44 @@
+// A child process the harness starts and owns (the DUT emulator of a multi-process run): spawned
+// without a shell, watched without blocking (so a watchdog can notice it died), and ended with
+// SIGTERM, then SIGKILL if it does not go, and always reaped. The platform part of the HIL link,
+// kept apart from the protocol (hil_link_codec) and the transport (hil_link_socket).
+#pragma once
+
+#include <sys/types.h>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rig/result.h"
+
+namespace hilrig::host {
+
+class ChildProcess {
+ public:
+  // Starts argv[0] (a path, not searched in PATH) with argv, in a process group of its own.
+  static rig::Result<ChildProcess> Spawn(const std::vector<std::string>& argv);
+  ChildProcess(ChildProcess&& other) noexcept;
+  ChildProcess& operator=(ChildProcess&& other) noexcept;
+  ChildProcess(const ChildProcess&) = delete;
+  ChildProcess& operator=(const ChildProcess&) = delete;
+  // Terminate()s a child still running.
+  ~ChildProcess();
+
+  pid_t pid() const { return pid_; }
+  // Without blocking: nullopt while it runs, else how it ended ("exited with status 3",
+  // "killed by signal 9"). Reaps it.
+  std::optional<std::string> PollExit();
+  // SIGTERM, up to grace_ms for it to exit, then SIGKILL; reaps. Returns how it ended.
+  std::string Terminate(int grace_ms = 500);
+
+ private:
+  explicit ChildProcess(pid_t pid) : pid_(pid) {}
+  pid_t pid_ = -1;
+  std::optional<std::string> exit_;
+};
+
+// Directory of the running executable (/proc/self/exe), for finding sibling executables.
+rig::Result<std::string> ExecutableDirectory();
+
+}  // namespace hilrig::host

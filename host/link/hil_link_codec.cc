@@ -1,0 +1,361 @@
+#include "host/link/hil_link_codec.h"
+
+#include <algorithm>
+
+namespace hilrig::host {
+namespace {
+
+constexpr std::size_t kMaxVarintBytes = 10;
+
+void PutVector(const Eigen::Vector3d& in, proto::Vector3* out) {
+  out->set_x(in.x());
+  out->set_y(in.y());
+  out->set_z(in.z());
+}
+
+Eigen::Vector3d GetVector(const proto::Vector3& in) { return {in.x(), in.y(), in.z()}; }
+
+void PutStamp(const LinkStamp& stamp, proto::LinkHeader* header) {
+  header->set_protocol_version(kHilLinkProtocolVersion);
+  header->set_sequence(stamp.sequence);
+  header->set_time_ns(stamp.time_ns);
+}
+
+LinkStamp GetStamp(const proto::LinkHeader& header) {
+  return {header.sequence(), header.time_ns()};
+}
+
+std::size_t PayloadIndex(const proto::LinkMessage& message) {
+  return static_cast<std::size_t>(message.payload_case());
+}
+
+}  // namespace
+
+const char* LinkErrorName(LinkErrorKind kind) {
+  switch (kind) {
+    case LinkErrorKind::kOversized:
+      return "oversized";
+    case LinkErrorKind::kMalformed:
+      return "malformed";
+    case LinkErrorKind::kBadVersion:
+      return "bad_version";
+    case LinkErrorKind::kSequenceGap:
+      return "sequence_gap";
+    case LinkErrorKind::kDuplicate:
+      return "duplicate";
+    case LinkErrorKind::kOutOfOrder:
+      return "out_of_order";
+  }
+  return "unknown";
+}
+
+std::string LinkError::Message() const { return std::string(LinkErrorName(kind)) + ": " + detail; }
+
+std::vector<std::pair<std::string, double>> LinkCounterMetrics(const LinkCounters& counters,
+                                                               const std::string& prefix) {
+  const auto d = [](std::uint64_t value) { return static_cast<double>(value); };
+  return {{prefix + "messages", d(counters.messages)},
+          {prefix + "bytes", d(counters.bytes)},
+          {prefix + "oversized", d(counters.oversized)},
+          {prefix + "malformed", d(counters.malformed)},
+          {prefix + "bad_version", d(counters.bad_version)},
+          {prefix + "sequence_gaps", d(counters.sequence_gaps)},
+          {prefix + "duplicates", d(counters.duplicates)},
+          {prefix + "out_of_order", d(counters.out_of_order)}};
+}
+
+rig::Result<std::string> EncodeLinkFrame(const proto::LinkMessage& message,
+                                         std::size_t max_message_bytes) {
+  const std::size_t size = message.ByteSizeLong();
+  if (size > max_message_bytes) {
+    return rig::MakeError("link message of " + std::to_string(size) + " bytes exceeds the " +
+                          std::to_string(max_message_bytes) + "-byte limit");
+  }
+  std::string frame;
+  for (std::size_t value = size; true; value >>= 7) {
+    const auto low = static_cast<char>(value & 0x7F);
+    if (value < 0x80) {
+      frame.push_back(low);
+      break;
+    }
+    frame.push_back(static_cast<char>(low | 0x80));
+  }
+  const std::size_t prefix = frame.size();
+  frame.resize(prefix + size);
+  message.SerializeWithCachedSizesToArray(reinterpret_cast<std::uint8_t*>(frame.data() + prefix));
+  return frame;
+}
+
+const proto::LinkHeader* HeaderOf(const proto::LinkMessage& message) {
+  switch (message.payload_case()) {
+    case proto::LinkMessage::kImu:
+      return &message.imu().header();
+    case proto::LinkMessage::kVio:
+      return &message.vio().header();
+    case proto::LinkMessage::kSetpoint:
+      return &message.setpoint().header();
+    case proto::LinkMessage::kCommand:
+      return &message.command().header();
+    case proto::LinkMessage::kHello:
+      return &message.hello().header();
+    case proto::LinkMessage::kConfig:
+      return &message.config().header();
+    case proto::LinkMessage::kStep:
+      return &message.step().header();
+    case proto::LinkMessage::kBye:
+      return &message.bye().header();
+    case proto::LinkMessage::PAYLOAD_NOT_SET:
+      break;
+  }
+  return nullptr;
+}
+
+proto::LinkHeader* MutableHeaderOf(proto::LinkMessage& message) {
+  switch (message.payload_case()) {
+    case proto::LinkMessage::kImu:
+      return message.mutable_imu()->mutable_header();
+    case proto::LinkMessage::kVio:
+      return message.mutable_vio()->mutable_header();
+    case proto::LinkMessage::kSetpoint:
+      return message.mutable_setpoint()->mutable_header();
+    case proto::LinkMessage::kCommand:
+      return message.mutable_command()->mutable_header();
+    case proto::LinkMessage::kHello:
+      return message.mutable_hello()->mutable_header();
+    case proto::LinkMessage::kConfig:
+      return message.mutable_config()->mutable_header();
+    case proto::LinkMessage::kStep:
+      return message.mutable_step()->mutable_header();
+    case proto::LinkMessage::kBye:
+      return message.mutable_bye()->mutable_header();
+    case proto::LinkMessage::PAYLOAD_NOT_SET:
+      break;
+  }
+  return nullptr;
+}
+
+void LinkSequencer::Stamp(proto::LinkMessage& message, std::int64_t time_ns, bool assign_sequence) {
+  proto::LinkHeader* header = MutableHeaderOf(message);
+  if (header == nullptr) return;
+  header->set_protocol_version(kHilLinkProtocolVersion);
+  if (!assign_sequence) return;
+  header->set_sequence(next_[PayloadIndex(message)]++);
+  header->set_time_ns(time_ns);
+}
+
+LinkDecoder::LinkDecoder(std::size_t max_message_bytes) : max_message_bytes_(max_message_bytes) {}
+
+void LinkDecoder::Feed(std::span<const std::uint8_t> bytes) {
+  counters_.bytes += bytes.size();
+  if (broken_) return;
+  // Consumed bytes are dropped lazily, so that a stream of small frames does not shift the
+  // buffer on every message.
+  if (read_at_ > 0 && read_at_ == buffer_.size()) {
+    buffer_.clear();
+    read_at_ = 0;
+  } else if (read_at_ > 4 * max_message_bytes_) {
+    buffer_.erase(buffer_.begin(), buffer_.begin() + static_cast<std::ptrdiff_t>(read_at_));
+    read_at_ = 0;
+  }
+  buffer_.insert(buffer_.end(), bytes.begin(), bytes.end());
+}
+
+void LinkDecoder::Feed(const std::string& bytes) {
+  Feed(std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(bytes.data()),
+                                     bytes.size()));
+}
+
+std::optional<LinkEvent> LinkDecoder::Fail(LinkErrorKind kind, std::string detail) {
+  switch (kind) {
+    case LinkErrorKind::kOversized:
+      ++counters_.oversized;
+      broken_ = true;
+      break;
+    case LinkErrorKind::kMalformed:
+      ++counters_.malformed;
+      broken_ = true;
+      break;
+    case LinkErrorKind::kBadVersion:
+      ++counters_.bad_version;
+      break;
+    case LinkErrorKind::kSequenceGap:
+      ++counters_.sequence_gaps;
+      break;
+    case LinkErrorKind::kDuplicate:
+      ++counters_.duplicates;
+      break;
+    case LinkErrorKind::kOutOfOrder:
+      ++counters_.out_of_order;
+      break;
+  }
+  if (broken_) {
+    buffer_.clear();
+    read_at_ = 0;
+  }
+  return LinkError{kind, std::move(detail)};
+}
+
+std::optional<LinkEvent> LinkDecoder::Next() {
+  if (broken_) return std::nullopt;
+  std::uint64_t length = 0;
+  std::size_t at = read_at_;
+  for (int shift = 0;; shift += 7) {
+    if (at == buffer_.size()) return std::nullopt;  // the length prefix is not complete yet
+    if (at - read_at_ == kMaxVarintBytes) {
+      return Fail(LinkErrorKind::kMalformed, "length prefix longer than 10 bytes");
+    }
+    const std::uint8_t byte = buffer_[at++];
+    if (shift < 64) length |= std::uint64_t{byte & 0x7Fu} << shift;
+    if (length > max_message_bytes_ || (shift >= 63 && (byte & 0x7E) != 0)) {
+      return Fail(LinkErrorKind::kOversized, "length prefix announces more than " +
+                                                 std::to_string(max_message_bytes_) + " bytes");
+    }
+    if ((byte & 0x80) == 0) break;
+  }
+  if (buffer_.size() - at < length) return std::nullopt;
+  proto::LinkMessage message;
+  const bool parsed = message.ParseFromArray(buffer_.data() + at, static_cast<int>(length));
+  read_at_ = at + static_cast<std::size_t>(length);
+  if (!parsed) return Fail(LinkErrorKind::kMalformed, "bytes do not parse as a LinkMessage");
+  return Check(std::move(message));
+}
+
+std::optional<LinkEvent> LinkDecoder::Check(proto::LinkMessage message) {
+  const proto::LinkHeader* header = HeaderOf(message);
+  if (header == nullptr) {
+    return Fail(LinkErrorKind::kMalformed, "a LinkMessage without a payload");
+  }
+  const std::string stream =
+      proto::LinkMessage::descriptor()->FindFieldByNumber(message.payload_case())->name();
+  if (header->protocol_version() != kHilLinkProtocolVersion) {
+    return Fail(LinkErrorKind::kBadVersion, stream + " message of protocol version " +
+                                                std::to_string(header->protocol_version()) +
+                                                ", this side speaks " +
+                                                std::to_string(kHilLinkProtocolVersion));
+  }
+  std::optional<std::uint64_t>& last = last_[PayloadIndex(message)];
+  const std::uint64_t sequence = header->sequence();
+  const std::uint64_t expected = last ? *last + 1 : 0;
+  const auto describe = [&](const char* what) {
+    return stream + " sequence " + std::to_string(sequence) + " " + what + ", expected " +
+           std::to_string(expected);
+  };
+  if (last && sequence == *last) return Fail(LinkErrorKind::kDuplicate, describe("repeated"));
+  if (last && sequence < *last) return Fail(LinkErrorKind::kOutOfOrder, describe("arrived late"));
+  if (sequence != expected) {
+    last = sequence;  // resynchronise, so that one lost message is one error
+    return Fail(LinkErrorKind::kSequenceGap, describe("skips ahead"));
+  }
+  last = sequence;
+  ++counters_.messages;
+  return LinkEvent(std::move(message));
+}
+
+proto::LinkMessage ToLink(const ImuMessage& message) {
+  proto::LinkMessage link;
+  proto::ImuSample* imu = link.mutable_imu();
+  PutStamp(message.stamp, imu->mutable_header());
+  PutVector(message.gyro_rad_s, imu->mutable_gyro_rad_s());
+  PutVector(message.accel_m_s2, imu->mutable_accel_m_s2());
+  return link;
+}
+
+proto::LinkMessage ToLink(const VioMessage& message) {
+  proto::LinkMessage link;
+  proto::VioPose* vio = link.mutable_vio();
+  PutStamp(message.stamp, vio->mutable_header());
+  vio->set_capture_time_ns(message.capture_time_ns);
+  PutVector(message.position_m, vio->mutable_position_m());
+  proto::Quaternion* q = vio->mutable_orientation();
+  q->set_w(message.orientation.w());
+  q->set_x(message.orientation.x());
+  q->set_y(message.orientation.y());
+  q->set_z(message.orientation.z());
+  return link;
+}
+
+proto::LinkMessage ToLink(const SetpointMessage& message) {
+  proto::LinkMessage link;
+  proto::PositionSetpoint* setpoint = link.mutable_setpoint();
+  PutStamp(message.stamp, setpoint->mutable_header());
+  PutVector(message.position_m, setpoint->mutable_position_m());
+  PutVector(message.velocity_m_s, setpoint->mutable_velocity_m_s());
+  PutVector(message.acceleration_m_s2, setpoint->mutable_acceleration_m_s2());
+  setpoint->set_yaw_rad(message.yaw_rad);
+  setpoint->set_grasp_regulate(message.grasp_regulate);
+  setpoint->set_grasp_force_n(message.grasp_force_n);
+  setpoint->set_grasp_reference_angle_rad(message.grasp_reference_angle_rad);
+  return link;
+}
+
+proto::LinkMessage ToLink(const ActuatorMessage& message) {
+  proto::LinkMessage link;
+  proto::ActuatorCommand* command = link.mutable_command();
+  PutStamp(message.stamp, command->mutable_header());
+  command->set_answers_sequence(message.answers_sequence);
+  for (double thrust_n : message.rotor_thrust_n) command->add_rotor_thrust_n(thrust_n);
+  command->set_armed(message.armed);
+  PutVector(message.estimated_position_m, command->mutable_estimated_position_m());
+  for (const Eigen::Vector3d& force_n : message.tactile_force_sensor_n) {
+    PutVector(force_n, command->add_tactile_force_sensor_n());
+  }
+  command->set_tactile_ready(message.tactile_ready);
+  command->set_servo_angle_rad(message.servo_angle_rad);
+  command->set_grasp_force_estimate_n(message.grasp_force_estimate_n);
+  PutVector(message.external_force_world_n, command->mutable_external_force_world_n());
+  return link;
+}
+
+ImuMessage FromLink(const proto::ImuSample& message) {
+  return {GetStamp(message.header()), GetVector(message.gyro_rad_s()),
+          GetVector(message.accel_m_s2())};
+}
+
+VioMessage FromLink(const proto::VioPose& message) {
+  const proto::Quaternion& q = message.orientation();
+  // An absent orientation reads as all zeros; the estimator rejects a zero quaternion itself.
+  return {GetStamp(message.header()), message.capture_time_ns(), GetVector(message.position_m()),
+          Eigen::Quaterniond(q.w(), q.x(), q.y(), q.z())};
+}
+
+SetpointMessage FromLink(const proto::PositionSetpoint& message) {
+  return {GetStamp(message.header()),
+          GetVector(message.position_m()),
+          GetVector(message.velocity_m_s()),
+          GetVector(message.acceleration_m_s2()),
+          message.yaw_rad(),
+          message.grasp_regulate(),
+          message.grasp_force_n(),
+          message.grasp_reference_angle_rad()};
+}
+
+rig::Result<ActuatorMessage> FromLink(const proto::ActuatorCommand& message) {
+  ActuatorMessage command;
+  if (message.rotor_thrust_n_size() != static_cast<int>(command.rotor_thrust_n.size())) {
+    return rig::MakeError("actuator command with " + std::to_string(message.rotor_thrust_n_size()) +
+                          " rotor thrusts instead of 4");
+  }
+  if (message.tactile_force_sensor_n_size() !=
+      static_cast<int>(command.tactile_force_sensor_n.size())) {
+    return rig::MakeError("actuator command with " +
+                          std::to_string(message.tactile_force_sensor_n_size()) +
+                          " tactile forces instead of 6");
+  }
+  command.stamp = GetStamp(message.header());
+  command.answers_sequence = message.answers_sequence();
+  std::copy(message.rotor_thrust_n().begin(), message.rotor_thrust_n().end(),
+            command.rotor_thrust_n.begin());
+  command.armed = message.armed();
+  command.estimated_position_m = GetVector(message.estimated_position_m());
+  for (std::size_t i = 0; i < command.tactile_force_sensor_n.size(); ++i) {
+    command.tactile_force_sensor_n[i] =
+        GetVector(message.tactile_force_sensor_n(static_cast<int>(i)));
+  }
+  command.tactile_ready = message.tactile_ready();
+  command.servo_angle_rad = message.servo_angle_rad();
+  command.grasp_force_estimate_n = message.grasp_force_estimate_n();
+  command.external_force_world_n = GetVector(message.external_force_world_n());
+  return command;
+}
+
+}  // namespace hilrig::host

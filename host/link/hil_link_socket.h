@@ -1,0 +1,89 @@
+// The HIL link's transport: one TCP connection between the runner and a DUT process, carrying the
+// length-delimited frames of host/link/hil_link_codec.h. The runner listens (on 127.0.0.1 unless
+// told otherwise, so the link is not reachable from the network), the DUT connects. Lockstep needs
+// blocking calls with a deadline (the runner's watchdog), and real-time pacing later needs a poll
+// that never blocks; both are here, built on poll(2) over the Asio socket's descriptor. Sends use
+// MSG_NOSIGNAL, so a peer that vanished shows as an error value, never as SIGPIPE.
+//
+// Threading: one connection is used from one thread at a time.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "host/link/hil_link_codec.h"
+#include "rig/result.h"
+
+namespace hilrig::host {
+
+// What a receive call ended with.
+enum class LinkReceiveStatus {
+  kMessage,    // `message` holds the next message
+  kTimeout,    // nothing complete arrived before the deadline (or, for Poll, nothing waiting)
+  kClosed,     // the peer closed the connection (or it was reset)
+  kLinkError,  // the decoder refused the bytes; `error` names it (oversized, malformed, ...)
+  kSocketError,
+};
+
+struct LinkReceived {
+  LinkReceiveStatus status = LinkReceiveStatus::kTimeout;
+  proto::LinkMessage message;
+  std::string error;  // for kLinkError ("<name>: <detail>") and kSocketError
+  std::optional<LinkErrorKind> link_error;
+};
+
+class LinkConnection {
+ public:
+  // Connects to host:port, waiting at most timeout_ms for the peer to accept.
+  static rig::Result<std::unique_ptr<LinkConnection>> Connect(const std::string& host,
+                                                              std::uint16_t port, int timeout_ms);
+  ~LinkConnection();
+  LinkConnection(const LinkConnection&) = delete;
+  LinkConnection& operator=(const LinkConnection&) = delete;
+
+  // Encodes and writes the whole frame, waiting at most timeout_ms for the socket to take it.
+  rig::Result<void> Send(const proto::LinkMessage& message, int timeout_ms = 1000);
+  // Writes raw bytes as they are (test hooks that play a broken peer).
+  rig::Result<void> SendBytes(const std::string& bytes, int timeout_ms = 1000);
+  // The next message, waiting at most timeout_ms (0: do not wait).
+  LinkReceived Receive(int timeout_ms);
+  LinkReceived Poll() { return Receive(0); }
+
+  const LinkCounters& counters() const { return decoder_.counters(); }
+  std::uint64_t frames_sent() const { return frames_sent_; }
+  std::string peer() const;
+
+ private:
+  struct Socket;  // keeps Boost.Asio out of this header
+  explicit LinkConnection(std::unique_ptr<Socket> socket);
+  friend class LinkListener;
+
+  LinkReceived FromDecoder();
+
+  std::unique_ptr<Socket> socket_;
+  LinkDecoder decoder_;
+  bool closed_ = false;
+  std::uint64_t frames_sent_ = 0;
+};
+
+class LinkListener {
+ public:
+  // Listens on address:port; port 0 picks a free one (see port()).
+  static rig::Result<std::unique_ptr<LinkListener>> Listen(const std::string& address = "127.0.0.1",
+                                                           std::uint16_t port = 0);
+  ~LinkListener();
+  LinkListener(const LinkListener&) = delete;
+  LinkListener& operator=(const LinkListener&) = delete;
+
+  std::uint16_t port() const;
+  // The next connection, or an error once timeout_ms passed without one.
+  rig::Result<std::unique_ptr<LinkConnection>> Accept(int timeout_ms);
+
+ private:
+  struct Acceptor;
+  explicit LinkListener(std::unique_ptr<Acceptor> acceptor);
+  std::unique_ptr<Acceptor> acceptor_;
+};
+
+}  // namespace hilrig::host

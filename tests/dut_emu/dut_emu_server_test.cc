@@ -1,0 +1,218 @@
+// The dut_emu server in a thread, with the test playing the runner on real loopback sockets.
+// Every wait is bounded.
+#include "dut_emu/dut_emu_server.h"
+
+#include <gtest/gtest.h>
+
+#include <sstream>
+#include <thread>
+
+#include "host/dut/firmware_config.h"
+#include "host/dut/in_process_dut.h"
+#include "host/link/dut_config_codec.h"
+#include "host/link/hil_link_socket.h"
+#include "rig/emulated_bus.h"
+
+namespace hilrig::dut_emu {
+namespace {
+
+using host::LinkReceived;
+using host::LinkReceiveStatus;
+
+constexpr int kWaitMs = 5000;
+constexpr double kControlPeriodS = 1e-3;
+
+host::DutFirmware HoverFirmware() {
+  return host::DutFirmware{
+      host::FirmwareParamsFor(host::QuadrotorParams{}), std::nullopt, {}, true};
+}
+
+class DutEmuServerTest : public ::testing::Test {
+ protected:
+  // Starts the server in a thread and completes the runner's half of the handshake.
+  void StartServer(DutEmuOptions options = {}) {
+    listener_ = host::LinkListener::Listen().value();
+    auto buses = rig::OpenUdpBusGroup(2).value();
+    can_ = std::move(buses[0]);
+    options.link_port = listener_->port();
+    options_ = options;
+    server_ = std::thread([this, bus = std::move(buses[1])]() mutable {
+      exit_code_ = RunDutEmu(options_, &stop_, log_, std::move(bus));
+    });
+    link_ = listener_->Accept(kWaitMs).value();
+  }
+
+  void Handshake(std::uint32_t version = host::kHilLinkProtocolVersion) {
+    proto::LinkMessage hello;
+    hello.mutable_hello()->set_role(proto::Hello::RUNNER);
+    sequencer_.Stamp(hello, 0);
+    hello.mutable_hello()->mutable_header()->set_protocol_version(version);
+    proto::LinkMessage config;
+    *config.mutable_config() = host::ToDutConfig(HoverFirmware(), kControlPeriodS);
+    sequencer_.Stamp(config, 0);
+    ASSERT_TRUE(link_->Send(hello).ok());
+    ASSERT_TRUE(link_->Send(config).ok());
+    const LinkReceived dut_hello = link_->Receive(kWaitMs);
+    ASSERT_EQ(dut_hello.status, LinkReceiveStatus::kMessage);
+    EXPECT_EQ(dut_hello.message.hello().role(), proto::Hello::DUT);
+  }
+
+  proto::LinkMessage StepRequest(std::uint64_t tick, std::int64_t now_ns,
+                                 std::vector<std::int64_t> frame_times_ns = {}) {
+    proto::LinkMessage step;
+    step.mutable_step()->set_tick(tick);
+    step.mutable_step()->set_now_ns(now_ns);
+    step.mutable_step()->set_can_frames_sent(frame_times_ns.size());
+    for (std::int64_t time_ns : frame_times_ns) step.mutable_step()->add_can_frame_time_ns(time_ns);
+    sequencer_.Stamp(step, now_ns);
+    return step;
+  }
+
+  int Join() {
+    if (server_.joinable()) server_.join();
+    return exit_code_;
+  }
+
+  ~DutEmuServerTest() override {
+    stop_ = true;
+    Join();
+  }
+
+  DutEmuOptions options_;
+  std::atomic<bool> stop_{false};
+  std::ostringstream log_;
+  int exit_code_ = -1;
+  std::unique_ptr<host::LinkListener> listener_;
+  std::unique_ptr<host::LinkConnection> link_;
+  std::unique_ptr<rig::UdpBus> can_;
+  host::LinkSequencer sequencer_;
+  std::thread server_;
+};
+
+TEST_F(DutEmuServerTest, AnswersEachStepLikeTheInProcessDut) {
+  StartServer();
+  Handshake();
+  rig::EmulatedBus reference_bus;
+  host::InProcessDut reference(HoverFirmware(), reference_bus.Connect("dut"), kControlPeriodS);
+  const host::VioMessage vio{{0, 0}, 0, Eigen::Vector3d(0, 0, 1), Eigen::Quaterniond::Identity()};
+  const host::SetpointMessage setpoint{
+      {0, 0}, Eigen::Vector3d(0.1, 0, 1.1), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 0};
+  reference.SendVio(vio);
+  reference.SendSetpoint(setpoint);
+  ASSERT_TRUE(link_->Send(host::ToLink(vio)).ok());
+  ASSERT_TRUE(link_->Send(host::ToLink(setpoint)).ok());
+  for (std::uint64_t tick = 0; tick < 50; ++tick) {
+    const std::int64_t now_ns = static_cast<std::int64_t>(tick) * 1'000'000;
+    const host::ImuMessage imu{{tick, now_ns}, {0.01, 0, 0}, {0, 0.2, 9.81}};
+    reference.SendImu(imu);
+    ASSERT_TRUE(link_->Send(host::ToLink(imu)).ok());
+    ASSERT_TRUE(link_->Send(StepRequest(tick, now_ns)).ok());
+    const LinkReceived answer = link_->Receive(kWaitMs);
+    ASSERT_EQ(answer.status, LinkReceiveStatus::kMessage) << answer.error;
+    const host::ActuatorMessage actual = host::FromLink(answer.message.command()).value();
+    const host::ActuatorMessage expected = reference.Step(tick, now_ns).value();
+    ASSERT_EQ(actual.answers_sequence, tick);
+    for (int i = 0; i < 4; ++i) ASSERT_EQ(actual.rotor_thrust_n[i], expected.rotor_thrust_n[i]);
+    ASSERT_EQ(actual.estimated_position_m, expected.estimated_position_m);
+  }
+  proto::LinkMessage bye;
+  bye.mutable_bye()->set_reason("done");
+  sequencer_.Stamp(bye, 0);
+  ASSERT_TRUE(link_->Send(bye).ok());
+  EXPECT_EQ(Join(), kExitOk);
+}
+
+TEST_F(DutEmuServerTest, WaitsForTheAnnouncedCanFrames) {
+  StartServer();
+  Handshake();
+  const std::array<std::uint8_t, 3> payload = {1, 2, 3};
+  const rig::CanFrame frame = rig::CanFrame::Classic(0x123, payload);
+  ASSERT_TRUE(can_->Send(frame, 500'000).ok());
+  ASSERT_TRUE(link_->Send(StepRequest(0, 1'000'000, {500'000})).ok());
+  const LinkReceived answer = link_->Receive(kWaitMs);
+  ASSERT_EQ(answer.status, LinkReceiveStatus::kMessage) << log_.str();
+  EXPECT_EQ(answer.message.command().answers_sequence(), 0u);
+}
+
+TEST_F(DutEmuServerTest, GivesUpWhenAnnouncedFramesNeverCome) {
+  DutEmuOptions options;
+  options.frame_wait_timeout_ms = 50;
+  StartServer(options);
+  Handshake();
+  ASSERT_TRUE(link_->Send(StepRequest(7, 7'000'000, {6'000'000, 6'500'000})).ok());
+  const LinkReceived answer = link_->Receive(kWaitMs);
+  ASSERT_EQ(answer.status, LinkReceiveStatus::kMessage);
+  ASSERT_TRUE(answer.message.has_bye());
+  EXPECT_TRUE(answer.message.bye().error());
+  EXPECT_EQ(answer.message.bye().reason(), "tick 7: 0 CAN frames arrived, the runner sent 2");
+  EXPECT_EQ(Join(), kExitFailed);
+}
+
+TEST_F(DutEmuServerTest, RefusesARunnerOfAnotherProtocolVersion) {
+  StartServer();
+  Handshake(99);
+  const LinkReceived answer = link_->Receive(kWaitMs);
+  ASSERT_EQ(answer.status, LinkReceiveStatus::kMessage);
+  ASSERT_TRUE(answer.message.has_bye());
+  EXPECT_NE(answer.message.bye().reason().find("bad_version"), std::string::npos)
+      << answer.message.bye().reason();
+  EXPECT_EQ(Join(), kExitFailed);
+}
+
+TEST_F(DutEmuServerTest, GarbageFromTheRunnerEndsTheSessionWithANamedError) {
+  StartServer();
+  Handshake();
+  ASSERT_TRUE(link_->SendBytes(std::string("\x04\x0f\xff\xff\xff", 5)).ok());
+  const LinkReceived answer = link_->Receive(kWaitMs);
+  ASSERT_EQ(answer.status, LinkReceiveStatus::kMessage);
+  EXPECT_NE(answer.message.bye().reason().find("malformed"), std::string::npos);
+  EXPECT_EQ(Join(), kExitFailed);
+}
+
+TEST_F(DutEmuServerTest, StopRequestEndsCleanlyWithABye) {
+  StartServer();
+  Handshake();
+  stop_ = true;
+  const LinkReceived answer = link_->Receive(kWaitMs);
+  ASSERT_EQ(answer.status, LinkReceiveStatus::kMessage);
+  EXPECT_FALSE(answer.message.bye().error());
+  EXPECT_EQ(Join(), kExitOk);
+}
+
+TEST_F(DutEmuServerTest, RunnerVanishingIsAFailure) {
+  StartServer();
+  Handshake();
+  link_.reset();
+  EXPECT_EQ(Join(), kExitFailed);
+  EXPECT_NE(log_.str().find("closed the link without a bye"), std::string::npos);
+}
+
+TEST(DutEmuArgsTest, ParsesLinkAndUdpBus) {
+  const auto options =
+      ParseDutEmuArgs({"dut_emu", "--link", "127.0.0.1:4000", "--can", "udp:30000"}).value();
+  EXPECT_EQ(options.link_host, "127.0.0.1");
+  EXPECT_EQ(options.link_port, 4000);
+  EXPECT_EQ(options.can.kind, CanSpec::Kind::kUdp);
+  EXPECT_EQ(options.can.udp.base_port, 30000);
+  EXPECT_EQ(options.can.udp.node_index, 1u);
+  EXPECT_EQ(options.can.udp.node_count, 2u);
+}
+
+TEST(DutEmuArgsTest, ParsesSocketCan) {
+  const CanSpec spec = ParseCanSpec("socketcan:can0").value();
+  EXPECT_EQ(spec.kind, CanSpec::Kind::kSocketCan);
+  EXPECT_EQ(spec.interface, "can0");
+}
+
+TEST(DutEmuArgsTest, RefusesBadArguments) {
+  EXPECT_FALSE(ParseDutEmuArgs({"dut_emu", "--link", "127.0.0.1:4000"}).ok());  // no --can
+  EXPECT_FALSE(ParseDutEmuArgs({"dut_emu", "--link", "127.0.0.1:0", "--can", "udp:1"}).ok());
+  EXPECT_FALSE(ParseDutEmuArgs({"dut_emu", "--link", "nohost", "--can", "udp:1"}).ok());
+  EXPECT_FALSE(ParseDutEmuArgs({"dut_emu", "--bogus", "1"}).ok());
+  EXPECT_FALSE(ParseCanSpec("udp:70000").ok());
+  EXPECT_FALSE(ParseCanSpec("udp:3000:2:2").ok());
+  EXPECT_FALSE(ParseCanSpec("serial:/dev/ttyUSB0").ok());
+}
+
+}  // namespace
+}  // namespace hilrig::dut_emu

@@ -1,0 +1,135 @@
+#include "host/cli/bench_command.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "host/cli/cli.h"
+
+namespace hilrig::host {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+const std::string kScenarios = std::string(HILRIG_SOURCE_DIR) + "/scenarios";
+constexpr std::size_t kColumns = 20;
+
+struct CliResult {
+  int exit_code;
+  std::string out;
+  std::string err;
+};
+
+CliResult Cli(const std::vector<std::string>& args) {
+  std::ostringstream out, err;
+  const int exit_code = RunCli(args, out, err);
+  return {exit_code, out.str(), err.str()};
+}
+
+std::vector<std::vector<std::string>> ReadCsv(const fs::path& path) {
+  std::ifstream file(path);
+  std::vector<std::vector<std::string>> rows;
+  std::string line;
+  while (std::getline(file, line)) {
+    std::vector<std::string> fields;
+    std::stringstream stream(line);
+    std::string field;
+    while (std::getline(stream, field, ',')) fields.push_back(field);
+    if (!line.empty() && line.back() == ',') fields.push_back("");
+    rows.push_back(fields);
+  }
+  return rows;
+}
+
+class BenchCommandTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    out_dir_ = fs::temp_directory_path() /
+               ("hilrig_bench_test_" +
+                std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(out_dir_);
+  }
+  void TearDown() override { fs::remove_all(out_dir_); }
+
+  fs::path out_dir_;
+};
+
+std::size_t Column(const std::vector<std::string>& header, const std::string& name) {
+  return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+}
+
+// One test for the whole quick sweep (ctest runs every test in its own process, and the sweep
+// takes seconds): the reference, 2 integrators x 2 steps, 2 field levels and the default.
+TEST_F(BenchCommandTest, QuickSweepWritesOneRowPerRunAndAZeroErrorReference) {
+  const CliResult result = Cli({"bench", "--quick", "--scenes", "load_ramp", "--scenarios",
+                                kScenarios, "--out", out_dir_.string()});
+  const auto rows = ReadCsv(out_dir_ / "work_precision.csv");
+
+  ASSERT_EQ(result.exit_code, kExitPass) << result.err;
+  // Shape: the header and one row per run, every row as wide as the header.
+  ASSERT_EQ(rows.size(), 1u + 1u + 4u + 2u + 1u);
+  for (const auto& row : rows) EXPECT_EQ(row.size(), kColumns);
+  const auto& header = rows[0];
+  EXPECT_EQ(header[0], "scene");
+  EXPECT_EQ(header[14], "pareto");
+  const auto& reference = rows[1];
+  EXPECT_EQ(reference[Column(header, "kind")], "reference");
+  EXPECT_EQ(reference[Column(header, "integrator")], "DP(1e-10)");
+  EXPECT_EQ(reference[Column(header, "field_fidelity")], "tiles:16");
+  EXPECT_EQ(rows.back()[Column(header, "kind")], "default");
+  EXPECT_EQ(rows.back()[Column(header, "field_fidelity")], "opmap:32");
+  // The reference against itself: zero error over all 300 samples (3 s at 100 Hz).
+  for (const char* column : {"grasp_force_rms_error_n", "grasp_force_max_error_n",
+                             "load_rms_error_n", "position_rms_error_m", "position_max_error_m"}) {
+    EXPECT_EQ(reference[Column(header, column)], "0") << column;
+  }
+  EXPECT_EQ(reference[Column(header, "samples_compared")], "300");
+  // Every other run is compared over the same samples and differs from the reference: each
+  // uses a coarser field than the tiles:16 reference.
+  for (std::size_t i = 2; i < rows.size(); ++i) {
+    EXPECT_EQ(rows[i][Column(header, "samples_compared")], "300") << i;
+    EXPECT_NE(rows[i][Column(header, "position_rms_error_m")], "0") << i;
+  }
+  // The fronts are printed and drawn.
+  EXPECT_THAT(result.out, HasSubstr("load_ramp: vertical load RMS error (N), Pareto front"));
+  EXPECT_THAT(result.out, HasSubstr("load_ramp: the default (RK4 x1 opmap:32"));
+  std::ifstream svg(out_dir_ / "work_precision.svg");
+  std::stringstream text;
+  text << svg.rdbuf();
+  EXPECT_THAT(text.str(), HasSubstr("load_ramp: grasp force error"));
+  EXPECT_THAT(text.str(), HasSubstr("class=\"front\""));
+}
+
+TEST_F(BenchCommandTest, NegativeDurationIsBadInput) {
+  const CliResult result = Cli({"bench", "--out", out_dir_.string(), "--duration-s", "-1"});
+
+  EXPECT_EQ(result.exit_code, kExitBadInput);
+  EXPECT_THAT(result.err, HasSubstr("--duration-s must be a positive number"));
+}
+
+TEST_F(BenchCommandTest, NaNDurationIsBadInput) {
+  EXPECT_EQ(Cli({"bench", "--out", out_dir_.string(), "--duration-s", "nan"}).exit_code,
+            kExitBadInput);
+}
+
+TEST_F(BenchCommandTest, MissingOutIsBadInput) {
+  const CliResult result = Cli({"bench", "--quick"});
+
+  EXPECT_EQ(result.exit_code, kExitBadInput);
+  EXPECT_THAT(result.err, HasSubstr("--out DIR is required"));
+}
+
+TEST_F(BenchCommandTest, UnknownSceneIsBadInputAndWritesNothing) {
+  const CliResult result = Cli({"bench", "--quick", "--scenes", "no_such_scene", "--scenarios",
+                                kScenarios, "--out", out_dir_.string()});
+
+  EXPECT_EQ(result.exit_code, kExitBadInput);
+  EXPECT_FALSE(fs::exists(out_dir_ / "work_precision.csv"));
+}
+
+}  // namespace
+}  // namespace hilrig::host

@@ -1,0 +1,204 @@
+// Integration tests with a real dut_emu process on loopback sockets. Waits are bounded by the
+// watchdog; no test sleeps.
+#include "host/dut/process_dut.h"
+
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <cerrno>
+
+#include "host/dut/firmware_config.h"
+#include "host/dut/in_process_dut.h"
+#include "host/runner/runner.h"
+#include "host/scenario/scenario_config.h"
+#include "host/scenario/scenario_loader.h"
+#include "rig/clock.h"
+#include "rig/emulated_bus.h"
+
+namespace hilrig::host {
+namespace {
+
+constexpr double kControlPeriodS = 1e-3;
+
+ProcessDutOptions TestOptions(std::vector<std::string> extra_args = {}) {
+  ProcessDutOptions options;
+  options.dut_emu_path = HILRIG_BIN_DIR "/dut_emu";
+  options.extra_args = std::move(extra_args);
+  return options;
+}
+
+DutFirmware HoverFirmware() {
+  return DutFirmware{FirmwareParamsFor(QuadrotorParams{}), std::nullopt, {}, true};
+}
+
+// The same hover inputs into any DUT; returns the command of the last tick.
+rig::Result<ActuatorMessage> Hover(DutPort& dut, int ticks) {
+  const QuadrotorParams vehicle;
+  dut.SendVio({{0, 0}, 0, Eigen::Vector3d(0, 0, 1), Eigen::Quaterniond::Identity()});
+  dut.SendSetpoint(
+      {{0, 0}, Eigen::Vector3d(0, 0, 1.2), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 0.3});
+  rig::Result<ActuatorMessage> command = rig::MakeError("no tick");
+  for (int i = 1; i <= ticks; ++i) {
+    const std::int64_t now_ns = i * 1'000'000;
+    dut.SendImu({{static_cast<std::uint64_t>(i - 1), now_ns},
+                 Eigen::Vector3d(0.01, -0.02, 0.003),
+                 Eigen::Vector3d(0.1, 0, vehicle.gravity_m_s2)});
+    command = dut.Step(static_cast<std::uint64_t>(i), now_ns);
+    if (!command) return command;
+  }
+  return command;
+}
+
+class ProcessDutTest : public ::testing::Test {
+ protected:
+  std::unique_ptr<ProcessDut> Start(std::vector<std::string> extra_args = {},
+                                    double answer_timeout_s = 1.0) {
+    ProcessDutOptions options = TestOptions(std::move(extra_args));
+    options.answer_timeout_s = answer_timeout_s;
+    auto dut = ProcessDut::Start(HoverFirmware(), bus_.Connect("dut"), kControlPeriodS, options);
+    EXPECT_TRUE(dut.ok()) << (dut.ok() ? "" : dut.error().message);
+    return dut.ok() ? std::move(dut).value() : nullptr;
+  }
+
+  rig::EmulatedBus bus_;
+};
+
+TEST_F(ProcessDutTest, AnswersBitForBitLikeTheInProcessDut) {
+  rig::EmulatedBus reference_bus;
+  InProcessDut reference(HoverFirmware(), reference_bus.Connect("dut"), kControlPeriodS);
+  const ActuatorMessage expected = Hover(reference, 300).value();
+  auto dut = Start();
+  ASSERT_NE(dut, nullptr);
+  const ActuatorMessage actual = Hover(*dut, 300).value();
+  ASSERT_TRUE(expected.armed);
+  EXPECT_EQ(actual.answers_sequence, 300u);
+  EXPECT_TRUE(actual.armed);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(actual.rotor_thrust_n[i], expected.rotor_thrust_n[i]);
+  EXPECT_EQ(actual.estimated_position_m, expected.estimated_position_m);
+  EXPECT_EQ(actual.servo_angle_rad, expected.servo_angle_rad);
+}
+
+TEST_F(ProcessDutTest, KilledProcessEndsTheStepWithItsSignal) {
+  auto dut = Start({}, 30.0);  // a watchdog this long would fail the test's own timeout
+  ASSERT_NE(dut, nullptr);
+  ASSERT_TRUE(Hover(*dut, 5).ok());
+  ASSERT_EQ(::kill(dut->pid(), SIGKILL), 0);
+  const auto command = dut->Step(6, 6'000'000);
+  ASSERT_FALSE(command.ok());
+  EXPECT_EQ(command.error().message, "dut process killed by signal 9");
+}
+
+TEST_F(ProcessDutTest, ProcessThatExitsIsReportedWithItsStatus) {
+  auto dut = Start({"--test-exit-at-tick", "4"});
+  ASSERT_NE(dut, nullptr);
+  const auto command = Hover(*dut, 10);
+  ASSERT_FALSE(command.ok());
+  EXPECT_EQ(command.error().message, "dut process exited with status 3");
+}
+
+TEST_F(ProcessDutTest, SilentDutTripsTheWatchdog) {
+  auto dut = Start({"--test-silent-at-tick", "3"}, 0.2);
+  ASSERT_NE(dut, nullptr);
+  const auto command = Hover(*dut, 10);
+  ASSERT_FALSE(command.ok());
+  EXPECT_EQ(command.error().message, "dut did not answer tick 3 within 0.2 s");
+  bool counted = false;
+  for (const auto& [name, value] : dut->link_metrics()) {
+    if (name == "link_watchdog_timeouts") counted = value == 1.0;
+  }
+  EXPECT_TRUE(counted);
+}
+
+TEST_F(ProcessDutTest, GarbageAnswerIsRejectedAndCounted) {
+  auto dut = Start({"--test-garbage-at-tick", "3"});
+  ASSERT_NE(dut, nullptr);
+  const auto command = Hover(*dut, 10);
+  ASSERT_FALSE(command.ok());
+  EXPECT_NE(command.error().message.find("dut sent a bad message (malformed"), std::string::npos)
+      << command.error().message;
+  double malformed = -1;
+  for (const auto& [name, value] : dut->link_metrics()) {
+    if (name == "link_rx_malformed") malformed = value;
+  }
+  EXPECT_EQ(malformed, 1.0);
+}
+
+TEST_F(ProcessDutTest, FailureSticksForLaterSteps) {
+  auto dut = Start({"--test-exit-at-tick", "2"});
+  ASSERT_NE(dut, nullptr);
+  ASSERT_FALSE(Hover(*dut, 3).ok());
+  const auto again = dut->Step(4, 4'000'000);
+  ASSERT_FALSE(again.ok());
+  EXPECT_EQ(again.error().message, "dut process exited with status 3");
+}
+
+TEST_F(ProcessDutTest, DestructorEndsAndReapsTheProcess) {
+  auto dut = Start();
+  ASSERT_NE(dut, nullptr);
+  const pid_t pid = dut->pid();
+  dut.reset();
+  errno = 0;
+  EXPECT_EQ(::kill(pid, 0), -1);  // reaped: no such process any more
+  EXPECT_EQ(errno, ESRCH);
+}
+
+TEST_F(ProcessDutTest, MissingExecutableIsAClearStartError) {
+  ProcessDutOptions options = TestOptions();
+  options.dut_emu_path = "/nonexistent/dut_emu";
+  const auto dut =
+      ProcessDut::Start(HoverFirmware(), bus_.Connect("dut"), kControlPeriodS, options);
+  ASSERT_FALSE(dut.ok());
+  EXPECT_NE(dut.error().message.find("no dut_emu executable at /nonexistent/dut_emu"),
+            std::string::npos);
+}
+
+TEST(ProcessDutOptionsTest, RefusesBadTimeouts) {
+  for (double timeout_s : {0.0, -1.0, std::numeric_limits<double>::quiet_NaN(),
+                           std::numeric_limits<double>::infinity()}) {
+    ProcessDutOptions options;
+    options.answer_timeout_s = timeout_s;
+    EXPECT_FALSE(ValidateProcessDutOptions(options).ok()) << timeout_s;
+  }
+}
+
+// The runner with a DUT process that is killed mid-run: the run ends at once with a stop reason
+// that names the kill, and Finish still builds the whole report.
+TEST(ProcessDutRunTest, KilledDutEndsTheRunWithACompleteReport) {
+  const auto spec = LoadScenario(HILRIG_SOURCE_DIR "/scenarios/hover.textproto");
+  ASSERT_TRUE(spec.ok()) << spec.error().message;
+  ScenarioConfig config =
+      ResolveScenario(spec.value(), std::nullopt, HILRIG_SOURCE_DIR "/scenarios");
+  ASSERT_TRUE(LoadTactileCalibration(config).ok());
+  ProcessDut* process = nullptr;
+  RunControl control;
+  const rig::SteadyClock wall_clock;
+  control.wall_clock = &wall_clock;
+  control.dut_factory = [&](const ScenarioConfig& scene, std::unique_ptr<rig::CanBus> bus,
+                            double control_period_s) -> rig::Result<std::unique_ptr<DutPort>> {
+    ProcessDutOptions options = TestOptions();
+    options.answer_timeout_s = 30;  // the kill must be noticed without the watchdog
+    auto dut = ProcessDut::Start(FirmwareFor(scene), std::move(bus), control_period_s, options);
+    if (!dut) return dut.error();
+    process = dut.value().get();
+    return std::unique_ptr<DutPort>(std::move(dut).value());
+  };
+  LockstepRunner runner(config, {}, control);
+  ASSERT_NE(process, nullptr);
+  for (int i = 0; i < 200; ++i) ASSERT_TRUE(runner.Tick());
+  ASSERT_EQ(::kill(process->pid(), SIGKILL), 0);
+  int more_ticks = 0;
+  while (runner.Tick()) ++more_ticks;
+  const proto::Report report = runner.Finish();
+  EXPECT_LT(more_ticks, 10);  // the next control tick notices (control runs every tick or so)
+  EXPECT_EQ(report.stop_reason(), "dut failed: dut process killed by signal 9");
+  EXPECT_FALSE(report.passed());
+  EXPECT_GE(report.ticks(), 200u);
+  bool has_link_metrics = false;
+  for (const auto& metric : report.metrics()) {
+    if (metric.name() == "link_commands_received") has_link_metrics = metric.value() > 0;
+  }
+  EXPECT_TRUE(has_link_metrics);
+}
+
+}  // namespace
+}  // namespace hilrig::host

@@ -1,0 +1,325 @@
+#include "host/link/hil_link_codec.h"
+
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cmath>
+#include <limits>
+
+namespace hilrig::host {
+namespace {
+
+// Doubles that a decimal or float detour would change: the last bit must survive.
+constexpr double kThird = 1.0 / 3.0;
+const double kTiny = std::nextafter(0.0, 1.0);  // the smallest subnormal
+const double kAlmostOne = std::nextafter(1.0, 0.0);
+
+std::uint64_t Bits(double value) { return std::bit_cast<std::uint64_t>(value); }
+
+void ExpectSameBits(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(Bits(a[i]), Bits(b[i])) << "component " << i;
+}
+
+// Decodes one complete frame; fails the test if anything else comes out.
+proto::LinkMessage DecodeOne(const std::string& frame) {
+  LinkDecoder decoder;
+  decoder.Feed(frame);
+  std::optional<LinkEvent> event = decoder.Next();
+  EXPECT_TRUE(event.has_value());
+  if (!event) return {};
+  EXPECT_TRUE(std::holds_alternative<proto::LinkMessage>(*event))
+      << std::get<LinkError>(*event).Message();
+  if (!std::holds_alternative<proto::LinkMessage>(*event)) return {};
+  return std::get<proto::LinkMessage>(*event);
+}
+
+std::string Frame(const proto::LinkMessage& message) { return EncodeLinkFrame(message).value(); }
+
+proto::LinkMessage Bye(std::uint64_t sequence) {
+  proto::LinkMessage message;
+  message.mutable_bye()->mutable_header()->set_protocol_version(kHilLinkProtocolVersion);
+  message.mutable_bye()->mutable_header()->set_sequence(sequence);
+  return message;
+}
+
+// Every event the decoder yields for `bytes`, fed at once.
+std::vector<LinkEvent> DecodeAll(LinkDecoder& decoder, const std::string& bytes) {
+  decoder.Feed(bytes);
+  std::vector<LinkEvent> events;
+  while (auto event = decoder.Next()) events.push_back(std::move(*event));
+  return events;
+}
+
+LinkErrorKind ErrorKind(const LinkEvent& event) {
+  EXPECT_TRUE(std::holds_alternative<LinkError>(event));
+  return std::holds_alternative<LinkError>(event) ? std::get<LinkError>(event).kind
+                                                  : LinkErrorKind::kMalformed;
+}
+
+TEST(HilLinkCodecTest, ImuRoundTripsBitExact) {
+  const ImuMessage sent{{0, 123'456'789}, {kThird, -kTiny, 1e300}, {kAlmostOne, -0.0, 9.81}};
+  const proto::LinkMessage decoded = DecodeOne(Frame(ToLink(sent)));
+  ASSERT_TRUE(decoded.has_imu());
+  const ImuMessage received = FromLink(decoded.imu());
+  EXPECT_EQ(received.stamp.time_ns, 123'456'789);
+  ExpectSameBits(received.gyro_rad_s, sent.gyro_rad_s);
+  ExpectSameBits(received.accel_m_s2, sent.accel_m_s2);
+}
+
+TEST(HilLinkCodecTest, VioRoundTripsBitExact) {
+  const VioMessage sent{{0, 5'000'000},
+                        -2'000'000,
+                        {kThird, 2 * kThird, -kTiny},
+                        Eigen::Quaterniond(kAlmostOne, kThird, -kThird, kTiny)};
+  const proto::LinkMessage decoded = DecodeOne(Frame(ToLink(sent)));
+  ASSERT_TRUE(decoded.has_vio());
+  const VioMessage received = FromLink(decoded.vio());
+  EXPECT_EQ(received.capture_time_ns, -2'000'000);
+  ExpectSameBits(received.position_m, sent.position_m);
+  EXPECT_EQ(Bits(received.orientation.w()), Bits(kAlmostOne));
+  EXPECT_EQ(Bits(received.orientation.x()), Bits(kThird));
+  EXPECT_EQ(Bits(received.orientation.y()), Bits(-kThird));
+  EXPECT_EQ(Bits(received.orientation.z()), Bits(kTiny));
+}
+
+TEST(HilLinkCodecTest, SetpointRoundTripsBitExact) {
+  const SetpointMessage sent{
+      {0, 1}, {1, 2, kThird}, {-kThird, 0, 0}, {0, kTiny, 0}, kAlmostOne, true, 2.5, kThird};
+  const proto::LinkMessage decoded = DecodeOne(Frame(ToLink(sent)));
+  ASSERT_TRUE(decoded.has_setpoint());
+  const SetpointMessage received = FromLink(decoded.setpoint());
+  ExpectSameBits(received.position_m, sent.position_m);
+  ExpectSameBits(received.velocity_m_s, sent.velocity_m_s);
+  ExpectSameBits(received.acceleration_m_s2, sent.acceleration_m_s2);
+  EXPECT_EQ(Bits(received.yaw_rad), Bits(kAlmostOne));
+  EXPECT_TRUE(received.grasp_regulate);
+  EXPECT_EQ(received.grasp_force_n, 2.5);
+  EXPECT_EQ(Bits(received.grasp_reference_angle_rad), Bits(kThird));
+}
+
+TEST(HilLinkCodecTest, ActuatorCommandRoundTripsBitExact) {
+  ActuatorMessage sent;
+  sent.stamp = {0, 42'000'000};
+  sent.answers_sequence = 42;
+  sent.rotor_thrust_n = {kThird, 2.0, kAlmostOne, kTiny};
+  sent.armed = true;
+  sent.estimated_position_m = {kThird, -kThird, 1};
+  for (int i = 0; i < 6; ++i) sent.tactile_force_sensor_n[i] = {i * kThird, -i * 1.0, kTiny};
+  sent.tactile_ready = true;
+  sent.servo_angle_rad = 1.2345678901234567;
+  sent.grasp_force_estimate_n = kThird;
+  sent.external_force_world_n = {0, 0, -kAlmostOne};
+  const proto::LinkMessage decoded = DecodeOne(Frame(ToLink(sent)));
+  ASSERT_TRUE(decoded.has_command());
+  const ActuatorMessage received = FromLink(decoded.command()).value();
+  EXPECT_EQ(received.stamp.time_ns, 42'000'000);
+  EXPECT_EQ(received.answers_sequence, 42u);
+  for (int i = 0; i < 4; ++i)
+    EXPECT_EQ(Bits(received.rotor_thrust_n[i]), Bits(sent.rotor_thrust_n[i]));
+  EXPECT_TRUE(received.armed);
+  ExpectSameBits(received.estimated_position_m, sent.estimated_position_m);
+  for (int i = 0; i < 6; ++i) {
+    ExpectSameBits(received.tactile_force_sensor_n[i], sent.tactile_force_sensor_n[i]);
+  }
+  EXPECT_TRUE(received.tactile_ready);
+  EXPECT_EQ(Bits(received.servo_angle_rad), Bits(1.2345678901234567));
+  EXPECT_EQ(Bits(received.grasp_force_estimate_n), Bits(kThird));
+  ExpectSameBits(received.external_force_world_n, sent.external_force_world_n);
+}
+
+TEST(HilLinkCodecTest, HelloStepAndByeRoundTrip) {
+  LinkSequencer sequencer;
+  proto::LinkMessage hello;
+  hello.mutable_hello()->set_role(proto::Hello::DUT);
+  hello.mutable_hello()->set_name("dut");
+  sequencer.Stamp(hello, 0);
+  proto::LinkMessage step;
+  step.mutable_step()->set_tick(3);
+  step.mutable_step()->set_now_ns(3'000'000);
+  step.mutable_step()->set_can_frames_sent(1);
+  step.mutable_step()->add_can_frame_time_ns(2'999'000);
+  sequencer.Stamp(step, 3'000'000);
+  proto::LinkMessage bye;
+  bye.mutable_bye()->set_error(true);
+  bye.mutable_bye()->set_reason("because");
+  sequencer.Stamp(bye, 0);
+  LinkDecoder decoder;
+  const std::vector<LinkEvent> events = DecodeAll(decoder, Frame(hello) + Frame(step) + Frame(bye));
+  ASSERT_EQ(events.size(), 3u);
+  const auto& got_hello = std::get<proto::LinkMessage>(events[0]).hello();
+  EXPECT_EQ(got_hello.role(), proto::Hello::DUT);
+  EXPECT_EQ(got_hello.name(), "dut");
+  const auto& got_step = std::get<proto::LinkMessage>(events[1]).step();
+  EXPECT_EQ(got_step.tick(), 3u);
+  EXPECT_EQ(got_step.can_frame_time_ns(0), 2'999'000);
+  EXPECT_EQ(got_step.header().time_ns(), 3'000'000);
+  EXPECT_EQ(std::get<proto::LinkMessage>(events[2]).bye().reason(), "because");
+  EXPECT_EQ(decoder.counters().messages, 3u);
+}
+
+TEST(HilLinkCodecTest, FrameIsVarintLengthThenMessage) {
+  const proto::LinkMessage message = Bye(0);
+  const std::string frame = Frame(message);
+  const std::size_t size = message.ByteSizeLong();
+  ASSERT_LT(size, 128u);  // one varint byte
+  ASSERT_EQ(frame.size(), size + 1);
+  EXPECT_EQ(static_cast<std::size_t>(frame[0]), size);
+}
+
+TEST(HilLinkCodecTest, DecodesAFrameFedOneByteAtATime) {
+  const std::string frame = Frame(ToLink(ImuMessage{{0, 1}, {1, 2, 3}, {4, 5, 6}}));
+  LinkDecoder decoder;
+  for (std::size_t i = 0; i + 1 < frame.size(); ++i) {
+    decoder.Feed(frame.substr(i, 1));
+    EXPECT_FALSE(decoder.Next().has_value()) << "after byte " << i;
+  }
+  decoder.Feed(frame.substr(frame.size() - 1));
+  const std::optional<LinkEvent> event = decoder.Next();
+  ASSERT_TRUE(event.has_value());
+  EXPECT_EQ(std::get<proto::LinkMessage>(*event).imu().accel_m_s2().z(), 6.0);
+}
+
+TEST(HilLinkCodecTest, DecodesFramesSplitAcrossChunksAtOddPlaces) {
+  std::string stream;
+  for (std::uint64_t i = 0; i < 5; ++i) stream += Frame(ToLink(ImuMessage{{i, 0}, {}, {}}));
+  LinkDecoder decoder;
+  std::vector<std::uint64_t> sequences;
+  for (std::size_t at = 0; at < stream.size(); at += 7) {  // 7 divides no frame size here
+    decoder.Feed(stream.substr(at, 7));
+    while (auto event = decoder.Next()) {
+      sequences.push_back(std::get<proto::LinkMessage>(*event).imu().header().sequence());
+    }
+  }
+  EXPECT_EQ(sequences, (std::vector<std::uint64_t>{0, 1, 2, 3, 4}));
+  EXPECT_EQ(decoder.buffered_bytes(), 0u);
+}
+
+TEST(HilLinkCodecTest, OversizedLengthIsANamedErrorAndStopsTheStream) {
+  LinkDecoder decoder(64);
+  // Varint 4097, then a valid frame that must not be delivered any more.
+  const std::vector<LinkEvent> events =
+      DecodeAll(decoder, std::string("\x81\x20", 2) + Frame(Bye(0)));
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(ErrorKind(events[0]), LinkErrorKind::kOversized);
+  EXPECT_EQ(decoder.counters().oversized, 1u);
+  EXPECT_TRUE(decoder.broken());
+  decoder.Feed(Frame(Bye(1)));
+  EXPECT_FALSE(decoder.Next().has_value());
+}
+
+TEST(HilLinkCodecTest, EncoderRefusesAMessageOverTheLimit) {
+  proto::LinkMessage message = Bye(0);
+  message.mutable_bye()->set_reason(std::string(kMaxLinkMessageBytes, 'x'));
+  const auto frame = EncodeLinkFrame(message);
+  ASSERT_FALSE(frame.ok());
+  EXPECT_NE(frame.error().message.find("4096-byte limit"), std::string::npos);
+}
+
+TEST(HilLinkCodecTest, GarbageIsMalformed) {
+  LinkDecoder decoder;
+  // Length 4, then a field with wire type 7, which protobuf does not have.
+  const std::vector<LinkEvent> events = DecodeAll(decoder, std::string("\x04\x0f\xff\xff\xff", 5));
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(ErrorKind(events[0]), LinkErrorKind::kMalformed);
+  EXPECT_EQ(decoder.counters().malformed, 1u);
+}
+
+TEST(HilLinkCodecTest, OverlongLengthPrefixIsMalformed) {
+  LinkDecoder decoder(1u << 30);
+  // Eleven continuation bytes of zero value: no varint is that long.
+  const std::vector<LinkEvent> events = DecodeAll(decoder, std::string(11, '\x80'));
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(ErrorKind(events[0]), LinkErrorKind::kMalformed);
+}
+
+TEST(HilLinkCodecTest, MessageWithoutPayloadIsMalformed) {
+  LinkDecoder decoder;
+  const std::vector<LinkEvent> events = DecodeAll(decoder, std::string("\x00", 1));
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(ErrorKind(events[0]), LinkErrorKind::kMalformed);
+}
+
+TEST(HilLinkCodecTest, OtherProtocolVersionIsBadVersion) {
+  proto::LinkMessage message = Bye(0);
+  message.mutable_bye()->mutable_header()->set_protocol_version(2);
+  LinkDecoder decoder;
+  const std::vector<LinkEvent> events = DecodeAll(decoder, Frame(message));
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(ErrorKind(events[0]), LinkErrorKind::kBadVersion);
+  EXPECT_NE(std::get<LinkError>(events[0]).detail.find("protocol version 2"), std::string::npos);
+  EXPECT_EQ(decoder.counters().bad_version, 1u);
+  EXPECT_EQ(decoder.counters().messages, 0u);
+}
+
+TEST(HilLinkCodecTest, RepeatedSequenceIsDuplicate) {
+  LinkDecoder decoder;
+  const std::vector<LinkEvent> events =
+      DecodeAll(decoder, Frame(Bye(0)) + Frame(Bye(1)) + Frame(Bye(1)));
+  ASSERT_EQ(events.size(), 3u);
+  EXPECT_EQ(ErrorKind(events[2]), LinkErrorKind::kDuplicate);
+  EXPECT_EQ(decoder.counters().duplicates, 1u);
+  EXPECT_EQ(decoder.counters().messages, 2u);
+}
+
+TEST(HilLinkCodecTest, OlderSequenceIsOutOfOrder) {
+  LinkDecoder decoder;
+  const std::vector<LinkEvent> events =
+      DecodeAll(decoder, Frame(Bye(0)) + Frame(Bye(1)) + Frame(Bye(2)) + Frame(Bye(0)));
+  ASSERT_EQ(events.size(), 4u);
+  EXPECT_EQ(ErrorKind(events[3]), LinkErrorKind::kOutOfOrder);
+  EXPECT_EQ(decoder.counters().out_of_order, 1u);
+}
+
+TEST(HilLinkCodecTest, SkippedSequenceIsAGapAndTheStreamResynchronises) {
+  LinkDecoder decoder;
+  const std::vector<LinkEvent> events =
+      DecodeAll(decoder, Frame(Bye(0)) + Frame(Bye(3)) + Frame(Bye(4)));
+  ASSERT_EQ(events.size(), 3u);
+  EXPECT_EQ(ErrorKind(events[1]), LinkErrorKind::kSequenceGap);
+  ASSERT_TRUE(std::holds_alternative<proto::LinkMessage>(events[2]));  // 4 follows 3
+  EXPECT_EQ(decoder.counters().sequence_gaps, 1u);
+  EXPECT_EQ(decoder.counters().messages, 2u);
+}
+
+TEST(HilLinkCodecTest, StreamsAreSequencedIndependently) {
+  LinkDecoder decoder;
+  const std::vector<LinkEvent> events =
+      DecodeAll(decoder, Frame(Bye(0)) + Frame(ToLink(ImuMessage{{0, 0}, {}, {}})) + Frame(Bye(1)));
+  ASSERT_EQ(events.size(), 3u);
+  for (const LinkEvent& event : events)
+    EXPECT_TRUE(std::holds_alternative<proto::LinkMessage>(event));
+}
+
+TEST(HilLinkCodecTest, CommandWithWrongRotorCountIsRefused) {
+  proto::LinkMessage message = ToLink(ActuatorMessage{});
+  message.mutable_command()->add_rotor_thrust_n(1.0);  // a fifth rotor
+  const auto command = FromLink(message.command());
+  ASSERT_FALSE(command.ok());
+  EXPECT_NE(command.error().message.find("5 rotor thrusts"), std::string::npos);
+}
+
+TEST(HilLinkCodecTest, CounterMetricsAreNamedWithThePrefix) {
+  LinkCounters counters;
+  counters.duplicates = 3;
+  const auto metrics = LinkCounterMetrics(counters, "link_rx_");
+  bool found = false;
+  for (const auto& [name, value] : metrics) {
+    if (name == "link_rx_duplicates") {
+      found = true;
+      EXPECT_EQ(value, 3.0);
+    }
+  }
+  EXPECT_TRUE(found);
+}
+
+TEST(HilLinkCodecTest, ErrorNamesAreTheDocumentedOnes) {
+  EXPECT_STREQ(LinkErrorName(LinkErrorKind::kOversized), "oversized");
+  EXPECT_STREQ(LinkErrorName(LinkErrorKind::kMalformed), "malformed");
+  EXPECT_STREQ(LinkErrorName(LinkErrorKind::kBadVersion), "bad_version");
+  EXPECT_STREQ(LinkErrorName(LinkErrorKind::kSequenceGap), "sequence_gap");
+  EXPECT_STREQ(LinkErrorName(LinkErrorKind::kDuplicate), "duplicate");
+  EXPECT_STREQ(LinkErrorName(LinkErrorKind::kOutOfOrder), "out_of_order");
+}
+
+}  // namespace
+}  // namespace hilrig::host
