@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "host/cli/cli.h"
+#include "tests/support/cli_runner.h"
 
 namespace hilrig::host {
 namespace {
@@ -17,18 +18,6 @@ using ::testing::HasSubstr;
 
 const std::string kScenarios = std::string(HILRIG_SOURCE_DIR) + "/scenarios";
 constexpr std::size_t kColumns = 20;
-
-struct CliResult {
-  int exit_code;
-  std::string out;
-  std::string err;
-};
-
-CliResult Cli(const std::vector<std::string>& args) {
-  std::ostringstream out, err;
-  const int exit_code = RunCli(args, out, err);
-  return {exit_code, out.str(), err.str()};
-}
 
 std::vector<std::vector<std::string>> ReadCsv(const fs::path& path) {
   std::ifstream file(path);

@@ -5,43 +5,29 @@
 #include <sstream>
 
 #include "host/cli/cli.h"
+#include "tests/support/cli_runner.h"
 
 namespace hilrig::host {
 namespace {
 
 const std::string kScenario = HILRIG_SOURCE_DIR "/scenarios/hover.textproto";
 
-struct CliRun {
-  int exit_code = -1;
-  std::string err;
-};
-
-CliRun RunHilrig(const std::vector<std::string>& args) {
-  std::ostringstream out;
-  std::ostringstream err;
-  CliRun run;
-  run.exit_code = RunCli(args, out, err);
-  run.err = err.str();
-  return run;
-}
-
 TEST(CliDutOptionTest, UnknownDutModeExitsTwoNamingIt) {
-  const CliRun run = RunHilrig({"run", kScenario, "--dut", "remote"});
+  const CliResult run = Cli({"run", kScenario, "--dut", "remote"});
   EXPECT_EQ(run.exit_code, kExitBadInput);
   EXPECT_NE(run.err.find("--dut \"remote\": expected inproc or process"), std::string::npos)
       << run.err;
 }
 
 TEST(CliDutOptionTest, TimeoutWithoutProcessModeExitsTwo) {
-  const CliRun run = RunHilrig({"run", kScenario, "--dut-timeout-s", "2"});
+  const CliResult run = Cli({"run", kScenario, "--dut-timeout-s", "2"});
   EXPECT_EQ(run.exit_code, kExitBadInput);
   EXPECT_NE(run.err.find("--dut-timeout-s needs --dut process"), std::string::npos) << run.err;
 }
 
 TEST(CliDutOptionTest, BadTimeoutsExitTwo) {
   for (const char* timeout : {"0", "-1", "nan", "inf", "1s", ""}) {
-    const CliRun run =
-        RunHilrig({"run", kScenario, "--dut", "process", "--dut-timeout-s", timeout});
+    const CliResult run = Cli({"run", kScenario, "--dut", "process", "--dut-timeout-s", timeout});
     EXPECT_EQ(run.exit_code, kExitBadInput) << timeout;
     EXPECT_NE(run.err.find("--dut-timeout-s"), std::string::npos) << run.err;
   }

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "rig/candump_log.h"
+#include "tests/support/cli_runner.h"
 
 namespace hilrig::host {
 namespace {
@@ -16,18 +17,6 @@ namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
 const std::string kHover = std::string(HILRIG_SOURCE_DIR) + "/scenarios/hover.textproto";
-
-struct CliResult {
-  int exit_code;
-  std::string out;
-  std::string err;
-};
-
-CliResult Cli(const std::vector<std::string>& args) {
-  std::ostringstream out, err;
-  const int exit_code = RunCli(args, out, err);
-  return {exit_code, out.str(), err.str()};
-}
 
 std::string ReadFile(const fs::path& path) {
   std::ifstream file(path, std::ios::binary);

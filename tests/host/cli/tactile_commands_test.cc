@@ -9,25 +9,13 @@
 #include <sstream>
 
 #include "host/cli/cli.h"
+#include "tests/support/cli_runner.h"
 
 namespace hilrig::host {
 namespace {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
-
-struct CliResult {
-  int exit_code;
-  std::string out;
-  std::string err;
-};
-
-CliResult Cli(const std::vector<std::string>& args, const std::string& input = "") {
-  std::ostringstream out, err;
-  std::istringstream in(input);
-  const int exit_code = RunCli(args, out, err, nullptr, &in);
-  return {exit_code, out.str(), err.str()};
-}
 
 // One calibration shared by the tests of this file (the field map keeps it to a second).
 const fs::path& CalibrationDir() {
