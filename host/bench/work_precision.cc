@@ -351,12 +351,10 @@ ErrorMetrics CompareTraces(const CapturedTrace& run, const CapturedTrace& refere
 }
 
 CapturedRun RunCaptured(const ScenarioConfig& config, const RunControl& control) {
-  TraceCapture capture;
-  RunSinks sinks;
-  sinks.trace_csv = &capture;
   CapturedRun run;
+  RunSinks sinks;
+  sinks.trace_sample = [&run](const TraceSample& sample) { run.trace.Add(sample); };
   run.report = RunScenario(config, sinks, control);
-  run.trace = capture.trace();
   return run;
 }
 

@@ -15,6 +15,7 @@
 #include "host/dut/firmware_config.h"
 #include "host/dut/process_dut.h"
 #include "host/report/report_files.h"
+#include "host/report/run_plots.h"
 #include "host/runner/runner.h"
 #include "host/scenario/scenario_config.h"
 #include "host/scenario/scenario_loader.h"
@@ -133,7 +134,8 @@ rig::Result<proto::Report> RunToDirectory(const proto::Scenario& spec, const std
     return rig::MakeError(spec_path + ": tactile calibration: " + calibrated.error().message);
   }
   PlotTrace plot_trace;
-  proto::Report report = RunScenario(config, {&trace, &can_log, &io.err, &plot_trace},
+  const auto add_to_plots = [&plot_trace](const TraceSample& sample) { plot_trace.Add(sample); };
+  proto::Report report = RunScenario(config, {&trace, &can_log, &io.err, add_to_plots},
                                      {&wall_clock, io.stop_requested, dut_factory});
   report.set_spec_file(spec_path);
   // Calibrating at start and tabulating field maps happen before the first tick; the real-time

@@ -21,19 +21,18 @@ class RunStatistics {
 
  private:
   struct Accumulator {
+    std::uint64_t count = 0;
     double sum_squares = 0;
     double max = 0;
     void Add(double value);
+    double Rms() const;
   };
 
-  std::uint64_t samples_ = 0;
   Accumulator position_error_m_;
   Accumulator horizontal_error_m_;
   Accumulator altitude_error_m_;
   Accumulator tilt_deg_;
   bool grasp_scene_;
-  std::uint64_t grasp_samples_ = 0;
-  std::uint64_t settled_samples_ = 0;
   Accumulator grasp_tracking_error_n_;  // |true - setpoint| while regulating, settled
   Accumulator grasp_estimate_error_n_;  // |estimate - true|
   Accumulator load_estimate_error_n_;   // |estimate - true|

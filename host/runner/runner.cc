@@ -47,11 +47,9 @@ double TiltDeg(const Eigen::Quaterniond& q) {
   return std::acos(std::clamp(body_z_up, -1.0, 1.0)) * kRadToDeg;
 }
 
-// Divides rather than multiplies by 1e-9 so that whole milliseconds print as 0.03, not
-// 0.030000000000000002.
-const std::array<Eigen::Vector3d, kTactileSensorCount> kNoPadForce = {
-    Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
-    Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+// The Hall sensor nodes' pads are the gripper's pads.
+static_assert(kTactileSensorCount == kGripperPadCount);
+const std::array<Eigen::Vector3d, kTactileSensorCount> kNoPadForce = ZeroPadVectors();
 
 std::shared_ptr<const FilmFieldModel> FilmFieldFor(const ScenarioConfig& config) {
   if (!config.hall_sensors.tactile_enabled) return nullptr;
@@ -67,6 +65,8 @@ rig::EmulatedBusConfig BusConfigFor(const ScenarioConfig& config) {
   return bus;
 }
 
+// Divides rather than multiplies by 1e-9 so that whole milliseconds print as 0.03, not
+// 0.030000000000000002.
 double Seconds(std::int64_t time_ns) { return static_cast<double>(time_ns) / 1e9; }
 
 }  // namespace
@@ -305,7 +305,7 @@ bool LockstepRunner::Impl::RecordTrace(std::int64_t now_ns) {
   if (!AllSignalsFinite(sample)) ++non_finite_samples_;
   statistics_.Add(sample);
   if (trace_writer_) trace_writer_->Write(sample);
-  if (sinks_.plot_trace != nullptr) sinks_.plot_trace->Add(sample);
+  if (sinks_.trace_sample) sinks_.trace_sample(sample);
   bool abort = false;
   for (std::size_t i = 0; i < checks_.size(); ++i) {
     if (checks_[i].Observe(sample, check_progress_[i]) && checks_[i].spec().abort_on_violation()) {

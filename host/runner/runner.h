@@ -11,8 +11,8 @@
 #include <ostream>
 
 #include "host/dut/dut_port.h"
-#include "host/report/run_plots.h"
 #include "host/scenario/scenario_config.h"
+#include "host/trace/trace_sample.h"
 #include "proto/report.pb.h"
 #include "rig/can_bus.h"
 #include "rig/clock.h"
@@ -23,7 +23,8 @@ struct RunSinks {
   std::ostream* trace_csv = nullptr;  // optional
   std::ostream* can_log = nullptr;    // optional, candump -l format
   std::ostream* progress = nullptr;   // optional, a line every few wall seconds on long runs
-  PlotTrace* plot_trace = nullptr;    // optional, the columns the run's plots need
+  // Optional: every trace row as it is recorded (the run's plots, a bench's error comparison).
+  std::function<void(const TraceSample&)> trace_sample;
 };
 
 // Builds the DUT the runner talks to, given the scene, the DUT's own endpoint on the emulated CAN

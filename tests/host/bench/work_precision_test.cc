@@ -7,7 +7,6 @@
 #include <limits>
 
 #include "host/scenario/scenario_loader.h"
-#include "host/trace/trace_csv.h"
 #include "rig/clock.h"
 
 namespace hilrig::host {
@@ -77,23 +76,21 @@ TEST(CompareTracesTest, EmptyTracesGiveZeroNotNaN) {
   EXPECT_EQ(errors.position_rms_m, 0.0);
 }
 
-TEST(TraceCaptureTest, ReadsBackTheWrittenSampleExactly) {
-  TraceCapture capture;
-  TraceCsvWriter writer(capture);
+TEST(CapturedTraceTest, KeepsTheSamplesColumnsExactly) {
   TraceSample sample;
   sample.time_s = 0.01;
   sample.position_m = Eigen::Vector3d(1.0 / 3, -0.1, 0.5);
   sample.grasp_force_n = 0.6000000000000001;
   sample.load_n = 2.37;
+  CapturedTrace trace;
 
-  writer.Write(sample);
+  trace.Add(sample);
 
-  ASSERT_EQ(capture.trace().size(), 1u);
-  EXPECT_EQ(capture.bad_rows(), 0u);
-  EXPECT_EQ(capture.trace().time_s[0], 0.01);
-  EXPECT_EQ(capture.trace().position_m[0], Eigen::Vector3d(1.0 / 3, -0.1, 0.5));
-  EXPECT_EQ(capture.trace().grasp_force_n[0], 0.6000000000000001);
-  EXPECT_EQ(capture.trace().load_n[0], 2.37);
+  ASSERT_EQ(trace.size(), 1u);
+  EXPECT_EQ(trace.time_s[0], 0.01);
+  EXPECT_EQ(trace.position_m[0], Eigen::Vector3d(1.0 / 3, -0.1, 0.5));
+  EXPECT_EQ(trace.grasp_force_n[0], 0.6000000000000001);
+  EXPECT_EQ(trace.load_n[0], 2.37);
 }
 
 RunResult Result(RunKind kind, double wall_s_per_sim_s, double force_error_n) {

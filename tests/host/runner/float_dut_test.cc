@@ -9,6 +9,7 @@
 
 #include "host/dut/firmware_config.h"
 #include "host/dut/in_process_dut.h"
+#include "host/report/run_plots.h"
 #include "host/runner/runner.h"
 #include "host/scenario/scenario_config.h"
 #include "host/scenario/scenario_loader.h"
@@ -27,7 +28,8 @@ RunResult RunWith(const ScenarioConfig& config, DutFactory factory) {
   const rig::SimClock wall_clock;
   RunControl control{&wall_clock};
   control.dut_factory = std::move(factory);
-  run.report = RunScenario(config, {&trace_csv, nullptr, nullptr, &run.trace}, control);
+  const auto keep = [&run](const TraceSample& sample) { run.trace.Add(sample); };
+  run.report = RunScenario(config, {&trace_csv, nullptr, nullptr, keep}, control);
   return run;
 }
 
