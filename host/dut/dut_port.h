@@ -6,11 +6,13 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "host/dut/hil_messages.h"
+#include "rig/duration_histogram.h"
 #include "rig/result.h"
 
 namespace hilrig::host {
@@ -28,6 +30,13 @@ struct DutCounters {
   std::uint64_t tactile_samples_flagged = 0;
 };
 
+// How long the DUT took to respond to one input stream ("imu", "vio", "setpoint", "can"): from the
+// runner sending a message to the first command that reflects it, in wall time (real-time runs).
+struct StreamLatency {
+  std::string stream;
+  rig::DurationSummary latency;
+};
+
 class DutPort {
  public:
   virtual ~DutPort() = default;
@@ -40,12 +49,26 @@ class DutPort {
   // error means the DUT did not answer properly (timeout, bad message) and ends the run.
   virtual rig::Result<ActuatorMessage> Step(std::uint64_t tick, std::int64_t now_ns) = 0;
 
+  // Real-time runs, where the plant does not wait for the DUT: RequestStep asks for control tick
+  // `tick`'s command without waiting, and PollCommand returns the newest command that has arrived
+  // since the last poll (nullopt: none yet), or an error that ends the run (the DUT died, the link
+  // broke). The default suits a DUT that answers at once (in process): it runs Step inside
+  // RequestStep and hands the answer to the next poll.
+  virtual void RequestStep(std::uint64_t tick, std::int64_t now_ns);
+  virtual rig::Result<std::optional<ActuatorMessage>> PollCommand();
+  // Per-stream response latency measured in real-time runs; a DUT that does not measure has none.
+  virtual std::vector<StreamLatency> response_latencies() const { return {}; }
+
   virtual DutCounters counters() const = 0;
   virtual std::string description() const = 0;
 
   // Named counters of the link to the DUT (messages, named link errors, ...) for the run report;
   // a DUT without a link has none.
   virtual std::vector<std::pair<std::string, double>> link_metrics() const { return {}; }
+
+ private:
+  // The default RequestStep's answer, until PollCommand takes it.
+  std::optional<rig::Result<ActuatorMessage>> immediate_answer_;
 };
 
 }  // namespace hilrig::host
