@@ -3,6 +3,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <charconv>
 #include <chrono>
 #include <span>
@@ -52,9 +53,16 @@ class StagedCanBus final : public rig::CanBus {
 
   std::size_t Pump(std::int64_t now_ns) { return inner_->Receive(now_ns, staged_); }
   std::size_t staged() const { return staged_.size(); }
+  // Frames handed to the DUT so far, staged or not: what its commands say they consumed.
+  std::uint64_t handed_over() const { return handed_over_; }
+  // Gives the step's frames the runner's times. In lockstep exactly those frames are staged. In
+  // real time late frames of earlier steps come first (they keep the time they were seen), and a
+  // shortfall is this step's last frames, still on their way.
   void Restamp(std::span<const std::int64_t> times_ns) {
-    for (std::size_t i = 0; i < staged_.size() && i < times_ns.size(); ++i) {
-      staged_[i].time_ns = times_ns[i];
+    const std::size_t first =
+        staged_.size() > times_ns.size() ? staged_.size() - times_ns.size() : 0;
+    for (std::size_t i = 0; first + i < staged_.size() && i < times_ns.size(); ++i) {
+      staged_[first + i].time_ns = times_ns[i];
     }
   }
 
@@ -65,7 +73,9 @@ class StagedCanBus final : public rig::CanBus {
     const std::size_t staged = staged_.size();
     out.insert(out.end(), staged_.begin(), staged_.end());
     staged_.clear();
-    return staged + inner_->Receive(now_ns, out);
+    const std::size_t handed = staged + inner_->Receive(now_ns, out);
+    handed_over_ += handed;
+    return handed;
   }
   void SetFilters(std::span<const rig::CanFilter> filters) override { inner_->SetFilters(filters); }
   void SetReceiveErrorFrames(bool enabled) override { inner_->SetReceiveErrorFrames(enabled); }
@@ -81,6 +91,27 @@ class StagedCanBus final : public rig::CanBus {
  private:
   std::unique_ptr<rig::CanBus> inner_;
   std::vector<rig::TimedCanFrame> staged_;
+  std::uint64_t handed_over_ = 0;
+};
+
+// The wait for a real-time step's frames: one control period (the answer is late after that
+// anyway), within sane bounds, and never longer than the lockstep wait.
+std::chrono::nanoseconds RealtimeFrameWait(double control_period_s, int frame_wait_timeout_ms) {
+  const double wait_s = std::clamp(control_period_s, 100e-6, 50e-3);
+  return std::min<std::chrono::nanoseconds>(
+      std::chrono::nanoseconds(static_cast<std::int64_t>(wait_s * 1e9)),
+      std::chrono::milliseconds(frame_wait_timeout_ms));
+}
+
+// The sequence of the last message the DUT took on one stream; none before the first.
+struct LastSequence {
+  bool seen = false;
+  std::uint64_t sequence = 0;
+
+  void Take(const proto::LinkHeader& header) {
+    seen = true;
+    sequence = header.sequence();
+  }
 };
 
 rig::Result<std::unique_ptr<rig::CanBus>> OpenBus(const CanSpec& spec) {
@@ -113,6 +144,8 @@ class Session {
   std::optional<int> Handle(const proto::LinkMessage& message);
   std::optional<int> HandleStep(const proto::StepRequest& step);
   rig::Result<void> WaitForFrames(const proto::StepRequest& step);
+  // The command with what the DUT had consumed when computing it.
+  proto::LinkMessage Answer(const host::ActuatorMessage& command) const;
 
   const DutEmuOptions& options_;
   const std::atomic<bool>* stop_;
@@ -121,6 +154,11 @@ class Session {
   host::LinkSequencer sequencer_;
   StagedCanBus* bus_ = nullptr;  // owned by dut_
   std::unique_ptr<host::InProcessDut> dut_;
+  std::chrono::nanoseconds realtime_frame_wait_{0};
+  LastSequence last_imu_;
+  LastSequence last_vio_;
+  LastSequence last_setpoint_;
+  std::uint64_t frame_waits_expired_ = 0;
 };
 
 int Session::Fail(const std::string& reason) {
@@ -173,6 +211,8 @@ rig::Result<void> Session::Handshake(std::unique_ptr<rig::CanBus> bus) {
   bus_ = staged.get();
   dut_ = std::make_unique<host::InProcessDut>(setup.value().firmware, std::move(staged),
                                               setup.value().control_period_s);
+  realtime_frame_wait_ =
+      RealtimeFrameWait(setup.value().control_period_s, options_.frame_wait_timeout_ms);
   return {};
 }
 
@@ -184,15 +224,20 @@ rig::Result<void> Session::WaitForFrames(const proto::StepRequest& step) {
                           std::to_string(step.can_frame_time_ns_size()) + " frame times");
   }
   // The frames are already on their way over loopback; short naps until they are in, bounded.
-  const auto deadline =
-      std::chrono::steady_clock::now() + std::chrono::milliseconds(options_.frame_wait_timeout_ms);
+  const std::chrono::nanoseconds wait =
+      step.realtime() ? realtime_frame_wait_
+                      : std::chrono::milliseconds(options_.frame_wait_timeout_ms);
+  const auto deadline = std::chrono::steady_clock::now() + wait;
   const timespec nap{0, 20'000};
   bus_->Pump(step.now_ns());
   while (bus_->staged() < expected && std::chrono::steady_clock::now() < deadline) {
     ::nanosleep(&nap, nullptr);
     bus_->Pump(step.now_ns());
   }
-  if (bus_->staged() != expected) {
+  if (step.realtime()) {
+    // The runner did not wait; neither does the DUT. Late frames reach a later step.
+    if (bus_->staged() < expected) ++frame_waits_expired_;
+  } else if (bus_->staged() != expected) {
     return rig::MakeError("tick " + std::to_string(step.tick()) + ": " +
                           std::to_string(bus_->staged()) + " CAN frames arrived, the runner sent " +
                           std::to_string(expected));
@@ -219,23 +264,41 @@ std::optional<int> Session::HandleStep(const proto::StepRequest& step) {
   if (auto frames = WaitForFrames(step); !frames) return Fail(frames.error().message);
   auto command = dut_->Step(step.tick(), step.now_ns());
   if (!command) return Fail("control step failed: " + command.error().message);
-  if (auto sent = link_->Send(host::ToLink(command.value())); !sent) {
+  if (options_.wrong_tick_at_tick && step.tick() == *options_.wrong_tick_at_tick) {
+    log_ << "dut_emu: test hook: answering tick " << step.tick() << " as a tick never asked for\n";
+    command.value().answers_sequence = step.tick() + kWrongTickOffset;
+  }
+  if (auto sent = link_->Send(Answer(command.value())); !sent) {
     log_ << "dut_emu: " << sent.error().message << "\n";
     return kExitFailed;
   }
   return std::nullopt;
 }
 
+proto::LinkMessage Session::Answer(const host::ActuatorMessage& command) const {
+  proto::LinkMessage answer = host::ToLink(command);
+  proto::ActuatorCommand* fields = answer.mutable_command();
+  if (last_imu_.seen) fields->set_last_imu_sequence(last_imu_.sequence);
+  if (last_vio_.seen) fields->set_last_vio_sequence(last_vio_.sequence);
+  if (last_setpoint_.seen) fields->set_last_setpoint_sequence(last_setpoint_.sequence);
+  fields->set_can_frames_consumed(bus_->handed_over());
+  fields->set_can_frame_waits_expired(frame_waits_expired_);
+  return answer;
+}
+
 std::optional<int> Session::Handle(const proto::LinkMessage& message) {
   switch (message.payload_case()) {
     case proto::LinkMessage::kImu:
       dut_->SendImu(host::FromLink(message.imu()));
+      last_imu_.Take(message.imu().header());
       return std::nullopt;
     case proto::LinkMessage::kVio:
       dut_->SendVio(host::FromLink(message.vio()));
+      last_vio_.Take(message.vio().header());
       return std::nullopt;
     case proto::LinkMessage::kSetpoint:
       dut_->SendSetpoint(host::FromLink(message.setpoint()));
+      last_setpoint_.Take(message.setpoint().header());
       return std::nullopt;
     case proto::LinkMessage::kStep:
       return HandleStep(message.step());
@@ -355,13 +418,14 @@ rig::Result<DutEmuOptions> ParseDutEmuArgs(const std::vector<std::string>& args)
       if (!ms || ms.value() <= 0) return rig::MakeError("--frame-timeout-ms must be positive");
       options.frame_wait_timeout_ms = ms.value();
     } else if (flag == "--test-garbage-at-tick" || flag == "--test-exit-at-tick" ||
-               flag == "--test-silent-at-tick") {
+               flag == "--test-silent-at-tick" || flag == "--test-wrong-tick-at-tick") {
       auto tick = ParseNumber<std::uint64_t>(value, flag);
       if (!tick) return tick.error();
-      std::optional<std::uint64_t>& hook = flag == "--test-exit-at-tick" ? options.exit_at_tick
-                                           : flag == "--test-silent-at-tick"
-                                               ? options.silent_at_tick
-                                               : options.garbage_at_tick;
+      std::optional<std::uint64_t>& hook =
+          flag == "--test-exit-at-tick"         ? options.exit_at_tick
+          : flag == "--test-silent-at-tick"     ? options.silent_at_tick
+          : flag == "--test-wrong-tick-at-tick" ? options.wrong_tick_at_tick
+                                                : options.garbage_at_tick;
       hook = tick.value();
     } else {
       return rig::MakeError("unknown option " + flag);

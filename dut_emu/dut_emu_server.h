@@ -5,7 +5,11 @@
 // bench). A StepRequest is answered with the ActuatorCommand of that tick. In lockstep the request
 // says how many CAN frames the runner put on the bus for this step and when each finished arriving
 // on the emulated bus; the server waits for exactly those frames (the bus and the link are separate
-// channels) and hands them to the DUT with those times, so both runs see the same inputs.
+// channels) and hands them to the DUT with those times, so both runs see the same inputs. In a
+// real-time run the runner does not wait for the answer, so the server waits for the frames at
+// most one control period and then steps with what arrived (counted). Each command says what the
+// DUT had consumed (last IMU / VIO / setpoint sequence, CAN frames), from which the runner measures
+// response latency per stream.
 //
 // The library part lets tests run the server in a thread; dut_emu/main.cc is the executable.
 #pragma once
@@ -49,14 +53,19 @@ struct DutEmuOptions {
   // How long a StepRequest waits for the CAN frames it announces before the DUT gives up.
   int frame_wait_timeout_ms = 1000;
   // Test hooks that make the DUT misbehave when asked for this tick: answer with bytes that are
-  // no link frame, exit without a word, or stay silent (and alive).
+  // no link frame, exit without a word, stay silent (and alive), or answer a tick never asked
+  // for (this tick + kWrongTickOffset).
   std::optional<std::uint64_t> garbage_at_tick;
   std::optional<std::uint64_t> exit_at_tick;
   std::optional<std::uint64_t> silent_at_tick;
+  std::optional<std::uint64_t> wrong_tick_at_tick;
 };
 
+inline constexpr std::uint64_t kWrongTickOffset = 1'000'000;
+
 // argv[1..] of dut_emu: --link HOST:PORT --can SPEC [--frame-timeout-ms N]
-// [--test-garbage-at-tick T] [--test-exit-at-tick T] [--test-silent-at-tick T].
+// [--test-garbage-at-tick T] [--test-exit-at-tick T] [--test-silent-at-tick T]
+// [--test-wrong-tick-at-tick T].
 rig::Result<DutEmuOptions> ParseDutEmuArgs(const std::vector<std::string>& args);
 
 extern const char* const kDutEmuUsage;

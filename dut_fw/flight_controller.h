@@ -111,7 +111,8 @@ struct FlightControllerOutput {
 template <typename S>
 class FlightController {
  public:
-  explicit FlightController(const FlightControllerParams<S>& params) : params_(params) {}
+  explicit FlightController(const FlightControllerParams<S>& params)
+      : params_(params), max_tilt_tangent_(MaxTiltTangent(params.position)) {}
 
   const FlightControllerParams<S>& params() const { return params_; }
 
@@ -145,9 +146,9 @@ class FlightController {
                                  external_force_world_n, dt_s);
     const Vec3<S> feedforward_n =
         params_.load_feedforward ? external_force_world_n : Vec3<S>::Zero();
-    const PositionCommand<S> command =
-        ComputePositionCommand(params_.position, out.desired, est.position_m, est.velocity_m_s,
-                               est.orientation, feedforward_n);
+    const PositionCommand<S> command = ComputePositionCommandWithTiltTangent(
+        params_.position, max_tilt_tangent_, out.desired, est.position_m, est.velocity_m_s,
+        est.orientation, feedforward_n);
     out.collective_thrust_n = command.collective_thrust_n;
     out.attitude_desired = command.attitude_desired;
     out.torque_body_nm = StepAttitude(params_.attitude, state.attitude, command.attitude_desired,
@@ -165,6 +166,7 @@ class FlightController {
   }
 
   FlightControllerParams<S> params_;
+  S max_tilt_tangent_;  // MaxTiltTangent(params_.position), once instead of per step
 };
 
 }  // namespace hilrig::dut_fw

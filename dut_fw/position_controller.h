@@ -81,12 +81,20 @@ Quat<S> AttitudeFromThrustAndYaw(const Vec3<S>& thrust, S yaw_rad) {
   return Quat<S>(cz * w - sz * z, cz * x - sz * y, cz * y + sz * x, cz * z + sz * w);
 }
 
+// tan of max_tilt_rad clamped to [0, 85 deg]: a constant of the gains, so a controller that steps
+// them repeatedly computes it once (FlightController does) instead of once per control step.
 template <typename S>
-PositionCommand<S> ComputePositionCommand(
-    const PositionGains<S>& gains, const NoDeduce<Reference<S>>& desired,
-    const NoDeduce<Vec3<S>>& position_m, const NoDeduce<Vec3<S>>& velocity_m_s,
-    const NoDeduce<Quat<S>>& attitude,
-    const NoDeduce<Vec3<S>>& external_force_world_n = Vec3<S>::Zero()) {
+S MaxTiltTangent(const PositionGains<S>& gains) {
+  return std::tan(std::clamp(gains.max_tilt_rad, S(0), S(85.0 * EIGEN_PI / 180.0)));
+}
+
+// ComputePositionCommand below, with `max_tilt_tangent` = MaxTiltTangent(gains) given.
+template <typename S>
+PositionCommand<S> ComputePositionCommandWithTiltTangent(
+    const PositionGains<S>& gains, NoDeduce<S> max_tilt_tangent,
+    const NoDeduce<Reference<S>>& desired, const NoDeduce<Vec3<S>>& position_m,
+    const NoDeduce<Vec3<S>>& velocity_m_s, const NoDeduce<Quat<S>>& attitude,
+    const NoDeduce<Vec3<S>>& external_force_world_n) {
   const S weight_n = gains.mass_kg * gains.gravity_m_s2;
   const Vec3<S> feedforward_n =
       AllFinite(external_force_world_n) ? external_force_world_n : Vec3<S>::Zero();
@@ -103,11 +111,10 @@ PositionCommand<S> ComputePositionCommand(
     thrust_n = Vec3<S>(S(0), S(0), std::isfinite(load_hover_n) ? load_hover_n : weight_n);
   }
 
-  const S max_tilt_rad = std::clamp(gains.max_tilt_rad, S(0), S(85.0 * EIGEN_PI / 180.0));
   const S max_thrust_n = gains.max_collective_thrust_n;
   S fz = std::max(thrust_n.z(), std::max(gains.min_collective_thrust_n, S(1e-3) * weight_n));
   fz = std::min(fz, max_thrust_n);
-  S horizontal_limit = fz * std::tan(max_tilt_rad);
+  S horizontal_limit = fz * max_tilt_tangent;
   horizontal_limit =
       std::min(horizontal_limit, std::sqrt(std::max(max_thrust_n * max_thrust_n - fz * fz, S(0))));
   Eigen::Matrix<S, 2, 1> horizontal = thrust_n.template head<2>();
@@ -125,6 +132,16 @@ PositionCommand<S> ComputePositionCommand(
   command.collective_thrust_n =
       std::clamp(collective_n, gains.min_collective_thrust_n, max_thrust_n);
   return command;
+}
+
+template <typename S>
+PositionCommand<S> ComputePositionCommand(
+    const PositionGains<S>& gains, const NoDeduce<Reference<S>>& desired,
+    const NoDeduce<Vec3<S>>& position_m, const NoDeduce<Vec3<S>>& velocity_m_s,
+    const NoDeduce<Quat<S>>& attitude,
+    const NoDeduce<Vec3<S>>& external_force_world_n = Vec3<S>::Zero()) {
+  return ComputePositionCommandWithTiltTangent<S>(gains, MaxTiltTangent(gains), desired, position_m,
+                                                  velocity_m_s, attitude, external_force_world_n);
 }
 
 }  // namespace hilrig::dut_fw

@@ -18,57 +18,68 @@ constexpr std::int64_t kNsPerUs = 1'000;
 constexpr std::int64_t kMaxSeconds = (std::numeric_limits<std::int64_t>::max() - kNsPerS) / kNsPerS;
 
 // ---- formatting ----
+// Every piece is written into a fixed char buffer and appended to the line once: a log line is
+// formatted per frame in the lockstep loop, and per-character string appends cost several times
+// the digits themselves.
 
-void AppendHex(std::uint32_t value, int digits, std::string& out) {
+// The longest frame text: an 8-digit id, "##", the flags nibble and 64 data bytes.
+constexpr std::size_t kMaxFrameChars = 8 + 2 + 1 + 2 * 64;
+// "(" + up to 19 digits of seconds + "." + 6 digits + ")".
+constexpr std::size_t kMaxTimestampChars = 1 + 19 + 1 + 6 + 1;
+
+char* WriteHex(std::uint32_t value, int digits, char* out) {
   for (int shift = 4 * (digits - 1); shift >= 0; shift -= 4) {
-    out.push_back(kHexDigits[(value >> shift) & 0xF]);
+    *out++ = kHexDigits[(value >> shift) & 0xF];
   }
+  return out;
 }
 
-void AppendDecimal(std::int64_t value, std::size_t min_digits, std::string& out) {
-  std::array<char, 24> digits;
-  const auto end = std::to_chars(digits.data(), digits.data() + digits.size(), value).ptr;
-  const auto count = static_cast<std::size_t>(end - digits.data());
-  if (count < min_digits) out.append(min_digits - count, '0');
-  out.append(digits.data(), count);
+// `value` in decimal, left-padded with zeros to at least `min_digits`.
+char* WriteDecimal(std::uint64_t value, int min_digits, char* out) {
+  std::array<char, 20> reversed;
+  int count = 0;
+  do {
+    reversed[count++] = static_cast<char>('0' + value % 10);
+    value /= 10;
+  } while (value != 0);
+  for (int i = count; i < min_digits; ++i) *out++ = '0';
+  while (count > 0) *out++ = reversed[--count];
+  return out;
 }
 
-void AppendTimestamp(std::int64_t time_ns, std::string& out) {
+char* WriteTimestamp(std::int64_t time_ns, char* out) {
   HILRIG_CHECK(time_ns >= 0, "candump timestamps cannot be negative");
-  out.push_back('(');
-  AppendDecimal(time_ns / kNsPerS, 10, out);
-  out.push_back('.');
-  AppendDecimal((time_ns % kNsPerS) / kNsPerUs, 6, out);
-  out.push_back(')');
+  *out++ = '(';
+  out = WriteDecimal(static_cast<std::uint64_t>(time_ns / kNsPerS), 10, out);
+  *out++ = '.';
+  out = WriteDecimal(static_cast<std::uint64_t>((time_ns % kNsPerS) / kNsPerUs), 6, out);
+  *out++ = ')';
+  return out;
 }
 
-void AppendId(const CanFrame& frame, std::string& out) {
-  if (frame.error) {
-    AppendHex(frame.id | kCanErrFlag, 8, out);
-  } else if (frame.extended) {
-    AppendHex(frame.id, 8, out);
-  } else {
-    AppendHex(frame.id, 3, out);
-  }
+char* WriteId(const CanFrame& frame, char* out) {
+  if (frame.error) return WriteHex(frame.id | kCanErrFlag, 8, out);
+  return WriteHex(frame.id, frame.extended ? 8 : 3, out);
 }
 
-void AppendFrame(const CanFrame& frame, std::string& out) {
-  AppendId(frame, out);
-  out.push_back('#');
+char* WriteFrame(const CanFrame& frame, char* out) {
+  out = WriteId(frame, out);
+  *out++ = '#';
   if (frame.remote) {
-    out.push_back('R');
-    if (frame.length > 0) out.push_back(kHexDigits[frame.length]);
-    return;
+    *out++ = 'R';
+    if (frame.length > 0) *out++ = kHexDigits[frame.length];
+    return out;
   }
   if (frame.fd) {
-    out.push_back('#');
-    out.push_back(kHexDigits[(frame.bitrate_switch ? kFdFlagBrs : 0) |
-                             (frame.error_state_indicator ? kFdFlagEsi : 0)]);
+    *out++ = '#';
+    *out++ = kHexDigits[(frame.bitrate_switch ? kFdFlagBrs : 0) |
+                        (frame.error_state_indicator ? kFdFlagEsi : 0)];
   }
   for (const std::uint8_t byte : frame.payload()) {
-    out.push_back(kHexDigits[byte >> 4]);
-    out.push_back(kHexDigits[byte & 0xF]);
+    *out++ = kHexDigits[byte >> 4];
+    *out++ = kHexDigits[byte & 0xF];
   }
+  return out;
 }
 
 // ---- parsing ----
@@ -223,12 +234,20 @@ void AppendCandumpLine(const TimedCanFrame& frame, std::string_view interface_na
                        std::string& out, DirectionMark mark) {
   const Result<void> valid = ValidateFrame(frame.frame);
   HILRIG_CHECK(valid.ok(), "cannot log an invalid frame: " + valid.error().message);
-  AppendTimestamp(frame.time_ns, out);
-  out.push_back(' ');
+  std::array<char, kMaxTimestampChars + 1> stamp;
+  char* stamp_end = WriteTimestamp(frame.time_ns, stamp.data());
+  *stamp_end++ = ' ';
+  out.append(stamp.data(), stamp_end);
   out.append(interface_name);
-  out.push_back(' ');
-  AppendFrame(frame.frame, out);
-  if (mark == DirectionMark::kRxTx) out.append(frame.tx_echo ? " T" : " R");
+  std::array<char, 1 + kMaxFrameChars + 2> text;
+  char* text_end = text.data();
+  *text_end++ = ' ';
+  text_end = WriteFrame(frame.frame, text_end);
+  if (mark == DirectionMark::kRxTx) {
+    *text_end++ = ' ';
+    *text_end++ = frame.tx_echo ? 'T' : 'R';
+  }
+  out.append(text.data(), text_end);
 }
 
 std::string FormatCandumpLine(const TimedCanFrame& frame, std::string_view interface_name) {

@@ -1,5 +1,7 @@
 #include "rig/clock.h"
 
+#include <thread>
+
 #include "rig/check.h"
 
 namespace hilrig::rig {
@@ -19,6 +21,25 @@ std::int64_t SteadyClock::NowNs() const {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() -
                                                               start_)
       .count();
+}
+
+void SteadyClock::SleepUntilNs(std::int64_t wall_ns) const {
+  std::this_thread::sleep_until(start_ + std::chrono::nanoseconds(wall_ns));
+}
+
+FakePacingClock::FakePacingClock(std::int64_t start_ns) : now_ns_(start_ns) {}
+
+std::int64_t FakePacingClock::NowNs() const { return now_ns_; }
+
+void FakePacingClock::SleepUntilNs(std::int64_t wall_ns) const {
+  if (wall_ns <= now_ns_) return;
+  now_ns_ = wall_ns;
+  ++sleeps_;
+}
+
+void FakePacingClock::AdvanceNs(std::int64_t dt_ns) const {
+  HILRIG_CHECK(dt_ns >= 0, "FakePacingClock cannot run backwards");
+  now_ns_ += dt_ns;
 }
 
 }  // namespace hilrig::rig

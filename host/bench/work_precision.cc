@@ -67,13 +67,6 @@ double WallPerSimulatedSecond(const proto::Report& report) {
   return report.simulated_s() > 0 ? report.wall_s() / report.simulated_s() : 0.0;
 }
 
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0;
-  std::sort(values.begin(), values.end());
-  const std::size_t mid = values.size() / 2;
-  return values.size() % 2 == 1 ? values[mid] : 0.5 * (values[mid - 1] + values[mid]);
-}
-
 bool Interrupted(const RunControl& control) {
   return control.stop_requested != nullptr && control.stop_requested->load();
 }
@@ -94,7 +87,7 @@ bool FiniteAt(const CapturedTrace& trace, std::size_t i) {
          trace.position_m[i].allFinite();
 }
 
-// Times the stepping loop: cheap runs again without sinks (the median of several, so one noisy
+// Times the stepping loop: cheap runs again without sinks (the fastest of several, so one noisy
 // run does not decide the front), expensive ones (or timing_repeats <= 1) from the captured run,
 // whose trace capture adds a little to the loop.
 double TimedWallPerSimS(const ScenarioConfig& config, const proto::Report& captured,
@@ -112,7 +105,8 @@ double TimedWallPerSimS(const ScenarioConfig& config, const proto::Report& captu
     runs = 1;
     return WallPerSimulatedSecond(captured);
   }
-  return Median(samples);
+  // The fastest of equal runs: noise on a shared machine only ever adds time.
+  return *std::min_element(samples.begin(), samples.end());
 }
 
 RunResult Evaluate(const PlannedRun& planned, const ScenarioConfig& config,
@@ -209,7 +203,7 @@ ScatterPlot PlotFor(const SceneResult& scene, ErrorMetric metric) {
     }
     series->points.push_back({run.wall_s_per_sim_s, run.RmsError(metric), PointLabel(run)});
   }
-  for (std::size_t index : ParetoFront(scene.runs, metric)) {
+  for (std::size_t index : ParetoFront(scene.runs, metric, scene.tolerance)) {
     plot.front.push_back(
         {scene.runs[index].wall_s_per_sim_s, scene.runs[index].RmsError(metric), ""});
   }
@@ -231,7 +225,7 @@ std::string FrontTable(const SceneResult& scene, ErrorMetric metric) {
   std::snprintf(line, sizeof(line), "  %-12s %-10s %-10s %-26s %s\n", "wall s/sim s", "error",
                 "kind", "run", "envelopes");
   out += line;
-  for (std::size_t index : ParetoFront(scene.runs, metric)) {
+  for (std::size_t index : ParetoFront(scene.runs, metric, scene.tolerance)) {
     const RunResult& run = scene.runs[index];
     std::snprintf(line, sizeof(line), "  %-12.4g %-10.3g %-10s %-26s %s\n", run.wall_s_per_sim_s,
                   run.RmsError(metric), RunKindName(run.run.kind).c_str(),
@@ -358,31 +352,64 @@ CapturedRun RunCaptured(const ScenarioConfig& config, const RunControl& control)
   return run;
 }
 
-rig::Result<ReferenceComparison> CompareWithReference(const ScenarioConfig& chosen,
-                                                      const proto::Scenario& spec,
-                                                      const std::string& spec_directory,
-                                                      const FidelityChoice& reference,
-                                                      const RunControl& control) {
-  auto reference_config = ResolveWithCalibration(WithFidelity(spec, reference), spec_directory,
-                                                 chosen.seed, chosen.hall_sensors.calibration);
+rig::Result<ReferenceRun> ReferenceFor(const ScenarioConfig& chosen, const proto::Scenario& spec,
+                                       const std::string& spec_directory,
+                                       const ReferenceSource& source, const RunControl& control) {
+  const proto::Scenario reference_spec = WithFidelity(spec, source.fidelity);
+  auto reference_config = ResolveWithCalibration(reference_spec, spec_directory, chosen.seed,
+                                                 chosen.hall_sensors.calibration);
   if (!reference_config) return reference_config.error();
-  const CapturedRun reference_run = RunCaptured(reference_config.value(), control);
-  const CapturedRun chosen_run = RunCaptured(chosen, control);
-  for (const CapturedRun* run : {&reference_run, &chosen_run}) {
-    if (run->report.stop_reason() != "completed") {
-      return rig::MakeError(std::string(run == &reference_run ? "reference" : "chosen") +
-                            " run stopped short: " + run->report.stop_reason());
+  const std::string key =
+      source.cache == nullptr
+          ? std::string()
+          : ReferenceCacheKey(reference_spec, chosen.seed, chosen.hall_sensors.calibration,
+                              source.code_identity);
+  if (source.cache != nullptr) {
+    if (std::optional<CachedReference> cached = source.cache->Load(key)) {
+      return ReferenceRun{std::move(*cached), true};
     }
   }
-  return ReferenceComparison{CompareTraces(chosen_run.trace, reference_run.trace),
-                             chosen_run.report, reference_run.report};
+  if (source.notes != nullptr) {
+    *source.notes << spec.name() << ": running the reference (" << FidelityLabel(source.fidelity)
+                  << ")"
+                  << (source.cache != nullptr ? ", kept in " + source.cache->directory() : "")
+                  << std::endl;
+  }
+  RunControl lockstep_in_process;
+  lockstep_in_process.wall_clock = control.wall_clock;
+  lockstep_in_process.stop_requested = control.stop_requested;
+  CapturedRun reference_run = RunCaptured(reference_config.value(), lockstep_in_process);
+  if (reference_run.report.stop_reason() != "completed") {
+    return rig::MakeError("the reference run stopped short: " + reference_run.report.stop_reason());
+  }
+  ReferenceRun reference{{std::move(reference_run.trace), reference_run.report.wall_s()}, false};
+  if (source.cache != nullptr) {
+    // A cache that cannot be written costs the next run time, not this run its answer.
+    if (auto stored = source.cache->Store(key, reference.run); !stored && source.notes != nullptr) {
+      *source.notes << spec.name() << ": reference not cached: " << stored.error().message << "\n";
+    }
+  }
+  return reference;
 }
 
-void AddReferenceMetrics(const ReferenceComparison& comparison, proto::Report& report) {
-  AddMetric(report, "reference_error_grasp_force_rms_n", comparison.errors.grasp_force_rms_n, "N");
-  AddMetric(report, "reference_error_load_rms_n", comparison.errors.load_rms_n, "N");
-  AddMetric(report, "reference_error_position_rms_m", comparison.errors.position_rms_m, "m");
-  AddMetric(report, "reference_wall_s", comparison.reference.wall_s(), "s");
+rig::Result<proto::FidelityError> FidelityErrorOf(
+    const ScenarioConfig& chosen, const CapturedTrace& chosen_trace, const proto::Scenario& spec,
+    const std::string& spec_directory, const ReferenceSource& source, const RunControl& control) {
+  auto reference = ReferenceFor(chosen, spec, spec_directory, source, control);
+  if (!reference) return reference.error();
+  const ErrorMetrics errors = CompareTraces(chosen_trace, reference.value().run.trace);
+  proto::FidelityError result;
+  result.set_reference_fidelity(FidelityLabel(source.fidelity));
+  result.set_reference_cached(reference.value().from_cache);
+  result.set_reference_wall_s(reference.value().run.wall_s);
+  result.set_samples_compared(errors.samples_compared);
+  result.set_grasp_force_rms_n(errors.grasp_force_rms_n);
+  result.set_grasp_force_max_n(errors.grasp_force_max_n);
+  result.set_load_rms_n(errors.load_rms_n);
+  result.set_load_max_n(errors.load_max_n);
+  result.set_position_rms_m(errors.position_rms_m);
+  result.set_position_max_m(errors.position_max_m);
+  return result;
 }
 
 std::string RunKindName(RunKind kind) {
@@ -399,7 +426,7 @@ std::string RunKindName(RunKind kind) {
   return "unknown";
 }
 
-std::vector<PlannedRun> PlanSweep(const FidelityChoice& scene, bool quick) {
+std::vector<PlannedRun> PlanSweep(const FidelityChoice& scene, bool has_film, bool quick) {
   const std::vector<proto::Integrator> integrators =
       quick ? std::vector<proto::Integrator>{proto::INTEGRATOR_SEMI_IMPLICIT_EULER,
                                              proto::INTEGRATOR_RK4}
@@ -423,13 +450,19 @@ std::vector<PlannedRun> PlanSweep(const FidelityChoice& scene, bool quick) {
       runs.push_back({RunKind::kIntegrator, fidelity});
     }
   }
-  for (const std::string& field : fields) {
+  for (const std::string& field : has_film ? fields : std::vector<std::string>{}) {
     FidelityChoice fidelity = scene;
     fidelity.field_fidelity = field;
     runs.push_back({RunKind::kField, fidelity});
   }
-  runs.push_back({RunKind::kDefault, scene});
-  return runs;
+  std::vector<PlannedRun> unique;
+  for (const PlannedRun& run : runs) {
+    if (run.fidelity == scene) continue;
+    const auto seen = [&](const PlannedRun& kept) { return kept.fidelity == run.fidelity; };
+    if (std::none_of(unique.begin(), unique.end(), seen)) unique.push_back(run);
+  }
+  unique.push_back({RunKind::kDefault, scene});
+  return unique;
 }
 
 std::string MetricName(ErrorMetric metric) {
@@ -486,7 +519,9 @@ rig::Result<SceneResult> SweepScene(const proto::Scenario& spec, const std::stri
   scene.scene = spec.name();
   scene.runs.push_back(
       Evaluate(reference, ref_config, reference_run, reference_run.trace, options, control));
-  for (const PlannedRun& planned : PlanSweep(SceneFidelity(spec), options.quick)) {
+  scene.tolerance = options.tolerance;
+  const bool has_film = spec.models().tactile().enabled();
+  for (const PlannedRun& planned : PlanSweep(SceneFidelity(spec), has_film, options.quick)) {
     if (Interrupted(control)) return rig::MakeError("interrupted");
     auto config = ResolveWithCalibration(WithFidelity(base, planned.fidelity), spec_directory,
                                          ref_config.seed, ref_config.hall_sensors.calibration);
@@ -504,7 +539,8 @@ rig::Result<SceneResult> SweepScene(const proto::Scenario& spec, const std::stri
   return scene;
 }
 
-std::vector<std::size_t> ParetoFront(const std::vector<RunResult>& runs, ErrorMetric metric) {
+std::vector<std::size_t> ParetoFront(const std::vector<RunResult>& runs, ErrorMetric metric,
+                                     const ParetoTolerance& tolerance) {
   std::vector<std::size_t> candidates;
   for (std::size_t i = 0; i < runs.size(); ++i) {
     const RunResult& run = runs[i];
@@ -515,7 +551,9 @@ std::vector<std::size_t> ParetoFront(const std::vector<RunResult>& runs, ErrorMe
   const auto dominates = [&](std::size_t a, std::size_t b) {
     const double ta = runs[a].wall_s_per_sim_s, tb = runs[b].wall_s_per_sim_s;
     const double ea = runs[a].RmsError(metric), eb = runs[b].RmsError(metric);
-    return ta <= tb && ea <= eb && (ta < tb || ea < eb);
+    const double faster = 1 - tolerance.timing_margin, slower = 1 + tolerance.timing_margin;
+    const double better = 1 - tolerance.error_tolerance, worse = 1 + tolerance.error_tolerance;
+    return (ta < tb * faster && ea <= eb * worse) || (ea < eb * better && ta <= tb * slower);
   };
   std::vector<std::size_t> front;
   for (std::size_t b : candidates) {
@@ -533,7 +571,7 @@ std::vector<std::size_t> ParetoFront(const std::vector<RunResult>& runs, ErrorMe
 void MarkParetoFronts(SceneResult& scene) {
   for (RunResult& run : scene.runs) run.pareto.clear();
   for (ErrorMetric metric : kErrorMetrics) {
-    for (std::size_t index : ParetoFront(scene.runs, metric)) {
+    for (std::size_t index : ParetoFront(scene.runs, metric, scene.tolerance)) {
       scene.runs[index].pareto.push_back(metric);
     }
   }

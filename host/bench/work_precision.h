@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "host/bench/reference_cache.h"
 #include "host/bench/trace_capture.h"
 #include "host/report/scatter_plot.h"
 #include "host/runner/runner.h"
@@ -27,6 +28,8 @@ struct FidelityChoice {
   std::optional<double> integrator_tolerance;  // Dormand-Prince only; unset: the spec's own
   int plant_substeps = 1;
   std::string field_fidelity;  // "tiles:32", "map:16", "opmap:32", ...
+
+  bool operator==(const FidelityChoice&) const = default;
 };
 
 // Short names for tables and plots: "SIE", "midpoint", "RK4", "DP".
@@ -71,25 +74,32 @@ struct CapturedRun {
 // One run with its trace kept in memory (no files).
 CapturedRun RunCaptured(const ScenarioConfig& config, const RunControl& control);
 
-struct ReferenceComparison {
-  ErrorMetrics errors;
-  proto::Report chosen;     // the run at the chosen fidelity
-  proto::Report reference;  // the run at the reference fidelity
+// Where a run's reference comes from: the fidelity it is run at, and optionally a cache that keeps
+// reference traces between runs (keyed with `code_identity`, see host/bench/reference_cache.h).
+struct ReferenceSource {
+  FidelityChoice fidelity;
+  const ReferenceCache* cache = nullptr;
+  std::string code_identity;      // required with a cache
+  std::ostream* notes = nullptr;  // optional: a line when the reference has to be run
 };
 
-// Runs `chosen` (resolved from `spec`, tactile calibration loaded) and the same scene at
-// `reference` fidelity, re-resolved from `spec` with chosen's seed and chosen's DUT calibration,
-// and returns the chosen run's errors against the reference. An error when the reference spec is
-// invalid (e.g. an unknown field fidelity) or a run stopped short of its duration.
-rig::Result<ReferenceComparison> CompareWithReference(const ScenarioConfig& chosen,
-                                                      const proto::Scenario& spec,
-                                                      const std::string& spec_directory,
-                                                      const FidelityChoice& reference,
-                                                      const RunControl& control);
+// The reference run of `chosen`'s scene: `spec` at `source.fidelity`, with chosen's seed and
+// chosen's DUT calibration, always with the in-process DUT in lockstep (the reference is a
+// question about models, not about the link). Taken from the cache when there, else run and
+// stored. An error when the reference spec is invalid (e.g. an unknown field fidelity) or the
+// reference run stopped short of its duration.
+struct ReferenceRun {
+  CachedReference run;
+  bool from_cache = false;
+};
+rig::Result<ReferenceRun> ReferenceFor(const ScenarioConfig& chosen, const proto::Scenario& spec,
+                                       const std::string& spec_directory,
+                                       const ReferenceSource& source, const RunControl& control);
 
-// reference_error_grasp_force_rms_n, reference_error_load_rms_n, reference_error_position_rms_m
-// and reference_wall_s.
-void AddReferenceMetrics(const ReferenceComparison& comparison, proto::Report& report);
+// The error of a completed run's trace against the reference of its scene.
+rig::Result<proto::FidelityError> FidelityErrorOf(
+    const ScenarioConfig& chosen, const CapturedTrace& chosen_trace, const proto::Scenario& spec,
+    const std::string& spec_directory, const ReferenceSource& source, const RunControl& control);
 
 // ---------------------------------------------------------------------------------------------
 // The sweep.
@@ -104,8 +114,11 @@ struct PlannedRun {
 };
 
 // Every run of one scene after the reference: integrators x step sizes at the scene's field
-// fidelity, field fidelities at the scene's integrator and step, and the scene as shipped.
-std::vector<PlannedRun> PlanSweep(const FidelityChoice& scene, bool quick);
+// fidelity, field fidelities at the scene's integrator and step (only when the scene has a film
+// field to vary: `has_film`), and the scene as shipped, last. A configuration is planned once:
+// the sweep's point that is the scene's own configuration is its `default` run, so that one
+// configuration is never timed twice and then split by timing noise.
+std::vector<PlannedRun> PlanSweep(const FidelityChoice& scene, bool has_film, bool quick);
 
 enum class ErrorMetric { kGraspForce, kLoad, kPosition };
 inline constexpr ErrorMetric kErrorMetrics[] = {ErrorMetric::kGraspForce, ErrorMetric::kLoad,
@@ -115,7 +128,7 @@ std::string MetricName(ErrorMetric metric);  // "grasp_force", "load", "position
 struct RunResult {
   PlannedRun run;
   double step_s = 0;            // the plant's integration step
-  double wall_s_per_sim_s = 0;  // median over the timing runs, stepping loop only
+  double wall_s_per_sim_s = 0;  // fastest of the timing runs, stepping loop only
   int timing_runs = 0;
   ErrorMetrics errors;
   bool passes_envelopes = false;
@@ -125,17 +138,29 @@ struct RunResult {
   double RmsError(ErrorMetric metric) const;
 };
 
+// How far apart two runs must be to count as different on the front. Wall times of equal work
+// vary by 10-20 % on a shared machine, and errors that agree to a percent are the same model
+// error, so a run dominates another only when it is faster by more than `timing_margin` at no
+// more than (1 + error_tolerance) of its error, or more accurate by more than `error_tolerance`
+// at no more than (1 + timing_margin) of its time.
+struct ParetoTolerance {
+  double timing_margin = 0.15;
+  double error_tolerance = 0.02;
+};
+
 struct SceneResult {
   std::string scene;
   std::vector<RunResult> runs;  // runs[0] is the reference
+  ParetoTolerance tolerance;
 };
 
 struct SweepOptions {
   bool quick = false;
   std::optional<double> duration_s;  // cut every run of the scene to this; --quick: 3 s
-  // Runs cheaper than cheap_run_wall_s are timed this often more without sinks (median); <= 1:
+  // Runs cheaper than cheap_run_wall_s are timed this often more without sinks (fastest); <= 1:
   // every run is timed by its captured run alone.
   int timing_repeats = 3;
+  ParetoTolerance tolerance;
   double cheap_run_wall_s = 2.0;
   std::ostream* progress = nullptr;  // a line per run
 };
@@ -145,9 +170,10 @@ struct SweepOptions {
 rig::Result<SceneResult> SweepScene(const proto::Scenario& spec, const std::string& spec_directory,
                                     const SweepOptions& options, const RunControl& control);
 
-// Indices into `runs` of the non-dominated runs (lower time and lower error both better),
-// excluding the reference and runs whose comparison is incomplete, sorted by time.
-std::vector<std::size_t> ParetoFront(const std::vector<RunResult>& runs, ErrorMetric metric);
+// Indices into `runs` of the non-dominated runs (lower time and lower error both better, within
+// `tolerance`), excluding the reference and runs whose comparison is incomplete, sorted by time.
+std::vector<std::size_t> ParetoFront(const std::vector<RunResult>& runs, ErrorMetric metric,
+                                     const ParetoTolerance& tolerance = {});
 
 // Sets RunResult::pareto from ParetoFront for every metric.
 void MarkParetoFronts(SceneResult& scene);

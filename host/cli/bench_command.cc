@@ -19,7 +19,7 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr const char* kBenchUsage =
-    "usage: hilrig bench --out DIR [--scenes balloon_grasp,load_ramp] [--scenarios DIR]\n"
+    "usage: hilrig bench --out DIR [--scenes balloon_grasp,load_ramp|all] [--scenarios DIR]\n"
     "                    [--duration-s S] [--quick]\n";
 constexpr int kPlotColumns = 3;
 
@@ -44,6 +44,19 @@ std::vector<std::string> SplitCommas(const std::string& text) {
 std::string SceneFile(const std::string& scene, const fs::path& scenarios_dir) {
   if (scene.ends_with(".textproto")) return scene;
   return (scenarios_dir / (scene + ".textproto")).string();
+}
+
+// Every shipped scene: the specs directly in the scenarios folder, sorted.
+std::vector<std::string> AllSceneFiles(const fs::path& scenarios_dir) {
+  std::vector<std::string> files;
+  std::error_code error;
+  for (const auto& entry : fs::directory_iterator(scenarios_dir, error)) {
+    if (entry.is_regular_file() && entry.path().extension() == ".textproto") {
+      files.push_back(entry.path().string());
+    }
+  }
+  std::sort(files.begin(), files.end());
+  return files;
 }
 
 rig::Result<double> ParseDuration(const std::string& text) {
@@ -76,9 +89,13 @@ rig::Result<BenchOptions> ParseBenchOptions(std::vector<std::string> args) {
   const std::string* scenarios = cli.Option("--scenarios");
   const fs::path scenarios_dir = scenarios != nullptr ? *scenarios : "scenarios";
   const std::string* scenes = cli.Option("--scenes");
-  for (const std::string& scene :
-       SplitCommas(scenes != nullptr ? *scenes : "balloon_grasp,load_ramp")) {
-    options.scene_files.push_back(SceneFile(scene, scenarios_dir));
+  if (scenes != nullptr && *scenes == "all") {
+    options.scene_files = AllSceneFiles(scenarios_dir);
+  } else {
+    for (const std::string& scene :
+         SplitCommas(scenes != nullptr ? *scenes : "balloon_grasp,load_ramp")) {
+      options.scene_files.push_back(SceneFile(scene, scenarios_dir));
+    }
   }
   if (options.scene_files.empty()) return rig::MakeError("--scenes names no scene");
   if (const std::string* duration = cli.Option("--duration-s")) {

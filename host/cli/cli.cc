@@ -6,8 +6,10 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <optional>
 
+#include "host/bench/reference_cache.h"
 #include "host/bench/work_precision.h"
 #include "host/cli/bench_command.h"
 #include "host/cli/cli_args.h"
@@ -32,7 +34,9 @@ constexpr const char* kUsage =
     "  hilrig run DIR/ [--out DIR] [--seed N]             run every *.textproto in DIR\n"
     "      run options: --dut inproc|process (the DUT in this process, the default, or in\n"
     "      its own dut_emu process over the HIL link, lockstep) [--dut-timeout-s S]\n"
-    "      (how long a dut process may take to answer a tick; default 1)\n"
+    "      (how long a dut process may take to answer a tick; default 1) [--realtime]\n"
+    "      (pace the run by the wall clock, the DUT answering asynchronously; reports loop\n"
+    "      period, late ticks and DUT latency and grades the spec's timing envelopes)\n"
     "  hilrig check FILE.textproto...                     validate scenario specs\n"
     "  hilrig bench --out DIR [--scenes a,b] [--duration-s S] [--quick]\n"
     "                                                     work-precision sweep\n"
@@ -42,22 +46,28 @@ constexpr const char* kUsage =
     "  hilrig decode --calibration FILE                   stdin 'bx by bz' (T) -> S\n"
     "  hilrig help                                        this text\n"
     "run writes report.json, junit.xml, trace.csv and can.log into --out (default\n"
-    "hilrig_out/<scenario>); run FILE --reference also runs the tight reference fidelity\n"
-    "and adds reference_error_* metrics. Exit codes: 0 every check met its expected verdict,\n"
+    "hilrig_out/<scenario>) and compares the trace with the scene's reference run (tight\n"
+    "integrator and field, kept in a cache per build: --reference-cache DIR, default\n"
+    "~/.cache/hilrig/reference); --no-reference skips it. Exit codes: 0 every check met its\n"
+    "expected verdict,\n"
     "1 a check did not or the run was cut short, 2 bad input or usage.\n";
 
 struct RunOptions {
   std::string target;
   std::optional<std::string> out_dir;
   std::optional<std::uint64_t> seed;
-  bool reference = false;  // --reference: also run the reference fidelity and compare
-  DutFactory dut_factory;  // --dut process; unset: in process
+  bool reference = true;  // --no-reference: do not compare with the reference run
+  std::optional<std::string> reference_cache_dir;  // --reference-cache
+  DutFactory dut_factory;                          // --dut process; unset: in process
+  bool realtime = false;                           // --realtime: paced by the wall clock
 };
 
 using Streams = CliStreams;
 
-// --dut inproc|process and --dut-timeout-s; an unset factory is the in-process DUT.
-rig::Result<DutFactory> ParseDutOptions(const CliArgs& cli) {
+// --dut inproc|process and --dut-timeout-s; an unset factory is the in-process DUT. In real time
+// the process DUT reads a wall clock of its own for its watchdog and latencies (differences only,
+// so its epoch does not matter); the factory keeps it alive for every DUT it starts.
+rig::Result<DutFactory> ParseDutOptions(const CliArgs& cli, bool realtime) {
   const std::string* mode = cli.Option("--dut");
   const std::string* timeout = cli.Option("--dut-timeout-s");
   if (mode != nullptr && *mode != "inproc" && *mode != "process") {
@@ -77,26 +87,54 @@ rig::Result<DutFactory> ParseDutOptions(const CliArgs& cli) {
   if (auto valid = ValidateProcessDutOptions(options); !valid) {
     return rig::MakeError("--dut-timeout-s: " + valid.error().message);
   }
-  return DutFactory([options](const ScenarioConfig& config, std::unique_ptr<rig::CanBus> bus,
-                              double control_period_s) -> rig::Result<std::unique_ptr<DutPort>> {
+  std::shared_ptr<const rig::SteadyClock> dut_clock;
+  if (realtime) {
+    dut_clock = std::make_shared<const rig::SteadyClock>();
+    options.wall_clock = dut_clock.get();
+  }
+  return DutFactory([options, dut_clock](
+                        const ScenarioConfig& config, std::unique_ptr<rig::CanBus> bus,
+                        double control_period_s) -> rig::Result<std::unique_ptr<DutPort>> {
     auto dut = ProcessDut::Start(FirmwareFor(config), std::move(bus), control_period_s, options);
     if (!dut) return dut.error();
     return std::unique_ptr<DutPort>(std::move(dut).value());
   });
 }
 
+// Removes every `flag` from args; true if there was one.
+bool TakeFlag(std::vector<std::string>& args, const std::string& flag) {
+  const auto removed = std::remove(args.begin() + 1, args.end(), flag);
+  const bool present = removed != args.end();
+  args.erase(removed, args.end());
+  return present;
+}
+
 rig::Result<RunOptions> ParseRunOptions(std::vector<std::string> args) {
-  const auto reference = std::remove(args.begin() + 1, args.end(), std::string("--reference"));
-  const bool with_reference = reference != args.end();
-  args.erase(reference, args.end());
-  auto parsed = ParseCliArgs(args, {"--out", "--seed", "--dut", "--dut-timeout-s"});
+  // --reference is the default; the flag stays accepted for scripts written when it was not.
+  const bool with_reference = TakeFlag(args, "--reference");
+  const bool without_reference = TakeFlag(args, "--no-reference");
+  const bool realtime = TakeFlag(args, "--realtime");
+  // The reference is a lockstep simulation of the scene; a real-time trace is not reproducible.
+  if (realtime && with_reference) {
+    return rig::MakeError(
+        "--reference compares lockstep runs; it cannot be combined with --realtime");
+  }
+  if (with_reference && without_reference) {
+    return rig::MakeError("--reference and --no-reference contradict each other");
+  }
+  auto parsed =
+      ParseCliArgs(args, {"--out", "--seed", "--dut", "--dut-timeout-s", "--reference-cache"});
   if (!parsed) return parsed.error();
   const CliArgs& cli = parsed.value();
   if (cli.positional.size() != 1) {
     return rig::MakeError("run takes one scenario file or folder");
   }
   RunOptions options;
-  options.reference = with_reference;
+  options.reference = !without_reference && !realtime;
+  options.realtime = realtime;
+  if (const std::string* cache = cli.Option("--reference-cache")) {
+    options.reference_cache_dir = *cache;
+  }
   options.target = cli.positional.front();
   if (const std::string* out = cli.Option("--out")) options.out_dir = *out;
   if (const std::string* seed_text = cli.Option("--seed")) {
@@ -104,7 +142,7 @@ rig::Result<RunOptions> ParseRunOptions(std::vector<std::string> args) {
     if (!seed) return seed.error();
     options.seed = seed.value();
   }
-  auto dut = ParseDutOptions(cli);
+  auto dut = ParseDutOptions(cli, realtime);
   if (!dut) return dut.error();
   options.dut_factory = std::move(dut).value();
   return options;
@@ -118,8 +156,10 @@ struct ScenarioOutcome {
 
 rig::Result<proto::Report> RunToDirectory(const proto::Scenario& spec, const std::string& spec_path,
                                           const fs::path& out_dir,
-                                          std::optional<std::uint64_t> seed, bool reference,
-                                          const DutFactory& dut_factory, const Streams& io) {
+                                          std::optional<std::uint64_t> seed,
+                                          const ReferenceSource* reference,
+                                          const DutFactory& dut_factory, bool realtime,
+                                          const Streams& io) {
   std::error_code error;
   fs::create_directories(out_dir, error);
   if (error) return rig::MakeError("cannot create " + out_dir.string() + ": " + error.message());
@@ -134,9 +174,14 @@ rig::Result<proto::Report> RunToDirectory(const proto::Scenario& spec, const std
     return rig::MakeError(spec_path + ": tactile calibration: " + calibrated.error().message);
   }
   PlotTrace plot_trace;
-  const auto add_to_plots = [&plot_trace](const TraceSample& sample) { plot_trace.Add(sample); };
-  proto::Report report = RunScenario(config, {&trace, &can_log, &io.err, add_to_plots},
-                                     {&wall_clock, io.stop_requested, dut_factory});
+  CapturedTrace captured;
+  const auto keep_sample = [&](const TraceSample& sample) {
+    plot_trace.Add(sample);
+    if (reference != nullptr) captured.Add(sample);
+  };
+  proto::Report report =
+      RunScenario(config, {&trace, &can_log, &io.err, keep_sample},
+                  {&wall_clock, io.stop_requested, dut_factory, realtime ? &wall_clock : nullptr});
   report.set_spec_file(spec_path);
   // Calibrating at start and tabulating field maps happen before the first tick; the real-time
   // factor is the stepping loop's, and this is the rest.
@@ -146,12 +191,18 @@ rig::Result<proto::Report> RunToDirectory(const proto::Scenario& spec, const std
       WriteRunPlots(plot_trace, config.envelopes, config.gripper.enabled, out_dir.string());
   if (!plots) return plots.error();
   for (const std::string& plot : plots.value()) report.add_plots(plot);
-  if (reference) {
-    auto compared = CompareWithReference(config, spec, fs::path(spec_path).parent_path().string(),
-                                         ReferenceFidelity(false),
-                                         {&wall_clock, io.stop_requested, dut_factory});
-    if (!compared) return rig::MakeError(spec_path + ": --reference: " + compared.error().message);
-    AddReferenceMetrics(compared.value(), report);
+  if (reference != nullptr && report.stop_reason() == "completed") {
+    RunControl reference_control;
+    reference_control.wall_clock = &wall_clock;
+    reference_control.stop_requested = io.stop_requested;
+    auto error = FidelityErrorOf(config, captured, spec, fs::path(spec_path).parent_path().string(),
+                                 *reference, reference_control);
+    // Without a reference the run still has its verdict; the report then has no fidelity error.
+    if (error) {
+      *report.mutable_fidelity_error() = std::move(error).value();
+    } else {
+      io.err << spec_path << ": no fidelity error: " << error.error().message << "\n";
+    }
   }
   trace.close();
   can_log.close();
@@ -168,7 +219,8 @@ rig::Result<proto::Report> RunToDirectory(const proto::Scenario& spec, const std
 
 ScenarioOutcome RunOneFile(const std::string& path, const fs::path& out_dir,
                            std::optional<std::uint64_t> seed, const Streams& io,
-                           bool reference = false, const DutFactory& dut_factory = {}) {
+                           const ReferenceSource* reference, const DutFactory& dut_factory,
+                           bool realtime) {
   ScenarioOutcome outcome;
   outcome.name = fs::path(path).stem().string();
   auto spec = LoadScenario(path);
@@ -176,7 +228,8 @@ ScenarioOutcome RunOneFile(const std::string& path, const fs::path& out_dir,
     io.err << spec.error().message << "\n";
     return outcome;
   }
-  auto report = RunToDirectory(spec.value(), path, out_dir, seed, reference, dut_factory, io);
+  auto report =
+      RunToDirectory(spec.value(), path, out_dir, seed, reference, dut_factory, realtime, io);
   if (!report) {
     io.err << "hilrig: " << report.error().message << "\n";
     return outcome;
@@ -190,8 +243,19 @@ void PrintRun(const ScenarioOutcome& outcome, const Streams& io) {
   for (const proto::EnvelopeResult& result : outcome.report.envelopes()) {
     io.out << FormatEnvelopeLine(result) << "\n";
   }
+  for (const proto::TimingCheckResult& check : outcome.report.timing_checks()) {
+    io.out << FormatTimingCheckLine(check) << "\n";
+  }
+  for (const std::string& line : FormatRealtimeTiming(outcome.report.timing())) {
+    io.out << line << "\n";
+  }
   for (const proto::ObjectOutcome& object : outcome.report.objects()) {
     io.out << FormatObjectLine(object) << "\n";
+  }
+  if (outcome.report.has_fidelity_error()) {
+    io.out << FormatFidelityErrorLine(outcome.report.fidelity_error(),
+                                      outcome.report.objects_size() > 0)
+           << "\n";
   }
   io.out << FormatTimingLine(outcome.report) << std::endl;
 }
@@ -220,6 +284,28 @@ std::string SummaryRow(const ScenarioOutcome& outcome) {
   return row;
 }
 
+// The reference every run of one command compares with, and the cache that keeps it.
+struct ReferenceSetup {
+  std::optional<ReferenceCache> cache;
+  ReferenceSource source;
+};
+
+std::unique_ptr<ReferenceSetup> MakeReferenceSetup(const RunOptions& options, const Streams& io) {
+  if (!options.reference) return nullptr;
+  auto setup = std::make_unique<ReferenceSetup>();
+  setup->source.fidelity = ReferenceFidelity(false);
+  setup->source.notes = &io.err;
+  auto identity = ExecutableIdentity();
+  if (identity) {
+    setup->cache.emplace(options.reference_cache_dir.value_or(DefaultReferenceCacheDir()));
+    setup->source.cache = &*setup->cache;
+    setup->source.code_identity = identity.value();
+  } else {
+    io.err << "hilrig: reference cache off (" << identity.error().message << ")\n";
+  }
+  return setup;
+}
+
 int RunFolder(const RunOptions& options, const Streams& io) {
   const std::vector<std::string> files = ScenarioFilesIn(options.target);
   if (files.empty()) {
@@ -227,12 +313,15 @@ int RunFolder(const RunOptions& options, const Streams& io) {
     return kExitBadInput;
   }
   const fs::path out_root = options.out_dir.value_or("hilrig_out");
+  const std::unique_ptr<ReferenceSetup> reference = MakeReferenceSetup(options, io);
   std::vector<ScenarioOutcome> outcomes;
   for (const std::string& file : files) {
     if (io.stop_requested != nullptr && io.stop_requested->load()) break;
     io.out << "== " << file << "\n";
     const fs::path out_dir = out_root / fs::path(file).stem();
-    outcomes.push_back(RunOneFile(file, out_dir, options.seed, io, false, options.dut_factory));
+    outcomes.push_back(RunOneFile(file, out_dir, options.seed, io,
+                                  reference ? &reference->source : nullptr, options.dut_factory,
+                                  options.realtime));
     if (outcomes.back().exit_code != kExitBadInput) PrintRun(outcomes.back(), io);
   }
   int exit_code = kExitPass;
@@ -261,9 +350,10 @@ int RunCommand(const std::vector<std::string>& args, const Streams& io) {
   }
   const fs::path out_dir =
       options.value().out_dir.value_or((fs::path("hilrig_out") / fs::path(target).stem()).string());
-  const ScenarioOutcome outcome =
-      RunOneFile(target, out_dir, options.value().seed, io, options.value().reference,
-                 options.value().dut_factory);
+  const std::unique_ptr<ReferenceSetup> reference = MakeReferenceSetup(options.value(), io);
+  const ScenarioOutcome outcome = RunOneFile(target, out_dir, options.value().seed, io,
+                                             reference ? &reference->source : nullptr,
+                                             options.value().dut_factory, options.value().realtime);
   if (outcome.exit_code != kExitBadInput) PrintRun(outcome, io);
   return outcome.exit_code;
 }

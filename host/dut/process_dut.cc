@@ -14,6 +14,14 @@ namespace hilrig::host {
 namespace {
 
 constexpr int kPollSliceMs = 20;  // how often a waiting runner checks that the process lives
+constexpr int kLockstepSendTimeoutMs = 1000;
+// Per stream, and for requests: 16 s of a 1 kHz stream, far past any watchdog worth setting.
+constexpr std::size_t kMaxPending = std::size_t{1} << 14;
+// A closed link usually means a dead process whose exit status follows within microseconds; a
+// poll waits this much wall time for it before it names the closed link instead.
+constexpr std::int64_t kLinkClosedGraceNs = 200'000'000;
+// Bounds one poll's work on a DUT that floods the link.
+constexpr int kMaxEventsPerPoll = 4096;
 
 std::string Seconds(double seconds) {
   char text[32];
@@ -149,6 +157,7 @@ ProcessDut::ProcessDut(ChildProcess child, std::unique_ptr<LinkConnection> link,
       forward_bus_(std::move(forward_bus)),
       options_(options) {
   frames_.reserve(64);
+  if (options_.wall_clock != nullptr) latencies_ = std::make_unique<Latencies>();
 }
 
 ProcessDut::~ProcessDut() {
@@ -163,7 +172,7 @@ ProcessDut::~ProcessDut() {
 
 std::string ProcessDut::description() const {
   return "dut_fw in a dut_emu process (pid " + std::to_string(child_.pid()) +
-         ") over the HIL link, lockstep";
+         ") over the HIL link, " + (latencies_ ? "real time" : "lockstep");
 }
 
 std::vector<std::pair<std::string, double>> ProcessDut::link_metrics() const {
@@ -173,7 +182,23 @@ std::vector<std::pair<std::string, double>> ProcessDut::link_metrics() const {
   metrics.emplace_back("link_commands_received", static_cast<double>(commands_received_));
   metrics.emplace_back("link_can_frames_forwarded", static_cast<double>(can_frames_forwarded_));
   metrics.emplace_back("link_watchdog_timeouts", static_cast<double>(watchdog_timeouts_));
+  if (!latencies_) return metrics;  // lockstep reports stay as they were
+  const auto d = [](std::uint64_t value) { return static_cast<double>(value); };
+  metrics.emplace_back("link_commands_superseded", d(commands_superseded_));
+  metrics.emplace_back("link_requests_skipped", d(requests_skipped_));
+  metrics.emplace_back("link_unrequested_answers", d(unrequested_answers_));
+  metrics.emplace_back("link_latency_samples_dropped", d(latency_samples_dropped_));
+  metrics.emplace_back("dut_can_frame_waits_expired", d(dut_frame_waits_expired_));
   return metrics;
+}
+
+std::vector<StreamLatency> ProcessDut::response_latencies() const {
+  if (!latencies_) return {};
+  return {{"imu", latencies_->imu.latency.Summary()},
+          {"vio", latencies_->vio.latency.Summary()},
+          {"setpoint", latencies_->setpoint.latency.Summary()},
+          {"can", latencies_->can.latency.Summary()},
+          {"command", latencies_->command.Summary()}};
 }
 
 rig::Error ProcessDut::Failed(std::string message) {
@@ -193,26 +218,64 @@ std::string ProcessDut::ProcessGone() {
 
 void ProcessDut::Forward(const proto::LinkMessage& message) {
   if (failure_) return;
-  if (auto sent = link_->Send(message); !sent) {
+  // A real-time plant never waits for the socket: a DUT that stops reading fails the run instead.
+  const int timeout_ms = latencies_ ? 0 : kLockstepSendTimeoutMs;
+  if (auto sent = link_->Send(message, timeout_ms); !sent) {
+    if (latencies_ && link_->closed() && !child_.PollExit()) {
+      // Most likely a process still dying: the next polls name it, or the closed link.
+      if (!link_closed_wall_ns_) link_closed_wall_ns_ = options_.wall_clock->NowNs();
+      return;
+    }
     (void)Failed(child_.PollExit() ? "dut process " + *child_.PollExit()
                                    : "link send failed: " + sent.error().message);
   }
 }
 
+void ProcessDut::LogSend(SendLog& log, std::uint64_t key, std::int64_t wall_ns) {
+  if (log.pending.size() >= kMaxPending) {
+    log.pending.pop_front();
+    ++latency_samples_dropped_;
+  }
+  log.pending.push_back({key, wall_ns});
+}
+
+void ProcessDut::Cover(SendLog& log, std::uint64_t up_to_key, std::int64_t arrival_wall_ns) {
+  while (!log.pending.empty() && log.pending.front().key <= up_to_key) {
+    log.latency.Add(arrival_wall_ns - log.pending.front().wall_ns);
+    log.pending.pop_front();
+  }
+}
+
 void ProcessDut::SendImu(const ImuMessage& message) {
   ++counters_.imu_messages;
+  if (latencies_) LogSend(latencies_->imu, message.stamp.sequence, options_.wall_clock->NowNs());
   Forward(ToLink(message));
 }
 
 void ProcessDut::SendVio(const VioMessage& message) {
   ++counters_.vio_messages;
+  if (latencies_) LogSend(latencies_->vio, message.stamp.sequence, options_.wall_clock->NowNs());
   Forward(ToLink(message));
 }
 
-void ProcessDut::SendSetpoint(const SetpointMessage& message) { Forward(ToLink(message)); }
+void ProcessDut::SendSetpoint(const SetpointMessage& message) {
+  if (latencies_) {
+    LogSend(latencies_->setpoint, message.stamp.sequence, options_.wall_clock->NowNs());
+  }
+  Forward(ToLink(message));
+}
 
-rig::Result<ActuatorMessage> ProcessDut::Step(std::uint64_t tick, std::int64_t now_ns) {
+rig::Result<void> ProcessDut::SendStepRequest(std::uint64_t tick, std::int64_t now_ns,
+                                              bool realtime) {
   if (failure_) return rig::MakeError(*failure_);
+  if (last_requested_ && tick <= *last_requested_) {
+    return Failed("tick " + std::to_string(tick) + " requested after tick " +
+                  std::to_string(*last_requested_));
+  }
+  if (outstanding_.size() >= kMaxPending) {
+    return Failed("the dut fell " + std::to_string(outstanding_.size()) + " requests behind");
+  }
+  const std::int64_t wall_ns = latencies_ ? options_.wall_clock->NowNs() : 0;
   frames_.clear();
   runner_bus_->Receive(now_ns, frames_);
   proto::LinkMessage request;
@@ -220,19 +283,77 @@ rig::Result<ActuatorMessage> ProcessDut::Step(std::uint64_t tick, std::int64_t n
   step->set_tick(tick);
   step->set_now_ns(now_ns);
   step->set_can_frames_sent(frames_.size());
+  step->set_realtime(realtime);
   for (const rig::TimedCanFrame& timed : frames_) {
     // The sender time in the datagram is the arrival time too; the DUT takes it from the request.
     if (auto sent = forward_bus_->Send(timed.frame, timed.time_ns); !sent) {
       return Failed("forwarding a CAN frame to the dut: " + sent.error().message);
     }
     step->add_can_frame_time_ns(timed.time_ns);
+    ++can_frames_forwarded_;
+    if (latencies_) LogSend(latencies_->can, can_frames_forwarded_, wall_ns);
   }
-  can_frames_forwarded_ += frames_.size();
   counters_.can_frames_received += frames_.size();
   sequencer_.Stamp(request, now_ns);
   Forward(request);
   if (failure_) return rig::MakeError(*failure_);
+  outstanding_.push_back({tick, wall_ns});
+  last_requested_ = tick;
+  return {};
+}
+
+rig::Result<ActuatorMessage> ProcessDut::Step(std::uint64_t tick, std::int64_t now_ns) {
+  if (auto sent = SendStepRequest(tick, now_ns, /*realtime=*/false); !sent) return sent.error();
   return AwaitCommand(tick);
+}
+
+void ProcessDut::RequestStep(std::uint64_t tick, std::int64_t now_ns) {
+  if (failure_) return;
+  if (!latencies_) {
+    (void)Failed(
+        "a real-time step request without a wall clock (set ProcessDutOptions::wall_clock)");
+    return;
+  }
+  (void)SendStepRequest(tick, now_ns, /*realtime=*/true);  // a failure sticks for the next poll
+}
+
+rig::Result<std::optional<ActuatorMessage>> ProcessDut::PollCommand() {
+  if (failure_) return rig::MakeError(*failure_);
+  if (!latencies_) {
+    return Failed("a real-time poll without a wall clock (set ProcessDutOptions::wall_clock)");
+  }
+  const std::int64_t now_ns = options_.wall_clock->NowNs();
+  std::optional<ActuatorMessage> newest;
+  for (int events = 0; events < kMaxEventsPerPoll && !link_closed_wall_ns_; ++events) {
+    const LinkReceived received = link_->Poll();
+    if (received.status == LinkReceiveStatus::kTimeout) break;
+    if (received.status == LinkReceiveStatus::kClosed) {
+      link_closed_wall_ns_ = now_ns;
+      break;
+    }
+    auto command = TakeCommand(received, now_ns);
+    if (!command) return command.error();
+    if (newest) ++commands_superseded_;
+    newest = std::move(command).value();
+  }
+  if (auto alive = CheckAlive(now_ns); !alive) return alive.error();
+  return newest;
+}
+
+rig::Result<void> ProcessDut::CheckAlive(std::int64_t now_wall_ns) {
+  if (auto exit = child_.PollExit()) return Failed("dut process " + *exit);
+  if (link_closed_wall_ns_) {
+    // Nothing can answer any more; name the closed link unless the exit status turns up in time.
+    if (now_wall_ns - *link_closed_wall_ns_ < kLinkClosedGraceNs) return {};
+    return Failed("link closed (the dut process is still running)");
+  }
+  if (outstanding_.empty()) return {};
+  const Request& oldest = outstanding_.front();
+  const auto timeout_ns = static_cast<std::int64_t>(options_.answer_timeout_s * 1e9);
+  if (now_wall_ns - oldest.wall_ns <= timeout_ns) return {};
+  ++watchdog_timeouts_;
+  return Failed("dut did not answer for " + Seconds(options_.answer_timeout_s) + " (tick " +
+                std::to_string(oldest.tick) + ")");
 }
 
 rig::Result<ActuatorMessage> ProcessDut::AwaitCommand(std::uint64_t tick) {
@@ -250,36 +371,83 @@ rig::Result<ActuatorMessage> ProcessDut::AwaitCommand(std::uint64_t tick) {
         continue;
       case LinkReceiveStatus::kClosed:
         return Failed(ProcessGone());
-      case LinkReceiveStatus::kLinkError:
-        return Failed("dut sent a bad message (" + received.error + ")");
-      case LinkReceiveStatus::kSocketError:
-        return Failed("link to the dut failed: " + received.error);
-      case LinkReceiveStatus::kMessage:
-        break;
+      default:
+        return TakeCommand(received, latencies_ ? options_.wall_clock->NowNs() : 0);
     }
-    const proto::LinkMessage& message = received.message;
-    if (message.has_bye()) {
-      return Failed("dut ended the link: " + message.bye().reason());
-    }
-    if (!message.has_command()) {
-      return Failed(
-          "dut sent an unexpected " +
-          proto::LinkMessage::descriptor()->FindFieldByNumber(message.payload_case())->name() +
-          " message instead of the command for tick " + std::to_string(tick));
-    }
-    if (message.command().answers_sequence() != tick) {
-      return Failed("dut answered tick " + std::to_string(message.command().answers_sequence()) +
-                    " when asked for tick " + std::to_string(tick));
-    }
-    auto command = FromLink(message.command());
-    if (!command) return Failed("dut sent a bad command: " + command.error().message);
-    ++commands_received_;
-    return command;
   }
   ++watchdog_timeouts_;
   if (auto exit = child_.PollExit()) return Failed("dut process " + *exit);
   return Failed("dut did not answer tick " + std::to_string(tick) + " within " +
                 Seconds(options_.answer_timeout_s));
+}
+
+rig::Result<ActuatorMessage> ProcessDut::TakeCommand(const LinkReceived& received,
+                                                     std::int64_t arrival_wall_ns) {
+  if (received.status == LinkReceiveStatus::kLinkError) {
+    return Failed("dut sent a bad message (" + received.error + ")");
+  }
+  if (received.status != LinkReceiveStatus::kMessage) {
+    return Failed("link to the dut failed: " + received.error);
+  }
+  const proto::LinkMessage& message = received.message;
+  if (message.has_bye()) {
+    return Failed("dut ended the link: " + message.bye().reason());
+  }
+  if (!message.has_command()) {
+    return Failed(
+        "dut sent an unexpected " +
+        proto::LinkMessage::descriptor()->FindFieldByNumber(message.payload_case())->name() +
+        " message instead of the command for tick " + std::to_string(last_requested_.value_or(0)));
+  }
+  if (auto matched = MatchRequest(message.command().answers_sequence(), arrival_wall_ns);
+      !matched) {
+    return matched.error();
+  }
+  auto command = FromLink(message.command());
+  if (!command) return Failed("dut sent a bad command: " + command.error().message);
+  RecordCoverage(message.command(), arrival_wall_ns);
+  ++commands_received_;
+  return command;
+}
+
+rig::Result<void> ProcessDut::MatchRequest(std::uint64_t answers_tick,
+                                           std::int64_t arrival_wall_ns) {
+  if (last_answered_ && answers_tick <= *last_answered_) {
+    ++unrequested_answers_;
+    return Failed("dut answered tick " + std::to_string(answers_tick) + " after tick " +
+                  std::to_string(*last_answered_) + " (answers went backwards)");
+  }
+  // A DUT that falls behind may answer only its newest request; the ones before it are skipped.
+  while (!outstanding_.empty() && outstanding_.front().tick < answers_tick) {
+    outstanding_.pop_front();
+    ++requests_skipped_;
+  }
+  if (outstanding_.empty() || outstanding_.front().tick != answers_tick) {
+    ++unrequested_answers_;
+    return Failed("dut answered tick " + std::to_string(answers_tick) +
+                  ", which was never requested (last request: tick " +
+                  (last_requested_ ? std::to_string(*last_requested_) : "none") + ")");
+  }
+  if (latencies_) latencies_->command.Add(arrival_wall_ns - outstanding_.front().wall_ns);
+  outstanding_.pop_front();
+  last_answered_ = answers_tick;
+  return {};
+}
+
+void ProcessDut::RecordCoverage(const proto::ActuatorCommand& command,
+                                std::int64_t arrival_wall_ns) {
+  dut_frame_waits_expired_ = command.can_frame_waits_expired();
+  if (!latencies_) return;
+  if (command.has_last_imu_sequence()) {
+    Cover(latencies_->imu, command.last_imu_sequence(), arrival_wall_ns);
+  }
+  if (command.has_last_vio_sequence()) {
+    Cover(latencies_->vio, command.last_vio_sequence(), arrival_wall_ns);
+  }
+  if (command.has_last_setpoint_sequence()) {
+    Cover(latencies_->setpoint, command.last_setpoint_sequence(), arrival_wall_ns);
+  }
+  Cover(latencies_->can, command.can_frames_consumed(), arrival_wall_ns);
 }
 
 }  // namespace hilrig::host

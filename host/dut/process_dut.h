@@ -5,8 +5,17 @@
 // process sees exactly what the in-process DUT would) and waits for the answer under a watchdog:
 // no answer in time, a dead process, a closed link or a bad message end the run with an error that
 // says which. The destructor ends and reaps the process.
+//
+// Real-time runs (RequestStep / PollCommand, with ProcessDutOptions::wall_clock set) share that
+// path: a request goes out the same way without waiting, and each poll drains what the link holds
+// without blocking, keeps the newest command, checks every answer against the ticks requested, and
+// runs the watchdog on the wall clock (the oldest unanswered request, the process, the link). The
+// wall send time of each IMU, VIO, setpoint message, CAN frame and request waits in a bounded ring;
+// a command that says it consumed them turns them into response latencies. The latency is read
+// when the command is polled, so it includes the wait for the poll.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -18,16 +27,25 @@
 #include "host/link/hil_link_codec.h"
 #include "host/link/hil_link_socket.h"
 #include "rig/can_bus.h"
+#include "rig/clock.h"
+#include "rig/duration_histogram.h"
+#include "rig/ring_buffer.h"
 #include "rig/udp_bus.h"
 
 namespace hilrig::host {
 
 struct ProcessDutOptions {
-  std::string dut_emu_path;       // empty: "dut_emu" next to the running executable
-  double answer_timeout_s = 1.0;  // the watchdog on each Step's answer
+  std::string dut_emu_path;  // empty: "dut_emu" next to the running executable
+  // The watchdog: how long one Step waits for its answer (lockstep), or how long the oldest
+  // unanswered request may wait in wall time (real time).
+  double answer_timeout_s = 1.0;
   double start_timeout_s = 10.0;  // for the process to connect and say hello
   std::string listen_address = "127.0.0.1";
   std::vector<std::string> extra_args;  // appended to dut_emu's command line (test hooks)
+  // Set for real-time runs only (it must outlive the ProcessDut): the watchdog of PollCommand and
+  // the response latencies read it, and sends never wait for the socket. Null: lockstep only; no
+  // clock is read and RequestStep fails.
+  const rig::Clock* wall_clock = nullptr;
 };
 
 // Checks the options: a positive finite timeout, an address.
@@ -47,6 +65,11 @@ class ProcessDut final : public DutPort {
   void SendVio(const VioMessage& message) override;
   void SendSetpoint(const SetpointMessage& message) override;
   rig::Result<ActuatorMessage> Step(std::uint64_t tick, std::int64_t now_ns) override;
+  // Never block (see the file comment); PollCommand's errors stick like Step's.
+  void RequestStep(std::uint64_t tick, std::int64_t now_ns) override;
+  rig::Result<std::optional<ActuatorMessage>> PollCommand() override;
+  // "imu", "vio", "setpoint", "can", "command" (request to answer); none without a wall clock.
+  std::vector<StreamLatency> response_latencies() const override;
   DutCounters counters() const override { return counters_; }
   std::string description() const override;
   std::vector<std::pair<std::string, double>> link_metrics() const override;
@@ -58,11 +81,46 @@ class ProcessDut final : public DutPort {
              std::unique_ptr<rig::CanBus> runner_bus, std::unique_ptr<rig::UdpBus> forward_bus,
              const ProcessDutOptions& options);
 
+  // Wall send times of one stream's messages, keyed by sequence (CAN: frame count), until a
+  // command covers them. Bounded: past kMaxPending the oldest is dropped, unmeasured.
+  struct SendLog {
+    struct Sent {
+      std::uint64_t key = 0;
+      std::int64_t wall_ns = 0;
+    };
+    rig::RingBuffer<Sent> pending;
+    rig::DurationHistogram latency;
+  };
+  // Everything measured on the wall clock; only with one (real time).
+  struct Latencies {
+    SendLog imu;
+    SendLog vio;
+    SendLog setpoint;
+    SendLog can;  // keyed by the running count of frames forwarded
+    rig::DurationHistogram command;
+  };
+  struct Request {
+    std::uint64_t tick = 0;
+    std::int64_t wall_ns = 0;  // 0 without a wall clock
+  };
+
   void Forward(const proto::LinkMessage& message);
-  // The first failure sticks: every later Step reports it.
+  // The first failure sticks: every later Step or poll reports it.
   rig::Error Failed(std::string message);
   std::string ProcessGone();
+  // Forwards the frames that reached the runner's endpoint and sends the request for `tick`.
+  rig::Result<void> SendStepRequest(std::uint64_t tick, std::int64_t now_ns, bool realtime);
   rig::Result<ActuatorMessage> AwaitCommand(std::uint64_t tick);
+  // A received message, judged: the command it carries (checked against the requests, latencies
+  // recorded at `arrival_wall_ns`), or the failure it means. Not for kTimeout / kClosed.
+  rig::Result<ActuatorMessage> TakeCommand(const LinkReceived& received,
+                                           std::int64_t arrival_wall_ns);
+  rig::Result<void> MatchRequest(std::uint64_t answers_tick, std::int64_t arrival_wall_ns);
+  void RecordCoverage(const proto::ActuatorCommand& command, std::int64_t arrival_wall_ns);
+  void LogSend(SendLog& log, std::uint64_t key, std::int64_t wall_ns);
+  void Cover(SendLog& log, std::uint64_t up_to_key, std::int64_t arrival_wall_ns);
+  // After draining a poll: the process, the closed link and the watchdog, in that order.
+  rig::Result<void> CheckAlive(std::int64_t now_wall_ns);
 
   ChildProcess child_;
   std::unique_ptr<LinkConnection> link_;
@@ -76,6 +134,17 @@ class ProcessDut final : public DutPort {
   std::uint64_t commands_received_ = 0;
   std::uint64_t watchdog_timeouts_ = 0;
   std::optional<std::string> failure_;
+  // Requests not answered yet, oldest first; bounded like the send logs.
+  rig::RingBuffer<Request> outstanding_;
+  std::optional<std::uint64_t> last_requested_;
+  std::optional<std::uint64_t> last_answered_;
+  std::optional<std::int64_t> link_closed_wall_ns_;  // real time: closed, exit status not in yet
+  std::unique_ptr<Latencies> latencies_;             // null without a wall clock
+  std::uint64_t commands_superseded_ = 0;
+  std::uint64_t requests_skipped_ = 0;  // the DUT answered a later tick instead
+  std::uint64_t unrequested_answers_ = 0;
+  std::uint64_t latency_samples_dropped_ = 0;
+  std::uint64_t dut_frame_waits_expired_ = 0;
 };
 
 }  // namespace hilrig::host

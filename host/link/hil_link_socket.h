@@ -50,6 +50,9 @@ class LinkConnection {
   LinkReceived Receive(int timeout_ms);
   LinkReceived Poll() { return Receive(0); }
 
+  // The peer closed the connection (seen by a receive or a send); frames already received may
+  // still be waiting in the decoder.
+  bool closed() const { return closed_; }
   const LinkCounters& counters() const { return decoder_.counters(); }
   std::uint64_t frames_sent() const { return frames_sent_; }
   std::string peer() const;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace hilrig::host {
@@ -288,14 +289,16 @@ void StepSliding(const StepContext& ctx, GraspState& s, GraspForces& out) {
 
 void RecordDamage(const ObjectParams& object, const GraspForces& out, GraspState& s) {
   if (s.damage != DamageMode::kNone || object.damage_mode == DamageMode::kNone) return;
+  // Every pad shares the indentation, so the pad with the largest finite normal force reaches
+  // the criterion first if any does: one check instead of one per pad.
+  double largest_normal_n = -std::numeric_limits<double>::infinity();
   for (double normal : out.normal_force_n) {
-    if (DamageReached(object, normal, out.indentation_m)) {
-      s.damage = object.damage_mode;
-      if (s.damage == DamageMode::kBurst || s.damage == DamageMode::kShatter) {
-        s.mode = GraspMode::kDestroyed;
-      }
-      return;
-    }
+    if (std::isfinite(normal)) largest_normal_n = std::max(largest_normal_n, normal);
+  }
+  if (!DamageReached(object, largest_normal_n, out.indentation_m)) return;
+  s.damage = object.damage_mode;
+  if (s.damage == DamageMode::kBurst || s.damage == DamageMode::kShatter) {
+    s.mode = GraspMode::kDestroyed;
   }
 }
 
@@ -422,7 +425,7 @@ double SymmetricNormalForce(const GraspSceneParams& params, const GraspState& st
 }
 
 GraspServoLoad::GraspServoLoad(const GraspSceneParams& params, const GraspState& state)
-    : params_(params), state_(state) {}
+    : params_(params), state_(state), loads_(HasObject(state.mode) && ContactUsable(params)) {}
 
 double GraspServoLoad::TorqueAt(double angle_rad) const {
   const double torque = params_.frame.closing_m_per_rad * kGripperPadCount *
@@ -432,7 +435,7 @@ double GraspServoLoad::TorqueAt(double angle_rad) const {
 
 double GraspServoLoad::TorqueAndSlopeAt(double angle_rad, double* slope_nm_per_rad) const {
   *slope_nm_per_rad = 0.0;
-  if (!HasObject(state_.mode) || !std::isfinite(angle_rad) || !ContactUsable(params_)) return 0.0;
+  if (!loads_ || !std::isfinite(angle_rad)) return 0.0;
   const double closing = params_.frame.closing_m_per_rad;
   const double radius = PadSurfaceRadius(params_.frame, angle_rad);
   const double overlap = params_.object.half_width_m - radius;
@@ -479,8 +482,8 @@ GraspForces StepGrasp(const GraspSceneParams& params, GraspState& state,
   unsigned visited = 0;
   for (;;) {
     const GraspMode mode = state.mode;
+    if (visited != 0) out = GraspForces{};  // a re-run starts from clean forces
     visited |= 1u << static_cast<unsigned>(mode);
-    out = GraspForces{};
     switch (mode) {
       case GraspMode::kOnStand:
         StepOnStand(ctx, state, out);

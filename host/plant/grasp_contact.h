@@ -184,6 +184,9 @@ class GraspServoLoad final : public ServoLoad {
  private:
   const GraspSceneParams& params_;
   const GraspState& state_;
+  // Whether there is an object to push against and a contact the series solve can take: fixed for
+  // the load's short life, so the servo's search does not re-check it at every evaluation.
+  bool loads_;
 };
 
 // One step: updates the mode, damage and sliding, and returns the forces of this step.

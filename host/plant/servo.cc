@@ -138,8 +138,17 @@ double ServoEquilibriumAngle(const ServoParams& p, double command_rad, const Ser
   return x;
 }
 
+double ServoLagDecay(const ServoParams& p, double dt_s) {
+  return p.time_constant_s > 0 ? std::exp(-dt_s / p.time_constant_s) : 0.0;
+}
+
 ServoState StepServo(const ServoParams& p, const ServoState& state, double command_rad,
                      const ServoLoad& load, double dt_s) {
+  return StepServoWithDecay(p, state, command_rad, load, dt_s, ServoLagDecay(p, dt_s));
+}
+
+ServoState StepServoWithDecay(const ServoParams& p, const ServoState& state, double command_rad,
+                              const ServoLoad& load, double dt_s, double decay) {
   if (!Usable(p) || !std::isfinite(dt_s) || dt_s <= 0) {
     ServoState held = state;
     held.rate_rad_s = 0.0;
@@ -149,7 +158,6 @@ ServoState StepServo(const ServoParams& p, const ServoState& state, double comma
   const double command = Clamp(p, std::isfinite(command_rad) ? command_rad : angle);
   const double equilibrium = ServoEquilibriumAngle(p, command, load, angle);
 
-  const double decay = p.time_constant_s > 0 ? std::exp(-dt_s / p.time_constant_s) : 0.0;
   const double max_step = p.max_rate_rad_s * dt_s;
   const double step = std::clamp((equilibrium - angle) * (1.0 - decay), -max_step, max_step);
 

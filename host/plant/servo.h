@@ -65,6 +65,13 @@ double ServoEquilibriumAngle(const ServoParams& params, double command_rad, cons
 ServoState StepServo(const ServoParams& params, const ServoState& state, double command_rad,
                      const ServoLoad& load, double dt_s);
 
+// The first-order approach's decay over one step, exp(-dt / time_constant) (0 for a zero time
+// constant). A caller with a fixed dt computes it once and calls StepServoWithDecay, which is
+// StepServo without the exp() in the tick.
+double ServoLagDecay(const ServoParams& params, double dt_s);
+ServoState StepServoWithDecay(const ServoParams& params, const ServoState& state,
+                              double command_rad, const ServoLoad& load, double dt_s, double decay);
+
 // A load that is zero everywhere (the frame closing on air).
 class NoServoLoad final : public ServoLoad {
  public:

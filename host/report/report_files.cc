@@ -36,6 +36,34 @@ std::string FormatBounds(const proto::EnvelopeResult& result) {
 
 const char* VerdictName(proto::Verdict verdict) { return verdict == proto::PASS ? "PASS" : "FAIL"; }
 
+double Micros(double seconds) { return seconds * 1e6; }
+
+// Seconds print as µs, fractions as percent: the units a bench engineer reads timing in.
+std::string FormatTimingValue(double value, const std::string& unit) {
+  char buffer[48];
+  if (unit == "s") {
+    std::snprintf(buffer, sizeof(buffer), "%.0f us", Micros(value));
+  } else {
+    std::snprintf(buffer, sizeof(buffer), "%.3g %%", value * 100);
+  }
+  return buffer;
+}
+
+void AppendTimingCases(const proto::Report& report, std::ostringstream& cases, int& failures) {
+  for (const proto::TimingCheckResult& check : report.timing_checks()) {
+    cases << "    <testcase classname=\"" << EscapeXmlText(report.scenario()) << "\" name=\"timing "
+          << EscapeXmlText(check.name()) << "\">\n";
+    if (!check.evaluated()) {
+      cases << "      <skipped message=\"" << EscapeXmlText(check.note()) << "\"/>\n";
+    } else if (!check.passed()) {
+      ++failures;
+      cases << "      <failure message=\"" << EscapeXmlText(FormatTimingCheckLine(check))
+            << "\"/>\n";
+    }
+    cases << "    </testcase>\n";
+  }
+}
+
 }  // namespace
 
 rig::Result<void> WriteJsonFile(const google::protobuf::Message& message, const std::string& path) {
@@ -61,13 +89,15 @@ rig::Result<void> WriteJunitXml(const proto::Report& report, const std::string& 
     }
     cases << "    </testcase>\n";
   }
+  AppendTimingCases(report, cases, failures);
   if (report.stop_reason() != "completed") {
     ++failures;
     cases << "    <testcase classname=\"" << EscapeXmlText(report.scenario())
           << "\" name=\"run completes\">\n      <failure message=\""
           << EscapeXmlText(report.stop_reason()) << "\"/>\n    </testcase>\n";
   }
-  const int tests = report.envelopes_size() + (report.stop_reason() != "completed" ? 1 : 0);
+  const int tests = report.envelopes_size() + report.timing_checks_size() +
+                    (report.stop_reason() != "completed" ? 1 : 0);
   std::ostringstream xml;
   xml << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
       << "<testsuites>\n  <testsuite name=\"" << EscapeXmlText(report.scenario()) << "\" tests=\""
@@ -102,6 +132,73 @@ std::string FormatTimingLine(const proto::Report& report) {
                 report.real_time_factor(), report.simulated_s(), report.wall_s(),
                 report.stop_reason().c_str(), report.setup_s());
   return buffer;
+}
+
+std::string FormatFidelityErrorLine(const proto::FidelityError& error, bool grasp_scene) {
+  char buffer[300];
+  int length =
+      std::snprintf(buffer, sizeof(buffer),
+                    "fidelity error vs reference %s%s: ", error.reference_fidelity().c_str(),
+                    error.reference_cached() ? " (cached)" : "");
+  if (grasp_scene && length > 0) {
+    length += std::snprintf(buffer + length, sizeof(buffer) - static_cast<std::size_t>(length),
+                            "grasp force RMS %.3g N (max %.3g), load RMS %.3g N (max %.3g), ",
+                            error.grasp_force_rms_n(), error.grasp_force_max_n(),
+                            error.load_rms_n(), error.load_max_n());
+  }
+  if (length > 0 && static_cast<std::size_t>(length) < sizeof(buffer)) {
+    std::snprintf(buffer + length, sizeof(buffer) - static_cast<std::size_t>(length),
+                  "position RMS %.3g m (max %.3g)", error.position_rms_m(), error.position_max_m());
+  }
+  return buffer;
+}
+
+std::string FormatTimingCheckLine(const proto::TimingCheckResult& result) {
+  std::string line = !result.evaluated() ? "----" : result.passed() ? "PASS" : "FAIL";
+  line += "  timing " + result.name() + "  ";
+  if (result.evaluated()) {
+    line += FormatTimingValue(result.value(), result.unit());
+    if (!result.note().empty()) line += " (" + result.note() + ")";
+  } else {
+    line += result.note();
+  }
+  return line + "  limit " + FormatTimingValue(result.limit(), result.unit());
+}
+
+std::vector<std::string> FormatRealtimeTiming(const proto::Timing& timing) {
+  if (timing.mode() != "realtime") return {};
+  std::vector<std::string> lines;
+  char buffer[240];
+  const double late_percent =
+      timing.ticks() > 0
+          ? 100.0 * static_cast<double>(timing.late_ticks()) / static_cast<double>(timing.ticks())
+          : 0.0;
+  std::snprintf(buffer, sizeof(buffer),
+                "loop period p50 %.0f us, p99 %.0f us, max %.0f us (target %.0f us); late ticks "
+                "%llu (%.3g %%) over %.0f us, stalls %llu",
+                Micros(timing.loop_period_p50_s()), Micros(timing.loop_period_p99_s()),
+                Micros(timing.loop_period_max_s()), Micros(timing.period_s()),
+                static_cast<unsigned long long>(timing.late_ticks()), late_percent,
+                Micros(timing.late_threshold_s()),
+                static_cast<unsigned long long>(timing.stalls()));
+  lines.emplace_back(buffer);
+  std::snprintf(buffer, sizeof(buffer),
+                "tick work p50 %.0f us, p99 %.0f us, max %.0f us; dut commands missed %llu of %llu "
+                "control ticks",
+                Micros(timing.work_p50_s()), Micros(timing.work_p99_s()),
+                Micros(timing.work_max_s()),
+                static_cast<unsigned long long>(timing.dut_commands_missed()),
+                static_cast<unsigned long long>(timing.control_ticks()));
+  lines.emplace_back(buffer);
+  if (timing.dut_latency_size() == 0) lines.emplace_back("dut latency: not measured by this DUT");
+  for (const proto::StreamLatency& stream : timing.dut_latency()) {
+    std::snprintf(buffer, sizeof(buffer),
+                  "dut latency %s: p50 %.0f us, p99 %.0f us, max %.0f us (%llu)",
+                  stream.stream().c_str(), Micros(stream.p50_s()), Micros(stream.p99_s()),
+                  Micros(stream.max_s()), static_cast<unsigned long long>(stream.count()));
+    lines.emplace_back(buffer);
+  }
+  return lines;
 }
 
 std::string FormatObjectLine(const proto::ObjectOutcome& outcome) {

@@ -7,6 +7,7 @@
 #include <google/protobuf/message.h>
 
 #include <string>
+#include <vector>
 
 #include "proto/report.pb.h"
 #include "rig/result.h"
@@ -26,5 +27,16 @@ std::string FormatObjectLine(const proto::ObjectOutcome& outcome);
 
 // The last line of a run: simulated and wall time and the real-time factor.
 std::string FormatTimingLine(const proto::Report& report);
+
+// "PASS  timing loop_period_p99_max_s  1020 us  limit 2000 us", or "----  timing
+// loop_period_p99_max_s  not evaluated (lockstep)  limit 2000 us".
+std::string FormatTimingCheckLine(const proto::TimingCheckResult& result);
+
+// A real-time run's timing block: loop period p50/p99/max, late ticks, tick work, missed DUT
+// commands and the DUT's latency per stream, in µs. None for a lockstep run.
+std::vector<std::string> FormatRealtimeTiming(const proto::Timing& timing);
+// "fidelity error vs reference DP(1e-10) x8 tiles:64 (cached): grasp force RMS ... N (max ...),
+// load RMS ..., position RMS ... m (max ...)"; the grasp force and load only in grasp scenes.
+std::string FormatFidelityErrorLine(const proto::FidelityError& error, bool grasp_scene);
 
 }  // namespace hilrig::host

@@ -85,8 +85,12 @@ void GripperScene::Step(double time_s, double servo_command_rad, const Quadrotor
     ++next_support_removal_;
   }
   if (!config_.pours.empty()) PourMass(grasp_, PourRateKgPerS(time_s) * dt_s);
-  servo_ =
-      StepServo(config_.servo, servo_, servo_command_rad, GraspServoLoad(scene_, grasp_), dt_s);
+  if (dt_s != servo_decay_dt_s_) {
+    servo_decay_ = ServoLagDecay(config_.servo, dt_s);
+    servo_decay_dt_s_ = dt_s;
+  }
+  servo_ = StepServoWithDecay(config_.servo, servo_, servo_command_rad,
+                              GraspServoLoad(scene_, grasp_), dt_s, servo_decay_);
   GraspVehicleSample sample;
   sample.position_m = vehicle.body.position_m;
   sample.orientation = vehicle.body.orientation;

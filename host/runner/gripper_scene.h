@@ -71,6 +71,10 @@ class GripperScene {
   double gravity_m_s2_;
   GraspState grasp_;
   ServoState servo_;
+  // The servo's lag decay for the dt it was computed for: the runner's dt is fixed, so exp() runs
+  // once per run instead of once per tick.
+  double servo_decay_dt_s_ = -1;
+  double servo_decay_ = 0;
   GraspForces forces_;
   std::size_t next_object_ = 0;
   std::size_t next_support_removal_ = 0;

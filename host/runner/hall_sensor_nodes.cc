@@ -79,6 +79,10 @@ Eigen::Vector3d HallSensorNodes::StrayFieldAt(std::uint8_t node_id, std::int64_t
 void HallSensorNodes::Tick(std::int64_t now_ns, const Eigen::Quaterniond& attitude_world_body,
                            const std::array<Eigen::Vector3d, kTactileSensorCount>& pad_force_n) {
   for (std::size_t i = 0; i < nodes_.size(); ++i) {
+    // At the 1 kHz tick a node has something due only every 20th tick (50 Hz samples, 1 Hz
+    // status), so the common case skips the node without touching its inputs.
+    const dut_fw::SensorNode<>& firmware = nodes_[i].firmware;
+    if (!firmware.SampleDue(now_ns) && !firmware.StatusDue(now_ns)) continue;
     const bool tactile = config_.tactile_enabled && i < pad_force_n.size();
     TickNode(nodes_[i], tactile ? pad_force_n[i] : Eigen::Vector3d::Zero(), attitude_world_body,
              now_ns);

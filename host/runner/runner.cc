@@ -14,7 +14,9 @@
 #include "host/runner/gripper_scene.h"
 #include "host/runner/hall_sensor_nodes.h"
 #include "host/runner/model_list.h"
+#include "host/runner/realtime_pacer.h"
 #include "host/runner/run_statistics.h"
+#include "host/runner/timing_checks.h"
 #include "host/sensors/random_stream.h"
 #include "host/sensors/tactile/film_field_factory.h"
 #include "host/trace/trace_csv.h"
@@ -28,6 +30,8 @@ namespace {
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 constexpr std::int64_t kProgressPeriodNs = 5'000'000'000;
 constexpr std::uint64_t kWallClockPollTicks = 4096;
+// A real-time run reads the wall clock every tick anyway, so it answers Ctrl-C at once.
+constexpr std::uint64_t kRealtimePollTicks = 1;
 // can.log stamps are simulated time plus this fixed base (2001-09-09T01:46:40Z). Tools that take
 // a zero seconds field for "no start time yet" (log2asc prints a header per frame) then read the
 // log like any candump recording, and the file stays byte-reproducible.
@@ -79,7 +83,11 @@ class LockstepRunner::Impl {
   proto::Report Finish();
 
  private:
+  bool Step();
   void SampleSensors(std::int64_t now_ns);
+  void PollWhileWaiting();
+  bool TakeNewestCommand();
+  void ApplyCommand(ActuatorMessage command);
   bool ControlStep(std::uint64_t control_tick, std::int64_t now_ns);
   Eigen::Vector3d DisturbanceAt(double time_s) const;
   void StepPlant(std::int64_t now_ns);
@@ -89,6 +97,7 @@ class LockstepRunner::Impl {
   void AppendBusMetrics(std::int64_t now_ns, proto::Report& report);
   void DrainCanLog(std::int64_t now_ns);
   void ReportProgress(std::int64_t now_ns);
+  void AppendTiming(proto::Report& report, bool& passed) const;
 
   const ScenarioConfig& config_;
   RunSinks sinks_;
@@ -121,6 +130,10 @@ class LockstepRunner::Impl {
   std::optional<TraceCsvWriter> trace_writer_;
   std::optional<rig::CandumpLogWriter> can_writer_;
   RunStatistics statistics_;
+  std::optional<RealtimePacer> pacer_;  // set in real-time runs
+  // Real time: what polling the DUT between ticks found, for the next control tick to apply.
+  std::optional<ActuatorMessage> arrived_command_;
+  std::optional<std::string> dut_failure_;
   std::string stop_reason_ = "completed";
   std::uint64_t can_frames_logged_ = 0;
   std::uint64_t non_finite_samples_ = 0;
@@ -145,6 +158,10 @@ LockstepRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
                     bus_.Connect("hall-sensor-nodes")),
       imu_period_ns_(std::llround(1e9 / config.imu.rate_hz)),
       statistics_(config.gripper.enabled) {
+  if (control.realtime_clock != nullptr) {
+    pacer_.emplace(*control.realtime_clock,
+                   PacerSettings{config.physics_step_ns, config.late_threshold_ns});
+  }
   const double control_period_s =
       Seconds(config.physics_step_ns) * static_cast<double>(config.control_every_ticks);
   if (control.dut_factory) {
@@ -224,13 +241,46 @@ bool LockstepRunner::Impl::ControlStep(std::uint64_t control_tick, std::int64_t 
                       grasp_command_.regulate,
                       grasp_command_.force_n,
                       grasp_command_.reference_angle_rad});
+  if (pacer_) {
+    dut_->RequestStep(control_tick, now_ns);
+    return true;
+  }
   auto command = dut_->Step(control_tick, now_ns);
   if (!command) {
     stop_reason_ = "dut failed: " + command.error().message;
     return false;
   }
-  command_ = std::move(command).value();
+  ApplyCommand(std::move(command).value());
+  return true;
+}
+
+void LockstepRunner::Impl::ApplyCommand(ActuatorMessage command) {
+  command_ = std::move(command);
   if (!command_.armed) command_.rotor_thrust_n.fill(0.0);
+}
+
+// Real time, between ticks: takes what the DUT has sent, so that its arrival is timed when it
+// happens; the command waits for the next control tick to be applied.
+void LockstepRunner::Impl::PollWhileWaiting() {
+  if (dut_failure_) return;
+  auto polled = dut_->PollCommand();
+  if (!polled) {
+    dut_failure_ = polled.error().message;
+  } else if (polled.value()) {
+    arrived_command_ = std::move(*polled.value());
+  }
+}
+
+// Real time: the newest command that has arrived replaces the held one; none is a missed command.
+bool LockstepRunner::Impl::TakeNewestCommand() {
+  PollWhileWaiting();
+  if (dut_failure_) {
+    stop_reason_ = "dut failed: " + *dut_failure_;
+    return false;
+  }
+  pacer_->CountControlTick(arrived_command_.has_value());
+  if (arrived_command_) ApplyCommand(std::move(*arrived_command_));
+  arrived_command_.reset();
   return true;
 }
 
@@ -333,15 +383,33 @@ void LockstepRunner::Impl::ReportProgress(std::int64_t now_ns) {
   next_progress_wall_ns_ = wall_ns + kProgressPeriodNs;
   *sinks_.progress << config_.name << ": " << Seconds(now_ns) << " / " << config_.duration_s
                    << " s simulated, real-time factor "
-                   << Seconds(now_ns) / std::max(1e-9, Seconds(wall_ns)) << "x" << std::endl;
+                   << Seconds(now_ns) / std::max(1e-9, Seconds(wall_ns - wall_start_ns_)) << "x";
+  if (pacer_) {
+    *sinks_.progress << ", late ticks " << pacer_->late_ticks() << ", dut commands missed "
+                     << pacer_->dut_commands_missed();
+  }
+  *sinks_.progress << std::endl;
 }
 
 bool LockstepRunner::Impl::Tick() {
   if (ended_) return false;
+  if (!pacer_) return Step();
+  pacer_->BeginTick(tick_, [this] { PollWhileWaiting(); });
+  const bool more = Step();
+  pacer_->EndTick();
+  return more;
+}
+
+bool LockstepRunner::Impl::Step() {
   const std::int64_t now_ns = clock_.NowNs();
-  SampleSensors(now_ns);
   const auto control_every = static_cast<std::uint64_t>(config_.control_every_ticks);
-  if (tick_ % control_every == 0 && !ControlStep(tick_ / control_every, now_ns)) {
+  const bool control_tick = tick_ % control_every == 0;
+  if (pacer_ && control_tick && !TakeNewestCommand()) {
+    ended_ = true;
+    return false;
+  }
+  SampleSensors(now_ns);
+  if (control_tick && !ControlStep(tick_ / control_every, now_ns)) {
     ended_ = true;
     return false;
   }
@@ -360,7 +428,7 @@ bool LockstepRunner::Impl::Tick() {
     DrainCanLog(clock_.NowNs());
     if (RecordTrace(clock_.NowNs())) ended_ = true;
   }
-  if (tick_ % kWallClockPollTicks == 0) {
+  if (tick_ % (pacer_ ? kRealtimePollTicks : kWallClockPollTicks) == 0) {
     if (control_.stop_requested != nullptr &&
         control_.stop_requested->load(std::memory_order_relaxed)) {
       stop_reason_ = "interrupted";
@@ -387,6 +455,24 @@ void LockstepRunner::Impl::AppendBusMetrics(std::int64_t now_ns, proto::Report& 
   }
 }
 
+// A lockstep run has no wall-clock timing to report or grade; its timing envelopes are listed as
+// not evaluated.
+void LockstepRunner::Impl::AppendTiming(proto::Report& report, bool& passed) const {
+  proto::Timing timing;
+  if (pacer_) {
+    timing = pacer_->Figures(dut_->response_latencies());
+  } else {
+    timing.set_mode("lockstep");
+    timing.set_ticks(tick_);
+    timing.set_period_s(Seconds(config_.physics_step_ns));
+  }
+  for (proto::TimingCheckResult& check : GradeTiming(config_.timing, timing)) {
+    passed = passed && check.passed();
+    *report.add_timing_checks() = std::move(check);
+  }
+  *report.mutable_timing() = std::move(timing);
+}
+
 proto::Report LockstepRunner::Impl::Finish() {
   ended_ = true;
   DrainCanLog(clock_.NowNs());
@@ -407,6 +493,7 @@ proto::Report LockstepRunner::Impl::Finish() {
     *report.add_envelopes() = checks_[i].Result(check_progress_[i]);
     passed = passed && report.envelopes().rbegin()->meets_expectation();
   }
+  AppendTiming(report, passed);
   report.set_passed(passed);
   statistics_.AppendMetrics(report);
   const DutCounters counters = dut_->counters();

@@ -1,8 +1,11 @@
-// The lockstep runner: owns the simulated clock, the plant, the sensor emulators, the CAN bus and
-// the DUT port, and steps them in a fixed order each physics tick without any wall-clock sync (the
-// wall clock is only read to report the real-time factor). Envelope checks read the trace as it is
-// produced and may abort the run; the trace and the CAN log stream out as the run goes, so an
-// interrupted run still leaves them behind.
+// The runner: owns the simulated clock, the plant, the sensor emulators, the CAN bus and the DUT
+// port, and steps them in a fixed order each physics tick. In lockstep (the default) there is no
+// wall-clock sync (the wall clock is only read to report the real-time factor) and the DUT answers
+// each control tick before the plant moves on. In real time (RunControl::realtime_clock) each tick
+// waits until it is due on that clock, the plant never waits for the DUT (it holds the last command
+// until a newer one arrives) and the report gets the loop's timing figures and timing verdicts.
+// Envelope checks read the trace as it is produced and may abort the run; the trace and the CAN log
+// stream out as the run goes, so an interrupted run still leaves them behind.
 #pragma once
 
 #include <atomic>
@@ -36,6 +39,9 @@ struct RunControl {
   const rig::Clock* wall_clock = nullptr;             // required; only for timing the run
   const std::atomic<bool>* stop_requested = nullptr;  // optional, e.g. set by SIGINT
   DutFactory dut_factory;                             // optional; default in-process
+  // Set: pace the run in real time on this clock (usually the same SteadyClock as wall_clock);
+  // null: lockstep.
+  const rig::PacingClock* realtime_clock = nullptr;
 };
 
 // A run that can be stepped tick by tick (benchmarks, tests); RunScenario() drives one to its end.

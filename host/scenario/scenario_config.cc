@@ -163,6 +163,13 @@ void ResolveSimulation(const proto::Simulation& simulation, ScenarioConfig& conf
       Or(simulation.has_plant_substeps(), simulation.plant_substeps(), std::uint32_t{1}));
 }
 
+void ResolveTiming(const proto::TimingEnvelopes& timing, ScenarioConfig& config) {
+  config.timing = timing;
+  config.late_threshold_ns = timing.has_late_threshold_s()
+                                 ? std::llround(timing.late_threshold_s() * 1e9)
+                                 : config.physics_step_ns;
+}
+
 ObjectPlacement ResolveObject(const proto::GraspObject& spec, double at_s,
                               double default_stand_height_m) {
   auto fixture = fixtures::ObjectFixture(spec.fixture());
@@ -246,6 +253,7 @@ ScenarioConfig ResolveScenario(const proto::Scenario& spec,
   ResolveHallSensors(spec, spec_directory, config.hall_sensors);
   ResolveGripper(spec, config.gripper);
   ResolveSimulation(spec.simulation(), config);
+  ResolveTiming(spec.timing(), config);
 
   const double initial_yaw_rad = spec.vehicle().initial_yaw_deg() * kDegToRad;
   config.initial_reference.position_m = ToEigen(spec.vehicle().initial_position_m());

@@ -113,6 +113,11 @@ struct ScenarioConfig {
   std::vector<DisturbanceCommand> disturbances;
   std::vector<proto::Envelope> envelopes;
   proto::Models models;  // the fidelity choices, for the report
+
+  // Real-time runs: a tick starting later than this after its due time is late (default one
+  // physics period), and the timing envelopes graded at the end.
+  std::int64_t late_threshold_ns = 1'000'000;
+  proto::TimingEnvelopes timing;
 };
 
 // `seed_override` replaces the spec's seed (the --seed flag); relative file names in the spec are

@@ -342,6 +342,47 @@ void CheckEnvelopes(const proto::Scenario& scenario, const ProblemList& problems
   }
 }
 
+void RequireFraction(bool has, double value, const char* field, const ProblemList& problems) {
+  if (has && !(value >= 0 && value <= 1)) {
+    problems.Add(field, "must be a fraction in [0, 1], got " + std::to_string(value));
+  }
+}
+
+// A loop paced at the physics period cannot keep its period's p99 or max below that period, and a
+// late threshold of a second or more would never call a tick late in any run worth grading.
+void CheckTiming(const proto::Scenario& scenario, const ProblemList& problems) {
+  const proto::TimingEnvelopes& timing = scenario.timing();
+  const proto::Simulation& simulation = scenario.simulation();
+  const double period_s =
+      1.0 / (simulation.has_physics_rate_hz() && simulation.physics_rate_hz() > 0
+                 ? simulation.physics_rate_hz()
+                 : 1000.0);
+  if (timing.has_late_threshold_s() &&
+      !(timing.late_threshold_s() > 0 && timing.late_threshold_s() < 1)) {
+    problems.Add("late_threshold_s",
+                 "must be in (0, 1) s, got " + std::to_string(timing.late_threshold_s()));
+  }
+  const auto at_least_period = [&](bool has, double value, const char* field) {
+    if (!has) return;
+    if (!(value > 0)) {
+      problems.Add(field, "must be > 0, got " + std::to_string(value));
+    } else if (value < period_s * (1 - 1e-9)) {
+      problems.Add(field, "must be >= the physics period (" + std::to_string(period_s) +
+                              " s): a loop paced at that period cannot beat it");
+    }
+  };
+  at_least_period(timing.has_loop_period_p99_max_s(), timing.loop_period_p99_max_s(),
+                  "loop_period_p99_max_s");
+  at_least_period(timing.has_loop_period_max_s(), timing.loop_period_max_s(), "loop_period_max_s");
+  RequirePositive(timing.has_dut_latency_p99_max_s(), timing.dut_latency_p99_max_s(),
+                  "dut_latency_p99_max_s", problems);
+  RequireFraction(timing.has_late_tick_fraction_max(), timing.late_tick_fraction_max(),
+                  "late_tick_fraction_max", problems);
+  RequireFraction(timing.has_dut_commands_missed_fraction_max(),
+                  timing.dut_commands_missed_fraction_max(), "dut_commands_missed_fraction_max",
+                  problems);
+}
+
 // With every rotor at full thrust the vehicle must at least hover, or no scenario can fly it.
 void CheckCanLift(const proto::Scenario& scenario, const ProblemList& problems) {
   const proto::Vehicle& vehicle = scenario.vehicle();
@@ -379,6 +420,7 @@ std::vector<FieldProblem> ValidateScenario(const proto::Scenario& scenario) {
   CheckGraspController(scenario.grasp_controller(), root.Nested("grasp_controller"));
   CheckTimeline(scenario, root);
   CheckEnvelopes(scenario, root);
+  CheckTiming(scenario, root.Nested("timing"));
   if (scenario.environment().has_gravity_m_s2() && !(scenario.environment().gravity_m_s2() > 0)) {
     root.Nested("environment").Add("gravity_m_s2", "must be > 0");
   }

@@ -1,6 +1,10 @@
 #include "host/trace/trace_csv.h"
 
+#include <bit>
 #include <charconv>
+#include <cstring>
+
+#include "rig/check.h"
 
 namespace hilrig::host {
 
@@ -11,18 +15,27 @@ TraceCsvWriter::TraceCsvWriter(std::ostream& out) : out_(out) {
           "tactile_force_error_max_n,grasp_force_n,grasp_force_estimate_n,grasp_force_setpoint_n,"
           "load_n,load_estimate_n,object_mass_kg,servo_angle_rad,servo_command_rad,"
           "object_damaged,object_dropped\n";
-  line_.reserve(512);
 }
 
 void TraceCsvWriter::Append(double value) {
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
-  if (!line_.empty()) line_ += ',';
-  line_.append(buffer, result.ptr);
+  HILRIG_CHECK(column_ < kColumnCount, "a trace row has more columns than kColumnCount");
+  ColumnText& column = previous_[column_++];
+  const auto bits = std::bit_cast<std::uint64_t>(value);
+  if (!column.valid || column.bits != bits) {
+    const auto result =
+        std::to_chars(column.text.data(), column.text.data() + column.text.size(), value);
+    column.length = static_cast<std::uint8_t>(result.ptr - column.text.data());
+    column.bits = bits;
+    column.valid = true;
+  }
+  std::memcpy(line_.data() + line_length_, column.text.data(), column.length);
+  line_length_ += column.length;
+  line_[line_length_++] = ',';
 }
 
 void TraceCsvWriter::Write(const TraceSample& sample) {
-  line_.clear();
+  column_ = 0;
+  line_length_ = 0;
   Append(sample.time_s);
   for (int i = 0; i < 3; ++i) Append(sample.position_m(i));
   for (int i = 0; i < 3; ++i) Append(sample.reference_m(i));
@@ -46,8 +59,9 @@ void TraceCsvWriter::Write(const TraceSample& sample) {
   Append(sample.servo_command_rad);
   Append(sample.object_damaged ? 1.0 : 0.0);
   Append(sample.object_dropped ? 1.0 : 0.0);
-  line_ += '\n';
-  out_.write(line_.data(), static_cast<std::streamsize>(line_.size()));
+  HILRIG_CHECK(column_ == kColumnCount, "a trace row has fewer columns than kColumnCount");
+  line_[line_length_ - 1] = '\n';
+  out_.write(line_.data(), static_cast<std::streamsize>(line_length_));
 }
 
 }  // namespace hilrig::host

@@ -58,8 +58,10 @@ class DutEmuServerTest : public ::testing::Test {
   }
 
   proto::LinkMessage StepRequest(std::uint64_t tick, std::int64_t now_ns,
-                                 std::vector<std::int64_t> frame_times_ns = {}) {
+                                 std::vector<std::int64_t> frame_times_ns = {},
+                                 bool realtime = false) {
     proto::LinkMessage step;
+    step.mutable_step()->set_realtime(realtime);
     step.mutable_step()->set_tick(tick);
     step.mutable_step()->set_now_ns(now_ns);
     step.mutable_step()->set_can_frames_sent(frame_times_ns.size());
@@ -148,6 +150,72 @@ TEST_F(DutEmuServerTest, GivesUpWhenAnnouncedFramesNeverCome) {
   EXPECT_EQ(Join(), kExitFailed);
 }
 
+TEST_F(DutEmuServerTest, CommandSaysWhatTheDutHadConsumed) {
+  StartServer();
+  Handshake();
+  ASSERT_TRUE(link_->Send(StepRequest(0, 1'000'000)).ok());
+  const LinkReceived before = link_->Receive(kWaitMs);
+  ASSERT_EQ(before.status, LinkReceiveStatus::kMessage) << log_.str();
+  const proto::LinkMessage vio = host::ToLink(
+      host::VioMessage{{0, 0}, 0, Eigen::Vector3d(0, 0, 1), Eigen::Quaterniond::Identity()});
+  ASSERT_TRUE(link_->Send(vio).ok());
+  for (std::uint64_t sequence = 0; sequence < 3; ++sequence) {
+    ASSERT_TRUE(link_->Send(host::ToLink(host::ImuMessage{{sequence, 1'500'000}, {}, {}})).ok());
+  }
+  const std::array<std::uint8_t, 2> payload = {4, 5};
+  ASSERT_TRUE(can_->Send(rig::CanFrame::Classic(0x321, payload), 1'600'000).ok());
+  ASSERT_TRUE(link_->Send(StepRequest(1, 2'000'000, {1'600'000})).ok());
+  const LinkReceived after = link_->Receive(kWaitMs);
+  ASSERT_EQ(after.status, LinkReceiveStatus::kMessage) << log_.str();
+
+  const proto::ActuatorCommand& first = before.message.command();
+  EXPECT_FALSE(first.has_last_imu_sequence());
+  EXPECT_FALSE(first.has_last_vio_sequence());
+  EXPECT_FALSE(first.has_last_setpoint_sequence());
+  EXPECT_EQ(first.can_frames_consumed(), 0u);
+  const proto::ActuatorCommand& second = after.message.command();
+  ASSERT_TRUE(second.has_last_imu_sequence());
+  EXPECT_EQ(second.last_imu_sequence(), 2u);
+  ASSERT_TRUE(second.has_last_vio_sequence());
+  EXPECT_EQ(second.last_vio_sequence(), 0u);
+  EXPECT_FALSE(second.has_last_setpoint_sequence());
+  EXPECT_EQ(second.can_frames_consumed(), 1u);
+}
+
+TEST_F(DutEmuServerTest, RealtimeStepGoesAheadWithoutFramesThatDoNotCome) {
+  StartServer();
+  Handshake();
+  ASSERT_TRUE(link_->Send(StepRequest(7, 7'000'000, {6'000'000, 6'500'000}, true)).ok());
+  const LinkReceived answer = link_->Receive(kWaitMs);
+  ASSERT_EQ(answer.status, LinkReceiveStatus::kMessage) << log_.str();
+  ASSERT_TRUE(answer.message.has_command()) << answer.message.DebugString();
+  EXPECT_EQ(answer.message.command().answers_sequence(), 7u);
+  EXPECT_EQ(answer.message.command().can_frame_waits_expired(), 1u);
+  EXPECT_EQ(answer.message.command().can_frames_consumed(), 0u);
+}
+
+TEST_F(DutEmuServerTest, RealtimeFrameThatComesLateReachesALaterStep) {
+  StartServer();
+  Handshake();
+  ASSERT_TRUE(link_->Send(StepRequest(1, 1'000'000, {900'000}, true)).ok());
+  const LinkReceived first = link_->Receive(kWaitMs);
+  ASSERT_EQ(first.status, LinkReceiveStatus::kMessage) << log_.str();
+  const std::array<std::uint8_t, 1> payload = {9};
+  ASSERT_TRUE(can_->Send(rig::CanFrame::Classic(0x55, payload), 900'000).ok());
+  // Later requests announce no frame of their own; the DUT takes the late one anyway (the loop
+  // only covers the datagram still being on its way).
+  std::uint64_t consumed = 0;
+  for (std::uint64_t tick = 2; tick < 2000 && consumed == 0; ++tick) {
+    ASSERT_TRUE(
+        link_->Send(StepRequest(tick, static_cast<std::int64_t>(tick) * 1'000'000, {}, true)).ok());
+    const LinkReceived answer = link_->Receive(kWaitMs);
+    ASSERT_EQ(answer.status, LinkReceiveStatus::kMessage) << log_.str();
+    consumed = answer.message.command().can_frames_consumed();
+  }
+  EXPECT_EQ(first.message.command().can_frame_waits_expired(), 1u);
+  EXPECT_EQ(consumed, 1u);
+}
+
 TEST_F(DutEmuServerTest, RefusesARunnerOfAnotherProtocolVersion) {
   StartServer();
   Handshake(99);
@@ -185,6 +253,15 @@ TEST_F(DutEmuServerTest, RunnerVanishingIsAFailure) {
   link_.reset();
   EXPECT_EQ(Join(), kExitFailed);
   EXPECT_NE(log_.str().find("closed the link without a bye"), std::string::npos);
+}
+
+TEST(DutEmuArgsTest, ParsesTheWrongTickTestHook) {
+  const auto options = ParseDutEmuArgs({"dut_emu", "--link", "127.0.0.1:4000", "--can", "udp:30000",
+                                        "--test-wrong-tick-at-tick", "12"})
+                           .value();
+  ASSERT_TRUE(options.wrong_tick_at_tick.has_value());
+  EXPECT_EQ(*options.wrong_tick_at_tick, 12u);
+  EXPECT_FALSE(options.silent_at_tick.has_value());
 }
 
 TEST(DutEmuArgsTest, ParsesLinkAndUdpBus) {

@@ -46,5 +46,51 @@ TEST(SteadyClockTest, StartsNearZeroAndNeverDecreases) {
   EXPECT_GE(second_ns, first_ns);
 }
 
+// The one wait the rig does on the OS clock: it must not return before its deadline (how much later
+// it returns is the OS's, and the runner measures it; no upper bound is asserted here).
+TEST(SteadyClockTest, SleepUntilReturnsNoEarlierThanTheDeadline) {
+  const SteadyClock clock;
+  const std::int64_t deadline_ns = clock.NowNs() + 200'000;
+
+  clock.SleepUntilNs(deadline_ns);
+
+  EXPECT_GE(clock.NowNs(), deadline_ns);
+}
+
+TEST(FakePacingClockTest, SleepJumpsToTheDeadline) {
+  const FakePacingClock clock(1'000);
+
+  clock.SleepUntilNs(5'000);
+
+  EXPECT_EQ(clock.NowNs(), 5'000);
+  EXPECT_EQ(clock.sleeps(), 1u);
+}
+
+TEST(FakePacingClockTest, SleepIntoThePastDoesNotWaitOrGoBack) {
+  const FakePacingClock clock(9'000);
+
+  clock.SleepUntilNs(5'000);
+  clock.SleepUntilNs(9'000);
+
+  EXPECT_EQ(clock.NowNs(), 9'000);
+  EXPECT_EQ(clock.sleeps(), 0u);
+}
+
+TEST(FakePacingClockTest, WorkAdvancesTime) {
+  const FakePacingClock clock;
+  const PacingClock& pacing = clock;
+
+  clock.AdvanceNs(250);
+  clock.AdvanceNs(750);
+
+  EXPECT_EQ(pacing.NowNs(), 1'000);
+}
+
+TEST(FakePacingClockDeathTest, NegativeWorkAborts) {
+  const FakePacingClock clock;
+
+  EXPECT_DEATH(clock.AdvanceNs(-1), "backwards");
+}
+
 }  // namespace
 }  // namespace hilrig::rig

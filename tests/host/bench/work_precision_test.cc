@@ -3,7 +3,9 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 
 #include "host/scenario/scenario_loader.h"
@@ -111,6 +113,25 @@ TEST(ParetoFrontTest, KeepsOnlyNonDominatedRunsSortedByTimeWithoutTheReference) 
   EXPECT_THAT(ParetoFront(runs, ErrorMetric::kGraspForce), ElementsAre(2, 4, 1));
 }
 
+TEST(ParetoFrontTest, TimesWithinTheMarginDoNotDominateEqualErrors) {
+  // The same error, timed 10 % apart: timing noise, so both stay; 30 % apart: the slower goes.
+  const std::vector<RunResult> close = {Result(RunKind::kIntegrator, 1.0, 2),
+                                        Result(RunKind::kDefault, 1.1, 2)};
+  const std::vector<RunResult> far = {Result(RunKind::kIntegrator, 1.0, 2),
+                                      Result(RunKind::kDefault, 1.3, 2.01)};
+
+  EXPECT_THAT(ParetoFront(close, ErrorMetric::kGraspForce), ElementsAre(0, 1));
+  EXPECT_THAT(ParetoFront(far, ErrorMetric::kGraspForce), ElementsAre(0));
+  EXPECT_THAT(ParetoFront(close, ErrorMetric::kGraspForce, {0.0, 0.0}), ElementsAre(0));
+}
+
+TEST(ParetoFrontTest, AClearlyMoreAccurateRunDominatesAtAboutTheSameTime) {
+  const std::vector<RunResult> runs = {Result(RunKind::kIntegrator, 1.05, 1.0),
+                                       Result(RunKind::kDefault, 1.0, 2.0)};
+
+  EXPECT_THAT(ParetoFront(runs, ErrorMetric::kGraspForce), ElementsAre(0));
+}
+
 TEST(ParetoFrontTest, IncompleteRunsAreNotOnTheFront) {
   std::vector<RunResult> runs = {Result(RunKind::kIntegrator, 1, 0.1),
                                  Result(RunKind::kIntegrator, 2, 0.2)};
@@ -123,22 +144,39 @@ TEST(PlanSweepTest, FullSweepIsIntegratorsTimesStepsThenFieldsThenTheDefault) {
   FidelityChoice scene;
   scene.field_fidelity = "opmap:32";
 
-  const std::vector<PlannedRun> runs = PlanSweep(scene, /*quick=*/false);
+  const std::vector<PlannedRun> runs = PlanSweep(scene, /*has_film=*/true, /*quick=*/false);
 
-  ASSERT_EQ(runs.size(), 4u * 4u + 7u + 1u);
-  EXPECT_EQ(runs[15].fidelity.integrator, proto::INTEGRATOR_DORMAND_PRINCE);
-  EXPECT_EQ(runs[15].fidelity.plant_substeps, 8);
-  EXPECT_EQ(runs[15].fidelity.integrator_tolerance, 1e-6);
-  EXPECT_EQ(runs[15].fidelity.field_fidelity, "opmap:32");
-  EXPECT_EQ(runs[16].kind, RunKind::kField);
-  EXPECT_EQ(runs[16].fidelity.integrator, proto::INTEGRATOR_RK4);
-  EXPECT_EQ(runs[16].fidelity.plant_substeps, 1);
+  // RK4 x1 opmap:32 is both a sweep point and the scene's own choice: planned once, as default.
+  ASSERT_EQ(runs.size(), 4u * 4u + 7u + 1u - 2u);
+  EXPECT_EQ(runs[14].fidelity.integrator, proto::INTEGRATOR_DORMAND_PRINCE);
+  EXPECT_EQ(runs[14].fidelity.plant_substeps, 8);
+  EXPECT_EQ(runs[14].fidelity.integrator_tolerance, 1e-6);
+  EXPECT_EQ(runs[14].fidelity.field_fidelity, "opmap:32");
+  EXPECT_EQ(runs[15].kind, RunKind::kField);
+  EXPECT_EQ(runs[15].fidelity.integrator, proto::INTEGRATOR_RK4);
+  EXPECT_EQ(runs[15].fidelity.plant_substeps, 1);
   EXPECT_EQ(runs.back().kind, RunKind::kDefault);
-  EXPECT_EQ(runs.back().fidelity.field_fidelity, "opmap:32");
+  EXPECT_EQ(runs.back().fidelity, scene);
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    for (std::size_t j = i + 1; j < runs.size(); ++j) {
+      EXPECT_FALSE(runs[i].fidelity == runs[j].fidelity) << i << " and " << j;
+    }
+  }
 }
 
 TEST(PlanSweepTest, QuickSweepIsTwoIntegratorsTwoStepsTwoFields) {
-  EXPECT_EQ(PlanSweep(FidelityChoice{}, /*quick=*/true).size(), 2u * 2u + 2u + 1u);
+  // The scene's RK4 x1 tiles:32 is the default; nothing else coincides with it.
+  EXPECT_EQ(PlanSweep(SceneFidelity(proto::Scenario()), true, /*quick=*/true).size(),
+            2u * 2u + 2u + 1u - 1u);
+}
+
+TEST(PlanSweepTest, ASceneWithoutAFilmSweepsNoFieldLevels) {
+  const std::vector<PlannedRun> runs =
+      PlanSweep(SceneFidelity(proto::Scenario()), /*has_film=*/false, /*quick=*/false);
+
+  EXPECT_EQ(runs.size(), 4u * 4u);
+  EXPECT_TRUE(std::none_of(runs.begin(), runs.end(),
+                           [](const PlannedRun& run) { return run.kind == RunKind::kField; }));
 }
 
 TEST(FidelityTest, WithFidelitySetsEveryChoiceInTheSpec) {
@@ -173,7 +211,7 @@ TEST(FidelityTest, TruncatedToDropsTimelineEntriesAfterTheEnd) {
   EXPECT_EQ(cut.timeline(1).at_s(), 7);
 }
 
-class CompareWithReferenceTest : public ::testing::Test {
+class FidelityErrorTest : public ::testing::Test {
  protected:
   void SetUp() override {
     auto loaded = LoadScenario(std::string(HILRIG_SOURCE_DIR) + "/scenarios/hover.textproto");
@@ -181,6 +219,7 @@ class CompareWithReferenceTest : public ::testing::Test {
     spec_ = TruncatedTo(loaded.value(), 2);
     spec_.mutable_models()->set_noise(proto::NOISE_OFF);
   }
+  void TearDown() override { std::filesystem::remove_all(cache_dir_); }
 
   ScenarioConfig Resolved(const FidelityChoice& fidelity) {
     ScenarioConfig config = ResolveScenario(WithFidelity(spec_, fidelity), std::nullopt);
@@ -188,62 +227,84 @@ class CompareWithReferenceTest : public ::testing::Test {
     return config;
   }
 
+  rig::Result<proto::FidelityError> ErrorOf(const FidelityChoice& chosen_fidelity,
+                                            const ReferenceSource& source) {
+    const ScenarioConfig chosen = Resolved(chosen_fidelity);
+    RunControl control;
+    control.wall_clock = &wall_clock_;
+    const CapturedRun run = RunCaptured(chosen, control);
+    return FidelityErrorOf(chosen, run.trace, spec_, "", source, control);
+  }
+
   proto::Scenario spec_;
+  static ReferenceSource Source(const FidelityChoice& fidelity,
+                                const ReferenceCache* cache = nullptr, std::string code = "") {
+    ReferenceSource source;
+    source.fidelity = fidelity;
+    source.cache = cache;
+    source.code_identity = std::move(code);
+    return source;
+  }
+
   rig::SimClock wall_clock_;  // timing is not what these tests check
+  const std::string cache_dir_ = ::testing::TempDir() + "/fidelity_error_cache";
 };
 
-TEST_F(CompareWithReferenceTest, TheReferenceAgainstItselfHasNoError) {
+TEST_F(FidelityErrorTest, TheReferenceAgainstItselfHasNoError) {
   const FidelityChoice reference = {proto::INTEGRATOR_RK4, std::nullopt, 2, "tiles:32"};
-  const ScenarioConfig chosen = Resolved(reference);
 
-  auto compared = CompareWithReference(chosen, spec_, "", reference, {&wall_clock_});
+  auto error = ErrorOf(reference, Source(reference));
 
-  ASSERT_TRUE(compared.ok()) << compared.error().message;
-  EXPECT_EQ(compared.value().errors.samples_compared, 200u);  // 2 s at the 100 Hz trace rate
-  EXPECT_EQ(compared.value().errors.position_max_m, 0.0);
+  ASSERT_TRUE(error.ok()) << error.error().message;
+  EXPECT_EQ(error.value().samples_compared(), 200u);  // 2 s at the 100 Hz trace rate
+  EXPECT_EQ(error.value().position_max_m(), 0.0);
+  EXPECT_EQ(error.value().reference_fidelity(), "RK4 x2 tiles:32");
+  EXPECT_FALSE(error.value().reference_cached());
 }
 
-TEST_F(CompareWithReferenceTest, ACoarserIntegratorHasASmallNonZeroPositionError) {
+TEST_F(FidelityErrorTest, ACoarserIntegratorHasASmallNonZeroPositionError) {
   const FidelityChoice reference = {proto::INTEGRATOR_RK4, std::nullopt, 4, "tiles:32"};
-  const ScenarioConfig chosen =
-      Resolved({proto::INTEGRATOR_SEMI_IMPLICIT_EULER, std::nullopt, 1, "tiles:32"});
 
-  auto compared = CompareWithReference(chosen, spec_, "", reference, {&wall_clock_});
+  auto error = ErrorOf({proto::INTEGRATOR_SEMI_IMPLICIT_EULER, std::nullopt, 1, "tiles:32"},
+                       Source(reference));
 
-  ASSERT_TRUE(compared.ok()) << compared.error().message;
-  EXPECT_TRUE(compared.value().errors.complete());
+  ASSERT_TRUE(error.ok()) << error.error().message;
   // First-order steps of 1 ms against a closed loop that holds the vehicle within centimetres:
   // a difference above rounding, well below the loop's own 5 cm envelope.
-  EXPECT_GT(compared.value().errors.position_max_m, 1e-12);
-  EXPECT_LT(compared.value().errors.position_max_m, 1e-3);
+  EXPECT_GT(error.value().position_max_m(), 1e-12);
+  EXPECT_LT(error.value().position_max_m(), 1e-3);
+  EXPECT_LE(error.value().position_rms_m(), error.value().position_max_m());
 }
 
-TEST_F(CompareWithReferenceTest, AnUnknownReferenceFieldIsAnError) {
+TEST_F(FidelityErrorTest, AnUnknownReferenceFieldIsAnError) {
   spec_.mutable_models()->mutable_tactile()->set_enabled(true);
-  const ScenarioConfig chosen = Resolved({proto::INTEGRATOR_RK4, std::nullopt, 1, "map:16"});
 
-  auto compared = CompareWithReference(
-      chosen, spec_, "", {proto::INTEGRATOR_RK4, std::nullopt, 1, "tiles:banana"}, {&wall_clock_});
+  auto error = ErrorOf({proto::INTEGRATOR_RK4, std::nullopt, 1, "map:16"},
+                       Source({proto::INTEGRATOR_RK4, std::nullopt, 1, "tiles:banana"}));
 
-  ASSERT_FALSE(compared.ok());
-  EXPECT_THAT(compared.error().message, ::testing::HasSubstr("field_fidelity"));
+  ASSERT_FALSE(error.ok());
+  EXPECT_THAT(error.error().message, ::testing::HasSubstr("field_fidelity"));
 }
 
-TEST(AddReferenceMetricsTest, AddsTheFourMetrics) {
-  ReferenceComparison comparison;
-  comparison.errors.grasp_force_rms_n = 0.01;
-  comparison.errors.load_rms_n = 0.02;
-  comparison.errors.position_rms_m = 0.003;
-  comparison.reference.set_wall_s(4.5);
-  proto::Report report;
+TEST_F(FidelityErrorTest, TheSecondRunTakesTheReferenceFromTheCacheWithTheSameErrors) {
+  const ReferenceCache cache(cache_dir_);
+  ReferenceSource source =
+      Source({proto::INTEGRATOR_RK4, std::nullopt, 4, "tiles:32"}, &cache, "code-a");
+  const FidelityChoice chosen = {proto::INTEGRATOR_SEMI_IMPLICIT_EULER, std::nullopt, 1,
+                                 "tiles:32"};
 
-  AddReferenceMetrics(comparison, report);
+  auto first = ErrorOf(chosen, source);
+  auto second = ErrorOf(chosen, source);
+  source.code_identity = "code-b";  // another build: its own reference
+  auto rebuilt = ErrorOf(chosen, source);
 
-  ASSERT_EQ(report.metrics_size(), 4);
-  EXPECT_EQ(report.metrics(0).name(), "reference_error_grasp_force_rms_n");
-  EXPECT_EQ(report.metrics(0).value(), 0.01);
-  EXPECT_EQ(report.metrics(3).name(), "reference_wall_s");
-  EXPECT_EQ(report.metrics(3).value(), 4.5);
+  ASSERT_TRUE(first.ok() && second.ok() && rebuilt.ok());
+  EXPECT_FALSE(first.value().reference_cached());
+  EXPECT_TRUE(second.value().reference_cached());
+  EXPECT_FALSE(rebuilt.value().reference_cached());
+  EXPECT_GT(first.value().position_max_m(), 0.0);
+  EXPECT_EQ(second.value().position_max_m(), first.value().position_max_m());
+  EXPECT_EQ(second.value().position_rms_m(), first.value().position_rms_m());
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 
 #include "rig/candump_log.h"
 #include "tests/support/cli_runner.h"
+#include "tests/support/test_files.h"
 
 namespace hilrig::host {
 namespace {
@@ -18,22 +19,9 @@ using ::testing::HasSubstr;
 
 const std::string kHover = std::string(HILRIG_SOURCE_DIR) + "/scenarios/hover.textproto";
 
-std::string ReadFile(const fs::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  std::stringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
-
 class CliTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::path(::testing::TempDir()) /
-           ("hilrig_cli_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
+  void SetUp() override { dir_ = FreshTestDir("hilrig_cli_"); }
   fs::path WriteSpec(const std::string& name, const std::string& text) {
     const fs::path path = dir_ / name;
     std::ofstream(path) << text;

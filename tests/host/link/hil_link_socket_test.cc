@@ -59,6 +59,14 @@ TEST(HilLinkSocketTest, ClosedPeerIsReportedAsClosed) {
   EXPECT_EQ(pair.runner->Receive(kWaitMs).status, LinkReceiveStatus::kClosed);
 }
 
+TEST(HilLinkSocketTest, ClosedIsKnownOnceAReceiveSawTheClose) {
+  Pair pair = Connected();
+  EXPECT_FALSE(pair.runner->closed());
+  pair.dut.reset();
+  ASSERT_EQ(pair.runner->Receive(kWaitMs).status, LinkReceiveStatus::kClosed);
+  EXPECT_TRUE(pair.runner->closed());
+}
+
 TEST(HilLinkSocketTest, MessagesSentBeforeTheCloseAreStillDelivered) {
   Pair pair = Connected();
   ASSERT_TRUE(pair.dut->Send(Bye(0, "last words")).ok());

@@ -140,6 +140,29 @@ TEST(ServoTest, NonFiniteStateAngleRestartsOpen) {
   EXPECT_TRUE(std::isfinite(next.rate_rad_s));
 }
 
+TEST(ServoTest, LagDecayIsTheExponentialOfMinusDtOverTau) {
+  ServoParams params;                                                   // tau 30 ms
+  EXPECT_NEAR(ServoLagDecay(params, kDt), 0.96721610048200596, 1e-15);  // e^(-1/30)
+  params.time_constant_s = 0.0;
+  EXPECT_EQ(ServoLagDecay(params, kDt), 0.0);  // no lag: the servo jumps to the equilibrium
+}
+
+TEST(ServoTest, StepWithPrecomputedDecayMatchesStepServoExactly) {
+  const ServoParams params;
+  const SpringLoad spring(0.5, 2.0);
+  ServoState plain;
+  ServoState precomputed;
+  const double decay = ServoLagDecay(params, kDt);
+  for (int i = 0; i < 300; ++i) {
+    plain = StepServo(params, plain, 0.9, spring, kDt);
+    precomputed = StepServoWithDecay(params, precomputed, 0.9, spring, kDt, decay);
+  }
+  EXPECT_GT(plain.angle_rad, 0.5);  // it reached the spring and works against it
+  EXPECT_EQ(precomputed.angle_rad, plain.angle_rad);
+  EXPECT_EQ(precomputed.rate_rad_s, plain.rate_rad_s);
+  EXPECT_EQ(precomputed.stalled, plain.stalled);
+}
+
 TEST(ServoTest, ValidateNamesTheField) {
   EXPECT_TRUE(ValidateServo(ServoParams{}).ok());
   ServoParams params;

@@ -87,5 +87,24 @@ TEST(ReportFilesTest, TimingLineCarriesTheRealTimeFactor) {
   EXPECT_THAT(FormatTimingLine(TwoEnvelopeReport()), HasSubstr("real-time factor 1234x"));
 }
 
+TEST(ReportFilesTest, FidelityErrorLineNamesTheReferenceAndGivesGraspFiguresOnlyInGraspScenes) {
+  proto::FidelityError error;
+  error.set_reference_fidelity("DP(1e-10) x8 tiles:64");
+  error.set_reference_cached(true);
+  error.set_grasp_force_rms_n(0.0012);
+  error.set_position_rms_m(2.5e-5);
+  error.set_position_max_m(1e-4);
+
+  const std::string grasp = FormatFidelityErrorLine(error, true);
+  const std::string hover = FormatFidelityErrorLine(error, false);
+
+  EXPECT_EQ(grasp,
+            "fidelity error vs reference DP(1e-10) x8 tiles:64 (cached): grasp force RMS 0.0012 N "
+            "(max 0), load RMS 0 N (max 0), position RMS 2.5e-05 m (max 0.0001)");
+  EXPECT_EQ(hover,
+            "fidelity error vs reference DP(1e-10) x8 tiles:64 (cached): position RMS 2.5e-05 m "
+            "(max 0.0001)");
+}
+
 }  // namespace
 }  // namespace hilrig::host

@@ -69,5 +69,32 @@ TEST(TraceCsvTest, ErrorColumnsAreComputedFromPositionAndReference) {
   EXPECT_EQ(column("altitude_error_m"), "1");
 }
 
+TEST(TraceCsvTest, ARepeatedColumnIsWrittenAgainAndAChangedOneAnew) {
+  std::ostringstream out;
+  TraceCsvWriter writer(out);
+  TraceSample sample;
+  sample.time_s = 0.25;
+  sample.position_m = {0.5, -0.0, 7};
+  writer.Write(sample);
+  sample.time_s = 0.5;  // x and z repeat, y changes from -0 to +0 (other bits, other text)
+  sample.position_m.y() = 0.0;
+  writer.Write(sample);
+  std::istringstream lines(out.str());
+  std::string header, first, second;
+  std::getline(lines, header);
+  std::getline(lines, first);
+  std::getline(lines, second);
+  const auto a = Split(first);
+  const auto b = Split(second);
+  EXPECT_EQ(a[0], "0.25");
+  EXPECT_EQ(b[0], "0.5");
+  EXPECT_EQ(a[1], "0.5");
+  EXPECT_EQ(b[1], "0.5");
+  EXPECT_EQ(a[2], "-0");
+  EXPECT_EQ(b[2], "0");
+  EXPECT_EQ(b[3], "7");
+  EXPECT_EQ(b.size(), Split(header).size());
+}
+
 }  // namespace
 }  // namespace hilrig::host

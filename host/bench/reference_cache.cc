@@ -1,0 +1,184 @@
+#include "host/bench/reference_cache.h"
+
+#include <google/protobuf/io/coded_stream.h>
+#include <google/protobuf/io/zero_copy_stream_impl_lite.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+
+namespace hilrig::host {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr char kMagic[8] = {'H', 'R', 'R', 'E', 'F', '0', '0', '1'};
+// Per sample: time, position x/y/z, grasp force, load.
+constexpr std::size_t kDoublesPerSample = 6;
+
+class Fnv1a64 {
+ public:
+  void Add(const void* data, std::size_t size) {
+    const auto* bytes = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < size; ++i) {
+      hash_ ^= bytes[i];
+      hash_ *= 0x100000001b3ULL;
+    }
+  }
+  void Add(const std::string& text) {
+    const std::uint64_t size = text.size();
+    Add(&size, sizeof(size));  // length first, so that ("ab","c") and ("a","bc") differ
+    Add(text.data(), text.size());
+  }
+  std::string Hex() const {
+    char text[17];
+    std::snprintf(text, sizeof(text), "%016llx", static_cast<unsigned long long>(hash_));
+    return text;
+  }
+
+ private:
+  std::uint64_t hash_ = 0xcbf29ce484222325ULL;
+};
+
+std::string DeterministicBytes(const google::protobuf::Message& message) {
+  std::string bytes;
+  google::protobuf::io::StringOutputStream stream(&bytes);
+  google::protobuf::io::CodedOutputStream coded(&stream);
+  coded.SetSerializationDeterministic(true);
+  message.SerializeToCodedStream(&coded);
+  coded.Trim();
+  return bytes;
+}
+
+void AppendDouble(std::string& out, double value) {
+  char bytes[sizeof(double)];
+  std::memcpy(bytes, &value, sizeof(double));
+  out.append(bytes, sizeof(double));
+}
+
+double ReadDouble(const char* at) {
+  double value;
+  std::memcpy(&value, at, sizeof(double));
+  return value;
+}
+
+}  // namespace
+
+rig::Result<std::string> ExecutableIdentity() {
+  std::ifstream exe("/proc/self/exe", std::ios::binary);
+  if (!exe) return rig::MakeError("cannot read /proc/self/exe");
+  Fnv1a64 hash;
+  char buffer[1 << 16];
+  while (exe.read(buffer, sizeof(buffer)) || exe.gcount() > 0) {
+    hash.Add(buffer, static_cast<std::size_t>(exe.gcount()));
+  }
+  return hash.Hex();
+}
+
+std::string ReferenceCacheKey(const proto::Scenario& reference_spec, std::uint64_t seed,
+                              const std::optional<proto::Calibration>& calibration,
+                              const std::string& code_identity) {
+  Fnv1a64 hash;
+  hash.Add(DeterministicBytes(reference_spec));
+  hash.Add(&seed, sizeof(seed));
+  hash.Add(calibration ? DeterministicBytes(*calibration) : std::string("no calibration"));
+  hash.Add(code_identity);
+  return hash.Hex();
+}
+
+std::string DefaultReferenceCacheDir() {
+  if (const char* dir = std::getenv("HILRIG_REFERENCE_CACHE"); dir != nullptr && *dir != '\0') {
+    return dir;
+  }
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg != nullptr && *xdg != '\0') {
+    return (fs::path(xdg) / "hilrig" / "reference").string();
+  }
+  if (const char* home = std::getenv("HOME"); home != nullptr && *home != '\0') {
+    return (fs::path(home) / ".cache" / "hilrig" / "reference").string();
+  }
+  return (fs::path("hilrig_out") / "reference_cache").string();
+}
+
+std::string SerializeReference(const CachedReference& reference) {
+  const CapturedTrace& trace = reference.trace;
+  std::string bytes(kMagic, sizeof(kMagic));
+  const std::uint64_t count = trace.size();
+  bytes.append(reinterpret_cast<const char*>(&count), sizeof(count));
+  AppendDouble(bytes, reference.wall_s);
+  for (std::size_t i = 0; i < trace.size(); ++i) {
+    AppendDouble(bytes, trace.time_s[i]);
+    for (int axis = 0; axis < 3; ++axis) AppendDouble(bytes, trace.position_m[i][axis]);
+    AppendDouble(bytes, trace.grasp_force_n[i]);
+    AppendDouble(bytes, trace.load_n[i]);
+  }
+  return bytes;
+}
+
+std::optional<CachedReference> ParseReference(const std::string& bytes) {
+  constexpr std::size_t kHeader = sizeof(kMagic) + sizeof(std::uint64_t) + sizeof(double);
+  if (bytes.size() < kHeader || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) {
+    return std::nullopt;
+  }
+  std::uint64_t count;
+  std::memcpy(&count, bytes.data() + sizeof(kMagic), sizeof(count));
+  const std::size_t sample_bytes = kDoublesPerSample * sizeof(double);
+  if (count > (bytes.size() - kHeader) / sample_bytes ||
+      bytes.size() != kHeader + count * sample_bytes) {
+    return std::nullopt;
+  }
+  CachedReference reference;
+  reference.wall_s = ReadDouble(bytes.data() + sizeof(kMagic) + sizeof(count));
+  const char* at = bytes.data() + kHeader;
+  for (std::uint64_t i = 0; i < count; ++i, at += sample_bytes) {
+    TraceSample sample;
+    sample.time_s = ReadDouble(at);
+    if (!std::isfinite(sample.time_s)) return std::nullopt;
+    sample.position_m = {ReadDouble(at + 8), ReadDouble(at + 16), ReadDouble(at + 24)};
+    sample.grasp_force_n = ReadDouble(at + 32);
+    sample.load_n = ReadDouble(at + 40);
+    reference.trace.Add(sample);
+  }
+  return reference;
+}
+
+ReferenceCache::ReferenceCache(std::string directory) : directory_(std::move(directory)) {}
+
+std::string ReferenceCache::PathOf(const std::string& key) const {
+  return (fs::path(directory_) / (key + ".ref")).string();
+}
+
+std::optional<CachedReference> ReferenceCache::Load(const std::string& key) const {
+  std::ifstream file(PathOf(key), std::ios::binary);
+  if (!file) return std::nullopt;
+  const std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  return ParseReference(bytes);
+}
+
+rig::Result<void> ReferenceCache::Store(const std::string& key,
+                                        const CachedReference& reference) const {
+  std::error_code error;
+  fs::create_directories(directory_, error);
+  if (error) return rig::MakeError("cannot create " + directory_ + ": " + error.message());
+  // A name of this process's own, so that two runs storing the same key at once cannot interleave.
+  const std::string temporary = PathOf(key) + ".tmp" + std::to_string(::getpid());
+  {
+    std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
+    const std::string bytes = SerializeReference(reference);
+    file.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    if (!file.flush()) return rig::MakeError("cannot write " + temporary);
+  }
+  fs::rename(temporary, PathOf(key), error);
+  if (error) {
+    fs::remove(temporary, error);
+    return rig::MakeError("cannot store the reference in " + directory_);
+  }
+  return {};
+}
+
+}  // namespace hilrig::host

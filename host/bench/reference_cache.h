@@ -1,0 +1,64 @@
+// A cache of reference traces, so that every `hilrig run` can report the error of its chosen
+// fidelity against the reference without paying for the reference run each time (Dormand-Prince
+// at 1e-10 with 8 plant steps per tick on a 64 x 64 tiled film costs ~25 s for balloon_grasp). A
+// reference trace depends only on the reference spec, the seed, the DUT calibration and the code
+// that ran it, so the key hashes all four: the spec and calibration as deterministic protobuf
+// bytes, and the code as the bytes of the running executable (a rebuild is a new key). Entries
+// are written to a temporary file and renamed, so a crash or Ctrl-C never leaves a half entry
+// that a later run would read; a damaged or foreign file reads as a miss, never as numbers.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "host/bench/trace_capture.h"
+#include "proto/calibration.pb.h"
+#include "proto/scenario.pb.h"
+#include "rig/result.h"
+
+namespace hilrig::host {
+
+// A reference run as the cache keeps it: its trace and how long it took to make.
+struct CachedReference {
+  CapturedTrace trace;
+  double wall_s = 0;
+};
+
+// 64-bit FNV-1a over the bytes of the executable this process runs (/proc/self/exe), as 16 hex
+// digits; an error when it cannot be read.
+rig::Result<std::string> ExecutableIdentity();
+
+// The cache key (16 hex digits) of a reference run.
+std::string ReferenceCacheKey(const proto::Scenario& reference_spec, std::uint64_t seed,
+                              const std::optional<proto::Calibration>& calibration,
+                              const std::string& code_identity);
+
+// The folder a run caches references in when not told: $HILRIG_REFERENCE_CACHE, else
+// $XDG_CACHE_HOME/hilrig/reference, else $HOME/.cache/hilrig/reference, else
+// ./hilrig_out/reference_cache.
+std::string DefaultReferenceCacheDir();
+
+// The byte form of an entry, and back; Parse refuses anything that is not exactly one whole entry
+// (wrong magic, a count that does not match the size, non-finite time stamps).
+std::string SerializeReference(const CachedReference& reference);
+std::optional<CachedReference> ParseReference(const std::string& bytes);
+
+class ReferenceCache {
+ public:
+  explicit ReferenceCache(std::string directory);
+
+  // The entry under `key`, or nullopt on a miss (absent, unreadable or damaged).
+  std::optional<CachedReference> Load(const std::string& key) const;
+  // Stores atomically (write to a temporary name, then rename).
+  rig::Result<void> Store(const std::string& key, const CachedReference& reference) const;
+
+  const std::string& directory() const { return directory_; }
+
+ private:
+  std::string PathOf(const std::string& key) const;
+
+  std::string directory_;
+};
+
+}  // namespace hilrig::host
