@@ -27,7 +27,7 @@ struct RunSinks {
   std::ostream* can_log = nullptr;    // optional, candump -l format
   std::ostream* progress = nullptr;   // optional, a line every few wall seconds on long runs
   // Optional: every trace row as it is recorded (the run's plots, a bench's error comparison).
-  std::function<void(const TraceSample&)> trace_sample;
+  std::function<void(const TraceSample&)> trace_sample = {};
 };
 
 // Builds the DUT the runner talks to, given the scene, the DUT's own endpoint on the emulated CAN
@@ -38,7 +38,7 @@ using DutFactory = std::function<rig::Result<std::unique_ptr<DutPort>>(
 struct RunControl {
   const rig::Clock* wall_clock = nullptr;             // required; only for timing the run
   const std::atomic<bool>* stop_requested = nullptr;  // optional, e.g. set by SIGINT
-  DutFactory dut_factory;                             // optional; default in-process
+  DutFactory dut_factory = {};                        // optional; default in-process
   // Set: pace the run in real time on this clock (usually the same SteadyClock as wall_clock);
   // null: lockstep.
   const rig::PacingClock* realtime_clock = nullptr;

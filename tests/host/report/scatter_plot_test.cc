@@ -87,7 +87,7 @@ TEST(RenderScatterSvgTest, EscapesTheTitle) {
 
 TEST(RenderScatterSvgTest, DrawsTheFrontThroughItsPoints) {
   ScatterPlot plot = TwoPointPlot();
-  plot.front = {{1e-3, 0.1}, {1, 1e-4}};
+  plot.front = {{1e-3, 0.1, ""}, {1, 1e-4, ""}};
 
   const std::string svg = RenderScatterSvg(plot);
 

@@ -26,7 +26,7 @@ RunResult RunWith(const ScenarioConfig& config, DutFactory factory) {
   RunResult run;
   std::ostringstream trace_csv;
   const rig::SimClock wall_clock;
-  RunControl control{&wall_clock};
+  RunControl control{.wall_clock = &wall_clock};
   control.dut_factory = std::move(factory);
   const auto keep = [&run](const TraceSample& sample) { run.trace.Add(sample); };
   run.report = RunScenario(config, {&trace_csv, nullptr, nullptr, keep}, control);

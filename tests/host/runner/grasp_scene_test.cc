@@ -49,7 +49,8 @@ proto::Report RunGrasp(const std::string& text, std::string* trace_out = nullptr
   config.hall_sensors.calibration = SharedCalibration();
   std::ostringstream trace;
   const rig::SimClock wall_clock;
-  const proto::Report report = RunScenario(config, {&trace, nullptr, nullptr}, {&wall_clock});
+  const proto::Report report =
+      RunScenario(config, {.trace_csv = &trace}, {.wall_clock = &wall_clock});
   if (trace_out != nullptr) *trace_out = trace.str();
   return report;
 }

@@ -32,7 +32,7 @@ RunOutput RunToEnd(const ScenarioConfig& config) {
   RunOutput output;
   RunControl control;
   control.wall_clock = &wall_clock;
-  output.report = RunScenario(config, {&trace, &can_log, nullptr}, control);
+  output.report = RunScenario(config, {.trace_csv = &trace, .can_log = &can_log}, control);
   output.trace = trace.str();
   return output;
 }

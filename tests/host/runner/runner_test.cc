@@ -29,7 +29,8 @@ RunOutput RunToEnd(const ScenarioConfig& config) {
   std::ostringstream trace, can_log;
   const rig::SimClock wall_clock;  // a clock that never moves: these tests ignore timing
   RunOutput output;
-  output.report = RunScenario(config, {&trace, &can_log, nullptr}, {&wall_clock, nullptr});
+  output.report =
+      RunScenario(config, {.trace_csv = &trace, .can_log = &can_log}, {.wall_clock = &wall_clock});
   output.trace = trace.str();
   output.can_log = can_log.str();
   return output;
@@ -164,7 +165,7 @@ TEST(RunnerTest, TickAfterTheEndDoesNothing) {
   const ScenarioConfig config = ConfigFrom(kHoverInAir);
   std::ostringstream trace;
   const rig::SimClock wall_clock;
-  LockstepRunner runner(config, {&trace, nullptr, nullptr}, {&wall_clock, nullptr});
+  LockstepRunner runner(config, {.trace_csv = &trace}, {.wall_clock = &wall_clock});
   int ticks = 0;
   while (runner.Tick()) ++ticks;
   EXPECT_EQ(ticks + 1, 3000);

@@ -41,7 +41,8 @@ proto::Report RunWith(const std::string& timeline, std::string* trace_out) {
   EXPECT_TRUE(LoadTactileCalibration(config).ok());
   std::ostringstream trace;
   const rig::SimClock wall_clock;
-  const proto::Report report = RunScenario(config, {&trace, nullptr, nullptr}, {&wall_clock});
+  const proto::Report report =
+      RunScenario(config, {.trace_csv = &trace}, {.wall_clock = &wall_clock});
   *trace_out = trace.str();
   return report;
 }
