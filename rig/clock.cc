@@ -23,10 +23,10 @@ std::int64_t SteadyClock::NowNs() const {
       .count();
 }
 
-// A plain sleep: on the 2-core development VM it wakes 130 us late at p50 and 3.7 ms at p99 (6 % of
-// 1 ms sleeps overshoot by more than a period). Sleeping to 0.5 ms short and spinning the rest
-// fixed that for an in-process DUT (late ticks 3.7 % -> 0.7 %) but starved a DUT process sharing
-// the two cores (late ticks 2.9 % -> 9 %, missed commands 3.7 % -> 27 %), so the loop sleeps.
+// A plain sleep: on the 2-core development VM it wakes ~120 us late at p50 and 0.2-3.7 ms at p99
+// (bench/clock_bench.cc). Sleeping to 0.5 ms short and spinning the rest fixed that for an
+// in-process DUT (late ticks 3.7 % -> 0.7 %) but starved a DUT process sharing the two cores (late
+// ticks 4.6-9 %, missed commands 18-27 %), so the loop sleeps.
 void SteadyClock::SleepUntilNs(std::int64_t wall_ns) const {
   std::this_thread::sleep_until(start_ + std::chrono::nanoseconds(wall_ns));
 }

@@ -38,7 +38,7 @@ constexpr const char* kUsage =
     "      (pace the run by the wall clock, the DUT answering asynchronously; reports loop\n"
     "      period, late ticks and DUT latency and grades the spec's timing envelopes)\n"
     "  hilrig check FILE.textproto...                     validate scenario specs\n"
-    "  hilrig bench --out DIR [--scenes a,b] [--duration-s S] [--quick]\n"
+    "  hilrig bench --out DIR [--scenes a,b|all] [--duration-s S] [--quick]\n"
     "                                                     work-precision sweep\n"
     "  hilrig calibrate --out DIR [--seed N] [--field F]  calibrate the tactile sensors\n"
     "  hilrig accuracy --calibration FILE --out DIR [--seed N] [--field F]\n"
@@ -49,8 +49,7 @@ constexpr const char* kUsage =
     "hilrig_out/<scenario>) and compares the trace with the scene's reference run (tight\n"
     "integrator and field, kept in a cache per build: --reference-cache DIR, default\n"
     "~/.cache/hilrig/reference); --no-reference skips it. Exit codes: 0 every check met its\n"
-    "expected verdict,\n"
-    "1 a check did not or the run was cut short, 2 bad input or usage.\n";
+    "expected verdict, 1 a check did not or the run was cut short, 2 bad input or usage.\n";
 
 struct RunOptions {
   std::string target;
@@ -155,11 +154,8 @@ struct ScenarioOutcome {
 };
 
 rig::Result<proto::Report> RunToDirectory(const proto::Scenario& spec, const std::string& spec_path,
-                                          const fs::path& out_dir,
-                                          std::optional<std::uint64_t> seed,
-                                          const ReferenceSource* reference,
-                                          const DutFactory& dut_factory, bool realtime,
-                                          const Streams& io) {
+                                          const fs::path& out_dir, const RunOptions& options,
+                                          const ReferenceSource* reference, const Streams& io) {
   std::error_code error;
   fs::create_directories(out_dir, error);
   if (error) return rig::MakeError("cannot create " + out_dir.string() + ": " + error.message());
@@ -169,7 +165,8 @@ rig::Result<proto::Report> RunToDirectory(const proto::Scenario& spec, const std
 
   const rig::SteadyClock wall_clock;
   const std::int64_t setup_start_ns = wall_clock.NowNs();
-  ScenarioConfig config = ResolveScenario(spec, seed, fs::path(spec_path).parent_path().string());
+  ScenarioConfig config =
+      ResolveScenario(spec, options.seed, fs::path(spec_path).parent_path().string());
   if (auto calibrated = LoadTactileCalibration(config); !calibrated) {
     return rig::MakeError(spec_path + ": tactile calibration: " + calibrated.error().message);
   }
@@ -179,9 +176,9 @@ rig::Result<proto::Report> RunToDirectory(const proto::Scenario& spec, const std
     plot_trace.Add(sample);
     if (reference != nullptr) captured.Add(sample);
   };
-  proto::Report report =
-      RunScenario(config, {&trace, &can_log, &io.err, keep_sample},
-                  {&wall_clock, io.stop_requested, dut_factory, realtime ? &wall_clock : nullptr});
+  proto::Report report = RunScenario(config, {&trace, &can_log, &io.err, keep_sample},
+                                     {&wall_clock, io.stop_requested, options.dut_factory,
+                                      options.realtime ? &wall_clock : nullptr});
   report.set_spec_file(spec_path);
   // Calibrating at start and tabulating field maps happen before the first tick; the real-time
   // factor is the stepping loop's, and this is the rest.
@@ -218,9 +215,8 @@ rig::Result<proto::Report> RunToDirectory(const proto::Scenario& spec, const std
 }
 
 ScenarioOutcome RunOneFile(const std::string& path, const fs::path& out_dir,
-                           std::optional<std::uint64_t> seed, const Streams& io,
-                           const ReferenceSource* reference, const DutFactory& dut_factory,
-                           bool realtime) {
+                           const RunOptions& options, const ReferenceSource* reference,
+                           const Streams& io) {
   ScenarioOutcome outcome;
   outcome.name = fs::path(path).stem().string();
   auto spec = LoadScenario(path);
@@ -228,8 +224,7 @@ ScenarioOutcome RunOneFile(const std::string& path, const fs::path& out_dir,
     io.err << spec.error().message << "\n";
     return outcome;
   }
-  auto report =
-      RunToDirectory(spec.value(), path, out_dir, seed, reference, dut_factory, realtime, io);
+  auto report = RunToDirectory(spec.value(), path, out_dir, options, reference, io);
   if (!report) {
     io.err << "hilrig: " << report.error().message << "\n";
     return outcome;
@@ -319,9 +314,8 @@ int RunFolder(const RunOptions& options, const Streams& io) {
     if (io.stop_requested != nullptr && io.stop_requested->load()) break;
     io.out << "== " << file << "\n";
     const fs::path out_dir = out_root / fs::path(file).stem();
-    outcomes.push_back(RunOneFile(file, out_dir, options.seed, io,
-                                  reference ? &reference->source : nullptr, options.dut_factory,
-                                  options.realtime));
+    outcomes.push_back(
+        RunOneFile(file, out_dir, options, reference ? &reference->source : nullptr, io));
     if (outcomes.back().exit_code != kExitBadInput) PrintRun(outcomes.back(), io);
   }
   int exit_code = kExitPass;
@@ -351,9 +345,8 @@ int RunCommand(const std::vector<std::string>& args, const Streams& io) {
   const fs::path out_dir =
       options.value().out_dir.value_or((fs::path("hilrig_out") / fs::path(target).stem()).string());
   const std::unique_ptr<ReferenceSetup> reference = MakeReferenceSetup(options.value(), io);
-  const ScenarioOutcome outcome = RunOneFile(target, out_dir, options.value().seed, io,
-                                             reference ? &reference->source : nullptr,
-                                             options.value().dut_factory, options.value().realtime);
+  const ScenarioOutcome outcome =
+      RunOneFile(target, out_dir, options.value(), reference ? &reference->source : nullptr, io);
   if (outcome.exit_code != kExitBadInput) PrintRun(outcome, io);
   return outcome.exit_code;
 }

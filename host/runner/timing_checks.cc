@@ -1,6 +1,7 @@
 #include "host/runner/timing_checks.h"
 
 #include <cmath>
+#include <optional>
 #include <string>
 
 namespace hilrig::host {
@@ -54,59 +55,82 @@ const proto::StreamLatency* WorstLatency(const proto::Timing& timing) {
   return worst;
 }
 
-proto::TimingCheckResult GradeRealtime(const std::string& name, double limit,
-                                       const proto::Timing& timing) {
-  // A run too short to have a period proved nothing about it.
-  const bool has_period = timing.ticks() >= 2;
-  if (name == "loop_period_p99_max_s") {
-    if (!has_period) return Unmeasured(name, limit, "s", "no loop period measured");
-    return Graded(name, timing.loop_period_p99_s(), limit, "s");
-  }
-  if (name == "loop_period_max_s") {
-    if (!has_period) return Unmeasured(name, limit, "s", "no loop period measured");
-    return Graded(name, timing.loop_period_max_s(), limit, "s");
-  }
-  if (name == "late_tick_fraction_max") {
-    if (timing.ticks() == 0) return Unmeasured(name, limit, "fraction", "no tick ran");
-    return Graded(name, Fraction(timing.late_ticks(), timing.ticks()), limit, "fraction");
-  }
-  if (name == "dut_commands_missed_fraction_max") {
-    if (timing.control_ticks() == 0) return Unmeasured(name, limit, "fraction", "no control tick");
-    return Graded(name, Fraction(timing.dut_commands_missed(), timing.control_ticks()), limit,
-                  "fraction");
-  }
+// What a real-time run measured for one check: a value (with an optional note), nothing (the run
+// proved nothing about it: it fails), or a figure this DUT does not have (not evaluated).
+struct Measured {
+  std::optional<double> value;
+  std::string note;
+  bool not_applicable = false;
+};
+
+Measured LoopPeriodP99(const proto::Timing& timing) {
+  if (timing.ticks() < 2) return {std::nullopt, "no loop period measured"};
+  return {timing.loop_period_p99_s(), ""};
+}
+
+Measured LoopPeriodMax(const proto::Timing& timing) {
+  if (timing.ticks() < 2) return {std::nullopt, "no loop period measured"};
+  return {timing.loop_period_max_s(), ""};
+}
+
+Measured LateTickFraction(const proto::Timing& timing) {
+  if (timing.ticks() == 0) return {std::nullopt, "no tick ran"};
+  return {Fraction(timing.late_ticks(), timing.ticks()), ""};
+}
+
+Measured DutLatencyP99(const proto::Timing& timing) {
   const proto::StreamLatency* worst = WorstLatency(timing);
-  if (worst == nullptr) return NotEvaluated(name, limit, "s", "the DUT measures no latency");
-  return Graded(name, worst->p99_s(), limit, "s", "stream " + worst->stream());
+  if (worst == nullptr) return {std::nullopt, "the DUT measures no latency", true};
+  return {worst->p99_s(), "stream " + worst->stream()};
+}
+
+Measured MissedCommandFraction(const proto::Timing& timing) {
+  if (timing.control_ticks() == 0) return {std::nullopt, "no control tick"};
+  return {Fraction(timing.dut_commands_missed(), timing.control_ticks()), ""};
+}
+
+struct TimingLimit {
+  const char* name;
+  const char* unit;
+  bool (proto::TimingEnvelopes::*is_set)() const;
+  double (proto::TimingEnvelopes::*limit)() const;
+  Measured (*measure)(const proto::Timing&);
+};
+
+// In the order of proto::TimingEnvelopes' fields.
+constexpr TimingLimit kTimingLimits[] = {
+    {"loop_period_p99_max_s", "s", &proto::TimingEnvelopes::has_loop_period_p99_max_s,
+     &proto::TimingEnvelopes::loop_period_p99_max_s, &LoopPeriodP99},
+    {"loop_period_max_s", "s", &proto::TimingEnvelopes::has_loop_period_max_s,
+     &proto::TimingEnvelopes::loop_period_max_s, &LoopPeriodMax},
+    {"late_tick_fraction_max", "fraction", &proto::TimingEnvelopes::has_late_tick_fraction_max,
+     &proto::TimingEnvelopes::late_tick_fraction_max, &LateTickFraction},
+    {"dut_latency_p99_max_s", "s", &proto::TimingEnvelopes::has_dut_latency_p99_max_s,
+     &proto::TimingEnvelopes::dut_latency_p99_max_s, &DutLatencyP99},
+    {"dut_commands_missed_fraction_max", "fraction",
+     &proto::TimingEnvelopes::has_dut_commands_missed_fraction_max,
+     &proto::TimingEnvelopes::dut_commands_missed_fraction_max, &MissedCommandFraction},
+};
+
+proto::TimingCheckResult GradeRealtime(const TimingLimit& check, double limit,
+                                       const proto::Timing& timing) {
+  Measured measured = check.measure(timing);
+  if (measured.not_applicable) return NotEvaluated(check.name, limit, check.unit, measured.note);
+  if (!measured.value) return Unmeasured(check.name, limit, check.unit, measured.note);
+  return Graded(check.name, *measured.value, limit, check.unit, std::move(measured.note));
 }
 
 }  // namespace
 
 std::vector<proto::TimingCheckResult> GradeTiming(const proto::TimingEnvelopes& limits,
                                                   const proto::Timing& timing) {
-  struct Limit {
-    const char* name;
-    bool set;
-    double value;
-    const char* unit;
-  };
-  const Limit all[] = {
-      {"loop_period_p99_max_s", limits.has_loop_period_p99_max_s(), limits.loop_period_p99_max_s(),
-       "s"},
-      {"loop_period_max_s", limits.has_loop_period_max_s(), limits.loop_period_max_s(), "s"},
-      {"late_tick_fraction_max", limits.has_late_tick_fraction_max(),
-       limits.late_tick_fraction_max(), "fraction"},
-      {"dut_latency_p99_max_s", limits.has_dut_latency_p99_max_s(), limits.dut_latency_p99_max_s(),
-       "s"},
-      {"dut_commands_missed_fraction_max", limits.has_dut_commands_missed_fraction_max(),
-       limits.dut_commands_missed_fraction_max(), "fraction"},
-  };
   const bool realtime = timing.mode() == "realtime";
   std::vector<proto::TimingCheckResult> results;
-  for (const Limit& limit : all) {
-    if (!limit.set) continue;
-    results.push_back(realtime ? GradeRealtime(limit.name, limit.value, timing)
-                               : NotEvaluated(limit.name, limit.value, limit.unit, "lockstep"));
+  for (const TimingLimit& check : kTimingLimits) {
+    if (!(limits.*check.is_set)()) continue;
+    const double limit = (limits.*check.limit)();
+    results.push_back(realtime ? GradeRealtime(check, limit, timing)
+                               : NotEvaluated(check.name, limit, check.unit, "lockstep"));
   }
   return results;
 }

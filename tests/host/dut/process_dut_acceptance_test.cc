@@ -6,17 +6,15 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <string>
+
+#include "tests/support/test_files.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string ReadFile(const fs::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
-}
+using hilrig::host::ReadFile;
 
 int RunHilrig(const fs::path& out_dir, const std::string& dut) {
   const std::string command = std::string(HILRIG_BIN_DIR) + "/hilrig run " + HILRIG_SOURCE_DIR +

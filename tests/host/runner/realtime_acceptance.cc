@@ -10,19 +10,16 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <string>
 
 #include "proto/report.pb.h"
+#include "tests/support/test_files.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string ReadFile(const fs::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
-}
+using hilrig::host::ReadFile;
 
 TEST(RealtimeAcceptanceTest, SixtySecondsOnTheBenchPassWithTimingFigures) {
   const fs::path out =
