@@ -29,13 +29,17 @@ void GraspStep(benchmark::State& state, const char* fixture, double per_pad_forc
     }
   }
   scene.stand_present = false;
+  // As the gripper scene steps it: the scene's constants once, the servo's decay once.
+  const GraspSceneConstants constants = MakeGraspSceneConstants(scene);
+  const double decay = ServoLagDecay(servo, 1e-3);
   std::uint64_t i = 0;
   for (auto _ : state) {
     // A command that wanders by a few microradians, as the DUT's does.
     const double wobble_rad = 1e-5 * static_cast<double>(++i % 7);
-    servo_state =
-        StepServo(servo, servo_state, command_rad + wobble_rad, GraspServoLoad(scene, grasp), 1e-3);
-    benchmark::DoNotOptimize(StepGrasp(scene, grasp, vehicle, servo_state.angle_rad, 1e-3));
+    servo_state = StepServoWithDecay(servo, servo_state, command_rad + wobble_rad,
+                                     GraspServoLoad(scene, constants, grasp), 1e-3, decay);
+    benchmark::DoNotOptimize(
+        StepGrasp(scene, constants, grasp, vehicle, servo_state.angle_rad, 1e-3));
   }
   if (grasp.mode != GraspMode::kHeld) state.SkipWithError("the object is not held");
 }

@@ -8,12 +8,14 @@
 
 #include "dut_fw/flight_controller.h"
 #include "host/dut/firmware_config.h"
+#include "host/dut/in_process_dut.h"
 #include "host/plant/quadrotor.h"
 #include "host/runner/runner.h"
 #include "host/scenario/scenario_config.h"
 #include "host/scenario/scenario_loader.h"
 #include "host/sensors/imu_emulator.h"
 #include "rig/clock.h"
+#include "rig/emulated_bus.h"
 
 namespace hilrig::host {
 namespace {
@@ -92,6 +94,30 @@ void BM_FlightControllerStep(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_FlightControllerStep);
+
+// The in-process DUT's share of one balloon_grasp tick without tactile traffic: an IMU sample, the
+// setpoint (grasp regulating) and the control step, through the DutPort calls the runner makes.
+void BM_DutStep(benchmark::State& state) {
+  const ScenarioConfig config = LongRunOf("balloon_grasp");
+  rig::EmulatedBus bus;
+  InProcessDut dut(FirmwareFor(config), bus.Connect("dut"), 1e-3);
+  dut.SendVio({{0, 0}, 0, Eigen::Vector3d(0, 0, 1), Eigen::Quaterniond::Identity()});
+  SetpointMessage setpoint;
+  setpoint.position_m = Eigen::Vector3d(0, 0, 1);
+  setpoint.yaw_rad = 0.3;
+  setpoint.grasp_regulate = true;
+  setpoint.grasp_force_n = 0.65;
+  setpoint.grasp_reference_angle_rad = 0.5;
+  std::uint64_t tick = 0;
+  for (auto _ : state) {
+    const std::int64_t now_ns = std::int64_t(++tick) * 1'000'000;
+    dut.SendImu({{tick, now_ns}, Eigen::Vector3d(0.01, -0.02, 0.005), Eigen::Vector3d(0, 0, 9.81)});
+    setpoint.stamp = {tick, now_ns};
+    dut.SendSetpoint(setpoint);
+    benchmark::DoNotOptimize(dut.Step(tick, now_ns));
+  }
+}
+BENCHMARK(BM_DutStep);
 
 void BM_ImuSample(benchmark::State& state) {
   const ImuParams params;

@@ -1,8 +1,9 @@
 // The vehicle's rigid-body step per physics tick with each fixed-step integrator, in hovering
 // flight with a small torque so the attitude actually turns: the plant's share of the lockstep
-// tick that does not depend on the grasp.
+// tick that does not depend on the grasp; and the whole vehicle step around it.
 #include <benchmark/benchmark.h>
 
+#include "host/plant/quadrotor.h"
 #include "host/plant/rigid_body.h"
 
 namespace hilrig::host {
@@ -28,6 +29,22 @@ void BM_RigidBodyStepMidpoint(benchmark::State& state) {
   RigidBodyStep(state, Integrator::kMidpoint);
 }
 BENCHMARK(BM_RigidBodyStepMidpoint);
+
+// The whole vehicle step as the runner takes it each tick: rotors, drag, wrench and the RK4 body,
+// hovering with slightly uneven thrusts so the attitude turns.
+void BM_QuadrotorStepHover(benchmark::State& state) {
+  const QuadrotorParams params;
+  const QuadrotorStepSize step = MakeQuadrotorStepSize(params, 1e-3);
+  QuadrotorState vehicle = MakeHoveringQuadrotor(params, {0.0, 0.0, 1.0}, 0.0);
+  const double hover = HoverThrustPerRotor(params);
+  const std::array<double, kRotorCount> thrust_n = {hover + 1e-4, hover - 1e-4, hover, hover};
+  const Eigen::Vector3d external_n(0.01, 0.0, 0.0);
+  for (auto _ : state) {
+    vehicle = StepQuadrotor(params, vehicle, thrust_n, external_n, step);
+    benchmark::DoNotOptimize(vehicle);
+  }
+}
+BENCHMARK(BM_QuadrotorStepHover);
 
 }  // namespace
 }  // namespace hilrig::host

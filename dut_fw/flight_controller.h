@@ -96,6 +96,7 @@ struct FlightControllerState {
   EstimatorState<S> estimator;
   AdmittanceState<S> admittance;
   AttitudeState<S> attitude;
+  HalfYawTrig<S> yaw_trig;  // the reference yaw's half-angle trig, redone only when the yaw moves
 };
 
 template <typename S>
@@ -147,8 +148,8 @@ class FlightController {
     const Vec3<S> feedforward_n =
         params_.load_feedforward ? external_force_world_n : Vec3<S>::Zero();
     const PositionCommand<S> command = ComputePositionCommandWithTiltTangent(
-        params_.position, max_tilt_tangent_, out.desired, est.position_m, est.velocity_m_s,
-        est.orientation, feedforward_n);
+        params_.position, max_tilt_tangent_, state.yaw_trig, out.desired, est.position_m,
+        est.velocity_m_s, est.orientation, feedforward_n);
     out.collective_thrust_n = command.collective_thrust_n;
     out.attitude_desired = command.attitude_desired;
     out.torque_body_nm = StepAttitude(params_.attitude, state.attitude, command.attitude_desired,

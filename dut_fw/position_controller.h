@@ -52,16 +52,42 @@ struct PositionCommand {
   Vec3<S> thrust_world_n = Vec3<S>::Zero();  // the limited thrust vector F
 };
 
-// Rotation body->world whose body z is along `thrust` (any vector with a positive z part) and whose
-// ZYX-Euler yaw is `yaw_rad`, built as R = Rz(yaw) Ry(pitch) Rx(roll) directly in quaternion form:
-// with F' = Rz(−yaw) F, roll and pitch follow from F' = |F| (sin p cos r, −sin r, cos p cos r), and
-// each half-angle quaternion is the normalised (1 + cos, sin) pair, so the only trig is the yaw
-// half-angle. (A rotation-matrix-to-quaternion conversion costs several times more.)
+// cos and sin of half a yaw angle, the only trig AttitudeFromThrustAndYaw needs. The reference
+// yaw is constant over most of a flight while the position loop runs at 1 kHz, so a controller
+// keeps the last pair in its state (YawTrigFor) and calls libm only when the yaw changes.
 template <typename S>
-Quat<S> AttitudeFromThrustAndYaw(const Vec3<S>& thrust, S yaw_rad) {
+struct HalfYawTrig {
+  S yaw_rad = S(0);
+  S cos_half = S(1);  // cos(yaw_rad / 2)
+  S sin_half = S(0);  // sin(yaw_rad / 2)
+};
+
+template <typename S>
+HalfYawTrig<S> HalfYawTrigOf(S yaw_rad) {
   const S half_yaw = S(0.5) * yaw_rad;
-  const S cz = std::cos(half_yaw);
-  const S sz = std::sin(half_yaw);
+  return HalfYawTrig<S>{yaw_rad, std::cos(half_yaw), std::sin(half_yaw)};
+}
+
+// `cache` brought to `yaw_rad`: reused when it already holds the same value (sign of zero
+// included, since sin(−0) is −0), recomputed otherwise, so the result is bit-identical to
+// HalfYawTrigOf(yaw_rad). A NaN never compares equal and is recomputed every time.
+template <typename S>
+const HalfYawTrig<S>& YawTrigFor(HalfYawTrig<S>& cache, NoDeduce<S> yaw_rad) {
+  if (!(yaw_rad == cache.yaw_rad && std::signbit(yaw_rad) == std::signbit(cache.yaw_rad))) {
+    cache = HalfYawTrigOf<S>(yaw_rad);
+  }
+  return cache;
+}
+
+// Rotation body->world whose body z is along `thrust` (any vector with a positive z part) and whose
+// ZYX-Euler yaw is `yaw.yaw_rad`, built as R = Rz(yaw) Ry(pitch) Rx(roll) directly in quaternion
+// form: with F' = Rz(−yaw) F, roll and pitch follow from F' = |F| (sin p cos r, −sin r, cos p cos
+// r), and each half-angle quaternion is the normalised (1 + cos, sin) pair, so the only trig is the
+// yaw half-angle, given. (A rotation-matrix-to-quaternion conversion costs several times more.)
+template <typename S>
+Quat<S> AttitudeFromThrustAndYaw(const Vec3<S>& thrust, const HalfYawTrig<S>& yaw) {
+  const S cz = yaw.cos_half;
+  const S sz = yaw.sin_half;
   const S cos_yaw = cz * cz - sz * sz;
   const S sin_yaw = S(2) * cz * sz;
   const S fx = cos_yaw * thrust.x() + sin_yaw * thrust.y();  // F in the yawed frame
@@ -81,6 +107,11 @@ Quat<S> AttitudeFromThrustAndYaw(const Vec3<S>& thrust, S yaw_rad) {
   return Quat<S>(cz * w - sz * z, cz * x - sz * y, cz * y + sz * x, cz * z + sz * w);
 }
 
+template <typename S>
+Quat<S> AttitudeFromThrustAndYaw(const Vec3<S>& thrust, NoDeduce<S> yaw_rad) {
+  return AttitudeFromThrustAndYaw<S>(thrust, HalfYawTrigOf<S>(yaw_rad));
+}
+
 // tan of max_tilt_rad clamped to [0, 85 deg]: a constant of the gains, so a controller that steps
 // them repeatedly computes it once (FlightController does) instead of once per control step.
 template <typename S>
@@ -88,10 +119,11 @@ S MaxTiltTangent(const PositionGains<S>& gains) {
   return std::tan(std::clamp(gains.max_tilt_rad, S(0), S(85.0 * EIGEN_PI / 180.0)));
 }
 
-// ComputePositionCommand below, with `max_tilt_tangent` = MaxTiltTangent(gains) given.
+// ComputePositionCommand below, with `max_tilt_tangent` = MaxTiltTangent(gains) given and the yaw's
+// half-angle trig taken from `yaw_trig` (the previous step's, updated here when the yaw changed).
 template <typename S>
 PositionCommand<S> ComputePositionCommandWithTiltTangent(
-    const PositionGains<S>& gains, NoDeduce<S> max_tilt_tangent,
+    const PositionGains<S>& gains, NoDeduce<S> max_tilt_tangent, HalfYawTrig<S>& yaw_trig,
     const NoDeduce<Reference<S>>& desired, const NoDeduce<Vec3<S>>& position_m,
     const NoDeduce<Vec3<S>>& velocity_m_s, const NoDeduce<Quat<S>>& attitude,
     const NoDeduce<Vec3<S>>& external_force_world_n) {
@@ -125,7 +157,8 @@ PositionCommand<S> ComputePositionCommandWithTiltTangent(
   command.thrust_world_n = Vec3<S>(horizontal.x(), horizontal.y(), fz);
   // A non-finite yaw keeps the current heading rather than spinning to an arbitrary one.
   const S yaw_rad = std::isfinite(desired.yaw_rad) ? desired.yaw_rad : YawRad<S>(attitude);
-  command.attitude_desired = AttitudeFromThrustAndYaw<S>(command.thrust_world_n, yaw_rad);
+  command.attitude_desired =
+      AttitudeFromThrustAndYaw<S>(command.thrust_world_n, YawTrigFor<S>(yaw_trig, yaw_rad));
   const Vec3<S> body_z_world = BodyZInWorld<S>(attitude);
   S collective_n = command.thrust_world_n.dot(body_z_world);
   if (!std::isfinite(collective_n)) collective_n = fz;
@@ -140,8 +173,10 @@ PositionCommand<S> ComputePositionCommand(
     const NoDeduce<Vec3<S>>& position_m, const NoDeduce<Vec3<S>>& velocity_m_s,
     const NoDeduce<Quat<S>>& attitude,
     const NoDeduce<Vec3<S>>& external_force_world_n = Vec3<S>::Zero()) {
-  return ComputePositionCommandWithTiltTangent<S>(gains, MaxTiltTangent(gains), desired, position_m,
-                                                  velocity_m_s, attitude, external_force_world_n);
+  HalfYawTrig<S> yaw_trig;
+  return ComputePositionCommandWithTiltTangent<S>(gains, MaxTiltTangent(gains), yaw_trig, desired,
+                                                  position_m, velocity_m_s, attitude,
+                                                  external_force_world_n);
 }
 
 }  // namespace hilrig::dut_fw

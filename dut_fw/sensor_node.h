@@ -83,13 +83,14 @@ class SampleSchedule {
     rate_hz_ = rate_hz;
     origin_ns_ = now_ns;
     slot_ = 0;
+    next_due_ns_ = SlotTimeNs();
   }
 
   constexpr std::uint16_t rate_hz() const { return rate_hz_; }
-  constexpr bool Due(std::int64_t now_ns) const { return rate_hz_ != 0 && now_ns >= NextDueNs(); }
-  constexpr std::int64_t NextDueNs() const {
-    return origin_ns_ + std::int64_t(slot_ * std::uint64_t(kNsPerSecond) / rate_hz_);
-  }
+  constexpr bool Due(std::int64_t now_ns) const { return rate_hz_ != 0 && now_ns >= next_due_ns_; }
+  constexpr std::int64_t NextDueNs() const { return next_due_ns_; }
+  // No time before this is Due (INT64_MAX when stopped): a loop can sleep, or skip, until then.
+  constexpr std::int64_t NextEventNs() const { return rate_hz_ == 0 ? INT64_MAX : next_due_ns_; }
 
   // Consumes every slot due at `now_ns` and returns how many there were: 1 when the loop keeps
   // up, more when it fell behind (the extra ones are skipped, not sent in a burst).
@@ -101,14 +102,23 @@ class SampleSchedule {
         slot_ = 0;
         origin_ns_ += kNsPerSecond;
       }
+      next_due_ns_ = SlotTimeNs();
     }
     return consumed;
   }
 
  private:
+  // The division happens once per slot here rather than on every Due check of a polling loop.
+  constexpr std::int64_t SlotTimeNs() const {
+    return rate_hz_ == 0
+               ? origin_ns_
+               : origin_ns_ + std::int64_t(slot_ * std::uint64_t(kNsPerSecond) / rate_hz_);
+  }
+
   std::uint16_t rate_hz_ = 0;
   std::int64_t origin_ns_ = 0;
   std::uint32_t slot_ = 0;
+  std::int64_t next_due_ns_ = 0;  // SlotTimeNs() of the current slot
 };
 
 // A fixed-capacity FIFO of frames: forwarding must never block the node's own sampling, so when
@@ -267,6 +277,14 @@ class SensorNode {
   }
 
   constexpr bool StatusDue(std::int64_t now_ns) const { return status_schedule_.Due(now_ns); }
+
+  // Neither SampleDue nor StatusDue holds before this time; only TakeSample, TakeStatus and
+  // OnBusFrame move it.
+  constexpr std::int64_t NextEventNs() const {
+    const std::int64_t sample_ns = sample_schedule_.NextEventNs();
+    const std::int64_t status_ns = status_schedule_.NextEventNs();
+    return sample_ns < status_ns ? sample_ns : status_ns;
+  }
   constexpr NodeFrame TakeStatus(std::int64_t now_ns) {
     status_schedule_.Consume(now_ns);
     return MakeStatus();

@@ -52,7 +52,7 @@ class CandumpLogWriter {
   std::ostream& out_;
   std::string interface_name_;
   DirectionMark mark_;
-  std::string line_;
+  std::string line_;  // sized once for the longest line; each line is written over the last
   std::uint64_t frames_written_ = 0;
 };
 

@@ -364,7 +364,9 @@ TxSource* EmulatedMedium::Arbitrate(std::int64_t start_ns) const {
 }
 
 void EmulatedMedium::Transmit(TxSource& source, std::int64_t start_ns) {
-  const PendingFrame pending = source.queue.front();
+  // By reference, not a copy of the 80-byte frame: delivery only appends to RX queues and counts
+  // successes down (which never reaches bus-off), so the TX queue head stays put until popped.
+  const PendingFrame& pending = source.queue.front();
   const std::int64_t duration_ns =
       FrameDurationNs(pending.frame, config_.nominal_bitrate_bps, config_.data_bitrate_bps);
   const WireFault fault = pending.frame.error ? WireFault::kNone : faults_.Next();
@@ -372,12 +374,12 @@ void EmulatedMedium::Transmit(TxSource& source, std::int64_t start_ns) {
     TransmitCorrupted(source, start_ns, duration_ns);
     return;
   }
-  source.queue.pop_front();
   const std::int64_t end_ns = start_ns + duration_ns;
   RecordWire(start_ns, end_ns);
   if (!pending.frame.error) RecordQueueing(pending.frame, start_ns - pending.queued_ns);
   if (fault == WireFault::kDrop) ++stats_.frames_dropped;
   Deliver(source.owner, pending.frame, end_ns, fault == WireFault::kDrop);
+  source.queue.pop_front();
 }
 
 // The frame stays queued: its sender retransmits it unless the error took it bus-off.

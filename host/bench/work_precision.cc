@@ -6,6 +6,9 @@
 #include <cmath>
 #include <cstdio>
 #include <iterator>
+#include <limits>
+#include <map>
+#include <memory>
 
 #include "host/runner/run_statistics.h"
 #include "host/scenario/scenario_validation.h"
@@ -45,7 +48,8 @@ rig::Result<ScenarioConfig> ResolveChecked(const proto::Scenario& spec,
                           problems.front().message);
   }
   if (spec.models().tactile().enabled() && spec.models().tactile().has_field_fidelity()) {
-    if (auto film = MakeFilmField(spec.models().tactile().field_fidelity()); !film) {
+    // Parsed, not built: building a field map here would tabulate it once more per run.
+    if (auto film = ParseFilmFidelity(spec.models().tactile().field_fidelity()); !film) {
       return rig::MakeError(spec.name() +
                             ": models.tactile.field_fidelity: " + film.error().message);
     }
@@ -87,39 +91,64 @@ bool FiniteAt(const CapturedTrace& trace, std::size_t i) {
          trace.position_m[i].allFinite();
 }
 
-// Times the stepping loop: cheap runs again without sinks (the fastest of several, so one noisy
-// run does not decide the front), expensive ones (or timing_repeats <= 1) from the captured run,
-// whose trace capture adds a little to the loop.
-double TimedWallPerSimS(const ScenarioConfig& config, const proto::Report& captured,
-                        const SweepOptions& options, const RunControl& control, int& runs) {
-  if (captured.wall_s() >= options.cheap_run_wall_s || options.timing_repeats <= 1) {
-    runs = 1;
-    return WallPerSimulatedSecond(captured);
+// The film field of each field level, built once per scene and shared by the runs at that level
+// (a field map takes seconds to tabulate, which the sweep would otherwise pay per run and per
+// timing repeat).
+class FilmFieldShelf {
+ public:
+  rig::Result<void> ShareInto(ScenarioConfig& config) {
+    HallSensorConfig& hall = config.hall_sensors;
+    if (!hall.tactile_enabled) return {};
+    auto& film = films_[hall.field_fidelity];
+    if (film == nullptr) {
+      if (auto built = BuildFilmField(config); !built) return built.error();
+      film = hall.film_field;
+    }
+    hall.film_field = film;
+    return {};
   }
-  std::vector<double> samples;
-  for (int i = 0; i < options.timing_repeats && !Interrupted(control); ++i) {
-    samples.push_back(WallPerSimulatedSecond(RunScenario(config, {}, control)));
+
+ private:
+  std::map<std::string, std::shared_ptr<const FilmFieldModel>> films_;
+};
+
+bool CheapToRepeat(const RunResult& run, const SweepOptions& options) {
+  return options.timing_repeats > 1 &&
+         run.wall_s_per_sim_s * run.simulated_s < options.cheap_run_wall_s;
+}
+
+// Times the cheap runs again without sinks (the captured run's trace capture adds to its loop), in
+// rounds over all of them: round r times every run once before round r + 1 starts, so a slow
+// spell of a shared machine slows every configuration alike instead of deciding one's place on
+// the front. Each keeps its fastest: noise on a shared machine only ever adds time. Expensive runs
+// keep their captured timing.
+void TimeInRounds(const std::vector<ScenarioConfig>& configs, SceneResult& scene,
+                  const SweepOptions& options, const RunControl& control) {
+  std::vector<double> fastest(scene.runs.size(), std::numeric_limits<double>::infinity());
+  for (int round = 0; round < options.timing_repeats; ++round) {
+    for (std::size_t i = 0; i < scene.runs.size() && !Interrupted(control); ++i) {
+      if (!CheapToRepeat(scene.runs[i], options)) continue;
+      const double timed = WallPerSimulatedSecond(RunScenario(configs[i], {}, control));
+      fastest[i] = std::min(fastest[i], timed);
+      scene.runs[i].timing_runs = round + 1;
+    }
   }
-  runs = static_cast<int>(samples.size());
-  if (samples.empty()) {
-    runs = 1;
-    return WallPerSimulatedSecond(captured);
+  for (std::size_t i = 0; i < scene.runs.size(); ++i) {
+    if (std::isfinite(fastest[i])) scene.runs[i].wall_s_per_sim_s = fastest[i];
   }
-  // The fastest of equal runs: noise on a shared machine only ever adds time.
-  return *std::min_element(samples.begin(), samples.end());
 }
 
 RunResult Evaluate(const PlannedRun& planned, const ScenarioConfig& config,
-                   const CapturedRun& captured, const CapturedTrace& reference,
-                   const SweepOptions& options, const RunControl& control) {
+                   const CapturedRun& captured, const CapturedTrace& reference) {
   RunResult result;
   result.run = planned;
   result.step_s = static_cast<double>(config.physics_step_ns) / 1e9 / config.plant_substeps;
   result.errors = CompareTraces(captured.trace, reference);
   result.passes_envelopes = captured.report.passed();
   result.stop_reason = captured.report.stop_reason();
-  result.wall_s_per_sim_s =
-      TimedWallPerSimS(config, captured.report, options, control, result.timing_runs);
+  result.simulated_s = captured.report.simulated_s();
+  result.wall_s_per_sim_s = WallPerSimulatedSecond(captured.report);
+  result.timing_runs = 1;
   return result;
 }
 
@@ -517,24 +546,32 @@ rig::Result<SceneResult> SweepScene(const proto::Scenario& spec, const std::stri
   }
   SceneResult scene;
   scene.scene = spec.name();
-  scene.runs.push_back(
-      Evaluate(reference, ref_config, reference_run, reference_run.trace, options, control));
+  scene.runs.push_back(Evaluate(reference, ref_config, reference_run, reference_run.trace));
   scene.tolerance = options.tolerance;
+  std::vector<ScenarioConfig> configs{ref_config};
+  FilmFieldShelf films;
   const bool has_film = spec.models().tactile().enabled();
   for (const PlannedRun& planned : PlanSweep(SceneFidelity(spec), has_film, options.quick)) {
     if (Interrupted(control)) return rig::MakeError("interrupted");
     auto config = ResolveWithCalibration(WithFidelity(base, planned.fidelity), spec_directory,
                                          ref_config.seed, ref_config.hall_sensors.calibration);
     if (!config) return config.error();
+    if (auto shared = films.ShareInto(config.value()); !shared) return shared.error();
     const CapturedRun run = RunCaptured(config.value(), control);
-    scene.runs.push_back(
-        Evaluate(planned, config.value(), run, reference_run.trace, options, control));
+    scene.runs.push_back(Evaluate(planned, config.value(), run, reference_run.trace));
+    configs.push_back(std::move(config).value());
     if (options.progress != nullptr) {
       *options.progress << scene.scene << ": " << RunKindName(planned.kind) << " "
                         << FidelityLabel(planned.fidelity) << ": "
                         << Number(scene.runs.back().wall_s_per_sim_s) << " s/sim s" << std::endl;
     }
   }
+  if (options.progress != nullptr && options.timing_repeats > 1) {
+    *options.progress << scene.scene << ": timing the runs under "
+                      << Number(options.cheap_run_wall_s) << " s " << options.timing_repeats
+                      << " more times, in rounds" << std::endl;
+  }
+  TimeInRounds(configs, scene, options, control);
   MarkParetoFronts(scene);
   return scene;
 }

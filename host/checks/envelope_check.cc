@@ -4,33 +4,60 @@
 #include <cmath>
 
 namespace hilrig::host {
+namespace {
+
+// Erases the samples before `begin` once they are at least half of the arrays (and more than a
+// few): each sample is moved O(1) times on average, and the arrays stay at about twice the window.
+void DropLeftSamples(MeanWindow& window) {
+  constexpr std::size_t kMinDropped = 64;
+  if (window.begin < kMinDropped || 2 * window.begin < window.values.size()) return;
+  const auto left = static_cast<std::ptrdiff_t>(window.begin);
+  window.times_s.erase(window.times_s.begin(), window.times_s.begin() + left);
+  window.values.erase(window.values.begin(), window.values.begin() + left);
+  window.begin = 0;
+}
+
+}  // namespace
 
 EnvelopeCheck::EnvelopeCheck(proto::Envelope spec)
     : spec_(std::move(spec)),
+      read_signal_(SignalReaderFor(spec_.signal())),
+      lower_(spec_.has_lower() ? spec_.lower() : -std::numeric_limits<double>::infinity()),
+      upper_(spec_.has_upper() ? spec_.upper() : std::numeric_limits<double>::infinity()),
       from_s_(spec_.has_from_s() ? spec_.from_s() : 0.0),
-      until_s_(spec_.has_until_s() ? spec_.until_s() : std::numeric_limits<double>::infinity()) {}
+      until_s_(spec_.has_until_s() ? spec_.until_s() : std::numeric_limits<double>::infinity()),
+      has_mean_(spec_.has_mean_over_s()),
+      mean_over_s_(spec_.mean_over_s()) {}
 
 double EnvelopeCheck::Margin(double value) const {
   if (!std::isfinite(value)) return -std::numeric_limits<double>::infinity();
+  // A missing bound is infinitely far. Starting from +inf and folding in each side keeps what a
+  // NaN bound does (std::min keeps the first argument when the second is NaN).
   double margin = std::numeric_limits<double>::infinity();
-  if (spec_.has_lower()) margin = std::min(margin, value - spec_.lower());
-  if (spec_.has_upper()) margin = std::min(margin, spec_.upper() - value);
+  margin = std::min(margin, value - lower_);
+  margin = std::min(margin, upper_ - value);
   return margin;
 }
 
 std::optional<double> EnvelopeCheck::CheckedValue(const TraceSample& sample,
                                                   EnvelopeProgress& progress) const {
-  const double value = SignalValue(sample, spec_.signal());
-  if (!spec_.has_mean_over_s()) return value;
+  const double value = read_signal_(sample);
+  if (!has_mean_) return value;
   // Half a microsecond of slack so that a window of whole trace periods counts as full.
   constexpr double kSlackS = 5e-7;
-  auto& window = progress.window;
-  window.emplace_back(sample.time_s, value);
-  while (sample.time_s - window.front().first >= spec_.mean_over_s() - kSlackS) window.pop_front();
-  if (sample.time_s - from_s_ < spec_.mean_over_s() - kSlackS) return std::nullopt;
+  MeanWindow& window = progress.window;
+  window.times_s.push_back(sample.time_s);
+  window.values.push_back(value);
+  const std::size_t end = window.values.size();
+  while (window.begin < end &&
+         sample.time_s - window.times_s[window.begin] >= mean_over_s_ - kSlackS) {
+    ++window.begin;
+  }
+  DropLeftSamples(window);
+  if (sample.time_s - from_s_ < mean_over_s_ - kSlackS) return std::nullopt;
   double sum = 0;
-  for (const auto& [time_s, windowed] : window) sum += windowed;
-  return sum / static_cast<double>(window.size());
+  for (std::size_t i = window.begin; i < window.values.size(); ++i) sum += window.values[i];
+  return sum / static_cast<double>(window.values.size() - window.begin);
 }
 
 bool EnvelopeCheck::Observe(const TraceSample& sample, EnvelopeProgress& progress) const {

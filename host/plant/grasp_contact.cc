@@ -86,11 +86,20 @@ bool StateFinite(const GraspState& s) {
          std::isfinite(s.peak_normal_force_n) && std::isfinite(s.peak_indentation_m);
 }
 
+// R_WB(2, 2) of a unit quaternion, written exactly as Eigen's toRotationMatrix computes it (so it
+// rounds the same) without the other eight entries, which only sliding needs.
+double BodyUpZ(const Eigen::Quaterniond& q) {
+  const double tx = 2.0 * q.x();
+  const double ty = 2.0 * q.y();
+  return 1.0 - (tx * q.x() + ty * q.y());
+}
+
 // What every mode handler needs about this step.
 struct StepContext {
   const GraspSceneParams& params;
+  const GraspSceneConstants& constants;
   const GraspVehicleSample& vehicle;
-  Eigen::Matrix3d world_from_body;
+  Eigen::Quaterniond world_from_body;  // normalized
   double frame_height_m;
   double body_up_z;  // world z of the body's up axis: converts body-z offsets into heights
   SeriesContact contact;
@@ -124,14 +133,13 @@ std::array<double, kGripperPadCount> SymmetricNormals(const StepContext& ctx) {
 std::array<double, kGripperPadCount> ImbalancedNormals(const StepContext& ctx,
                                                        const Eigen::Vector3d& horizontal_body_n) {
   std::array<double, kGripperPadCount> normals;
-  const double azimuth0 = ctx.params.frame.first_azimuth_rad;
   const double vx = kImbalanceGain * horizontal_body_n.x();
   const double vy = kImbalanceGain * horizontal_body_n.y();
   // Rotating the first outward vector by 60 deg per pad avoids six sin/cos per tick.
   const double c60 = 0.5;
   const double s60 = std::sqrt(3.0) / 2.0;
-  double ox = std::cos(azimuth0);
-  double oy = std::sin(azimuth0);
+  double ox = ctx.constants.first_outward_x;
+  double oy = ctx.constants.first_outward_y;
   for (int i = 0; i < kGripperPadCount; ++i) {
     normals[i] = std::max(0.0, ctx.contact.force_n - (ox * vx + oy * vy));
     const double next_x = c60 * ox - s60 * oy;
@@ -277,8 +285,9 @@ void StepSliding(const StepContext& ctx, GraspState& s, GraspForces& out) {
     return;
   }
   FillPadForces(normals, friction, out);
-  out.force_on_vehicle_world_n =
-      -(ctx.world_from_body * (horizontal_n + Eigen::Vector3d(0.0, 0.0, friction)));
+  // The same matrix product as always (not a quaternion rotation), so the force rounds the same.
+  out.force_on_vehicle_world_n = -(ctx.world_from_body.toRotationMatrix() *
+                                   (horizontal_n + Eigen::Vector3d(0.0, 0.0, friction)));
   out.elastic_energy_j += ShearEnergy(ctx, friction);
   if (ctx.params.stand_present && height <= ctx.params.stand_height_m) {
     PutBackOnStand(ctx, s);
@@ -348,8 +357,11 @@ GraspState InitialGraspState(const GraspSceneParams& params) {
   return state;
 }
 
-SeriesContact SolveSeriesContact(const ObjectParams& object, double pad_k, double pad_beta,
-                                 double overlap, double split_hint) {
+namespace {
+
+// The series solve from an initial indentation guess (used when inside (0, overlap)).
+SeriesContact SolveSeriesFrom(const ObjectParams& object, double pad_k, double pad_beta,
+                              double overlap, double guess_m) {
   SeriesContact c;
   if (!(overlap > 0) || !std::isfinite(overlap)) return c;
   const bool object_linear = object.exponent == 1.0 && std::isinf(object.stiffening_length_m);
@@ -359,6 +371,7 @@ SeriesContact SolveSeriesContact(const ObjectParams& object, double pad_k, doubl
     c.indentation_m = overlap * (pad_k / sum);
     c.pad_compression_m = overlap * (k / sum);
     c.stiffness_n_per_m = k * (pad_k / sum);
+    c.indentation_per_overlap = pad_k / sum;
     c.force_n = overlap * c.stiffness_n_per_m;
     return c;
   }
@@ -366,8 +379,7 @@ SeriesContact SolveSeriesContact(const ObjectParams& object, double pad_k, doubl
   // Force balance h(d) = F_object(d) - F_pad(overlap - d), increasing in d on [0, overlap].
   double lo = 0.0;
   double hi = overlap;
-  double d =
-      split_hint > 0 && split_hint < 1 ? split_hint * overlap : SeriesGuess(object, pad_k, overlap);
+  double d = guess_m > lo && guess_m < hi ? guess_m : SeriesGuess(object, pad_k, overlap);
   if (!(d > lo && d < hi)) d = 0.5 * overlap;
   double object_force = 0.0;
   double object_k = 0.0;
@@ -406,9 +418,43 @@ SeriesContact SolveSeriesContact(const ObjectParams& object, double pad_k, doubl
   // Read the force off the softer side: its displacement is the large, well-resolved one, so the
   // force keeps full relative precision even when the other side is 1e9 times stiffer.
   c.force_n = object_k <= pad_k_now ? object_force + object_k * step : pad_force - pad_k_now * step;
-  c.stiffness_n_per_m =
-      object_k + pad_k_now > 0 ? object_k * pad_k_now / (object_k + pad_k_now) : 0.0;
+  const double k_sum = object_k + pad_k_now;
+  c.stiffness_n_per_m = k_sum > 0 ? object_k * pad_k_now / k_sum : 0.0;
+  c.indentation_per_overlap = k_sum > 0 ? pad_k_now / k_sum : 0.0;
   return c;
+}
+
+}  // namespace
+
+SeriesContact SolveSeriesContact(const ObjectParams& object, double pad_k, double pad_beta,
+                                 double overlap, double split_hint) {
+  const double guess = split_hint > 0 && split_hint < 1 ? split_hint * overlap : -1.0;
+  return SolveSeriesFrom(object, pad_k, pad_beta, overlap, guess);
+}
+
+SeriesContact SolveSeriesContact(const ObjectParams& object, double pad_k, double pad_beta,
+                                 double overlap, const SeriesSeed& seed) {
+  // A NaN prediction fails the range check in the solve and starts cold.
+  const double guess = seed.overlap_m > 0 ? seed.indentation_m + seed.indentation_per_overlap *
+                                                                     (overlap - seed.overlap_m)
+                                          : -1.0;
+  return SolveSeriesFrom(object, pad_k, pad_beta, overlap, guess);
+}
+
+SeriesSeed SeedOf(const SeriesContact& contact, double overlap_m) {
+  if (!(overlap_m > 0) || !std::isfinite(contact.indentation_m)) return {};
+  return {overlap_m, contact.indentation_m, contact.indentation_per_overlap};
+}
+
+GraspSceneConstants MakeGraspSceneConstants(const GraspSceneParams& params) {
+  GraspSceneConstants constants;
+  constants.scene_usable = SceneUsable(params);
+  constants.contact_usable = ContactUsable(params);
+  if (std::isfinite(params.frame.first_azimuth_rad)) {
+    constants.first_outward_x = std::cos(params.frame.first_azimuth_rad);
+    constants.first_outward_y = std::sin(params.frame.first_azimuth_rad);
+  }
+  return constants;
 }
 
 double SymmetricNormalForce(const GraspSceneParams& params, const GraspState& state,
@@ -418,19 +464,25 @@ double SymmetricNormalForce(const GraspSceneParams& params, const GraspState& st
   const double overlap = params.object.half_width_m - PadSurfaceRadius(params.frame, angle_rad);
   const SeriesContact c =
       SolveSeriesContact(params.object, params.pad_stiffness_n_per_m.z(),
-                         params.pad_stiffening_per_m2, overlap, state.contact_split_hint);
+                         params.pad_stiffening_per_m2, overlap, state.contact_seed);
   if (!std::isfinite(c.force_n) || !(c.force_n >= 0)) return 0.0;
   if (indentation_m != nullptr) *indentation_m = c.indentation_m;
   return c.force_n;
 }
 
 GraspServoLoad::GraspServoLoad(const GraspSceneParams& params, const GraspState& state)
-    : params_(params), state_(state), loads_(HasObject(state.mode) && ContactUsable(params)) {}
+    : GraspServoLoad(params, MakeGraspSceneConstants(params), state) {}
+
+GraspServoLoad::GraspServoLoad(const GraspSceneParams& params, const GraspSceneConstants& constants,
+                               const GraspState& state)
+    : params_(params),
+      state_(state),
+      loads_(HasObject(state.mode) && constants.contact_usable),
+      seed_(state.contact_seed) {}
 
 double GraspServoLoad::TorqueAt(double angle_rad) const {
-  const double torque = params_.frame.closing_m_per_rad * kGripperPadCount *
-                        SymmetricNormalForce(params_, state_, angle_rad);
-  return std::isfinite(torque) ? torque : 0.0;
+  double slope_nm_per_rad = 0.0;
+  return TorqueAndSlopeAt(angle_rad, &slope_nm_per_rad);
 }
 
 double GraspServoLoad::TorqueAndSlopeAt(double angle_rad, double* slope_nm_per_rad) const {
@@ -439,9 +491,9 @@ double GraspServoLoad::TorqueAndSlopeAt(double angle_rad, double* slope_nm_per_r
   const double closing = params_.frame.closing_m_per_rad;
   const double radius = PadSurfaceRadius(params_.frame, angle_rad);
   const double overlap = params_.object.half_width_m - radius;
-  const SeriesContact c =
-      SolveSeriesContact(params_.object, params_.pad_stiffness_n_per_m.z(),
-                         params_.pad_stiffening_per_m2, overlap, state_.contact_split_hint);
+  const SeriesContact c = SolveSeriesContact(params_.object, params_.pad_stiffness_n_per_m.z(),
+                                             params_.pad_stiffening_per_m2, overlap, seed_);
+  if (overlap > 0) seed_ = SeedOf(c, overlap);
   const double torque = closing * kGripperPadCount * c.force_n;
   if (!(torque >= 0) || !std::isfinite(torque) || !std::isfinite(c.stiffness_n_per_m)) return 0.0;
   // d(overlap)/d(angle) = closing while the pads have not reached the centre.
@@ -451,31 +503,38 @@ double GraspServoLoad::TorqueAndSlopeAt(double angle_rad, double* slope_nm_per_r
 
 GraspForces StepGrasp(const GraspSceneParams& params, GraspState& state,
                       const GraspVehicleSample& vehicle, double frame_angle_rad, double dt_s) {
+  return StepGrasp(params, MakeGraspSceneConstants(params), state, vehicle, frame_angle_rad, dt_s);
+}
+
+GraspForces StepGrasp(const GraspSceneParams& params, const GraspSceneConstants& constants,
+                      GraspState& state, const GraspVehicleSample& vehicle, double frame_angle_rad,
+                      double dt_s) {
   GraspForces out;
   if (!HasObject(state.mode)) {
     state.gripped = false;
     return out;
   }
   if (!InputsFinite(vehicle, frame_angle_rad, dt_s) || !StateFinite(state) ||
-      !SceneUsable(params)) {
+      !constants.scene_usable) {
     return out;
   }
   const double overlap =
       params.object.half_width_m - PadSurfaceRadius(params.frame, frame_angle_rad);
-  const Eigen::Matrix3d world_from_body = vehicle.orientation.normalized().toRotationMatrix();
-  StepContext ctx{
-      params,
-      vehicle,
-      world_from_body,
-      vehicle.position_m.z() + world_from_body(2, 2) * params.frame.height_m,
-      world_from_body(2, 2),
-      SolveSeriesContact(params.object, params.pad_stiffness_n_per_m.z(),
-                         params.pad_stiffening_per_m2, overlap, state.contact_split_hint),
-      state.object_mass_kg,
-      kGripperPadCount * params.pad_stiffness_n_per_m.y(),
-      dt_s};
+  const Eigen::Quaterniond world_from_body = vehicle.orientation.normalized();
+  const double body_up_z = BodyUpZ(world_from_body);
+  StepContext ctx{params,
+                  constants,
+                  vehicle,
+                  world_from_body,
+                  vehicle.position_m.z() + body_up_z * params.frame.height_m,
+                  body_up_z,
+                  SolveSeriesContact(params.object, params.pad_stiffness_n_per_m.z(),
+                                     params.pad_stiffening_per_m2, overlap, state.contact_seed),
+                  state.object_mass_kg,
+                  kGripperPadCount * params.pad_stiffness_n_per_m.y(),
+                  dt_s};
   if (!std::isfinite(ctx.contact.force_n)) return out;
-  if (overlap > 0) state.contact_split_hint = ctx.contact.indentation_m / overlap;
+  if (overlap > 0) state.contact_seed = SeedOf(ctx.contact, overlap);
 
   // A transition re-runs the new mode's handler in the same step; a mode already visited this
   // step is not run again, so the step always ends (the last handler's forces stand).

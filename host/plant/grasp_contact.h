@@ -55,7 +55,7 @@
 //
 // NaN safety: non-finite vehicle inputs, angle, dt or state leave the mode unchanged and give zero
 // forces; an invalid scene (ValidateGraspScene) starts as kNoObject and never produces forces.
-// Per-step cost is a few series solves, without heap allocation.
+// Per-step cost is a few series solves, each warm-started from the last, without heap allocation.
 #ifndef HILRIG_HOST_PLANT_GRASP_CONTACT_H_
 #define HILRIG_HOST_PLANT_GRASP_CONTACT_H_
 
@@ -97,6 +97,15 @@ struct GraspSceneParams {
 // height and positive pad half height; the message names the field.
 rig::Result<void> ValidateGraspScene(const GraspSceneParams& params);
 
+// A solved series contact kept to warm-start a solve at a nearby overlap: the indentation there is
+// predicted to first order, indentation_m + indentation_per_overlap * (overlap - overlap_m). Only
+// the start of the iteration depends on it, never the tolerance. overlap_m <= 0: no seed.
+struct SeriesSeed {
+  double overlap_m = 0.0;
+  double indentation_m = 0.0;
+  double indentation_per_overlap = 0.0;  // d(indentation)/d(overlap) = k_pad / (k_object + k_pad)
+};
+
 struct GraspState {
   GraspMode mode = GraspMode::kOnStand;
   double object_mass_kg = 0.0;  // set from the params at start; grows with PourMass
@@ -111,9 +120,9 @@ struct GraspState {
   DamageMode damage = DamageMode::kNone;  // set once when the criterion is first reached
   double peak_normal_force_n = 0.0;
   double peak_indentation_m = 0.0;
-  // The object's share of the overlap (d_o / overlap) at the last contact solve, which warm-starts
-  // the next one (a few Newton steps fewer per tick); outside (0, 1): none yet.
-  double contact_split_hint = -1.0;
+  // The last contact solve, which warm-starts the next one (SeriesSeed): from one tick to the next
+  // the overlap moves little, so its first-order prediction is usually already converged.
+  SeriesSeed contact_seed;
 };
 
 // On the stand with the params' mass at the stand height; kNoObject when the scene does not
@@ -167,17 +176,40 @@ struct SeriesContact {
   double pad_compression_m = 0;
   double indentation_m = 0;
   double stiffness_n_per_m = 0;
+  double indentation_per_overlap = 0;  // the object's share of a small change of the overlap
 };
 // `split_hint` (d_o / overlap from a nearby solve) only warm-starts the iteration.
 SeriesContact SolveSeriesContact(const ObjectParams& object, double pad_normal_n_per_m,
                                  double pad_stiffening_per_m2, double overlap_m,
                                  double split_hint = -1.0);
+// The same, warm-started from a solve at a nearby overlap; an empty or non-finite seed, or a
+// prediction outside (0, overlap), starts cold.
+SeriesContact SolveSeriesContact(const ObjectParams& object, double pad_normal_n_per_m,
+                                 double pad_stiffening_per_m2, double overlap_m,
+                                 const SeriesSeed& seed);
+// The seed a solve leaves for the next one at a nearby overlap (empty without overlap).
+SeriesSeed SeedOf(const SeriesContact& contact, double overlap_m);
+
+// What the per-tick paths derive from the scene's params alone: computed once per scene (a caller
+// stepping many ticks keeps it next to the params and recomputes it whenever it changes them)
+// instead of once or several times per tick.
+struct GraspSceneConstants {
+  bool scene_usable = false;    // the checks of ValidateGraspScene the steps rely on
+  bool contact_usable = false;  // what the series solve needs (the servo load's inner loop)
+  // Outward direction of pad 0 (body x, y); the others follow by 60 deg rotations.
+  double first_outward_x = 1.0;
+  double first_outward_y = 0.0;
+};
+GraspSceneConstants MakeGraspSceneConstants(const GraspSceneParams& params);
 
 // The grasp's load on the servo (closing_m_per_rad * sum of normal forces), as a ServoLoad. It
 // keeps references to params and state: build it for the step, do not keep it beyond them.
 class GraspServoLoad final : public ServoLoad {
  public:
   GraspServoLoad(const GraspSceneParams& params, const GraspState& state);
+  // With the scene's constants already computed (they must be those of `params`).
+  GraspServoLoad(const GraspSceneParams& params, const GraspSceneConstants& constants,
+                 const GraspState& state);
   double TorqueAt(double angle_rad) const override;
   double TorqueAndSlopeAt(double angle_rad, double* slope_nm_per_rad) const override;
 
@@ -187,11 +219,19 @@ class GraspServoLoad final : public ServoLoad {
   // Whether there is an object to push against and a contact the series solve can take: fixed for
   // the load's short life, so the servo's search does not re-check it at every evaluation.
   bool loads_;
+  // The servo's search evaluates a sequence of nearby angles, converging on one: each contact
+  // solve seeds the next (starting from the state's seed), so most take a single Newton step. It
+  // only changes where the iteration starts, never the answer's tolerance.
+  mutable SeriesSeed seed_;
 };
 
 // One step: updates the mode, damage and sliding, and returns the forces of this step.
 GraspForces StepGrasp(const GraspSceneParams& params, GraspState& state,
                       const GraspVehicleSample& vehicle, double frame_angle_rad, double dt_s);
+// The same with the scene's constants already computed (they must be those of `params`).
+GraspForces StepGrasp(const GraspSceneParams& params, const GraspSceneConstants& constants,
+                      GraspState& state, const GraspVehicleSample& vehicle, double frame_angle_rad,
+                      double dt_s);
 
 // Mass flow into a container (ignored when <= 0 or non-finite).
 void PourMass(GraspState& state, double added_mass_kg);

@@ -32,13 +32,27 @@ void HoldOnStand(const QuadrotorParams& params, QuadrotorState& next) {
 
 }  // namespace
 
+QuadrotorStepSize MakeQuadrotorStepSize(const QuadrotorParams& params, double dt_s) {
+  return {dt_s, RotorLagBlend(params.rotors, dt_s)};
+}
+
 QuadrotorState StepQuadrotor(const QuadrotorParams& params, const QuadrotorState& state,
                              const std::array<double, kRotorCount>& commanded_thrust_n,
                              const Eigen::Vector3d& external_force_world_n, double dt_s,
                              double payload_mass_kg) {
+  return StepQuadrotor(params, state, commanded_thrust_n, external_force_world_n,
+                       MakeQuadrotorStepSize(params, dt_s), payload_mass_kg);
+}
+
+QuadrotorState StepQuadrotor(const QuadrotorParams& params, const QuadrotorState& state,
+                             const std::array<double, kRotorCount>& commanded_thrust_n,
+                             const Eigen::Vector3d& external_force_world_n,
+                             const QuadrotorStepSize& step, double payload_mass_kg) {
+  const double dt_s = step.dt_s;
   QuadrotorState next = state;
   next.ground_contact = false;
-  next.rotors = StepRotors(params.rotors, state.rotors, commanded_thrust_n, dt_s);
+  next.rotors =
+      StepRotorsWithBlend(params.rotors, state.rotors, commanded_thrust_n, step.rotor_lag_blend);
   if (params.fidelity == VehicleFidelity::kFixedStand) {
     HoldOnStand(params, next);
     return next;

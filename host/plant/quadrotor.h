@@ -76,6 +76,19 @@ QuadrotorState StepQuadrotor(const QuadrotorParams& params, const QuadrotorState
                              const Eigen::Vector3d& external_force_world_n, double dt_s,
                              double payload_mass_kg = 0.0);
 
+// A step size with what depends only on it and the params (the rotors' lag blend, an expm1):
+// a caller with a fixed dt makes it once and passes it to every step instead of dt_s.
+struct QuadrotorStepSize {
+  double dt_s = 0.0;
+  double rotor_lag_blend = 1.0;  // RotorLagBlend(params.rotors, dt_s)
+};
+QuadrotorStepSize MakeQuadrotorStepSize(const QuadrotorParams& params, double dt_s);
+// The same step as above; `step` must have been made from these params.
+QuadrotorState StepQuadrotor(const QuadrotorParams& params, const QuadrotorState& state,
+                             const std::array<double, kRotorCount>& commanded_thrust_n,
+                             const Eigen::Vector3d& external_force_world_n,
+                             const QuadrotorStepSize& step, double payload_mass_kg = 0.0);
+
 // m g / 4: the per-rotor thrust that holds a level vehicle still.
 double HoverThrustPerRotor(const QuadrotorParams& params);
 

@@ -45,6 +45,7 @@ void GripperScene::Present(const ObjectPlacement& placement) {
   scene_.object = placement.object;
   scene_.stand_height_m = placement.stand_height_m;
   scene_.stand_present = true;
+  scene_constants_ = MakeGraspSceneConstants(scene_);
   grasp_ = InitialGraspState(scene_);
   current_ = proto::ObjectOutcome();
   current_.set_fixture(placement.fixture);
@@ -52,14 +53,21 @@ void GripperScene::Present(const ObjectPlacement& placement) {
 }
 
 GripperCommand GripperScene::CommandAt(double time_s) const {
-  GripperCommand command;
+  // The latest event at or before time_s; the default reference angle is worked out for that one
+  // only (value_or would evaluate it for every earlier event too).
+  const GraspCommandEvent* latest = nullptr;
   for (const GraspCommandEvent& event : config_.grasps) {
     if (event.at_s > time_s) break;
-    command.regulate = event.regulate;
-    command.force_n = event.force_n;
-    command.reference_angle_rad = event.reference_angle_rad.value_or(
-        AngleForPadRadius(scene_.frame, scene_.object.half_width_m + kApproachMarginM));
+    latest = &event;
   }
+  GripperCommand command;
+  if (latest == nullptr) return command;
+  command.regulate = latest->regulate;
+  command.force_n = latest->force_n;
+  command.reference_angle_rad =
+      latest->reference_angle_rad.has_value()
+          ? *latest->reference_angle_rad
+          : AngleForPadRadius(scene_.frame, scene_.object.half_width_m + kApproachMarginM);
   return command;
 }
 
@@ -90,14 +98,14 @@ void GripperScene::Step(double time_s, double servo_command_rad, const Quadrotor
     servo_decay_dt_s_ = dt_s;
   }
   servo_ = StepServoWithDecay(config_.servo, servo_, servo_command_rad,
-                              GraspServoLoad(scene_, grasp_), dt_s, servo_decay_);
+                              GraspServoLoad(scene_, scene_constants_, grasp_), dt_s, servo_decay_);
   GraspVehicleSample sample;
   sample.position_m = vehicle.body.position_m;
   sample.orientation = vehicle.body.orientation;
   sample.specific_force_body_m_s2 = vehicle.specific_force_body_m_s2;
   sample.velocity_m_s = vehicle.body.velocity_m_s;
   sample.gravity_m_s2 = gravity_m_s2_;
-  forces_ = StepGrasp(scene_, grasp_, sample, servo_.angle_rad, dt_s);
+  forces_ = StepGrasp(scene_, scene_constants_, grasp_, sample, servo_.angle_rad, dt_s);
   if (grasp_.damage != DamageMode::kNone && damaged_at_s_ < 0) {
     damaged_at_s_ = time_s;
     any_damaged_ = true;

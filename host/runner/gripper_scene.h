@@ -68,6 +68,9 @@ class GripperScene {
   const GripperConfig& config_;
   std::array<Eigen::Matrix3d, kTactileSensorCount> body_from_pad_;
   GraspSceneParams scene_;
+  // Derived from scene_ alone; recomputed whenever Present() changes the object (the stand's
+  // removal does not enter it), so the tick does not re-derive it.
+  GraspSceneConstants scene_constants_;
   double gravity_m_s2_;
   GraspState grasp_;
   ServoState servo_;

@@ -15,6 +15,11 @@ class NoFilm final : public FilmFieldModel {
   Eigen::Vector3d FieldAtChip(const FilmPose&) const override { return Eigen::Vector3d::Zero(); }
 };
 
+// The silicone advances by one sample period per sample (the pad force held over it).
+double SamplePeriodS(const dut_fw::SensorNode<>& firmware) {
+  return 1.0 / std::max<double>(1, firmware.rate_hz());
+}
+
 }  // namespace
 
 HallSensorNodes::HallSensorNodes(const HallSensorConfig& config, const EarthField& earth_field,
@@ -30,8 +35,9 @@ HallSensorNodes::HallSensorNodes(const HallSensorConfig& config, const EarthFiel
   settings.rate_hz = static_cast<std::uint16_t>(std::lround(config.node_rate_hz));
   settings.chip = config.reference.chip.setting;
   const auto add = [&](const TactileSensorParams& params) {
-    nodes_.push_back({&params, InitialTactileSensorState(params, seed),
-                      dut_fw::SensorNode<>(params.node_id, 0, settings)});
+    dut_fw::SensorNode<> firmware(params.node_id, 0, settings);
+    nodes_.push_back({&params, MakeTactileSensorConstants(params, SamplePeriodS(firmware)),
+                      InitialTactileSensorState(params, seed), firmware});
   };
   if (config.tactile_enabled) {
     for (const TactileSensorParams& params : config.tactile) add(params);
@@ -49,10 +55,13 @@ void HallSensorNodes::Send(const dut_fw::NodeFrame& frame, std::int64_t now_ns) 
 void HallSensorNodes::TickNode(Node& node, const Eigen::Vector3d& pad_force_n,
                                const Eigen::Quaterniond& attitude_world_body, std::int64_t now_ns) {
   if (node.firmware.SampleDue(now_ns)) {
-    const double period_s = 1.0 / std::max<double>(1, node.firmware.rate_hz());
+    const double period_s = SamplePeriodS(node.firmware);
+    if (period_s != node.constants.silicone.dt_s) {
+      node.constants = MakeTactileSensorConstants(*node.params, period_s);
+    }
     const TactileReading reading = SampleTactileSensor(
-        *node.params, node.model, *film_, pad_force_n, attitude_world_body,
-        earth_field_.field_world_t, config_.temperature_c, period_s,
+        *node.params, node.constants, node.model, *film_, pad_force_n, attitude_world_body,
+        earth_field_.field_world_t, config_.temperature_c,
         config_.stray_fields.empty() ? Eigen::Vector3d::Zero()
                                      : StrayFieldAt(node.params->node_id, now_ns));
     Send(node.firmware.TakeSample(now_ns, dut_fw::ChipConversion{reading.code, false}), now_ns);
@@ -78,15 +87,21 @@ Eigen::Vector3d HallSensorNodes::StrayFieldAt(std::uint8_t node_id, std::int64_t
 
 void HallSensorNodes::Tick(std::int64_t now_ns, const Eigen::Quaterniond& attitude_world_body,
                            const std::array<Eigen::Vector3d, kTactileSensorCount>& pad_force_n) {
+  // Only a node's own Take* calls move its schedule, so nothing can fall due before this.
+  if (now_ns < next_event_ns_) return;
+  std::int64_t next_event_ns = INT64_MAX;
   for (std::size_t i = 0; i < nodes_.size(); ++i) {
-    // At the 1 kHz tick a node has something due only every 20th tick (50 Hz samples, 1 Hz
-    // status), so the common case skips the node without touching its inputs.
-    const dut_fw::SensorNode<>& firmware = nodes_[i].firmware;
-    if (!firmware.SampleDue(now_ns) && !firmware.StatusDue(now_ns)) continue;
-    const bool tactile = config_.tactile_enabled && i < pad_force_n.size();
-    TickNode(nodes_[i], tactile ? pad_force_n[i] : Eigen::Vector3d::Zero(), attitude_world_body,
-             now_ns);
+    // A node with nothing due (the others' slots, or a rate not dividing the tick) is skipped
+    // without touching its inputs.
+    Node& node = nodes_[i];
+    if (node.firmware.SampleDue(now_ns) || node.firmware.StatusDue(now_ns)) {
+      const bool tactile = config_.tactile_enabled && i < pad_force_n.size();
+      TickNode(node, tactile ? pad_force_n[i] : Eigen::Vector3d::Zero(), attitude_world_body,
+               now_ns);
+    }
+    next_event_ns = std::min(next_event_ns, node.firmware.NextEventNs());
   }
+  next_event_ns_ = next_event_ns;
 }
 
 }  // namespace hilrig::host

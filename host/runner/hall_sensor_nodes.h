@@ -6,12 +6,14 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
 #include "dut_fw/sensor_node.h"
 #include "host/scenario/scenario_config.h"
 #include "host/sensors/tactile/film_field.h"
+#include "host/sensors/tactile/tactile_sensor.h"
 #include "rig/can_bus.h"
 
 namespace hilrig::host {
@@ -34,6 +36,7 @@ class HallSensorNodes {
  private:
   struct Node {
     const TactileSensorParams* params;
+    TactileSensorConstants constants;  // for the firmware's current sample period
     TactileSensorState model;
     dut_fw::SensorNode<> firmware;
   };
@@ -50,6 +53,9 @@ class HallSensorNodes {
   std::vector<Node> nodes_;  // the tactile ones (when enabled), then the reference
   std::uint64_t frames_sent_ = 0;
   std::uint64_t frames_dropped_ = 0;
+  // The earliest NextEventNs of the nodes: at the 1 kHz tick and 50 Hz samples a Tick before it
+  // has nothing to do in 19 of 20 ticks.
+  std::int64_t next_event_ns_ = INT64_MIN;
 };
 
 }  // namespace hilrig::host

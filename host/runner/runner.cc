@@ -55,6 +55,7 @@ const std::array<Eigen::Vector3d, kTactileSensorCount> kNoPadForce = ZeroPadVect
 
 std::shared_ptr<const FilmFieldModel> FilmFieldFor(const ScenarioConfig& config) {
   if (!config.hall_sensors.tactile_enabled) return nullptr;
+  if (config.hall_sensors.film_field != nullptr) return config.hall_sensors.film_field;
   auto film = MakeFilmField(config.hall_sensors.field_fidelity);
   HILRIG_CHECK(film.ok(), "the spec's field fidelity was validated before the run");
   return film.value();
@@ -85,7 +86,7 @@ class LockstepRunner::Impl {
   void SampleSensors(std::int64_t now_ns);
   void PollWhileWaiting();
   bool TakeNewestCommand();
-  void ApplyCommand(ActuatorMessage command);
+  void ApplyCommand(ActuatorMessage&& command);
   bool ControlStep(std::uint64_t control_tick, std::int64_t now_ns);
   Eigen::Vector3d DisturbanceAt(double time_s) const;
   void StepPlant(std::int64_t now_ns);
@@ -114,6 +115,7 @@ class LockstepRunner::Impl {
   GripperCommand grasp_command_;
   double grasp_command_since_s_ = 0;
   std::int64_t imu_period_ns_;
+  QuadrotorStepSize plant_substep_;  // the step and its rotor-lag blend, computed once
   std::int64_t next_imu_ns_ = 0;
   std::uint64_t imu_sequence_ = 0;
   std::uint64_t vio_sequence_ = 0;
@@ -155,6 +157,8 @@ LockstepRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
       hall_sensors_(config.hall_sensors, config.earth_field, config.seed, FilmFieldFor(config),
                     bus_.Connect("hall-sensor-nodes")),
       imu_period_ns_(std::llround(1e9 / config.imu.rate_hz)),
+      plant_substep_(MakeQuadrotorStepSize(
+          config.vehicle, Seconds(config.physics_step_ns) / config.plant_substeps)),
       statistics_(config.gripper.enabled) {
   if (control.realtime_clock != nullptr) {
     pacer_.emplace(*control.realtime_clock,
@@ -252,7 +256,7 @@ bool LockstepRunner::Impl::ControlStep(std::uint64_t control_tick, std::int64_t 
   return true;
 }
 
-void LockstepRunner::Impl::ApplyCommand(ActuatorMessage command) {
+void LockstepRunner::Impl::ApplyCommand(ActuatorMessage&& command) {
   command_ = std::move(command);
   if (!command_.armed) command_.rotor_thrust_n.fill(0.0);
 }
@@ -303,10 +307,9 @@ void LockstepRunner::Impl::StepPlant(std::int64_t now_ns) {
     force_world_n += gripper_->forces().force_on_vehicle_world_n;
     payload_kg = gripper_->forces().payload_mass_kg;
   }
-  const double substep_s = dt_s / config_.plant_substeps;
   for (int i = 0; i < config_.plant_substeps; ++i) {
     plant_ = StepQuadrotor(config_.vehicle, plant_, command_.rotor_thrust_n, force_world_n,
-                           substep_s, payload_kg);
+                           plant_substep_, payload_kg);
   }
 }
 

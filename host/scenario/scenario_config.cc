@@ -268,6 +268,15 @@ ScenarioConfig ResolveScenario(const proto::Scenario& spec,
   return config;
 }
 
+rig::Result<void> BuildFilmField(ScenarioConfig& config) {
+  HallSensorConfig& hall = config.hall_sensors;
+  if (!hall.tactile_enabled || hall.film_field != nullptr) return {};
+  auto film = MakeFilmField(hall.field_fidelity);
+  if (!film) return film.error();
+  hall.film_field = std::move(film).value();
+  return {};
+}
+
 rig::Result<void> LoadTactileCalibration(ScenarioConfig& config) {
   HallSensorConfig& hall = config.hall_sensors;
   if (!hall.tactile_enabled) return {};
@@ -277,14 +286,13 @@ rig::Result<void> LoadTactileCalibration(ScenarioConfig& config) {
     hall.calibration = std::move(calibration).value();
     return {};
   }
-  auto film = MakeFilmField(hall.field_fidelity);
-  if (!film) return film.error();
+  if (auto built = BuildFilmField(config); !built) return built.error();
   fixtures::CalibrationBench bench;
   bench.tactile = hall.tactile;
   bench.reference = hall.reference;
   bench.earth_field_world_t = config.earth_field.field_world_t;
   bench.temperature_c = hall.temperature_c;
-  hall.calibration = fixtures::Calibrate(bench, *film.value(), config.seed);
+  hall.calibration = fixtures::Calibrate(bench, *hall.film_field, config.seed);
   hall.calibration->set_field_fidelity(hall.field_fidelity);
   return {};
 }

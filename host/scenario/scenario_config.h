@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -16,6 +17,7 @@
 #include "host/scenario/reference_trajectory.h"
 #include "host/sensors/earth_field.h"
 #include "host/sensors/imu_emulator.h"
+#include "host/sensors/tactile/film_field.h"
 #include "host/sensors/tactile/sensor_layout.h"
 #include "host/sensors/vio_emulator.h"
 #include "proto/calibration.pb.h"
@@ -49,7 +51,11 @@ struct HallSensorConfig {
   double zeroing_s = 1;
   std::string calibration_file;  // resolved against the spec's folder; empty: calibrate at start
   std::optional<proto::Calibration> calibration;  // filled by LoadTactileCalibration
-  std::vector<StrayFieldEvent> stray_fields;      // from the timeline
+  // The film's field at field_fidelity, built once (a field map takes a second or more to
+  // tabulate) and shared by the calibration jigs, the run and a sweep's runs at the same level;
+  // const, so sharing it cannot couple them. Empty: built by LoadTactileCalibration or the runner.
+  std::shared_ptr<const FilmFieldModel> film_field;
+  std::vector<StrayFieldEvent> stray_fields;  // from the timeline
 };
 
 // An object put on its stand at `at_s` (0: the scene's initial object).
@@ -131,5 +137,8 @@ ScenarioConfig ResolveScenario(const proto::Scenario& spec,
 // calibration file, or found by running the calibration jigs on the scene's own sensor models.
 // Does nothing when the tactile nodes are off.
 rig::Result<void> LoadTactileCalibration(ScenarioConfig& config);
+
+// Builds hall_sensors.film_field for its field_fidelity unless the config already has one.
+rig::Result<void> BuildFilmField(ScenarioConfig& config);
 
 }  // namespace hilrig::host

@@ -79,7 +79,26 @@ constexpr double kZigV = 4.92867323399e-3;
 struct ZigguratTables {
   std::array<double, kZigLayers + 1> x{};
   std::array<double, kZigLayers + 1> f{};  // exp(-x^2 / 2)
+  // The common path in integers. A draw is a signed 53-bit integer j and a layer i; its value is
+  // u x[i] with u = j 2^-52, and it lies inside the layer's rectangle when |u x[i]| < x[i + 1].
+  // Since u x[i] = j (x[i] 2^-52) exactly (scaling by a power of two) and rounding is monotone
+  // and symmetric, that holds exactly when |j| < inside_below[i]: one integer compare instead of
+  // a convert, a multiply and a floating compare, with bit-identical accepted values.
+  std::array<double, kZigLayers> scaled_x{};  // x[i] 2^-52
+  std::array<std::uint64_t, kZigLayers> inside_below{};
 };
+
+// The least j >= 0 whose value in layer i is not inside the rectangle, found by testing the
+// double expression itself around its real-valued estimate, so it is exact by construction.
+constexpr std::uint64_t InsideBelow(const ZigguratTables& t, int i) {
+  const auto inside = [&](std::uint64_t j) {
+    return (static_cast<double>(j) * 0x1.0p-52) * t.x[i] < t.x[i + 1];
+  };
+  std::uint64_t j = static_cast<std::uint64_t>(t.x[i + 1] / t.x[i] * 0x1.0p52);
+  while (j > 0 && !inside(j - 1)) --j;
+  while (inside(j)) ++j;
+  return j;
+}
 
 constexpr ZigguratTables MakeZigguratTables() {
   ZigguratTables t;
@@ -91,42 +110,31 @@ constexpr ZigguratTables MakeZigguratTables() {
   }
   t.x[kZigLayers] = 0.0;
   for (int i = 0; i <= kZigLayers; ++i) t.f[i] = DetExp(-0.5 * t.x[i] * t.x[i]);
+  for (int i = 0; i < kZigLayers; ++i) {
+    t.scaled_x[i] = t.x[i] * 0x1.0p-52;
+    t.inside_below[i] = InsideBelow(t, i);
+  }
   return t;
 }
 
 constexpr ZigguratTables kZig = MakeZigguratTables();
 
-}  // namespace
+using State = std::array<std::uint64_t, 4>;
 
-RandomStream RandomStream::FromSeed(std::uint64_t scenario_seed, std::uint64_t stream_id) {
-  // Asymmetric combination so (seed a, stream b) and (seed b, stream a) differ.
-  std::uint64_t sm = Mix64(scenario_seed + kGolden) ^ Mix64(Mix64(stream_id) + 2 * kGolden);
-  std::array<std::uint64_t, 4> s;
-  for (auto& word : s) {
-    sm += kGolden;
-    word = Mix64(sm);
-  }
-  // xoshiro's only forbidden state; four consecutive splitmix outputs cannot all be zero, but
-  // the guard costs nothing and documents the invariant.
-  if ((s[0] | s[1] | s[2] | s[3]) == 0) s[0] = kGolden;
-  return RandomStream(s);
-}
-
-RandomStream::RandomStream() : RandomStream(FromSeed(0, 0)) {}
-
-std::uint64_t RandomStream::NextU64() {
-  const std::uint64_t result = Rotl(s_[1] * 5, 7) * 9;
-  const std::uint64_t t = s_[1] << 17;
-  s_[2] ^= s_[0];
-  s_[3] ^= s_[1];
-  s_[1] ^= s_[2];
-  s_[0] ^= s_[3];
-  s_[2] ^= t;
-  s_[3] = Rotl(s_[3], 45);
+// xoshiro256** on a state the caller holds, so that a run of draws can keep it in registers.
+inline std::uint64_t Next(State& s) {
+  const std::uint64_t result = Rotl(s[1] * 5, 7) * 9;
+  const std::uint64_t t = s[1] << 17;
+  s[2] ^= s[0];
+  s[3] ^= s[1];
+  s[1] ^= s[2];
+  s[0] ^= s[3];
+  s[2] ^= t;
+  s[3] = Rotl(s[3], 45);
   return result;
 }
 
-double RandomStream::Uniform01() { return static_cast<double>(NextU64() >> 11) * 0x1.0p-53; }
+double Uniform01From(State& s) { return static_cast<double>(Next(s) >> 11) * 0x1.0p-53; }
 
 // Splits one 64-bit draw: low 8 bits pick the layer, the top 53 (disjoint from them) give a
 // signed uniform in [-1, 1).
@@ -142,41 +150,84 @@ inline ZigguratDraw SplitDraw(std::uint64_t bits) {
   return {layer, u, u * kZig.x[layer]};
 }
 
-double RandomStream::Gaussian() {
-  const ZigguratDraw d = SplitDraw(NextU64());
-  if (std::fabs(d.x) < kZig.x[d.layer + 1]) [[likely]] {
-    return d.x;  // inside the layer's rectangle: ~99% of draws
-  }
-  return GaussianSlowPath(d.layer, d.u, d.x);
-}
+struct SlowDraw {
+  double value;
+  State s;
+};
 
-double RandomStream::GaussianSlowPath(int layer, double u, double x) {
+// Wedge and tail of the ziggurat, out of line so the common path stays a few instructions. The
+// state goes in and out by value so that the caller's copy never has its address taken and can
+// stay in registers.
+[[gnu::noinline]] SlowDraw GaussianSlowPath(State s, std::uint64_t bits) {
+  ZigguratDraw d = SplitDraw(bits);
   for (;;) {
-    if (layer == 0) {
+    if (d.layer == 0) {
       // Beyond R in the base layer: Marsaglia's exact tail method.
       double tail_x, tail_y;
       do {
-        tail_x = -DetLog(1.0 - Uniform01()) / kZigR;  // 1 - U lies in (0, 1]
-        tail_y = -DetLog(1.0 - Uniform01());
+        tail_x = -DetLog(1.0 - Uniform01From(s)) / kZigR;  // 1 - U lies in (0, 1]
+        tail_y = -DetLog(1.0 - Uniform01From(s));
       } while (2.0 * tail_y < tail_x * tail_x);
-      return u < 0.0 ? -(kZigR + tail_x) : kZigR + tail_x;
+      return {d.u < 0.0 ? -(kZigR + tail_x) : kZigR + tail_x, s};
     }
     // In the wedge between the rectangle and the curve: accept under the density.
-    const double y = kZig.f[layer] + (kZig.f[layer + 1] - kZig.f[layer]) * Uniform01();
-    if (y < DetExp(-0.5 * x * x)) return x;
+    const double y = kZig.f[d.layer] + (kZig.f[d.layer + 1] - kZig.f[d.layer]) * Uniform01From(s);
+    if (y < DetExp(-0.5 * d.x * d.x)) return {d.x, s};
 
-    const ZigguratDraw d = SplitDraw(NextU64());
-    if (std::fabs(d.x) < kZig.x[d.layer + 1]) return d.x;
-    layer = d.layer;
-    u = d.u;
-    x = d.x;
+    d = SplitDraw(Next(s));
+    if (std::fabs(d.x) < kZig.x[d.layer + 1]) return {d.x, s};
   }
 }
 
+inline double GaussianFrom(State& s) {
+  const std::uint64_t bits = Next(s);
+  const auto layer = static_cast<std::size_t>(bits & 0xff);
+  const std::int64_t j = static_cast<std::int64_t>(bits) >> 11;
+  const std::uint64_t magnitude =
+      j < 0 ? std::uint64_t{0} - static_cast<std::uint64_t>(j) : static_cast<std::uint64_t>(j);
+  if (magnitude < kZig.inside_below[layer]) [[likely]] {
+    return static_cast<double>(j) * kZig.scaled_x[layer];  // inside the layer's rectangle
+  }
+  const SlowDraw slow = GaussianSlowPath(s, bits);
+  s = slow.s;
+  return slow.value;
+}
+
+}  // namespace
+
+RandomStream RandomStream::FromSeed(std::uint64_t scenario_seed, std::uint64_t stream_id) {
+  // Asymmetric combination so (seed a, stream b) and (seed b, stream a) differ.
+  std::uint64_t sm = Mix64(scenario_seed + kGolden) ^ Mix64(Mix64(stream_id) + 2 * kGolden);
+  State s;
+  for (auto& word : s) {
+    sm += kGolden;
+    word = Mix64(sm);
+  }
+  // xoshiro's only forbidden state; four consecutive splitmix outputs cannot all be zero, but
+  // the guard costs nothing and documents the invariant.
+  if ((s[0] | s[1] | s[2] | s[3]) == 0) s[0] = kGolden;
+  return RandomStream(s);
+}
+
+RandomStream::RandomStream() : RandomStream(FromSeed(0, 0)) {}
+
+std::uint64_t RandomStream::NextU64() { return Next(s_); }
+
+double RandomStream::Uniform01() { return Uniform01From(s_); }
+
+double RandomStream::Gaussian() {
+  State s = s_;
+  const double value = GaussianFrom(s);
+  s_ = s;
+  return value;
+}
+
 Eigen::Vector3d StandardGaussianVector(RandomStream& rng) {
-  const double x = rng.Gaussian();
-  const double y = rng.Gaussian();
-  const double z = rng.Gaussian();
+  RandomStream::State s = rng.s_;
+  const double x = GaussianFrom(s);
+  const double y = GaussianFrom(s);
+  const double z = GaussianFrom(s);
+  rng.s_ = s;
   return {x, y, z};
 }
 

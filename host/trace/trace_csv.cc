@@ -1,12 +1,53 @@
 #include "host/trace/trace_csv.h"
 
 #include <bit>
-#include <charconv>
 #include <cstring>
 
-#include "rig/check.h"
-
 namespace hilrig::host {
+namespace {
+
+// The row in header order.
+std::array<double, TraceCsvWriter::kColumnCount> Columns(const TraceSample& sample) {
+  const TraceSample& s = sample;
+  return {s.time_s,
+          s.position_m.x(),
+          s.position_m.y(),
+          s.position_m.z(),
+          s.reference_m.x(),
+          s.reference_m.y(),
+          s.reference_m.z(),
+          s.velocity_m_s.x(),
+          s.velocity_m_s.y(),
+          s.velocity_m_s.z(),
+          s.roll_pitch_yaw_deg.x(),
+          s.roll_pitch_yaw_deg.y(),
+          s.roll_pitch_yaw_deg.z(),
+          s.tilt_deg,
+          SignalValue(s, proto::POSITION_ERROR_M),
+          SignalValue(s, proto::HORIZONTAL_ERROR_M),
+          SignalValue(s, proto::ALTITUDE_ERROR_M),
+          s.rotor_thrust_n[0],
+          s.rotor_thrust_n[1],
+          s.rotor_thrust_n[2],
+          s.rotor_thrust_n[3],
+          s.estimated_position_m.x(),
+          s.estimated_position_m.y(),
+          s.estimated_position_m.z(),
+          s.tactile_force_max_n,
+          s.tactile_force_error_max_n,
+          s.grasp_force_n,
+          s.grasp_force_estimate_n,
+          s.grasp_force_setpoint_n,
+          s.load_n,
+          s.load_estimate_n,
+          s.object_mass_kg,
+          s.servo_angle_rad,
+          s.servo_command_rad,
+          s.object_damaged ? 1.0 : 0.0,
+          s.object_dropped ? 1.0 : 0.0};
+}
+
+}  // namespace
 
 TraceCsvWriter::TraceCsvWriter(std::ostream& out) : out_(out) {
   out_ << "time_s,x_m,y_m,z_m,ref_x_m,ref_y_m,ref_z_m,vx_m_s,vy_m_s,vz_m_s,roll_deg,pitch_deg,"
@@ -17,51 +58,26 @@ TraceCsvWriter::TraceCsvWriter(std::ostream& out) : out_(out) {
           "object_damaged,object_dropped\n";
 }
 
-void TraceCsvWriter::Append(double value) {
-  HILRIG_CHECK(column_ < kColumnCount, "a trace row has more columns than kColumnCount");
-  ColumnText& column = previous_[column_++];
+char* TraceCsvWriter::AppendColumn(double value, ColumnText& previous, char* out) {
   const auto bits = std::bit_cast<std::uint64_t>(value);
-  if (!column.valid || column.bits != bits) {
-    const auto result =
-        std::to_chars(column.text.data(), column.text.data() + column.text.size(), value);
-    column.length = static_cast<std::uint8_t>(result.ptr - column.text.data());
-    column.bits = bits;
-    column.valid = true;
+  if (previous.length == 0 || previous.bits != bits) {
+    const char* end = WriteSignificantDecimal(value, previous.text.data());
+    previous.length = static_cast<std::uint8_t>(end - previous.text.data());
+    previous.bits = bits;
   }
-  std::memcpy(line_.data() + line_length_, column.text.data(), column.length);
-  line_length_ += column.length;
-  line_[line_length_++] = ',';
+  // The whole buffer, a fixed-size copy; the bytes past the text are overwritten next.
+  std::memcpy(out, previous.text.data(), previous.text.size());
+  out += previous.length;
+  *out++ = ',';
+  return out;
 }
 
 void TraceCsvWriter::Write(const TraceSample& sample) {
-  column_ = 0;
-  line_length_ = 0;
-  Append(sample.time_s);
-  for (int i = 0; i < 3; ++i) Append(sample.position_m(i));
-  for (int i = 0; i < 3; ++i) Append(sample.reference_m(i));
-  for (int i = 0; i < 3; ++i) Append(sample.velocity_m_s(i));
-  for (int i = 0; i < 3; ++i) Append(sample.roll_pitch_yaw_deg(i));
-  Append(sample.tilt_deg);
-  Append(SignalValue(sample, proto::POSITION_ERROR_M));
-  Append(SignalValue(sample, proto::HORIZONTAL_ERROR_M));
-  Append(SignalValue(sample, proto::ALTITUDE_ERROR_M));
-  for (double thrust_n : sample.rotor_thrust_n) Append(thrust_n);
-  for (int i = 0; i < 3; ++i) Append(sample.estimated_position_m(i));
-  Append(sample.tactile_force_max_n);
-  Append(sample.tactile_force_error_max_n);
-  Append(sample.grasp_force_n);
-  Append(sample.grasp_force_estimate_n);
-  Append(sample.grasp_force_setpoint_n);
-  Append(sample.load_n);
-  Append(sample.load_estimate_n);
-  Append(sample.object_mass_kg);
-  Append(sample.servo_angle_rad);
-  Append(sample.servo_command_rad);
-  Append(sample.object_damaged ? 1.0 : 0.0);
-  Append(sample.object_dropped ? 1.0 : 0.0);
-  HILRIG_CHECK(column_ == kColumnCount, "a trace row has fewer columns than kColumnCount");
-  line_[line_length_ - 1] = '\n';
-  out_.write(line_.data(), static_cast<std::streamsize>(line_length_));
+  const std::array<double, kColumnCount> columns = Columns(sample);
+  char* end = line_.data();
+  for (std::size_t i = 0; i < kColumnCount; ++i) end = AppendColumn(columns[i], previous_[i], end);
+  end[-1] = '\n';  // the last separator
+  out_.write(line_.data(), end - line_.data());
 }
 
 }  // namespace hilrig::host

@@ -1,6 +1,7 @@
-// Writes trace samples as CSV with a header row. Numbers are printed in their shortest form that
-// reads back to the same double (std::to_chars), which is both fast enough for the lockstep loop
-// and byte-reproducible: the same run gives the same file.
+// Writes trace samples as CSV with a header row. Numbers have 9 significant digits
+// (WriteSignificantDecimal: within one unit in the 9th digit of the double, "0" for zero, "nan",
+// "inf", "-inf"), which is fast enough for the lockstep loop, far finer than any signal's noise or
+// envelope, and byte-reproducible: the same run gives the same file.
 #pragma once
 
 #include <array>
@@ -8,6 +9,7 @@
 #include <cstdint>
 #include <ostream>
 
+#include "host/trace/significant_decimal.h"
 #include "host/trace/trace_sample.h"
 
 namespace hilrig::host {
@@ -22,24 +24,22 @@ class TraceCsvWriter {
   void Write(const TraceSample& sample);
 
  private:
-  // One column's text in the previous row. Shortest round-trip formatting is the writer's main
-  // cost, and many columns (reference, set-points, the 50 Hz tactile estimates, flags) repeat from
-  // one row to the next; the same bits always give the same text, so repeating it is exact.
+  // One column's text in the previous row. Many columns (reference, set-points, the 50 Hz tactile
+  // estimates, flags) repeat from one row to the next; the same bits always give the same text, so
+  // copying it is exact and cheaper than formatting again.
   struct ColumnText {
     std::uint64_t bits = 0;
-    bool valid = false;
-    std::uint8_t length = 0;
-    std::array<char, 32> text{};  // the longest shortest-form double has 24 characters
+    std::uint8_t length = 0;  // 0: no previous row yet
+    std::array<char, kMaxSignificantDecimalChars> text{};
   };
 
-  // Appends `value` and a separator; the row's last separator becomes the newline.
-  void Append(double value);
+  // Writes `value` and a separator at `out`; returns the end.
+  static char* AppendColumn(double value, ColumnText& previous, char* out);
 
   std::ostream& out_;
   std::array<ColumnText, kColumnCount> previous_{};
-  std::size_t column_ = 0;
-  std::array<char, kColumnCount * 33> line_{};
-  std::size_t line_length_ = 0;
+  // Every column copies its whole text buffer, so the line has room for that many per column.
+  std::array<char, kColumnCount*(kMaxSignificantDecimalChars + 1)> line_{};
 };
 
 }  // namespace hilrig::host

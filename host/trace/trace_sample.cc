@@ -4,56 +4,92 @@
 #include <limits>
 
 namespace hilrig::host {
+namespace {
 
-double SignalValue(const TraceSample& sample, proto::Signal signal) {
-  const Eigen::Vector3d error_m = sample.position_m - sample.reference_m;
+Eigen::Vector3d PositionError(const TraceSample& s) { return s.position_m - s.reference_m; }
+
+double PositionErrorM(const TraceSample& s) { return PositionError(s).norm(); }
+double HorizontalErrorM(const TraceSample& s) { return PositionError(s).head<2>().norm(); }
+double AltitudeErrorM(const TraceSample& s) { return std::abs(PositionError(s).z()); }
+double AltitudeM(const TraceSample& s) { return s.position_m.z(); }
+double TiltDeg(const TraceSample& s) { return s.tilt_deg; }
+double SpeedMS(const TraceSample& s) { return s.velocity_m_s.norm(); }
+double TactileForceN(const TraceSample& s) { return s.tactile_force_max_n; }
+double TactileForceErrorN(const TraceSample& s) { return s.tactile_force_error_max_n; }
+double GraspForceN(const TraceSample& s) { return s.grasp_force_n; }
+double GraspForceEstimateN(const TraceSample& s) { return s.grasp_force_estimate_n; }
+double GraspForceErrorN(const TraceSample& s) {
+  return std::abs(s.grasp_force_estimate_n - s.grasp_force_n);
+}
+double LoadN(const TraceSample& s) { return s.load_n; }
+double LoadEstimateErrorN(const TraceSample& s) { return std::abs(s.load_estimate_n - s.load_n); }
+double ObjectDamaged(const TraceSample& s) { return s.object_damaged ? 1.0 : 0.0; }
+double ObjectDropped(const TraceSample& s) { return s.object_dropped ? 1.0 : 0.0; }
+double ServoAngleRad(const TraceSample& s) { return s.servo_angle_rad; }
+double NoSignal(const TraceSample&) { return std::numeric_limits<double>::quiet_NaN(); }
+
+}  // namespace
+
+SignalReader SignalReaderFor(proto::Signal signal) {
   switch (signal) {
     case proto::POSITION_ERROR_M:
-      return error_m.norm();
+      return PositionErrorM;
     case proto::HORIZONTAL_ERROR_M:
-      return error_m.head<2>().norm();
+      return HorizontalErrorM;
     case proto::ALTITUDE_ERROR_M:
-      return std::abs(error_m.z());
+      return AltitudeErrorM;
     case proto::ALTITUDE_M:
-      return sample.position_m.z();
+      return AltitudeM;
     case proto::TILT_DEG:
-      return sample.tilt_deg;
+      return TiltDeg;
     case proto::SPEED_M_S:
-      return sample.velocity_m_s.norm();
+      return SpeedMS;
     case proto::TACTILE_FORCE_N:
-      return sample.tactile_force_max_n;
+      return TactileForceN;
     case proto::TACTILE_FORCE_ERROR_N:
-      return sample.tactile_force_error_max_n;
+      return TactileForceErrorN;
     case proto::GRASP_FORCE_N:
-      return sample.grasp_force_n;
+      return GraspForceN;
     case proto::GRASP_FORCE_ESTIMATE_N:
-      return sample.grasp_force_estimate_n;
+      return GraspForceEstimateN;
     case proto::GRASP_FORCE_ERROR_N:
-      return std::abs(sample.grasp_force_estimate_n - sample.grasp_force_n);
+      return GraspForceErrorN;
     case proto::LOAD_N:
-      return sample.load_n;
+      return LoadN;
     case proto::LOAD_ESTIMATE_ERROR_N:
-      return std::abs(sample.load_estimate_n - sample.load_n);
+      return LoadEstimateErrorN;
     case proto::OBJECT_DAMAGED:
-      return sample.object_damaged ? 1.0 : 0.0;
+      return ObjectDamaged;
     case proto::OBJECT_DROPPED:
-      return sample.object_dropped ? 1.0 : 0.0;
+      return ObjectDropped;
     case proto::SERVO_ANGLE_RAD:
-      return sample.servo_angle_rad;
+      return ServoAngleRad;
     default:
-      return std::numeric_limits<double>::quiet_NaN();
+      return NoSignal;
   }
 }
 
+double SignalValue(const TraceSample& sample, proto::Signal signal) {
+  return SignalReaderFor(signal)(sample);
+}
+
 bool AllSignalsFinite(const TraceSample& sample) {
-  const google::protobuf::EnumDescriptor* signals = proto::Signal_descriptor();
-  for (int i = 0; i < signals->value_count(); ++i) {
-    const auto signal = static_cast<proto::Signal>(signals->value(i)->number());
-    if (signal != proto::SIGNAL_UNSPECIFIED && !std::isfinite(SignalValue(sample, signal))) {
-      return false;
-    }
-  }
-  return true;
+  // The fields every signal reads, checked once each rather than signal by signal. The derived
+  // signals are finite exactly when what they are computed from is: a norm when its squared norm
+  // is (the square root of a finite non-negative number is finite, and the squared norm overflows
+  // exactly where the norm would), |a - b| when a - b is (which also covers a and b alone: a
+  // difference with a non-finite operand is never finite), and the horizontal and altitude errors
+  // whenever the whole position error is. The flags are 0 or 1.
+  static_assert(proto::Signal_ARRAYSIZE == 17,
+                "a new Signal must be covered here (and in SignalReaderFor)");
+  const Eigen::Vector3d error_m = PositionError(sample);
+  return std::isfinite(error_m.squaredNorm()) && std::isfinite(sample.position_m.z()) &&
+         std::isfinite(sample.tilt_deg) && std::isfinite(sample.velocity_m_s.squaredNorm()) &&
+         std::isfinite(sample.tactile_force_max_n) &&
+         std::isfinite(sample.tactile_force_error_max_n) &&
+         std::isfinite(sample.grasp_force_estimate_n - sample.grasp_force_n) &&
+         std::isfinite(sample.load_estimate_n - sample.load_n) &&
+         std::isfinite(sample.servo_angle_rad);
 }
 
 }  // namespace hilrig::host

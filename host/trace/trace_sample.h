@@ -36,6 +36,13 @@ struct TraceSample {
   bool object_dropped = false;
 };
 
+// Reads one signal from a sample. A check that watches one signal resolves its reader once and
+// calls it per sample, instead of dispatching on the signal every time.
+using SignalReader = double (*)(const TraceSample& sample);
+
+// The reader of `signal`; for SIGNAL_UNSPECIFIED (or a number no Signal has) one that gives NaN.
+SignalReader SignalReaderFor(proto::Signal signal);
+
 // The value of `signal` in `sample` (NaN for SIGNAL_UNSPECIFIED).
 double SignalValue(const TraceSample& sample, proto::Signal signal);
 

@@ -187,6 +187,24 @@ TYPED_TEST(FlightControllerTest, HoverStepSplitsTheWeightEqually) {
   EXPECT_NEAR(out.torque_body_nm.norm(), 0.0, 1e-6);
 }
 
+TYPED_TEST(FlightControllerTest, YawChangeBetweenStepsReachesTheDesiredAttitude) {
+  using S = TypeParam;
+  const FlightController<S> controller(DefaultFlightControllerParams<S>(S(kMassKg)));
+  FlightControllerState<S> state;
+  controller.OnImu(state, Vec3<S>::Zero(), Vec3<S>(S(0), S(0), S(kG)), 0);
+  controller.OnVio(state, Vec3<S>(S(0), S(0), S(1)), Quat<S>::Identity(), 0);
+  controller.OnImu(state, Vec3<S>::Zero(), Vec3<S>(S(0), S(0), S(kG)), kTickNs);
+  Reference<S> reference = HoverAt<S>(0, 0, 1);
+  controller.Step(state, reference, Vec3<S>::Zero(), S(1e-3));
+  reference.yaw_rad = S(0.8);
+
+  const FlightControllerOutput<S> out = controller.Step(state, reference, Vec3<S>::Zero(), S(1e-3));
+
+  // At the hover point the thrust is vertical: the desired attitude is the yaw alone.
+  EXPECT_NEAR(out.attitude_desired.w(), std::cos(0.4), 1e-5);
+  EXPECT_NEAR(out.attitude_desired.z(), std::sin(0.4), 1e-5);
+}
+
 TYPED_TEST(FlightControllerTest, ControlPathDoesNotAllocate) {
   using S = TypeParam;
   const FlightController<S> controller(DefaultFlightControllerParams<S>(S(kMassKg)));

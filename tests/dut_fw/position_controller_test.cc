@@ -235,5 +235,56 @@ TYPED_TEST(PositionControllerTest, NonFiniteStateFallsBackToHoverCarryingTheLoad
   EXPECT_NEAR(cmd.attitude_desired.angularDistance(Quat<S>::Identity()), 0.0, 1e-3);
 }
 
+TYPED_TEST(PositionControllerTest, YawTrigIsReusedWhileTheYawStaysTheSame) {
+  using S = TypeParam;
+  // Deliberately not cos/sin of 0.15: only a reuse can return these.
+  HalfYawTrig<S> cache{S(0.3), S(5), S(7)};
+
+  const HalfYawTrig<S>& trig = YawTrigFor<S>(cache, S(0.3));
+
+  EXPECT_EQ(trig.cos_half, S(5));
+  EXPECT_EQ(trig.sin_half, S(7));
+}
+
+TYPED_TEST(PositionControllerTest, YawTrigIsRecomputedWhenTheYawChanges) {
+  using S = TypeParam;
+  HalfYawTrig<S> cache{S(0.3), S(5), S(7)};
+
+  const HalfYawTrig<S>& trig = YawTrigFor<S>(cache, S(-1.4));
+
+  EXPECT_EQ(trig.yaw_rad, S(-1.4));
+  EXPECT_NEAR(trig.cos_half, std::cos(-0.7), 1e-6);
+  EXPECT_NEAR(trig.sin_half, std::sin(-0.7), 1e-6);
+}
+
+TYPED_TEST(PositionControllerTest, YawTrigTellsNegativeZeroFromZero) {
+  using S = TypeParam;
+  HalfYawTrig<S> cache;  // yaw +0: (1, +0)
+
+  const HalfYawTrig<S>& trig = YawTrigFor<S>(cache, -S(0));
+
+  EXPECT_TRUE(std::signbit(trig.yaw_rad));
+  EXPECT_TRUE(std::signbit(trig.sin_half));
+}
+
+TYPED_TEST(PositionControllerTest, ControllerYawTrigFollowsAYawStep) {
+  using S = TypeParam;
+  HalfYawTrig<S> yaw_trig;
+  const auto step = [&](S yaw_rad) {
+    return ComputePositionCommandWithTiltTangent<S>(
+        Gains<S>(), MaxTiltTangent(Gains<S>()), yaw_trig, At<S>(S(0), S(0), S(0), yaw_rad),
+        Vec3<S>::Zero(), Vec3<S>::Zero(), Quat<S>::Identity(), Vec3<S>::Zero());
+  };
+  step(S(0.5));
+
+  const PositionCommand<S> cmd = step(S(2.0));
+
+  // Level thrust: the desired attitude is the pure yaw rotation (cos 1, 0, 0, sin 1).
+  EXPECT_NEAR(cmd.attitude_desired.w(), std::cos(1.0), 1e-6);
+  EXPECT_NEAR(cmd.attitude_desired.z(), std::sin(1.0), 1e-6);
+  EXPECT_NEAR(cmd.attitude_desired.x(), 0.0, 1e-6);
+  EXPECT_NEAR(cmd.attitude_desired.y(), 0.0, 1e-6);
+}
+
 }  // namespace
 }  // namespace hilrig::dut_fw

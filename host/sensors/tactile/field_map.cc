@@ -64,9 +64,20 @@ const Eigen::Vector3d& FieldMapFilmField::Node(int i, int j, int k) const {
 }
 
 std::optional<Eigen::Vector3d> FieldMapFilmField::Lookup(const FilmPose& pose) const {
+  // The silicone translates the film without tilting it, so nearly every pose is un-tilted. The
+  // rotation is then exactly the identity, and turning by it (1 c + 0 c' + 0 c'') changes no
+  // finite value: skipping it gives the same field.
+  if (pose.orientation.coeffs() == Eigen::Quaterniond::Identity().coeffs()) {
+    return Interpolate(pose.centre_m);
+  }
   const Eigen::Matrix3d rotation = pose.orientation.normalized().toRotationMatrix();
   // The centre as seen from a chip frame turned with the film; the table is of the un-tilted film.
-  const Eigen::Vector3d centre = rotation.transpose() * pose.centre_m;
+  const std::optional<Eigen::Vector3d> b = Interpolate(rotation.transpose() * pose.centre_m);
+  if (!b) return std::nullopt;
+  return rotation * *b;
+}
+
+std::optional<Eigen::Vector3d> FieldMapFilmField::Interpolate(const Eigen::Vector3d& centre) const {
   int base[3];
   double w[3][4];
   for (int a = 0; a < 3; ++a) {
@@ -89,7 +100,7 @@ std::optional<Eigen::Vector3d> FieldMapFilmField::Lookup(const FilmPose& pose) c
     }
     b += w[2][k] * plane;
   }
-  return rotation * b;
+  return b;
 }
 
 Eigen::Vector3d FieldMapFilmField::FieldAtChip(const FilmPose& pose) const {

@@ -67,6 +67,8 @@ class FieldMapFilmField final : public FilmFieldModel {
 
  private:
   const Eigen::Vector3d& Node(int i, int j, int k) const;
+  // The un-tilted film's field at `centre` from the table, or nothing off the grid.
+  std::optional<Eigen::Vector3d> Interpolate(const Eigen::Vector3d& centre) const;
 
   std::shared_ptr<const FilmFieldModel> source_;
   FieldMapGrid grid_;

@@ -5,10 +5,26 @@
 #include "rig/check.h"
 
 namespace hilrig::host {
+namespace {
+
+// std::round (half away from zero) without the libm call it compiles to on baseline x86-64: the
+// truncation through int64 and the fraction v - trunc(v) are exact below 2^52, and every larger
+// double (and NaN or Inf) is returned as std::round returns it. The one difference, -0.0 for
+// small negative v where this gives +0.0, is invisible once converted to counts.
+double RoundHalfAwayFromZero(double v) {
+  if (!(std::fabs(v) < 0x1.0p52)) return v;
+  const double truncated = static_cast<double>(static_cast<std::int64_t>(v));
+  const double fraction = v - truncated;
+  if (fraction >= 0.5) return truncated + 1.0;
+  if (fraction <= -0.5) return truncated - 1.0;
+  return truncated;
+}
+
+}  // namespace
 
 Mlx90393AxisCounts QuantizeMlx90393Axis(double field_t, double lsb_t, std::int32_t min_counts,
                                         std::int32_t max_counts) {
-  const double counts = std::round(field_t / lsb_t);
+  const double counts = RoundHalfAwayFromZero(field_t / lsb_t);
   if (!(counts >= min_counts)) {  // also catches NaN
     return {counts > 0 ? max_counts : min_counts, true};
   }
@@ -16,8 +32,22 @@ Mlx90393AxisCounts QuantizeMlx90393Axis(double field_t, double lsb_t, std::int32
   return {static_cast<std::int32_t>(counts), false};
 }
 
+Mlx90393Constants MakeMlx90393Constants(const Mlx90393Params& params) {
+  HILRIG_CHECK(dut_fw::IsValidSetting(params.setting), "MLX90393 GAIN_SEL 0..7, RES 0..3");
+  return {.lsb_t = dut_fw::LsbTesla<double>(params.setting),
+          .range = dut_fw::CodeRange(params.setting.resolution),
+          .noise_sigma_t = Eigen::Vector3d(params.noise_xy_t, params.noise_xy_t, params.noise_z_t)};
+}
+
 Mlx90393Sample SampleMlx90393(const Mlx90393Params& params, Mlx90393State& state,
                               const Eigen::Vector3d& field_sensor_t, double temperature_c) {
+  return SampleMlx90393(params, MakeMlx90393Constants(params), state, field_sensor_t,
+                        temperature_c);
+}
+
+Mlx90393Sample SampleMlx90393(const Mlx90393Params& params, const Mlx90393Constants& constants,
+                              Mlx90393State& state, const Eigen::Vector3d& field_sensor_t,
+                              double temperature_c) {
   Mlx90393Sample sample;
 
   Eigen::Vector3d sensed = field_sensor_t;
@@ -28,14 +58,12 @@ Mlx90393Sample SampleMlx90393(const Mlx90393Params& params, Mlx90393State& state
   }
   if (params.noise_enabled) {
     // Always three draws in axis order, so the stream stays aligned across configurations.
-    sensed += Eigen::Vector3d(params.noise_xy_t, params.noise_xy_t, params.noise_z_t)
-                  .cwiseProduct(StandardGaussianVector(state.rng));
+    sensed += constants.noise_sigma_t.cwiseProduct(StandardGaussianVector(state.rng));
   }
 
-  HILRIG_CHECK(dut_fw::IsValidSetting(params.setting), "MLX90393 GAIN_SEL 0..7, RES 0..3");
   const std::uint8_t res = params.setting.resolution;
-  const dut_fw::Mlx90393CodeRange range = dut_fw::CodeRange(res);
-  const Eigen::Vector3d lsb_t = dut_fw::LsbTesla<double>(params.setting);
+  const dut_fw::Mlx90393CodeRange& range = constants.range;
+  const Eigen::Vector3d& lsb_t = constants.lsb_t;
   for (int axis = 0; axis < 3; ++axis) {
     if (params.saturation_enabled && params.encoding_enabled) {
       // The chip as specified: dut_fw's encoder clips and encodes.

@@ -77,7 +77,21 @@ struct Mlx90393AxisCounts {
 Mlx90393AxisCounts QuantizeMlx90393Axis(double field_t, double lsb_t, std::int32_t min_counts,
                                         std::int32_t max_counts);
 
-// One conversion of all three axes at the given chip temperature.
+// What a conversion derives from the parameters alone (LSB sizes, output window, noise sigmas),
+// built once per node instead of on every sample. Aborts on an invalid GAIN_SEL / RES setting.
+struct Mlx90393Constants {
+  Eigen::Vector3d lsb_t = Eigen::Vector3d::Zero();
+  dut_fw::Mlx90393CodeRange range{};
+  Eigen::Vector3d noise_sigma_t = Eigen::Vector3d::Zero();
+};
+Mlx90393Constants MakeMlx90393Constants(const Mlx90393Params& params);
+
+// One conversion of all three axes at the given chip temperature; `constants` must come from
+// MakeMlx90393Constants(params).
+Mlx90393Sample SampleMlx90393(const Mlx90393Params& params, const Mlx90393Constants& constants,
+                              Mlx90393State& state, const Eigen::Vector3d& field_sensor_t,
+                              double temperature_c);
+// The same for a one-off conversion.
 Mlx90393Sample SampleMlx90393(const Mlx90393Params& params, Mlx90393State& state,
                               const Eigen::Vector3d& field_sensor_t, double temperature_c);
 

@@ -67,20 +67,37 @@ Eigen::Vector3d StaticDisplacement(const SiliconeParams& params,
   return x;
 }
 
-SiliconeState StepSilicone(const SiliconeParams& params, const SiliconeState& state,
-                           const Eigen::Vector3d& force_pad_n, double dt_s) {
+SiliconeStep MakeSiliconeStep(const SiliconeParams& params, double dt_s) {
   HILRIG_CHECK(dt_s >= 0.0, "silicone step needs dt >= 0");
   HILRIG_CHECK(params.moving_mass_kg >= 0.0, "moving mass must not be negative");
-  const Eigen::Vector3d k = SiliconeStiffness(params);
-  const Eigen::Vector3d c = SiliconeDamping(params);
+  SiliconeStep step;
+  step.dt_s = dt_s;
+  step.stiffness_n_per_m = SiliconeStiffness(params);
+  step.damping_n_s_per_m = SiliconeDamping(params);
   // The mass only matters together with damping: without a dashpot the undamped oscillator
   // would ring forever, which no silicone does, so "damping off" means quasi-static.
-  const double m = params.damping_enabled ? params.moving_mass_kg : 0.0;
+  step.moving_mass_kg = params.damping_enabled ? params.moving_mass_kg : 0.0;
+  for (int i = 0; i < 3; ++i) {
+    const double k = step.stiffness_n_per_m[i];
+    const double c = step.damping_n_s_per_m[i];
+    step.stiffening_per_m2[i] = StiffeningOf(params, i);
+    if (c != 0.0 && step.moving_mass_kg == 0.0 && step.stiffening_per_m2[i] == 0.0) {
+      step.relaxation_decay[i] = std::exp(-k * dt_s / c);
+    }
+  }
+  return step;
+}
 
+SiliconeState StepSilicone(const SiliconeStep& step, const SiliconeState& state,
+                           const Eigen::Vector3d& force_pad_n) {
+  const double dt_s = step.dt_s;
+  const Eigen::Vector3d& k = step.stiffness_n_per_m;
+  const Eigen::Vector3d& c = step.damping_n_s_per_m;
+  const double m = step.moving_mass_kg;
   if (dt_s == 0.0) return state;
   SiliconeState next;
   for (int i = 0; i < 3; ++i) {
-    const double beta = StiffeningOf(params, i);
+    const double beta = step.stiffening_per_m2[i];
     const double x0 = state.displacement_m[i];
     const double v0 = (m > 0.0) ? state.velocity_m_s[i] : 0.0;
     if (c[i] == 0.0 && m == 0.0) {
@@ -91,8 +108,7 @@ SiliconeState StepSilicone(const SiliconeParams& params, const SiliconeState& st
     if (m == 0.0 && beta == 0.0) {
       // Exact solution of c x' + k x = F with F constant: first-order relaxation.
       const double x_ss = force_pad_n[i] / k[i];
-      const double decay = std::exp(-k[i] * dt_s / c[i]);
-      next.displacement_m[i] = x_ss + (x0 - x_ss) * decay;
+      next.displacement_m[i] = x_ss + (x0 - x_ss) * step.relaxation_decay[i];
       next.velocity_m_s[i] = 0.0;
       continue;
     }
@@ -105,6 +121,11 @@ SiliconeState StepSilicone(const SiliconeParams& params, const SiliconeState& st
     next.velocity_m_s[i] = (m > 0.0) ? (x1 - x0) / dt_s : 0.0;
   }
   return next;
+}
+
+SiliconeState StepSilicone(const SiliconeParams& params, const SiliconeState& state,
+                           const Eigen::Vector3d& force_pad_n, double dt_s) {
+  return StepSilicone(MakeSiliconeStep(params, dt_s), state, force_pad_n);
 }
 
 FilmPose FilmPoseFor(const SiliconeParams& params, const SiliconeState& state) {

@@ -86,7 +86,27 @@ Eigen::Vector3d SiliconeDamping(const SiliconeParams& params);
 Eigen::Vector3d StaticDisplacement(const SiliconeParams& params,
                                    const Eigen::Vector3d& force_pad_n);
 
-// Advances the block by dt_s with force_pad_n held over the step.
+// What a step of length dt_s derives from the parameters alone, per pad axis: a node stepping at
+// a fixed rate builds it once instead of recomputing stiffness, damping and the relaxation factor
+// exp(-k dt / c) on every sample.
+struct SiliconeStep {
+  double dt_s = 0.0;
+  Eigen::Vector3d stiffness_n_per_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d damping_n_s_per_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d stiffening_per_m2 = Eigen::Vector3d::Zero();  // beta, nonzero only on z
+  double moving_mass_kg = 0.0;  // zero unless damping is on (see StepSilicone)
+  // exp(-k dt / c) where the axis is massless, linear and damped (the exact relaxation); else 0.
+  Eigen::Vector3d relaxation_decay = Eigen::Vector3d::Zero();
+};
+
+// Aborts on a negative (or NaN) dt_s or moving mass and on parameters SiliconeStiffness rejects.
+SiliconeStep MakeSiliconeStep(const SiliconeParams& params, double dt_s);
+
+// Advances the block by step.dt_s with force_pad_n held over the step.
+SiliconeState StepSilicone(const SiliconeStep& step, const SiliconeState& state,
+                           const Eigen::Vector3d& force_pad_n);
+
+// The same for a one-off step: MakeSiliconeStep, then the step.
 SiliconeState StepSilicone(const SiliconeParams& params, const SiliconeState& state,
                            const Eigen::Vector3d& force_pad_n, double dt_s);
 

@@ -14,16 +14,25 @@ TactileSensorState InitialTactileSensorState(const TactileSensorParams& params,
   return state;
 }
 
-TactileReading SampleTactileSensor(const TactileSensorParams& params, TactileSensorState& state,
-                                   const FilmFieldModel& film, const Eigen::Vector3d& force_pad_n,
+TactileSensorConstants MakeTactileSensorConstants(const TactileSensorParams& params, double dt_s) {
+  // Without a film the silicone is never stepped, so its parameters are not checked either.
+  return {.silicone = params.film_present ? MakeSiliconeStep(params.silicone, dt_s)
+                                          : SiliconeStep{.dt_s = dt_s},
+          .chip = MakeMlx90393Constants(params.chip)};
+}
+
+TactileReading SampleTactileSensor(const TactileSensorParams& params,
+                                   const TactileSensorConstants& constants,
+                                   TactileSensorState& state, const FilmFieldModel& film,
+                                   const Eigen::Vector3d& force_pad_n,
                                    const Eigen::Quaterniond& vehicle_attitude_world_body,
                                    const Eigen::Vector3d& earth_field_world_t, double temperature_c,
-                                   double dt_s, const Eigen::Vector3d& stray_field_sensor_t) {
+                                   const Eigen::Vector3d& stray_field_sensor_t) {
   TactileReading reading;
   reading.node_id = params.node_id;
 
   if (params.film_present) {
-    state.silicone = StepSilicone(params.silicone, state.silicone, force_pad_n, dt_s);
+    state.silicone = StepSilicone(constants.silicone, state.silicone, force_pad_n);
     reading.film_pose = FilmPoseFor(params.silicone, state.silicone);
     reading.film_field_t = film.FieldAtChip(reading.film_pose);
   }
@@ -35,11 +44,21 @@ TactileReading SampleTactileSensor(const TactileSensorParams& params, TactileSen
   reading.field_sensor_t =
       reading.film_field_t + reading.earth_field_sensor_t + reading.stray_field_sensor_t;
 
-  const Mlx90393Sample chip =
-      SampleMlx90393(params.chip, state.chip, reading.field_sensor_t, temperature_c);
+  const Mlx90393Sample chip = SampleMlx90393(params.chip, constants.chip, state.chip,
+                                             reading.field_sensor_t, temperature_c);
   reading.code = chip.code;
   reading.saturated = chip.saturated;
   return reading;
+}
+
+TactileReading SampleTactileSensor(const TactileSensorParams& params, TactileSensorState& state,
+                                   const FilmFieldModel& film, const Eigen::Vector3d& force_pad_n,
+                                   const Eigen::Quaterniond& vehicle_attitude_world_body,
+                                   const Eigen::Vector3d& earth_field_world_t, double temperature_c,
+                                   double dt_s, const Eigen::Vector3d& stray_field_sensor_t) {
+  return SampleTactileSensor(params, MakeTactileSensorConstants(params, dt_s), state, film,
+                             force_pad_n, vehicle_attitude_world_body, earth_field_world_t,
+                             temperature_c, stray_field_sensor_t);
 }
 
 }  // namespace hilrig::host

@@ -56,9 +56,27 @@ struct TactileReading {
 TactileSensorState InitialTactileSensorState(const TactileSensorParams& params,
                                              std::uint64_t scenario_seed);
 
-// Advances the silicone by dt_s under force_pad_n (pad frame, see silicone_model.h) and samples
-// the chip at the new film pose. With film_present false the force and film model are ignored.
-// `stray_field_sensor_t` is any other field at the chip (a tool or magnet nearby), chip frame.
+// The parameter-only parts of the chain for a node sampling every dt_s, built once per node (and
+// again only if its rate changes): see SiliconeStep and Mlx90393Constants.
+struct TactileSensorConstants {
+  SiliconeStep silicone;
+  Mlx90393Constants chip;
+};
+TactileSensorConstants MakeTactileSensorConstants(const TactileSensorParams& params, double dt_s);
+
+// Advances the silicone by constants.silicone.dt_s under force_pad_n (pad frame, see
+// silicone_model.h) and samples the chip at the new film pose. With film_present false the force
+// and film model are ignored. `stray_field_sensor_t` is any other field at the chip (a tool or
+// magnet nearby), chip frame. `constants` must come from MakeTactileSensorConstants(params, ...).
+TactileReading SampleTactileSensor(const TactileSensorParams& params,
+                                   const TactileSensorConstants& constants,
+                                   TactileSensorState& state, const FilmFieldModel& film,
+                                   const Eigen::Vector3d& force_pad_n,
+                                   const Eigen::Quaterniond& vehicle_attitude_world_body,
+                                   const Eigen::Vector3d& earth_field_world_t, double temperature_c,
+                                   const Eigen::Vector3d& stray_field_sensor_t);
+
+// The same for a one-off sample after dt_s.
 TactileReading SampleTactileSensor(
     const TactileSensorParams& params, TactileSensorState& state, const FilmFieldModel& film,
     const Eigen::Vector3d& force_pad_n, const Eigen::Quaterniond& vehicle_attitude_world_body,

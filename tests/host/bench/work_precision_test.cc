@@ -307,5 +307,43 @@ TEST_F(FidelityErrorTest, TheSecondRunTakesTheReferenceFromTheCacheWithTheSameEr
   EXPECT_EQ(second.value().position_rms_m(), first.value().position_rms_m());
 }
 
+class SweepTimingTest : public ::testing::Test {
+ protected:
+  SceneResult Sweep(int timing_repeats) {
+    auto loaded = LoadScenario(std::string(HILRIG_SOURCE_DIR) + "/scenarios/hover.textproto");
+    EXPECT_TRUE(loaded.ok());
+    SweepOptions options;
+    options.quick = true;
+    options.duration_s = 0.5;
+    options.timing_repeats = timing_repeats;
+    options.cheap_run_wall_s = std::numeric_limits<double>::infinity();
+    RunControl control;
+    control.wall_clock = &wall_clock_;
+    auto scene = SweepScene(loaded.value(), "", options, control);
+    EXPECT_TRUE(scene.ok()) << scene.error().message;
+    return scene.ok() ? scene.value() : SceneResult{};
+  }
+
+  rig::SimClock wall_clock_;  // every run takes no wall time: each is cheap to repeat
+};
+
+TEST_F(SweepTimingTest, CheapRunsAreTimedInRoundsAsOftenAsAsked) {
+  const SceneResult scene = Sweep(3);
+
+  ASSERT_GT(scene.runs.size(), 4u);
+  for (const RunResult& run : scene.runs) {
+    EXPECT_EQ(run.timing_runs, 3);
+  }
+}
+
+TEST_F(SweepTimingTest, OneRepeatKeepsTheCapturedTiming) {
+  const SceneResult scene = Sweep(1);
+
+  ASSERT_GT(scene.runs.size(), 4u);
+  for (const RunResult& run : scene.runs) {
+    EXPECT_EQ(run.timing_runs, 1);
+  }
+}
+
 }  // namespace
 }  // namespace hilrig::host

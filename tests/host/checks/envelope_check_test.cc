@@ -147,5 +147,30 @@ TEST(EnvelopeCheckTest, NaNInTheMeansWindowIsAViolation) {
   EXPECT_NEAR(result.first_violation_at_s(), 0.10, 1e-9);
 }
 
+// A thousand samples through a ten-sample window: the window's storage is compacted many times
+// on the way, and the last mean is still that of the last ten values, 990 .. 999.
+TEST(EnvelopeCheckTest, MeanOverALongRunIsThatOfTheLatestWindow) {
+  proto::Envelope envelope = AltitudeEnvelope(-2000, 2000);
+  envelope.set_mean_over_s(0.1);
+  const EnvelopeCheck check(envelope);
+  EnvelopeProgress progress;
+  for (int i = 0; i < 1000; ++i) check.Observe(AtAltitude(i * 0.01, i), progress);
+  const proto::EnvelopeResult result = check.Result(progress);
+  EXPECT_EQ(result.verdict(), proto::PASS);
+  EXPECT_EQ(result.worst_value(), 994.5);     // closest to the upper bound: the last mean
+  EXPECT_EQ(result.samples_checked(), 990u);  // from i = 10, when the window is full
+}
+
+// A window shorter than the half-microsecond slack holds no sample at all: its mean is NaN, a
+// violation, and nothing reads outside the window.
+TEST(EnvelopeCheckTest, AWindowShorterThanTheSlackIsAViolation) {
+  proto::Envelope envelope = AltitudeEnvelope(0.5, 1.5);
+  envelope.set_mean_over_s(1e-7);
+  const EnvelopeCheck check(envelope);
+  EnvelopeProgress progress;
+  EXPECT_TRUE(check.Observe(AtAltitude(0.01, 1.0), progress));
+  EXPECT_EQ(check.Result(progress).verdict(), proto::FAIL);
+}
+
 }  // namespace
 }  // namespace hilrig::host

@@ -155,6 +155,95 @@ TEST(SeriesContactTest, WarmStartDoesNotChangeTheAnswer) {
   }
 }
 
+// The balloon's law: linear with membrane stiffening over 10 mm.
+ObjectParams StiffeningObject() {
+  ObjectParams object;
+  object.stiffness = 628.0;
+  object.stiffening_length_m = 0.010;
+  return object;
+}
+
+TEST(SeriesContactTest, SeededSolveMatchesTheReference) {
+  const ObjectParams object = StiffeningObject();
+  const double overlap = 2e-3;
+  const double reference = ReferenceSeriesForce(628.0, 1.0, 0.010, kPadK, 0.0, overlap);
+  const SeriesSeed near{overlap - 1e-6, 1.5e-3, 0.9};
+  const SeriesSeed far{1e-5, 1e-5, 0.5};
+  const SeriesSeed outside{overlap, 5e-3, 0.0};  // predicts more indentation than the overlap
+  const SeriesSeed not_finite{overlap, kNaN, kNaN};
+  for (const SeriesSeed& seed : {SeriesSeed{}, near, far, outside, not_finite}) {
+    EXPECT_NEAR(SolveSeriesContact(object, kPadK, 0.0, overlap, seed).force_n, reference,
+                1e-9 * reference)
+        << seed.overlap_m << " " << seed.indentation_m;
+  }
+}
+
+TEST(SeriesContactTest, IndentationPerOverlapIsTheDerivative) {
+  const ObjectParams object = StiffeningObject();
+  const double overlap = 2e-3;
+  const double h = 1e-9;
+  const double numeric = (SolveSeriesContact(object, kPadK, 0.0, overlap + h).indentation_m -
+                          SolveSeriesContact(object, kPadK, 0.0, overlap - h).indentation_m) /
+                         (2 * h);
+  EXPECT_NEAR(SolveSeriesContact(object, kPadK, 0.0, overlap).indentation_per_overlap, numeric,
+              1e-5);
+  // Linear against linear: the object takes k_pad / (k_object + k_pad) of any change.
+  EXPECT_NEAR(SolveSeriesContact(ObjectParams{}, kPadK, 0.0, overlap).indentation_per_overlap,
+              kPadK / (1e3 + kPadK), 1e-15);
+}
+
+TEST(SeriesContactTest, SeedKeepsTheSolveAndItsSlope) {
+  const SeriesContact contact = SolveSeriesContact(StiffeningObject(), kPadK, 0.0, 2e-3);
+  const SeriesSeed seed = SeedOf(contact, 2e-3);
+  EXPECT_EQ(seed.overlap_m, 2e-3);
+  EXPECT_EQ(seed.indentation_m, contact.indentation_m);
+  EXPECT_EQ(seed.indentation_per_overlap, contact.indentation_per_overlap);
+  EXPECT_EQ(SeedOf(contact, 0.0).overlap_m, 0.0);  // no contact: nothing to start from
+  EXPECT_EQ(SeedOf(contact, kNaN).overlap_m, 0.0);
+}
+
+TEST(GraspSceneConstantsTest, FirstPadDirectionAndUsability) {
+  GraspSceneParams scene = Scene();
+  const GraspSceneConstants constants = MakeGraspSceneConstants(scene);
+  EXPECT_TRUE(constants.scene_usable);
+  EXPECT_TRUE(constants.contact_usable);
+  // Default first azimuth 30 deg.
+  EXPECT_NEAR(constants.first_outward_x, std::sqrt(3.0) / 2.0, 1e-15);
+  EXPECT_NEAR(constants.first_outward_y, 0.5, 1e-15);
+  scene.pad_stiffness_n_per_m.y() = kNaN;  // shear only: the contact solve can still run
+  EXPECT_FALSE(MakeGraspSceneConstants(scene).scene_usable);
+  EXPECT_TRUE(MakeGraspSceneConstants(scene).contact_usable);
+  scene.object.stiffness = -1.0;
+  EXPECT_FALSE(MakeGraspSceneConstants(scene).contact_usable);
+}
+
+TEST(GraspSceneConstantsTest, UnusableConstantsGiveNoForces) {
+  GraspSceneParams scene = Scene();
+  GraspState state = InitialGraspState(scene);
+  const GraspSceneConstants unusable;  // default: nothing usable
+  const GraspForces forces =
+      StepGrasp(scene, unusable, state, HoverAt(0.5), AngleForOverlap(scene, 2e-3), kDt);
+  EXPECT_EQ(forces.grasp_force_n, 0.0);
+  EXPECT_EQ(GraspServoLoad(scene, unusable, state).TorqueAt(AngleForOverlap(scene, 2e-3)), 0.0);
+}
+
+TEST(GraspContactTest, ServoLoadSeedsEachSolveFromTheLastWithoutChangingIt) {
+  GraspSceneParams scene = Scene();
+  scene.object = StiffeningObject();
+  scene.object.half_width_m = 0.040;
+  const GraspState state = InitialGraspState(scene);
+  const GraspServoLoad load(scene, state);
+  // A search-like sequence: far apart, then converging; every torque is the reference's.
+  for (double overlap : {2e-3, 1e-4, 3e-3, 2.5e-3, 2.4e-3, 2.4000001e-3}) {
+    const double reference =
+        0.025 * 6 * ReferenceSeriesForce(628.0, 1.0, 0.010, kPadK, 0.0, overlap);
+    double slope = 0.0;
+    EXPECT_NEAR(load.TorqueAndSlopeAt(AngleForOverlap(scene, overlap), &slope), reference,
+                1e-9 * reference)
+        << overlap;
+  }
+}
+
 TEST(SeriesContactTest, SeriesStiffnessIsTheDerivative) {
   ObjectParams object;
   object.stiffness = 1.5e7;

@@ -27,6 +27,27 @@ TEST(QuadrotorTest, HoverThrustKeepsVehicleStillAtAltitude) {
   EXPECT_EQ(state.ground_impacts, 0u);
 }
 
+TEST(QuadrotorStepSizeTest, BlendIsTheRotorLagOverTheStep) {
+  QuadrotorParams params;
+  params.rotors.time_constant_s = 0.02;
+  const QuadrotorStepSize step = MakeQuadrotorStepSize(params, 5e-3);
+  EXPECT_EQ(step.dt_s, 5e-3);
+  EXPECT_NEAR(step.rotor_lag_blend, 1.0 - std::exp(-0.25), 1e-15);
+  params.rotors.instantaneous = true;
+  EXPECT_EQ(MakeQuadrotorStepSize(params, 5e-3).rotor_lag_blend, 1.0);
+}
+
+TEST(QuadrotorStepSizeTest, RotorsMoveByTheBlendOfTheStep) {
+  QuadrotorParams params;
+  QuadrotorState state = MakeHoveringQuadrotor(params, {0.0, 0.0, 1.0}, 0.0);
+  const double hover = HoverThrustPerRotor(params);
+  // The step size says the blend; a commanded jump of 1 N moves each rotor by exactly that share.
+  QuadrotorStepSize step = MakeQuadrotorStepSize(params, kDt);
+  step.rotor_lag_blend = 0.25;
+  state = StepQuadrotor(params, state, Uniform(hover + 1.0), kNoForce, step);
+  for (double thrust : state.rotors.thrust_n) EXPECT_NEAR(thrust, hover + 0.25, 1e-15);
+}
+
 TEST(QuadrotorTest, RestsOnGroundWithZeroThrust) {
   QuadrotorParams params;
   QuadrotorState state;  // default: level on the ground at the origin

@@ -187,5 +187,36 @@ TEST(QuantizeMlx90393AxisTest, RoundsHalfAwayFromZeroAndClips) {
   EXPECT_TRUE(QuantizeMlx90393Axis(std::nan(""), 1e-6, -10, 10).clipped);
 }
 
+TEST(QuantizeMlx90393AxisTest, HalvesJustBelowAndLargeOrInfiniteFieldsRoundAsStdRound) {
+  // The largest double below 0.5 stays at 0 (adding 0.5 first would round it up to 1).
+  EXPECT_EQ(QuantizeMlx90393Axis(0.49999999999999994, 1.0, -10, 10).counts, 0);
+  EXPECT_EQ(QuantizeMlx90393Axis(-0.49999999999999994, 1.0, -10, 10).counts, 0);
+  EXPECT_EQ(QuantizeMlx90393Axis(7.5, 1.0, -10, 10).counts, 8);
+  EXPECT_EQ(QuantizeMlx90393Axis(-7.5, 1.0, -10, 10).counts, -8);
+  EXPECT_EQ(QuantizeMlx90393Axis(-7.4999999999999991, 1.0, -10, 10).counts, -7);
+  // Beyond 2^52 every double is an integer already; Inf clips to the rail it points at.
+  EXPECT_EQ(QuantizeMlx90393Axis(0x1.0p60, 1.0, -10, 10).counts, 10);
+  EXPECT_EQ(QuantizeMlx90393Axis(-INFINITY, 1.0, -10, 10).counts, -10);
+  EXPECT_TRUE(QuantizeMlx90393Axis(INFINITY, 1.0, -10, 10).clipped);
+  EXPECT_EQ(QuantizeMlx90393Axis(INFINITY, 1.0, -10, 10).counts, 10);
+}
+
+TEST(Mlx90393ModelTest, ConstantsBuiltOnceGiveTheSameConversionsAsOneOffCalls) {
+  Mlx90393Params params;
+  params.setting = {3, 2};
+  const Mlx90393Constants constants = MakeMlx90393Constants(params);
+  EXPECT_DOUBLE_EQ(constants.lsb_t.x(), 0.376e-6 * 4);
+  EXPECT_DOUBLE_EQ(constants.lsb_t.z(), 0.605e-6 * 4);
+  EXPECT_EQ(constants.range.zero_code, 32768);
+  Mlx90393State once{RandomStream::FromSeed(5, TactileStreamId(2))};
+  Mlx90393State each = once;
+  for (int i = 0; i < 200; ++i) {
+    const Eigen::Vector3d field_t(1e-5 * i, -3e-5, 4e-5);
+    EXPECT_EQ(SampleMlx90393(params, constants, once, field_t, 31.0).code,
+              SampleMlx90393(params, each, field_t, 31.0).code)
+        << i;
+  }
+}
+
 }  // namespace
 }  // namespace hilrig::host

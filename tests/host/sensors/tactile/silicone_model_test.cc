@@ -94,6 +94,37 @@ TEST(SiliconeModelTest, MasslessKelvinVoigtFollowsTheExactExponential) {
   }
 }
 
+TEST(SiliconeModelTest, StepBuiltOnceRelaxesEachAxisByExpMinusDtOverTau) {
+  const SiliconeParams params;  // damping on, tau = 5 ms, massless, linear
+  const double dt_s = 0.02;
+  const SiliconeStep step = MakeSiliconeStep(params, dt_s);
+  // k from the header's formulas: shear G A / h with G = E / 3; normal 1.408 E A / h.
+  const double area_m2 = 0.020 * 0.020;
+  const double shear_k = 80e3 / 3.0 * area_m2 / 0.007;
+  const double shape = area_m2 / (2.0 * 0.040 * 0.007);
+  const double normal_k = 80e3 * (1.0 + 0.8 * shape * shape) * area_m2 / 0.007;
+  const Eigen::Vector3d force_n(0.2, -0.1, 0.9);
+  SiliconeState state;
+  state.displacement_m = Eigen::Vector3d(1e-4, 2e-4, 3e-4);
+
+  const SiliconeState next = StepSilicone(step, state, force_n);
+
+  const double decay = std::exp(-dt_s / 0.005);
+  const Eigen::Vector3d k(shear_k, shear_k, normal_k);
+  for (int i = 0; i < 3; ++i) {
+    const double x_ss = force_n[i] / k[i];
+    EXPECT_NEAR(next.displacement_m[i], x_ss + (state.displacement_m[i] - x_ss) * decay, 1e-15)
+        << i;
+  }
+  // The one-off form is the same computation.
+  EXPECT_EQ(StepSilicone(params, state, force_n, dt_s).displacement_m, next.displacement_m);
+}
+
+TEST(SiliconeModelTest, StepRejectsNegativeOrNanStepLength) {
+  EXPECT_DEATH(MakeSiliconeStep(SiliconeParams{}, -1e-3), "dt >= 0");
+  EXPECT_DEATH(MakeSiliconeStep(SiliconeParams{}, std::nan("")), "dt >= 0");
+}
+
 // Damping ratio zeta for the normal axis with a moving mass: c = tau k = 2 zeta sqrt(k m).
 SiliconeParams WithDampingRatio(double zeta) {
   SiliconeParams params;
