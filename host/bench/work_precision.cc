@@ -9,6 +9,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <span>
 
 #include "host/runner/run_statistics.h"
 #include "host/scenario/scenario_validation.h"
@@ -156,11 +157,13 @@ std::string RealTimeFactor(double wall_s_per_sim_s) {
   return wall_s_per_sim_s > 0 ? Number(1 / wall_s_per_sim_s) : "0";
 }
 
-std::string ParetoField(const std::vector<ErrorMetric>& metrics) {
-  if (metrics.empty()) return "-";
+std::string ParetoField(const RunResult& run) {
   std::string out;
-  for (ErrorMetric metric : metrics) out.append(out.empty() ? "" : ";").append(MetricName(metric));
-  return out;
+  for (ErrorMetric metric : run.pareto) {
+    out.append(out.empty() ? "" : ";").append(MetricName(metric));
+  }
+  if (run.on_joint_front) out.append(out.empty() ? "" : ";").append("all");
+  return out.empty() ? "-" : out;
 }
 
 std::string IntegratorField(const FidelityChoice& fidelity) {
@@ -273,7 +276,11 @@ std::string DefaultVerdict(const SceneResult& scene) {
   std::string out = scene.scene;
   out.append(": the default (").append(FidelityLabel(run->run.fidelity)).append(", ");
   out.append(Number(run->wall_s_per_sim_s)).append(" s per simulated s) is ");
-  out.append(on.empty() ? "on no front" : "on the front for ").append(on).append("; it ");
+  out.append(run->on_joint_front ? "on the joint front (time against all three errors)"
+                                 : "NOT on the joint front (time against all three errors)");
+  out.append(on.empty() ? ", on no single-error front" : ", on the single-error front for ")
+      .append(on)
+      .append("; it ");
   out.append(run->passes_envelopes ? "passes" : "does NOT pass").append(" its envelopes\n");
   return out;
 }
@@ -576,21 +583,33 @@ rig::Result<SceneResult> SweepScene(const proto::Scenario& spec, const std::stri
   return scene;
 }
 
-std::vector<std::size_t> ParetoFront(const std::vector<RunResult>& runs, ErrorMetric metric,
+std::vector<std::size_t> ParetoFront(const std::vector<RunResult>& runs,
+                                     std::span<const ErrorMetric> metrics,
                                      const ParetoTolerance& tolerance) {
   std::vector<std::size_t> candidates;
   for (std::size_t i = 0; i < runs.size(); ++i) {
     const RunResult& run = runs[i];
     if (run.run.kind == RunKind::kReference || !run.errors.complete()) continue;
-    if (!std::isfinite(run.wall_s_per_sim_s) || !std::isfinite(run.RmsError(metric))) continue;
+    if (!std::isfinite(run.wall_s_per_sim_s)) continue;
+    if (std::any_of(metrics.begin(), metrics.end(),
+                    [&](ErrorMetric metric) { return !std::isfinite(run.RmsError(metric)); })) {
+      continue;
+    }
     candidates.push_back(i);
   }
+  const double faster = 1 - tolerance.timing_margin, slower = 1 + tolerance.timing_margin;
+  const double better = 1 - tolerance.error_tolerance, worse = 1 + tolerance.error_tolerance;
+  // a dominates b: no worse than b in time and in every error (within the tolerances), and clearly
+  // better in one of them.
   const auto dominates = [&](std::size_t a, std::size_t b) {
     const double ta = runs[a].wall_s_per_sim_s, tb = runs[b].wall_s_per_sim_s;
-    const double ea = runs[a].RmsError(metric), eb = runs[b].RmsError(metric);
-    const double faster = 1 - tolerance.timing_margin, slower = 1 + tolerance.timing_margin;
-    const double better = 1 - tolerance.error_tolerance, worse = 1 + tolerance.error_tolerance;
-    return (ta < tb * faster && ea <= eb * worse) || (ea < eb * better && ta <= tb * slower);
+    bool no_worse = ta <= tb * slower, clearly_better = ta < tb * faster;
+    for (ErrorMetric metric : metrics) {
+      const double ea = runs[a].RmsError(metric), eb = runs[b].RmsError(metric);
+      no_worse = no_worse && ea <= eb * worse;
+      clearly_better = clearly_better || ea < eb * better;
+    }
+    return no_worse && clearly_better;
   };
   std::vector<std::size_t> front;
   for (std::size_t b : candidates) {
@@ -605,12 +624,23 @@ std::vector<std::size_t> ParetoFront(const std::vector<RunResult>& runs, ErrorMe
   return front;
 }
 
+std::vector<std::size_t> ParetoFront(const std::vector<RunResult>& runs, ErrorMetric metric,
+                                     const ParetoTolerance& tolerance) {
+  return ParetoFront(runs, std::span<const ErrorMetric>(&metric, 1), tolerance);
+}
+
 void MarkParetoFronts(SceneResult& scene) {
-  for (RunResult& run : scene.runs) run.pareto.clear();
+  for (RunResult& run : scene.runs) {
+    run.pareto.clear();
+    run.on_joint_front = false;
+  }
   for (ErrorMetric metric : kErrorMetrics) {
     for (std::size_t index : ParetoFront(scene.runs, metric, scene.tolerance)) {
       scene.runs[index].pareto.push_back(metric);
     }
+  }
+  for (std::size_t index : ParetoFront(scene.runs, kErrorMetrics, scene.tolerance)) {
+    scene.runs[index].on_joint_front = true;
   }
 }
 
@@ -637,7 +667,7 @@ std::string WorkPrecisionCsv(const std::vector<SceneResult>& scenes) {
                                                Number(e.position_rms_m),
                                                Number(e.position_max_m),
                                                run.passes_envelopes ? "true" : "false",
-                                               ParetoField(run.pareto),
+                                               ParetoField(run),
                                                Number(e.load_max_n),
                                                std::to_string(e.samples_compared),
                                                std::to_string(e.samples_missing),

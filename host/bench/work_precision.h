@@ -8,6 +8,7 @@
 
 #include <optional>
 #include <ostream>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -134,7 +135,10 @@ struct RunResult {
   ErrorMetrics errors;
   bool passes_envelopes = false;
   std::string stop_reason;
-  std::vector<ErrorMetric> pareto;  // the metrics on whose front this run lies
+  std::vector<ErrorMetric> pareto;  // the metrics on whose single-error front this run lies
+  // On the front of time against all three errors at once: no other run is as fast and as
+  // accurate in every error (within the tolerance) and clearly better in one of them.
+  bool on_joint_front = false;
 
   double RmsError(ErrorMetric metric) const;
 };
@@ -176,7 +180,13 @@ rig::Result<SceneResult> SweepScene(const proto::Scenario& spec, const std::stri
 std::vector<std::size_t> ParetoFront(const std::vector<RunResult>& runs, ErrorMetric metric,
                                      const ParetoTolerance& tolerance = {});
 
-// Sets RunResult::pareto from ParetoFront for every metric.
+// The same over several errors at once (the joint front): a run dominates another when it is no
+// slower and no less accurate in any of `metrics` (within `tolerance`) and clearly better in one.
+std::vector<std::size_t> ParetoFront(const std::vector<RunResult>& runs,
+                                     std::span<const ErrorMetric> metrics,
+                                     const ParetoTolerance& tolerance = {});
+
+// Sets RunResult::pareto from ParetoFront for every metric, and on_joint_front.
 void MarkParetoFronts(SceneResult& scene);
 
 // The CSV, header first, one row per run of every scene.

@@ -132,6 +132,39 @@ TEST(ParetoFrontTest, AClearlyMoreAccurateRunDominatesAtAboutTheSameTime) {
   EXPECT_THAT(ParetoFront(runs, ErrorMetric::kGraspForce), ElementsAre(0));
 }
 
+RunResult WithLoadError(RunResult run, double load_error_n) {
+  run.errors.load_rms_n = load_error_n;
+  return run;
+}
+
+TEST(ParetoFrontTest, TheJointFrontKeepsARunThatIsBestInAnyOneError) {
+  // 0: fastest, best force error, worst load error. 1: slower, best load error. 2: slower than 0
+  // and worse than 0 in force and than 1 in load, but not worse than both in both: it stays.
+  // 3: as slow as 1 and worse in both errors than 1: dominated.
+  const std::vector<RunResult> runs = {WithLoadError(Result(RunKind::kIntegrator, 1.0, 1.0), 8.0),
+                                       WithLoadError(Result(RunKind::kIntegrator, 2.0, 3.0), 1.0),
+                                       WithLoadError(Result(RunKind::kDefault, 1.5, 2.0), 2.0),
+                                       WithLoadError(Result(RunKind::kField, 2.0, 4.0), 1.5)};
+  const ErrorMetric both[] = {ErrorMetric::kGraspForce, ErrorMetric::kLoad};
+
+  EXPECT_THAT(ParetoFront(runs, both), ElementsAre(0, 2, 1));
+  EXPECT_THAT(ParetoFront(runs, ErrorMetric::kGraspForce), ElementsAre(0));
+  EXPECT_THAT(ParetoFront(runs, ErrorMetric::kLoad), ElementsAre(0, 2, 1));
+}
+
+TEST(ParetoFrontTest, MarkParetoFrontsFlagsTheJointFront) {
+  SceneResult scene;
+  scene.runs = {Result(RunKind::kReference, 10, 0),
+                WithLoadError(Result(RunKind::kIntegrator, 1.0, 1.0), 1.0),
+                WithLoadError(Result(RunKind::kDefault, 1.5, 2.0), 2.0)};
+
+  MarkParetoFronts(scene);
+
+  EXPECT_FALSE(scene.runs[0].on_joint_front);  // the reference is never on a front
+  EXPECT_TRUE(scene.runs[1].on_joint_front);
+  EXPECT_FALSE(scene.runs[2].on_joint_front);  // slower and worse in every error
+}
+
 TEST(ParetoFrontTest, IncompleteRunsAreNotOnTheFront) {
   std::vector<RunResult> runs = {Result(RunKind::kIntegrator, 1, 0.1),
                                  Result(RunKind::kIntegrator, 2, 0.2)};
