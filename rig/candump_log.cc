@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "rig/check.h"
+#include "rig/decimal_digits.h"
 
 namespace hilrig::rig {
 namespace {
@@ -36,15 +37,7 @@ constexpr std::size_t MaxLineChars(std::size_t name_chars) {
   return kTimestampChars + 1 + name_chars + 1 + kMaxFrameChars + 2;
 }
 
-// "00".."99" and "00".."FF": two characters per table look-up.
-constexpr std::array<char, 200> kDecimalPairs = [] {
-  std::array<char, 200> pairs{};
-  for (int i = 0; i < 100; ++i) {
-    pairs[2 * i] = static_cast<char>('0' + i / 10);
-    pairs[2 * i + 1] = static_cast<char>('0' + i % 10);
-  }
-  return pairs;
-}();
+// "00".."FF": two characters per table look-up (the decimal pairs are rig/decimal_digits.h).
 constexpr std::array<char, 512> kHexPairs = [] {
   std::array<char, 512> pairs{};
   for (int i = 0; i < 256; ++i) {
@@ -59,15 +52,10 @@ char* WriteHexByte(std::uint32_t byte, char* out) {
   return out + 2;
 }
 
-char* WriteTwoDigits(std::uint32_t value, char* out) {
-  std::memcpy(out, &kDecimalPairs[2 * value], 2);
-  return out + 2;
-}
-
 // `value` < 10^4 as exactly four digits; 32-bit divisions by constants are a multiply and a shift.
 char* WriteFourDigits(std::uint32_t value, char* out) {
-  out = WriteTwoDigits(value / 100, out);
-  return WriteTwoDigits(value % 100, out);
+  out = WriteTwoDecimalDigits(value / 100, out);
+  return WriteTwoDecimalDigits(value % 100, out);
 }
 
 // Zero-padded to 10 seconds digits and 6 microsecond digits, in 32-bit pieces: one 64-bit
@@ -80,11 +68,11 @@ char* WriteTimestamp(std::int64_t time_ns, char* out) {
   const auto seconds_high = static_cast<std::uint32_t>(seconds / 100'000'000);  // < 100
   const auto seconds_low = static_cast<std::uint32_t>(seconds % 100'000'000);
   *out++ = '(';
-  out = WriteTwoDigits(seconds_high, out);
+  out = WriteTwoDecimalDigits(seconds_high, out);
   out = WriteFourDigits(seconds_low / 10'000, out);
   out = WriteFourDigits(seconds_low % 10'000, out);
   *out++ = '.';
-  out = WriteTwoDigits(micros / 10'000, out);
+  out = WriteTwoDecimalDigits(micros / 10'000, out);
   out = WriteFourDigits(micros % 10'000, out);
   *out++ = ')';
   return out;

@@ -4,20 +4,6 @@
 #include <cmath>
 
 namespace hilrig::host {
-namespace {
-
-// Erases the samples before `begin` once they are at least half of the arrays (and more than a
-// few): each sample is moved O(1) times on average, and the arrays stay at about twice the window.
-void DropLeftSamples(MeanWindow& window) {
-  constexpr std::size_t kMinDropped = 64;
-  if (window.begin < kMinDropped || 2 * window.begin < window.values.size()) return;
-  const auto left = static_cast<std::ptrdiff_t>(window.begin);
-  window.times_s.erase(window.times_s.begin(), window.times_s.begin() + left);
-  window.values.erase(window.values.begin(), window.values.begin() + left);
-  window.begin = 0;
-}
-
-}  // namespace
 
 EnvelopeCheck::EnvelopeCheck(proto::Envelope spec)
     : spec_(std::move(spec)),
@@ -45,19 +31,16 @@ std::optional<double> EnvelopeCheck::CheckedValue(const TraceSample& sample,
   if (!has_mean_) return value;
   // Half a microsecond of slack so that a window of whole trace periods counts as full.
   constexpr double kSlackS = 5e-7;
-  MeanWindow& window = progress.window;
-  window.times_s.push_back(sample.time_s);
-  window.values.push_back(value);
-  const std::size_t end = window.values.size();
-  while (window.begin < end &&
-         sample.time_s - window.times_s[window.begin] >= mean_over_s_ - kSlackS) {
-    ++window.begin;
+  auto& window = progress.window;
+  window.emplace_back(sample.time_s, value);
+  while (!window.empty() && sample.time_s - window.front().first >= mean_over_s_ - kSlackS) {
+    window.pop_front();
   }
-  DropLeftSamples(window);
   if (sample.time_s - from_s_ < mean_over_s_ - kSlackS) return std::nullopt;
+  // A window shorter than the slack holds no sample: its mean is NaN (0 / 0), a violation.
   double sum = 0;
-  for (std::size_t i = window.begin; i < window.values.size(); ++i) sum += window.values[i];
-  return sum / static_cast<double>(window.values.size() - window.begin);
+  for (const auto& [time_s, windowed] : window) sum += windowed;
+  return sum / static_cast<double>(window.size());
 }
 
 bool EnvelopeCheck::Observe(const TraceSample& sample, EnvelopeProgress& progress) const {

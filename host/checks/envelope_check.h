@@ -5,27 +5,17 @@
 // signal over that trailing window (a NaN anywhere in the window makes the mean NaN).
 #pragma once
 
-#include <cstddef>
 #include <cstdint>
+#include <deque>
 #include <limits>
 #include <optional>
 #include <utility>
-#include <vector>
 
 #include "host/trace/trace_sample.h"
 #include "proto/report.pb.h"
 #include "proto/scenario.pb.h"
 
 namespace hilrig::host {
-
-// The samples of a mean check's trailing window, oldest first, from `begin` on. Times and values
-// sit in plain arrays (the mean sums a contiguous run of doubles, in arrival order); samples that
-// left the window are dropped in bulk once they are the larger part of the arrays.
-struct MeanWindow {
-  std::vector<double> times_s;
-  std::vector<double> values;
-  std::size_t begin = 0;
-};
 
 struct EnvelopeProgress {
   std::uint64_t samples_checked = 0;
@@ -34,7 +24,7 @@ struct EnvelopeProgress {
   double worst_at_s = 0;
   bool violated = false;
   double first_violation_at_s = 0;
-  MeanWindow window;  // for mean_over_s
+  std::deque<std::pair<double, double>> window;  // (time, value) for mean_over_s
 };
 
 class EnvelopeCheck {

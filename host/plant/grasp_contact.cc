@@ -427,9 +427,8 @@ SeriesContact SolveSeriesFrom(const ObjectParams& object, double pad_k, double p
 }  // namespace
 
 SeriesContact SolveSeriesContact(const ObjectParams& object, double pad_k, double pad_beta,
-                                 double overlap, double split_hint) {
-  const double guess = split_hint > 0 && split_hint < 1 ? split_hint * overlap : -1.0;
-  return SolveSeriesFrom(object, pad_k, pad_beta, overlap, guess);
+                                 double overlap) {
+  return SolveSeriesFrom(object, pad_k, pad_beta, overlap, -1.0);
 }
 
 SeriesContact SolveSeriesContact(const ObjectParams& object, double pad_k, double pad_beta,

@@ -178,10 +178,8 @@ struct SeriesContact {
   double stiffness_n_per_m = 0;
   double indentation_per_overlap = 0;  // the object's share of a small change of the overlap
 };
-// `split_hint` (d_o / overlap from a nearby solve) only warm-starts the iteration.
 SeriesContact SolveSeriesContact(const ObjectParams& object, double pad_normal_n_per_m,
-                                 double pad_stiffening_per_m2, double overlap_m,
-                                 double split_hint = -1.0);
+                                 double pad_stiffening_per_m2, double overlap_m);
 // The same, warm-started from a solve at a nearby overlap; an empty or non-finite seed, or a
 // prediction outside (0, overlap), starts cold.
 SeriesContact SolveSeriesContact(const ObjectParams& object, double pad_normal_n_per_m,

@@ -87,7 +87,8 @@ Eigen::Vector3d HallSensorNodes::StrayFieldAt(std::uint8_t node_id, std::int64_t
 
 void HallSensorNodes::Tick(std::int64_t now_ns, const Eigen::Quaterniond& attitude_world_body,
                            const std::array<Eigen::Vector3d, kTactileSensorCount>& pad_force_n) {
-  // Only a node's own Take* calls move its schedule, so nothing can fall due before this.
+  // Only a node's own Take* calls move its schedule (the emulated nodes are sent no configuration
+  // frames, the other thing that could), so nothing can fall due before this.
   if (now_ns < next_event_ns_) return;
   std::int64_t next_event_ns = INT64_MAX;
   for (std::size_t i = 0; i < nodes_.size(); ++i) {

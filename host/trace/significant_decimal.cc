@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "rig/check.h"
+#include "rig/decimal_digits.h"
 
 namespace hilrig::host {
 namespace {
@@ -23,24 +24,9 @@ constexpr std::array<double, kMaxExactPower + 1> kExactPowersOf10 = {
     1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
     1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
 
-// "00".."99": two digits per table look-up halve the divisions.
-constexpr std::array<char, 200> kDigitPairs = [] {
-  std::array<char, 200> pairs{};
-  for (int i = 0; i < 100; ++i) {
-    pairs[2 * i] = static_cast<char>('0' + i / 10);
-    pairs[2 * i + 1] = static_cast<char>('0' + i % 10);
-  }
-  return pairs;
-}();
-
 char* Copy(const char* text, std::size_t length, char* out) {
   std::memcpy(out, text, length);
   return out + length;
-}
-
-char* WritePair(std::uint32_t two_digits, char* out) {
-  std::memcpy(out, &kDigitPairs[2 * two_digits], 2);
-  return out + 2;
 }
 
 // value * 10^power. A negative power divides by 10^-power, because 10^-k is not exact; powers
@@ -97,10 +83,10 @@ void WriteNineDigits(std::uint32_t digits, char* out) {
   out[0] = static_cast<char>('0' + first);
   const std::uint32_t high = rest / 10'000;
   const std::uint32_t low = rest % 10'000;
-  out = WritePair(high / 100, out + 1);
-  out = WritePair(high % 100, out);
-  out = WritePair(low / 100, out);
-  WritePair(low % 100, out);
+  out = rig::WriteTwoDecimalDigits(high / 100, out + 1);
+  out = rig::WriteTwoDecimalDigits(high % 100, out);
+  out = rig::WriteTwoDecimalDigits(low / 100, out);
+  rig::WriteTwoDecimalDigits(low % 100, out);
 }
 
 // The layouts below write the nine digits whole and move or overwrite with fixed-size copies,
@@ -121,7 +107,7 @@ char* WriteExponentForm(std::uint32_t digits, std::size_t length, int exponent, 
     *out++ = static_cast<char>('0' + magnitude / 100);
     magnitude %= 100;
   }
-  return WritePair(magnitude, out);
+  return rig::WriteTwoDecimalDigits(magnitude, out);
 }
 
 // 0 <= exponent < 9: the integer part is the first exponent + 1 digits (zeros past `length`),

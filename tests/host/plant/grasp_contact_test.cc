@@ -149,9 +149,11 @@ TEST(SeriesContactTest, WarmStartDoesNotChangeTheAnswer) {
   object.stiffness = 1.4e8;  // the glass cup
   object.exponent = 1.5;
   const double cold = SolveSeriesContact(object, kPadK, 0.0, 1e-3).force_n;
-  for (double hint : {1e-9, 0.01, 0.5, 0.999999, -1.0, 2.0, kNaN}) {
-    EXPECT_NEAR(SolveSeriesContact(object, kPadK, 0.0, 1e-3, hint).force_n, cold, 1e-12 * cold)
-        << hint;
+  // Seeds that predict the object's share of the overlap anywhere in (0, 1), outside it, or NaN.
+  for (double share : {1e-9, 0.01, 0.5, 0.999999, -1.0, 2.0, kNaN}) {
+    const SeriesSeed seed{.overlap_m = 1e-3, .indentation_m = share * 1e-3};
+    EXPECT_NEAR(SolveSeriesContact(object, kPadK, 0.0, 1e-3, seed).force_n, cold, 1e-12 * cold)
+        << share;
   }
 }
 
