@@ -97,10 +97,13 @@ constexpr std::int32_t CodeToCounts(std::uint16_t code, std::uint8_t resolution)
   return std::int32_t(code) - CodeRange(resolution).zero_code;
 }
 
-// True when `counts` is at or beyond a rail: the true field may be anywhere beyond it.
-constexpr bool CountsSaturated(std::int32_t counts, std::uint8_t resolution) {
-  const Mlx90393CodeRange range = CodeRange(resolution);
+// True when `counts` is at or beyond a rail: the true field may be anywhere beyond it. The range
+// overloads here and below are for callers that hold CodeRange(resolution) already.
+constexpr bool CountsSaturated(std::int32_t counts, const Mlx90393CodeRange& range) {
   return counts <= range.min_counts || counts >= range.max_counts;
+}
+constexpr bool CountsSaturated(std::int32_t counts, std::uint8_t resolution) {
+  return CountsSaturated(counts, CodeRange(resolution));
 }
 
 struct EncodedCode {
@@ -111,13 +114,15 @@ struct EncodedCode {
 // The chip's output stage: clip `counts` to the output range of `resolution` and encode. This is
 // the format on the wire, not a decoder; the host's device emulator uses it after quantizing the
 // field, so the DUT decodes exactly what a real chip would have sent.
-constexpr EncodedCode EncodeCode(std::int32_t counts, std::uint8_t resolution) {
-  const Mlx90393CodeRange range = CodeRange(resolution);
+constexpr EncodedCode EncodeCode(std::int32_t counts, const Mlx90393CodeRange& range) {
   const std::int32_t clipped = counts < range.min_counts
                                    ? range.min_counts
                                    : (counts > range.max_counts ? range.max_counts : counts);
   const std::int32_t code = clipped + range.zero_code;  // RES 0/1: two's complement below
-  return {std::uint16_t(code & 0xFFFF), CountsSaturated(clipped, resolution)};
+  return {std::uint16_t(code & 0xFFFF), CountsSaturated(clipped, range)};
+}
+constexpr EncodedCode EncodeCode(std::int32_t counts, std::uint8_t resolution) {
+  return EncodeCode(counts, CodeRange(resolution));
 }
 
 // One X/Y/Z measurement as read from the chip; decode with CodesToTesla(setting, raw.code).
@@ -139,9 +144,10 @@ FieldReading<S> CodesToTesla(Mlx90393Setting setting, const std::array<std::uint
   reading.saturated = false;
   reading.field_t = LsbTesla<S>(setting);
   if (!reading.valid) return reading;
+  const Mlx90393CodeRange range = CodeRange(setting.resolution);
   for (int axis = 0; axis < 3; ++axis) {
     const std::int32_t counts = CodeToCounts(codes[axis], setting.resolution);
-    reading.saturated = reading.saturated || CountsSaturated(counts, setting.resolution);
+    reading.saturated = reading.saturated || CountsSaturated(counts, range);
     reading.field_t[axis] *= S(counts);
   }
   return reading;

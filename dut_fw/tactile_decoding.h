@@ -24,11 +24,14 @@
 // the obvious transcription, has a negative second argument for Bz' < 0 and jumps from +π to −π
 // as Bx passes zero -- in the middle of the working volume if the film's Bz is negative. Here the
 // only cut left is at Bz' = 0, which is reported.
-// For S_z, Bz'' − (Bz''² + By² − Bx²) / (2 Bz'') = (Bz''² + Bx² − By²) / (2 Bz''), hence
-//   S_z = ln hypot( Bz''² + Bx² − By², 2 Bz'' By ) − ln( 2 |Bz''| ),
-// which never forms the quotient (no overflow or underflow of it). The hypot is |(Bz'' + i By)² +
-// Bx²| ≥ 0.75 Bz''² (the real part is ≥ 0.75 Bz''² when |By| ≤ |Bz''| / 2, the imaginary part
-// ≥ Bz''² otherwise), so it is nonzero whenever Bz'' is.
+// For S_z, Bz'' − (Bz''² + By² − Bx²) / (2 Bz'') = (Bz''² + Bx² − By²) / (2 Bz'') =: P, hence
+//   S_z = ln sqrt( P² + By² ) = ½ ln( P² + By² ),
+// one logarithm and no square root. P² + By² = |(Bz'' + i By)² + Bx²|² / (2 Bz'')², and that
+// modulus is ≥ 0.75 Bz''² (the real part is ≥ 0.75 Bz''² when |By| ≤ |Bz''| / 2, the imaginary
+// part ≥ Bz''² otherwise), so P² + By² ≥ 0.14 Bz''² > 0 whenever Bz'' is nonzero: no log of zero,
+// and with |Bz''| ≥ kSingularFieldT no float underflow. P is at most |B|² / (2 kSingularFieldT),
+// so P² overflows float only for film constants absurd enough to overflow Bz''² as well (the
+// final finiteness check flags both).
 //
 // Reported instead of computed (S is then zero and must not be used):
 // - kNonFiniteInput: a NaN or Inf in the field or the film constants.
@@ -143,11 +146,11 @@ SVector<S> ComputeS(const FilmConstants<S>& film, const NoDeduce<Vec3<S>>& field
 
   const S bx2 = bx * bx, by2 = by * by;
   const S bz1_sq = bz1 * bz1;
-  SVector<S> out{Vec3<S>(std::atan2(S(2) * bx * bz1, bz1_sq + by2 - bx2),
-                         std::atan2(S(2) * by * bz1, bz1_sq + bx2 - by2),
-                         std::log(std::hypot(bz2 * bz2 + bx2 - by2, S(2) * bz2 * by)) -
-                             std::log(S(2) * abs(bz2))),
-                 DecodeStatus::kOk};
+  const S p = (bz2 * bz2 + bx2 - by2) / (S(2) * bz2);
+  SVector<S> out{
+      Vec3<S>(std::atan2(S(2) * bx * bz1, bz1_sq + by2 - bx2),
+              std::atan2(S(2) * by * bz1, bz1_sq + bx2 - by2), S(0.5) * std::log(p * p + by2)),
+      DecodeStatus::kOk};
   // Unreachable with |B| <= 1 T and film constants of sane size; guards absurd constants.
   if (!AllFinite(out.s)) return flagged(DecodeStatus::kOutOfRange);
   return out;

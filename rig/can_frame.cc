@@ -156,6 +156,7 @@ std::size_t LengthFromDlc(std::uint8_t dlc, bool fd) {
 }
 
 Result<void> ValidateFrame(const CanFrame& frame) {
+  if (IsValidFrame(frame)) return {};
   if (frame.length > CanFrame::kMaxFdPayload) return MakeError("length exceeds 64 bytes");
   if (frame.error) return ValidateErrorFrame(frame);
   if (frame.id > (frame.extended ? kMaxExtendedId : kMaxStandardId)) {

@@ -59,6 +59,20 @@ std::size_t LengthFromDlc(std::uint8_t dlc, bool fd);
 // Checks what the wire and Linux can represent: id range per extended flag, length per fd flag,
 // no remote FD frames, BRS/ESI only on FD frames, error frames classic and without EFF/RTR.
 Result<void> ValidateFrame(const CanFrame& frame);
+// The same test without the message, for paths that see every frame (bus, log writer) and only
+// need the reason when the answer is no: it builds no Result and no string. Inline, as it is
+// called for every frame sent and logged.
+inline bool IsValidFrame(const CanFrame& frame) {
+  if (frame.length > CanFrame::kMaxFdPayload) return false;
+  if (frame.error) {
+    return !frame.extended && !frame.remote && !frame.fd && frame.id <= kMaxExtendedId &&
+           frame.length <= CanFrame::kMaxClassicPayload;
+  }
+  if (frame.id > (frame.extended ? kMaxExtendedId : kMaxStandardId)) return false;
+  if (frame.fd) return !frame.remote && IsValidFdLength(frame.length);
+  return !frame.bitrate_switch && !frame.error_state_indicator &&
+         frame.length <= CanFrame::kMaxClassicPayload;
+}
 
 // Bits a frame occupies on the wire, with worst-case stuffing, split by the bitrate they run at.
 // Classic frames (and FD frames without BRS) are all nominal. FD frames with BRS count SOF..BRS

@@ -58,13 +58,9 @@ char* WriteFourDigits(std::uint32_t value, char* out) {
   return WriteTwoDecimalDigits(value % 100, out);
 }
 
-// Zero-padded to 10 seconds digits and 6 microsecond digits, in 32-bit pieces: one 64-bit
-// division splits the seconds.
-char* WriteTimestamp(std::int64_t time_ns, char* out) {
-  HILRIG_CHECK(time_ns >= 0, "candump timestamps cannot be negative");
-  const auto ns = static_cast<std::uint64_t>(time_ns);
-  const std::uint64_t seconds = ns / kNsPerS;
-  const auto micros = static_cast<std::uint32_t>((ns % kNsPerS) / kNsPerUs);
+// "(SSSSSSSSSS.": the seconds zero-padded to 10 digits, in 32-bit pieces.
+constexpr std::size_t kSecondsPartChars = 1 + 10 + 1;
+char* WriteSecondsPart(std::uint64_t seconds, char* out) {
   const auto seconds_high = static_cast<std::uint32_t>(seconds / 100'000'000);  // < 100
   const auto seconds_low = static_cast<std::uint32_t>(seconds % 100'000'000);
   *out++ = '(';
@@ -72,10 +68,33 @@ char* WriteTimestamp(std::int64_t time_ns, char* out) {
   out = WriteFourDigits(seconds_low / 10'000, out);
   out = WriteFourDigits(seconds_low % 10'000, out);
   *out++ = '.';
+  return out;
+}
+
+// "UUUUUU)": the microseconds within the second, zero-padded to 6 digits.
+char* WriteMicrosPart(std::uint32_t micros, char* out) {
   out = WriteTwoDecimalDigits(micros / 10'000, out);
   out = WriteFourDigits(micros % 10'000, out);
   *out++ = ')';
   return out;
+}
+
+struct SplitTime {
+  std::uint64_t seconds;
+  std::uint32_t micros;
+};
+
+// One 64-bit division splits the seconds.
+SplitTime SplitTimestamp(std::int64_t time_ns) {
+  HILRIG_CHECK(time_ns >= 0, "candump timestamps cannot be negative");
+  const auto ns = static_cast<std::uint64_t>(time_ns);
+  return {ns / kNsPerS, static_cast<std::uint32_t>((ns % kNsPerS) / kNsPerUs)};
+}
+
+// Exactly kTimestampChars characters.
+char* WriteTimestamp(std::int64_t time_ns, char* out) {
+  const SplitTime time = SplitTimestamp(time_ns);
+  return WriteMicrosPart(time.micros, WriteSecondsPart(time.seconds, out));
 }
 
 // A standard id has 3 hex digits (11 bits), an extended or error id 8.
@@ -106,22 +125,38 @@ char* WriteFrame(const CanFrame& frame, char* out) {
   return out;
 }
 
-// The whole line (without newline) at `out`, which has room for MaxLineChars(name's size).
-char* WriteLine(const TimedCanFrame& frame, std::string_view interface_name, DirectionMark mark,
-                char* out) {
-  const Result<void> valid = ValidateFrame(frame.frame);
-  HILRIG_CHECK(valid.ok(), "cannot log an invalid frame: " + valid.error().message);
-  out = WriteTimestamp(frame.time_ns, out);
+void CheckLoggable(const TimedCanFrame& frame) {
+  // The message is only built when the check fails.
+  HILRIG_CHECK(IsValidFrame(frame.frame),
+               "cannot log an invalid frame: " + ValidateFrame(frame.frame).error().message);
+}
+
+// " name ": the timestamp is fixed-width, so in a reused line buffer this never moves.
+char* WriteInterfaceName(std::string_view interface_name, char* out) {
   *out++ = ' ';
   std::memcpy(out, interface_name.data(), interface_name.size());
   out += interface_name.size();
   *out++ = ' ';
+  return out;
+}
+
+// What follows the interface name: the frame and the direction token.
+char* WriteLineTail(const TimedCanFrame& frame, DirectionMark mark, char* out) {
   out = WriteFrame(frame.frame, out);
   if (mark == DirectionMark::kRxTx) {
     *out++ = ' ';
     *out++ = frame.tx_echo ? 'T' : 'R';
   }
   return out;
+}
+
+// The whole line (without newline) at `out`, which has room for MaxLineChars(name's size).
+char* WriteLine(const TimedCanFrame& frame, std::string_view interface_name, DirectionMark mark,
+                char* out) {
+  CheckLoggable(frame);
+  out = WriteTimestamp(frame.time_ns, out);
+  out = WriteInterfaceName(interface_name, out);
+  return WriteLineTail(frame, mark, out);
 }
 
 // ---- parsing ----
@@ -300,12 +335,35 @@ CandumpLogWriter::CandumpLogWriter(std::ostream& out, std::string interface_name
     : out_(out),
       interface_name_(std::move(interface_name)),
       mark_(mark),
-      line_(MaxLineChars(interface_name_.size()) + 1, '\0') {}
+      line_(MaxLineChars(interface_name_.size()) + 1, '\0') {
+  WriteInterfaceName(interface_name_, line_.data() + kTimestampChars);
+}
 
+// Straight into the stream's buffer: ostream::write would build a sentry (state test, tie flush)
+// per line for a stream nothing else writes to meanwhile. The stream's state still says whether
+// the lines went out, set as ostream::write sets it: failbit for a stream that was not good,
+// badbit for a short write; a unitbuf stream is still flushed per line.
+// The line buffer keeps " name " from the constructor after the fixed-width timestamp, and the
+// seconds digits of the last line; only what changed is written per frame.
 void CandumpLogWriter::Write(const TimedCanFrame& frame) {
-  char* end = WriteLine(frame, interface_name_, mark_, line_.data());
+  CheckLoggable(frame);
+  const SplitTime time = SplitTimestamp(frame.time_ns);
+  if (time.seconds != seconds_in_line_) {  // the seconds digits change once per second
+    WriteSecondsPart(time.seconds, line_.data());
+    seconds_in_line_ = time.seconds;
+  }
+  WriteMicrosPart(time.micros, line_.data() + kSecondsPartChars);
+  char* end =
+      WriteLineTail(frame, mark_, line_.data() + kTimestampChars + 2 + interface_name_.size());
   *end++ = '\n';
-  out_.write(line_.data(), end - line_.data());
+  const std::streamsize length = end - line_.data();
+  if (!out_.good()) {
+    out_.setstate(std::ios_base::failbit);
+  } else if (out_.rdbuf()->sputn(line_.data(), length) != length) {
+    out_.setstate(std::ios_base::badbit);
+  } else if ((out_.flags() & std::ios_base::unitbuf) != 0) {
+    out_.flush();  // what the sentry does on leaving, for streams like std::cerr
+  }
   ++frames_written_;
 }
 

@@ -53,6 +53,7 @@ class CandumpLogWriter {
   std::string interface_name_;
   DirectionMark mark_;
   std::string line_;  // sized once for the longest line; each line is written over the last
+  std::uint64_t seconds_in_line_ = UINT64_MAX;  // whose digits line_ holds; none at first
   std::uint64_t frames_written_ = 0;
 };
 

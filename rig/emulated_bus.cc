@@ -86,6 +86,8 @@ class EmulatedMedium {
                bool dropped);
   void RecordWire(std::int64_t start_ns, std::int64_t end_ns);
   void RecordQueueing(const CanFrame& frame, std::int64_t queueing_ns);
+  IdQueueingStats& QueueingStatsFor(std::uint32_t id, bool extended);
+  std::int64_t DurationNs(const CanFrame& frame) const;
 
   EmulatedBusConfig config_;
   FaultStream faults_;
@@ -97,7 +99,14 @@ class EmulatedMedium {
   std::int64_t bus_free_at_ns_ = 0;
   std::int64_t error_flag_ns_;
   std::int64_t bus_off_recovery_ns_;
+  // FrameDurationNs of a classic data frame, by [extended][length], filled once: nearly all
+  // traffic is such frames, and their duration depends on nothing else.
+  std::array<std::array<std::int64_t, CanFrame::kMaxClassicPayload + 1>, 2> classic_data_ns_{};
   EmulatedBusStats stats_;
+  // Position + 1 in stats_.queueing_by_id of each standard id seen, 0 for one not seen. Standard
+  // ids sort before extended ones, so their positions stay below 2048 and only move when another
+  // standard id is first seen.
+  std::array<std::uint16_t, kMaxStandardId + 1> standard_queueing_slot_{};
 };
 
 class EmulatedEndpoint final : public CanBus {
@@ -214,9 +223,7 @@ class EmulatedEndpoint final : public CanBus {
 
  private:
   Result<void> CheckSendable(const CanFrame& frame) const {
-    if (Result<void> valid = ValidateFrame(frame); !valid) {
-      return MakeError(name_ + ": " + valid.error().message);
-    }
+    if (!IsValidFrame(frame)) return MakeError(name_ + ": " + ValidateFrame(frame).error().message);
     if (bus_off()) return MakeError(name_ + ": controller is bus-off, frame not sent");
     if (tx_.queue.size() >= medium_.config().tx_queue_capacity) {
       return MakeError(name_ + ": TX queue full (" + std::to_string(tx_.queue.size()) +
@@ -296,6 +303,15 @@ EmulatedMedium::EmulatedMedium(const EmulatedBusConfig& config)
                                    config.nominal_bitrate_bps);
   bus_off_recovery_ns_ = (kBusOffRecoveryBits * 1'000'000'000 + config.nominal_bitrate_bps - 1) /
                          config.nominal_bitrate_bps;
+  for (const bool extended : {false, true}) {
+    for (std::size_t length = 0; length <= CanFrame::kMaxClassicPayload; ++length) {
+      CanFrame frame;
+      frame.extended = extended;
+      frame.length = static_cast<std::uint8_t>(length);
+      classic_data_ns_[extended][length] =
+          FrameDurationNs(frame, config.nominal_bitrate_bps, config.data_bitrate_bps);
+    }
+  }
   sources_.push_back(&injector_);
 }
 
@@ -367,8 +383,7 @@ void EmulatedMedium::Transmit(TxSource& source, std::int64_t start_ns) {
   // By reference, not a copy of the 80-byte frame: delivery only appends to RX queues and counts
   // successes down (which never reaches bus-off), so the TX queue head stays put until popped.
   const PendingFrame& pending = source.queue.front();
-  const std::int64_t duration_ns =
-      FrameDurationNs(pending.frame, config_.nominal_bitrate_bps, config_.data_bitrate_bps);
+  const std::int64_t duration_ns = DurationNs(pending.frame);
   const WireFault fault = pending.frame.error ? WireFault::kNone : faults_.Next();
   if (fault == WireFault::kCorrupt) {
     TransmitCorrupted(source, start_ns, duration_ns);
@@ -415,20 +430,38 @@ void EmulatedMedium::RecordWire(std::int64_t start_ns, std::int64_t end_ns) {
   stats_.busy_ns += end_ns - start_ns;
 }
 
-// A sorted vector: it only grows when an id is seen for the first time, so steady traffic does
-// not allocate.
+// Every frame on the queues passed IsValidFrame, so a classic one has at most 8 bytes.
+std::int64_t EmulatedMedium::DurationNs(const CanFrame& frame) const {
+  if (!frame.fd && !frame.remote && !frame.error)
+    return classic_data_ns_[frame.extended][frame.length];
+  return FrameDurationNs(frame, config_.nominal_bitrate_bps, config_.data_bitrate_bps);
+}
+
 void EmulatedMedium::RecordQueueing(const CanFrame& frame, std::int64_t queueing_ns) {
+  IdQueueingStats& stats = QueueingStatsFor(frame.id, frame.extended);
+  ++stats.frames;
+  stats.total_queueing_ns += queueing_ns;
+  stats.max_queueing_ns = std::max(stats.max_queueing_ns, queueing_ns);
+}
+
+// A sorted vector: it only grows when an id is seen for the first time, so steady traffic does
+// not allocate; standard ids (valid, so at most kMaxStandardId) skip the search.
+IdQueueingStats& EmulatedMedium::QueueingStatsFor(std::uint32_t id, bool extended) {
   std::vector<IdQueueingStats>& by_id = stats_.queueing_by_id;
-  const std::uint64_t key = IdKey(frame.id, frame.extended);
+  if (!extended && standard_queueing_slot_[id] != 0) return by_id[standard_queueing_slot_[id] - 1];
+  const std::uint64_t key = IdKey(id, extended);
   auto it = std::lower_bound(
       by_id.begin(), by_id.end(), key,
       [](const IdQueueingStats& s, std::uint64_t k) { return IdKey(s.id, s.extended) < k; });
   if (it == by_id.end() || IdKey(it->id, it->extended) != key) {
-    it = by_id.insert(it, IdQueueingStats{.id = frame.id, .extended = frame.extended});
+    it = by_id.insert(it, IdQueueingStats{.id = id, .extended = extended});
   }
-  ++it->frames;
-  it->total_queueing_ns += queueing_ns;
-  it->max_queueing_ns = std::max(it->max_queueing_ns, queueing_ns);
+  if (!extended) {
+    for (std::size_t i = 0; i < by_id.size() && !by_id[i].extended; ++i) {
+      standard_queueing_slot_[by_id[i].id] = static_cast<std::uint16_t>(i + 1);
+    }
+  }
+  return *it;
 }
 
 std::int64_t IdQueueingStats::mean_queueing_ns() const {

@@ -26,9 +26,9 @@ Result<TactileMessage> TactileLinkMonitor::Observe(const CanFrame& frame) {
   const TactileFrameKind kind = Classify(frame);
   if (kind == TactileFrameKind::kNotClassicData) ++bus_.not_classic_data;
   if (kind == TactileFrameKind::kUnknownId) ++bus_.unknown_ids;
-  const std::optional<std::uint8_t> node_id = TactileNodeOf(frame);
+  const std::optional<std::uint8_t> node_id = TactileNodeOf(frame, kind);
 
-  Result<TactileMessage> message = DecodeTactileFrame(frame);
+  Result<TactileMessage> message = DecodeTactileFrame(frame, kind);
   if (!node_id) return message;
   TactileNodeCounters& counters = nodes_[*node_id];
   ++counters.frames;

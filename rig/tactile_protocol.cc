@@ -50,11 +50,13 @@ bool IsClassicData(const CanFrame& frame) {
   return !frame.error && !frame.remote && !frame.fd && !frame.extended;
 }
 
-// Flags, id range and exact length of a sample or status frame.
-Result<void> CheckNodeFrame(const CanFrame& frame, TactileFrameKind kind, const char* what,
-                            std::uint32_t base_id, std::uint8_t length) {
-  if (!IsClassicData(frame)) return FlagError(what, frame);
-  if (Classify(frame) != kind) {
+// Flags, id range and exact length of a sample or status frame; `classified` is Classify(frame),
+// passed in so that a dispatcher which has classified the frame does not do it again.
+Result<void> CheckNodeFrame(const CanFrame& frame, TactileFrameKind classified,
+                            TactileFrameKind kind, const char* what, std::uint32_t base_id,
+                            std::uint8_t length) {
+  if (classified == TactileFrameKind::kNotClassicData) return FlagError(what, frame);
+  if (classified != kind) {
     return MakeError(std::string("tactile ") + what + ": id " + Hex(frame.id) + " is outside the " +
                      what + " ids " + Hex(base_id + kFirstTactileNodeId) + ".." +
                      Hex(base_id + kReferenceNodeId));
@@ -108,6 +110,59 @@ bool IsKnownCommand(std::uint8_t command) {
          command <= static_cast<std::uint8_t>(TactileCommand::kReset);
 }
 
+// The decoders below take Classify(frame) as `kind`.
+Result<TactileSample> DecodeSampleOfKind(const CanFrame& frame, TactileFrameKind kind) {
+  if (Result<void> checked = CheckNodeFrame(frame, kind, TactileFrameKind::kSample, "sample",
+                                            kTactileSampleBaseId, kTactileSampleLength);
+      !checked) {
+    return checked.error();
+  }
+  TactileSample sample;
+  sample.node_id = static_cast<std::uint8_t>(frame.id - kTactileSampleBaseId);
+  for (int axis = 0; axis < 3; ++axis) sample.code[axis] = GetUint16Le(&frame.data[2 * axis]);
+  sample.sequence = frame.data[6];
+  sample.status = frame.data[7];
+  return sample;
+}
+
+Result<TactileStatus> DecodeStatusOfKind(const CanFrame& frame, TactileFrameKind kind) {
+  if (Result<void> checked = CheckNodeFrame(frame, kind, TactileFrameKind::kStatus, "status",
+                                            kTactileStatusBaseId, kTactileStatusLength);
+      !checked) {
+    return checked.error();
+  }
+  TactileStatus status;
+  status.node_id = static_cast<std::uint8_t>(frame.id - kTactileStatusBaseId);
+  status.temperature_centi_c = static_cast<std::int16_t>(GetUint16Le(&frame.data[0]));
+  status.flags = frame.data[2];
+  status.gain_sel = frame.data[3];
+  status.resolution = frame.data[4];
+  status.rate_code = frame.data[5];
+  status.rx_error_count = frame.data[6];
+  status.firmware_version = frame.data[7];
+  return status;
+}
+
+Result<TactileConfigCommand> DecodeConfigOfKind(const CanFrame& frame, TactileFrameKind kind) {
+  if (kind == TactileFrameKind::kNotClassicData) return FlagError("config", frame);
+  if (kind != TactileFrameKind::kConfig) {
+    return MakeError("tactile config: id " + Hex(frame.id) + " is outside the config ids " +
+                     Hex(kTactileConfigBaseId) + ".." +
+                     Hex(kTactileConfigBaseId + kReferenceNodeId));
+  }
+  if (frame.length < kTactileConfigMinLength || frame.length > kTactileConfigMaxLength) {
+    return BadCommand(frame, "expected 2..8 bytes, got " + std::to_string(frame.length));
+  }
+  if (!IsKnownCommand(frame.data[0])) {
+    return BadCommand(frame, "command " + std::to_string(frame.data[0]) + " is unknown");
+  }
+  TactileConfigCommand command;
+  command.node_id = static_cast<std::uint8_t>(frame.id - kTactileConfigBaseId);
+  command.command = static_cast<TactileCommand>(frame.data[0]);
+  if (Result<void> args = DecodeCommandArguments(frame, command); !args) return args.error();
+  return command;
+}
+
 }  // namespace
 
 std::optional<std::uint8_t> TactileRateCodeFromHz(std::uint16_t rate_hz) {
@@ -137,7 +192,11 @@ TactileFrameKind Classify(const CanFrame& frame) {
 }
 
 std::optional<std::uint8_t> TactileNodeOf(const CanFrame& frame) {
-  switch (Classify(frame)) {
+  return TactileNodeOf(frame, Classify(frame));
+}
+
+std::optional<std::uint8_t> TactileNodeOf(const CanFrame& frame, TactileFrameKind kind) {
+  switch (kind) {
     case TactileFrameKind::kConfig:
       return static_cast<std::uint8_t>(frame.id - kTactileConfigBaseId);
     case TactileFrameKind::kSample:
@@ -198,71 +257,35 @@ CanFrame EncodeTactileConfig(const TactileConfigCommand& command) {
 }
 
 Result<TactileSample> DecodeTactileSample(const CanFrame& frame) {
-  if (Result<void> checked = CheckNodeFrame(frame, TactileFrameKind::kSample, "sample",
-                                            kTactileSampleBaseId, kTactileSampleLength);
-      !checked) {
-    return checked.error();
-  }
-  TactileSample sample;
-  sample.node_id = static_cast<std::uint8_t>(frame.id - kTactileSampleBaseId);
-  for (int axis = 0; axis < 3; ++axis) sample.code[axis] = GetUint16Le(&frame.data[2 * axis]);
-  sample.sequence = frame.data[6];
-  sample.status = frame.data[7];
-  return sample;
+  return DecodeSampleOfKind(frame, Classify(frame));
 }
 
 Result<TactileStatus> DecodeTactileStatus(const CanFrame& frame) {
-  if (Result<void> checked = CheckNodeFrame(frame, TactileFrameKind::kStatus, "status",
-                                            kTactileStatusBaseId, kTactileStatusLength);
-      !checked) {
-    return checked.error();
-  }
-  TactileStatus status;
-  status.node_id = static_cast<std::uint8_t>(frame.id - kTactileStatusBaseId);
-  status.temperature_centi_c = static_cast<std::int16_t>(GetUint16Le(&frame.data[0]));
-  status.flags = frame.data[2];
-  status.gain_sel = frame.data[3];
-  status.resolution = frame.data[4];
-  status.rate_code = frame.data[5];
-  status.rx_error_count = frame.data[6];
-  status.firmware_version = frame.data[7];
-  return status;
+  return DecodeStatusOfKind(frame, Classify(frame));
 }
 
 Result<TactileConfigCommand> DecodeTactileConfig(const CanFrame& frame) {
-  if (!IsClassicData(frame)) return FlagError("config", frame);
-  if (Classify(frame) != TactileFrameKind::kConfig) {
-    return MakeError("tactile config: id " + Hex(frame.id) + " is outside the config ids " +
-                     Hex(kTactileConfigBaseId) + ".." +
-                     Hex(kTactileConfigBaseId + kReferenceNodeId));
-  }
-  if (frame.length < kTactileConfigMinLength || frame.length > kTactileConfigMaxLength) {
-    return BadCommand(frame, "expected 2..8 bytes, got " + std::to_string(frame.length));
-  }
-  if (!IsKnownCommand(frame.data[0])) {
-    return BadCommand(frame, "command " + std::to_string(frame.data[0]) + " is unknown");
-  }
-  TactileConfigCommand command;
-  command.node_id = static_cast<std::uint8_t>(frame.id - kTactileConfigBaseId);
-  command.command = static_cast<TactileCommand>(frame.data[0]);
-  if (Result<void> args = DecodeCommandArguments(frame, command); !args) return args.error();
-  return command;
+  return DecodeConfigOfKind(frame, Classify(frame));
 }
 
 Result<TactileMessage> DecodeTactileFrame(const CanFrame& frame) {
-  switch (Classify(frame)) {
+  return DecodeTactileFrame(frame, Classify(frame));
+}
+
+Result<TactileMessage> DecodeTactileFrame(const CanFrame& frame, TactileFrameKind kind) {
+  switch (kind) {
     case TactileFrameKind::kSample: {
-      Result<TactileSample> sample = DecodeTactileSample(frame);
+      Result<TactileSample> sample = DecodeSampleOfKind(frame, kind);
       if (!sample) return sample.error();
       return TactileMessage(sample.value());
     }
     case TactileFrameKind::kStatus: {
-      Result<TactileStatus> status = DecodeTactileStatus(frame);
+      Result<TactileStatus> status = DecodeStatusOfKind(frame, kind);
       if (!status) return status.error();
       return TactileMessage(status.value());
     }
     case TactileFrameKind::kConfig: {
-      Result<TactileConfigCommand> command = DecodeTactileConfig(frame);
+      Result<TactileConfigCommand> command = DecodeConfigOfKind(frame, kind);
       if (!command) return command.error();
       return TactileMessage(command.value());
     }

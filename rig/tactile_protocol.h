@@ -70,6 +70,9 @@ TactileFrameKind Classify(const CanFrame& frame);
 // The node a sample, status or config frame belongs to (0 = broadcast config); nullopt for the
 // other kinds.
 std::optional<std::uint8_t> TactileNodeOf(const CanFrame& frame);
+// The same for a frame already classified: `kind` must be Classify(frame). A monitor that looks at
+// every frame on the bus classifies it once and hands the kind on.
+std::optional<std::uint8_t> TactileNodeOf(const CanFrame& frame, TactileFrameKind kind);
 
 struct TactileSample {
   std::uint8_t node_id = 0;             // 1..7
@@ -126,5 +129,7 @@ Result<TactileStatus> DecodeTactileStatus(const CanFrame& frame);
 Result<TactileConfigCommand> DecodeTactileConfig(const CanFrame& frame);
 // Dispatches on Classify.
 Result<TactileMessage> DecodeTactileFrame(const CanFrame& frame);
+// The same with `kind` = Classify(frame) already known.
+Result<TactileMessage> DecodeTactileFrame(const CanFrame& frame, TactileFrameKind kind);
 
 }  // namespace hilrig::rig

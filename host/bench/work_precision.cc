@@ -606,8 +606,8 @@ std::vector<std::size_t> ParetoFront(const std::vector<RunResult>& runs,
     bool no_worse = ta <= tb * slower, clearly_better = ta < tb * faster;
     for (ErrorMetric metric : metrics) {
       const double ea = runs[a].RmsError(metric), eb = runs[b].RmsError(metric);
-      no_worse = no_worse && ea <= eb * worse;
-      clearly_better = clearly_better || ea < eb * better;
+      no_worse = no_worse && (ea <= eb * worse || ea - eb <= tolerance.error_floor);
+      clearly_better = clearly_better || (ea < eb * better && eb - ea > tolerance.error_floor);
     }
     return no_worse && clearly_better;
   };

@@ -433,6 +433,8 @@ SeriesContact SolveSeriesContact(const ObjectParams& object, double pad_k, doubl
 
 SeriesContact SolveSeriesContact(const ObjectParams& object, double pad_k, double pad_beta,
                                  double overlap, const SeriesSeed& seed) {
+  // The same input as the solve the seed keeps: its answer, to the solve's own tolerance.
+  if (seed.has_solve && overlap == seed.overlap_m) return seed.solve;
   // A NaN prediction fails the range check in the solve and starts cold.
   const double guess = seed.overlap_m > 0 ? seed.indentation_m + seed.indentation_per_overlap *
                                                                      (overlap - seed.overlap_m)
@@ -442,7 +444,7 @@ SeriesContact SolveSeriesContact(const ObjectParams& object, double pad_k, doubl
 
 SeriesSeed SeedOf(const SeriesContact& contact, double overlap_m) {
   if (!(overlap_m > 0) || !std::isfinite(contact.indentation_m)) return {};
-  return {overlap_m, contact.indentation_m, contact.indentation_per_overlap};
+  return {overlap_m, contact.indentation_m, contact.indentation_per_overlap, true, contact};
 }
 
 GraspSceneConstants MakeGraspSceneConstants(const GraspSceneParams& params) {

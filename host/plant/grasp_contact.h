@@ -97,6 +97,16 @@ struct GraspSceneParams {
 // height and positive pad half height; the message names the field.
 rig::Result<void> ValidateGraspScene(const GraspSceneParams& params);
 
+// The series solve behind SymmetricNormalForce, for one pad: the force at a given overlap, with
+// the pad compression, the object indentation and the series stiffness dF/d(overlap).
+struct SeriesContact {
+  double force_n = 0;
+  double pad_compression_m = 0;
+  double indentation_m = 0;
+  double stiffness_n_per_m = 0;
+  double indentation_per_overlap = 0;  // the object's share of a small change of the overlap
+};
+
 // A solved series contact kept to warm-start a solve at a nearby overlap: the indentation there is
 // predicted to first order, indentation_m + indentation_per_overlap * (overlap - overlap_m). Only
 // the start of the iteration depends on it, never the tolerance. overlap_m <= 0: no seed.
@@ -104,6 +114,11 @@ struct SeriesSeed {
   double overlap_m = 0.0;
   double indentation_m = 0.0;
   double indentation_per_overlap = 0.0;  // d(indentation)/d(overlap) = k_pad / (k_object + k_pad)
+  // The whole solve, when the seed came from SeedOf: a solve at exactly overlap_m (the servo's
+  // search starts where the last grasp step solved) returns it instead of converging again to the
+  // same answer. Only valid for the object and pad it was solved for, like the seed itself.
+  bool has_solve = false;
+  SeriesContact solve;
 };
 
 struct GraspState {
@@ -169,23 +184,17 @@ struct GraspForces {
 double SymmetricNormalForce(const GraspSceneParams& params, const GraspState& state,
                             double angle_rad, double* indentation_m = nullptr);
 
-// The series solve behind SymmetricNormalForce, for one pad: the force at a given overlap, with
-// the pad compression, the object indentation and the series stiffness dF/d(overlap).
-struct SeriesContact {
-  double force_n = 0;
-  double pad_compression_m = 0;
-  double indentation_m = 0;
-  double stiffness_n_per_m = 0;
-  double indentation_per_overlap = 0;  // the object's share of a small change of the overlap
-};
+// The series solve (SeriesContact above) from scratch.
 SeriesContact SolveSeriesContact(const ObjectParams& object, double pad_normal_n_per_m,
                                  double pad_stiffening_per_m2, double overlap_m);
 // The same, warm-started from a solve at a nearby overlap; an empty or non-finite seed, or a
-// prediction outside (0, overlap), starts cold.
+// prediction outside (0, overlap), starts cold. A seed from SeedOf at exactly this overlap gives
+// back the solve it keeps.
 SeriesContact SolveSeriesContact(const ObjectParams& object, double pad_normal_n_per_m,
                                  double pad_stiffening_per_m2, double overlap_m,
                                  const SeriesSeed& seed);
-// The seed a solve leaves for the next one at a nearby overlap (empty without overlap).
+// The seed a solve leaves for the next one at a nearby overlap (empty without overlap); it keeps
+// the solve too.
 SeriesSeed SeedOf(const SeriesContact& contact, double overlap_m);
 
 // What the per-tick paths derive from the scene's params alone: computed once per scene (a caller

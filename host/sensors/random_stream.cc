@@ -231,4 +231,10 @@ Eigen::Vector3d StandardGaussianVector(RandomStream& rng) {
   return {x, y, z};
 }
 
+void FillStandardGaussians(RandomStream& rng, double* out, int count) {
+  RandomStream::State s = rng.s_;
+  for (int i = 0; i < count; ++i) out[i] = GaussianFrom(s);
+  rng.s_ = s;
+}
+
 }  // namespace hilrig::host

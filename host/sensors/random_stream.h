@@ -53,6 +53,7 @@ class RandomStream {
   // Three Gaussian() draws in x, y, z order; a friend so that it can keep the generator state in
   // registers across the three instead of storing it back after each draw.
   friend Eigen::Vector3d StandardGaussianVector(RandomStream& rng);
+  friend void FillStandardGaussians(RandomStream& rng, double* out, int count);
 
  private:
   using State = std::array<std::uint64_t, 4>;  // xoshiro256** state words
@@ -65,6 +66,11 @@ class RandomStream {
 // Three standard normal draws in x, y, z order (the same numbers as three Gaussian() calls), for
 // the per-axis noise of the emulators.
 Eigen::Vector3d StandardGaussianVector(RandomStream& rng);
+
+// `count` standard normal draws into out[0..count) in order (the same numbers as `count`
+// Gaussian() calls; nothing for count <= 0). One call keeps the generator state in registers over
+// the whole run, which is what a sensor drawing many axes per sample (the IMU: twelve) wants.
+void FillStandardGaussians(RandomStream& rng, double* out, int count);
 
 }  // namespace hilrig::host
 

@@ -110,6 +110,38 @@ TEST(ValidateFrameTest, AcceptsFactoryFrames) {
   EXPECT_TRUE(ValidateFrame(CanFrame::ErrorFrame(0x4, {})).ok());
 }
 
+// IsValidFrame is ValidateFrame without the message: the two must agree on every kind of frame,
+// valid or not.
+TEST(ValidateFrameTest, IsValidFrameAgreesWithValidateFrame) {
+  std::vector<CanFrame> frames = {CanFrame::Classic(0x7FF, Bytes(8)),
+                                  CanFrame::ClassicExtended(0x1FFFFFFF, Bytes(0)),
+                                  CanFrame::Fd(0x1, Bytes(64), true),
+                                  CanFrame::Remote(0x1, 8, true), CanFrame::ErrorFrame(0x4, {})};
+  const auto mutated = [&](auto change) {
+    CanFrame frame = CanFrame::Classic(0x123, Bytes(8));
+    change(frame);
+    frames.push_back(frame);
+  };
+  mutated([](CanFrame& f) { f.id = 0x800; });
+  mutated([](CanFrame& f) { f.extended = true, f.id = 0x20000000; });
+  mutated([](CanFrame& f) { f.length = 9; });
+  mutated([](CanFrame& f) { f.length = 65; });
+  mutated([](CanFrame& f) { f.fd = true, f.length = 13; });
+  mutated([](CanFrame& f) { f.fd = true, f.remote = true; });
+  mutated([](CanFrame& f) { f.bitrate_switch = true; });
+  mutated([](CanFrame& f) { f.error_state_indicator = true; });
+  mutated([](CanFrame& f) { f.error = true, f.extended = true; });
+  mutated([](CanFrame& f) { f.error = true, f.length = 9; });
+  mutated([](CanFrame& f) { f.error = true, f.id = 0x20000000; });
+
+  int valid = 0;
+  for (const CanFrame& frame : frames) {
+    EXPECT_EQ(IsValidFrame(frame), ValidateFrame(frame).ok()) << frame;
+    valid += IsValidFrame(frame) ? 1 : 0;
+  }
+  EXPECT_EQ(valid, 5);  // the factory frames only
+}
+
 TEST(ValidateFrameTest, RejectsStandardIdAbove11Bits) {
   CanFrame frame;
   frame.id = 0x800;

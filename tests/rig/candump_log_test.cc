@@ -177,6 +177,35 @@ TEST(CandumpLogWriterTest, WritesOneLinePerFrame) {
   EXPECT_EQ(writer.frames_written(), 2u);
 }
 
+// The writer keeps the seconds digits of its last line; a line in another second, earlier or
+// later, must still carry its own.
+TEST(CandumpLogWriterTest, EachLineCarriesItsOwnSecondsAcrossSecondBoundaries) {
+  std::ostringstream out;
+  CandumpLogWriter writer(out, "can0");
+
+  writer.Write(At(StandardFrame(), 1'999'999'000));
+  writer.Write(At(StandardFrame(), 2'000'000'000));
+  writer.Write(At(StandardFrame(), 1'500'000'000));
+  writer.Write(At(StandardFrame(), 12'345'678'901'234'567));
+
+  EXPECT_EQ(out.str(),
+            "(0000000001.999999) can0 123#DEADBEEF\n"
+            "(0000000002.000000) can0 123#DEADBEEF\n"
+            "(0000000001.500000) can0 123#DEADBEEF\n"
+            "(0012345678.901234) can0 123#DEADBEEF\n");
+}
+
+TEST(CandumpLogWriterTest, StreamThatIsNotGoodGetsNothingAndFailbit) {
+  std::ostringstream out;
+  out.setstate(std::ios_base::eofbit);
+  CandumpLogWriter writer(out, "can0");
+
+  writer.Write(At(StandardFrame(), 1'000));
+
+  EXPECT_EQ(out.str(), "");
+  EXPECT_TRUE(out.fail());
+}
+
 TEST(CandumpLogWriterDeathTest, RefusesInvalidFrame) {
   std::ostringstream out;
   CandumpLogWriter writer(out);

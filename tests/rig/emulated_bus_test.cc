@@ -351,6 +351,32 @@ TEST(EmulatedBusTest, StatsReportQueueingLatencyPerId) {
   EXPECT_EQ(stats.QueueingFor(0x100, /*extended=*/true), nullptr);
 }
 
+// Ids first seen out of order, extended among them, must each keep their own counts.
+TEST(EmulatedBusTest, QueueingStatsStayPerIdWhenIdsArriveOutOfOrder) {
+  EmulatedBus bus;
+  auto sender = bus.Connect("sender");
+  const CanFrame extended = CanFrame::ClassicExtended(0x100, std::array<std::uint8_t, 1>{1});
+  ASSERT_TRUE(sender->Send(Frame(0x300), 0).ok());
+  ASSERT_TRUE(sender->Send(extended, 0).ok());
+  ASSERT_TRUE(sender->Send(Frame(0x100), 0).ok());
+  ASSERT_TRUE(sender->Send(Frame(0x200), 0).ok());
+  ASSERT_TRUE(sender->Send(Frame(0x300), 0).ok());
+  ASSERT_TRUE(sender->Send(Frame(0x100), 0).ok());
+
+  bus.AdvanceTo(kFarFutureNs);
+  const EmulatedBusStats stats = bus.stats();
+
+  ASSERT_EQ(stats.queueing_by_id.size(), 4u);
+  EXPECT_EQ(stats.queueing_by_id[0].id, 0x100u);
+  EXPECT_EQ(stats.queueing_by_id[1].id, 0x200u);
+  EXPECT_EQ(stats.queueing_by_id[2].id, 0x300u);
+  EXPECT_TRUE(stats.queueing_by_id[3].extended);
+  EXPECT_EQ(stats.QueueingFor(0x100)->frames, 2u);
+  EXPECT_EQ(stats.QueueingFor(0x200)->frames, 1u);
+  EXPECT_EQ(stats.QueueingFor(0x300)->frames, 2u);
+  EXPECT_EQ(stats.QueueingFor(0x100, /*extended=*/true)->frames, 1u);
+}
+
 TEST(EmulatedBusTest, MeanQueueingLatencyAveragesFrames) {
   EmulatedBus bus;
   auto sender = bus.Connect("sender");

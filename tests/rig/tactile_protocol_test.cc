@@ -132,6 +132,26 @@ TEST(TactileProtocolTest, NodeOfGivesTheAddressedNode) {
   EXPECT_EQ(TactileNodeOf(RawFrame(0x200, {})), std::nullopt);
 }
 
+TEST(TactileProtocolTest, DecodeWithTheKindGivenMatchesTheClassifyingDecode) {
+  const CanFrame sample = RawFrame(0x103, {1, 2, 3, 4, 5, 6, 7, 8});
+  const CanFrame short_status = RawFrame(0x183, {1});
+
+  const Result<TactileMessage> decoded = DecodeTactileFrame(sample, TactileFrameKind::kSample);
+  const Result<TactileMessage> rejected =
+      DecodeTactileFrame(short_status, TactileFrameKind::kStatus);
+
+  ASSERT_TRUE(decoded.ok());
+  const auto* decoded_sample = std::get_if<TactileSample>(&decoded.value());
+  ASSERT_NE(decoded_sample, nullptr);
+  EXPECT_EQ(decoded_sample->node_id, 3);
+  EXPECT_EQ(decoded_sample->code, (std::array<std::uint16_t, 3>{0x0201, 0x0403, 0x0605}));
+  EXPECT_EQ(decoded_sample->sequence, 7);
+  EXPECT_EQ(decoded_sample->status, 8);
+  ExpectRejected(rejected, "expected 8 bytes, got 1");
+  EXPECT_EQ(TactileNodeOf(sample, TactileFrameKind::kSample), std::optional<std::uint8_t>(3));
+  EXPECT_EQ(TactileNodeOf(RawFrame(0x300, {}), TactileFrameKind::kUnknownId), std::nullopt);
+}
+
 TEST(TactileProtocolTest, RejectsSampleOfWrongLength) {
   ExpectRejected(DecodeTactileSample(RawFrame(0x103, {1, 2, 3, 4, 5, 6, 7})),
                  "tactile sample 0x103: expected 8 bytes, got 7");

@@ -61,7 +61,6 @@ Mlx90393Sample SampleMlx90393(const Mlx90393Params& params, const Mlx90393Consta
     sensed += constants.noise_sigma_t.cwiseProduct(StandardGaussianVector(state.rng));
   }
 
-  const std::uint8_t res = params.setting.resolution;
   const dut_fw::Mlx90393CodeRange& range = constants.range;
   const Eigen::Vector3d& lsb_t = constants.lsb_t;
   for (int axis = 0; axis < 3; ++axis) {
@@ -69,7 +68,7 @@ Mlx90393Sample SampleMlx90393(const Mlx90393Params& params, const Mlx90393Consta
       // The chip as specified: dut_fw's encoder clips and encodes.
       constexpr std::int32_t kWide = 1 << 30;
       const Mlx90393AxisCounts q = QuantizeMlx90393Axis(sensed[axis], lsb_t[axis], -kWide, kWide);
-      const dut_fw::EncodedCode encoded = dut_fw::EncodeCode(q.counts, res);
+      const dut_fw::EncodedCode encoded = dut_fw::EncodeCode(q.counts, range);
       sample.code[axis] = encoded.code;
       sample.saturated = sample.saturated || q.clipped || encoded.saturated;
       continue;
@@ -81,7 +80,7 @@ Mlx90393Sample SampleMlx90393(const Mlx90393Params& params, const Mlx90393Consta
     const Mlx90393AxisCounts q = QuantizeMlx90393Axis(sensed[axis], lsb_t[axis], lo, hi);
     const std::int32_t zero_code = params.encoding_enabled ? range.zero_code : 0;
     sample.code[axis] = static_cast<std::uint16_t>(q.counts + zero_code);
-    sample.saturated = sample.saturated || q.clipped || dut_fw::CountsSaturated(q.counts, res);
+    sample.saturated = sample.saturated || q.clipped || dut_fw::CountsSaturated(q.counts, range);
   }
   return sample;
 }

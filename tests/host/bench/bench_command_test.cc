@@ -60,7 +60,7 @@ TEST_F(BenchCommandTest, QuickSweepWritesOneRowPerRunAndAZeroErrorReference) {
 
   ASSERT_EQ(result.exit_code, kExitPass) << result.err;
   // Shape: the header, the reference, 2 integrators (SIE, RK4) x 2 steps and 2 field levels, and
-  // the default (midpoint x1 opmap:32, not one of the quick sweep's integrator points).
+  // the default (midpoint x2 opmap:32, not one of the quick sweep's integrator points).
   ASSERT_EQ(rows.size(), 1u + 1u + 4u + 2u + 1u);
   for (const auto& row : rows) EXPECT_EQ(row.size(), kColumns);
   const auto& header = rows[0];
@@ -86,7 +86,7 @@ TEST_F(BenchCommandTest, QuickSweepWritesOneRowPerRunAndAZeroErrorReference) {
   }
   // The fronts are printed and drawn.
   EXPECT_THAT(result.out, HasSubstr("load_ramp: vertical load RMS error (N), Pareto front"));
-  EXPECT_THAT(result.out, HasSubstr("load_ramp: the default (midpoint x1 opmap:32"));
+  EXPECT_THAT(result.out, HasSubstr("load_ramp: the default (midpoint x2 opmap:32"));
   std::ifstream svg(out_dir_ / "work_precision.svg");
   std::stringstream text;
   text << svg.rdbuf();

@@ -132,6 +132,21 @@ TEST(ParetoFrontTest, AClearlyMoreAccurateRunDominatesAtAboutTheSameTime) {
   EXPECT_THAT(ParetoFront(runs, ErrorMetric::kGraspForce), ElementsAre(0));
 }
 
+TEST(ParetoFrontTest, ErrorsBelowTheFloorAreTiesWhateverTheirRatio) {
+  // 2e-33 against 1e-33 N is rounding; 2e-6 against 1e-6 N is a model error.
+  const std::vector<RunResult> rounding = {Result(RunKind::kIntegrator, 1.0, 2e-33),
+                                           Result(RunKind::kDefault, 1.1, 1e-33)};
+  const std::vector<RunResult> model = {Result(RunKind::kIntegrator, 1.0, 2e-6),
+                                        Result(RunKind::kDefault, 1.1, 1e-6)};
+  const std::vector<RunResult> slower_rounding = {Result(RunKind::kIntegrator, 1.0, 2e-33),
+                                                  Result(RunKind::kDefault, 1.5, 1e-33)};
+
+  EXPECT_THAT(ParetoFront(rounding, ErrorMetric::kGraspForce), ElementsAre(0, 1));
+  EXPECT_THAT(ParetoFront(model, ErrorMetric::kGraspForce), ElementsAre(1));
+  EXPECT_THAT(ParetoFront(slower_rounding, ErrorMetric::kGraspForce), ElementsAre(0));
+  EXPECT_THAT(ParetoFront(rounding, ErrorMetric::kGraspForce, {0.15, 0.02, 0.0}), ElementsAre(1));
+}
+
 RunResult WithLoadError(RunResult run, double load_error_n) {
   run.errors.load_rms_n = load_error_n;
   return run;

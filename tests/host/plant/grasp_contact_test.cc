@@ -204,6 +204,33 @@ TEST(SeriesContactTest, SeedKeepsTheSolveAndItsSlope) {
   EXPECT_EQ(SeedOf(contact, kNaN).overlap_m, 0.0);
 }
 
+TEST(SeriesContactTest, SeedKeepsTheWholeSolveForTheSameOverlap) {
+  const ObjectParams object = StiffeningObject();
+  const double reference = ReferenceSeriesForce(628.0, 1.0, 0.010, kPadK, 0.0, 2e-3);
+  const SeriesSeed seed = SeedOf(SolveSeriesContact(object, kPadK, 0.0, 2e-3), 2e-3);
+  ASSERT_TRUE(seed.has_solve);
+  EXPECT_NEAR(seed.solve.force_n, reference, 1e-9 * reference);
+  const SeriesContact again = SolveSeriesContact(object, kPadK, 0.0, 2e-3, seed);
+  EXPECT_NEAR(again.force_n, reference, 1e-9 * reference);
+  EXPECT_NEAR(again.indentation_m + again.pad_compression_m, 2e-3, 1e-18);
+}
+
+TEST(SeriesContactTest, KeptSolveIsReturnedOnlyAtItsOwnOverlap) {
+  // A kept solve with a marker force: the same overlap returns it untouched, any other overlap
+  // (even one ulp away) solves.
+  const ObjectParams object = StiffeningObject();
+  SeriesSeed seed = SeedOf(SolveSeriesContact(object, kPadK, 0.0, 2e-3), 2e-3);
+  seed.solve.force_n = 123.0;
+  EXPECT_EQ(SolveSeriesContact(object, kPadK, 0.0, 2e-3, seed).force_n, 123.0);
+  const double next = std::nextafter(2e-3, 1.0);
+  const double reference = ReferenceSeriesForce(628.0, 1.0, 0.010, kPadK, 0.0, next);
+  EXPECT_NEAR(SolveSeriesContact(object, kPadK, 0.0, next, seed).force_n, reference,
+              1e-9 * reference);
+  // A hand-made seed at the same overlap keeps no solve: it only starts the iteration.
+  const SeriesSeed hand_made{2e-3, 1.5e-3, 0.9};
+  EXPECT_FALSE(hand_made.has_solve);
+}
+
 TEST(GraspSceneConstantsTest, FirstPadDirectionAndUsability) {
   GraspSceneParams scene = Scene();
   const GraspSceneConstants constants = MakeGraspSceneConstants(scene);

@@ -106,6 +106,28 @@ TEST(RandomStreamTest, GaussianVectorIsThreeGaussiansInOrderThroughWedgeAndTail)
   EXPECT_EQ(vectors, singles);
 }
 
+TEST(RandomStreamTest, FilledGaussiansAreSinglesInOrderThroughWedgeAndTail) {
+  // 25 000 batches of twelve (the IMU's batch): some 4 500 draws take the wedge and tail paths.
+  RandomStream batches = RandomStream::FromSeed(22, StreamId::kImu);
+  RandomStream singles = batches;
+  for (int i = 0; i < 25'000; ++i) {
+    double batch[12];
+    FillStandardGaussians(batches, batch, 12);
+    for (int k = 0; k < 12; ++k) ASSERT_EQ(batch[k], singles.Gaussian()) << i << " " << k;
+  }
+  EXPECT_EQ(batches, singles);
+}
+
+TEST(RandomStreamTest, FillingNoGaussiansDrawsNothing) {
+  RandomStream rng = RandomStream::FromSeed(23, StreamId::kImu);
+  const RandomStream before = rng;
+  double unused = 7.0;
+  FillStandardGaussians(rng, &unused, 0);
+  FillStandardGaussians(rng, &unused, -3);
+  EXPECT_EQ(rng, before);
+  EXPECT_EQ(unused, 7.0);
+}
+
 TEST(RandomStreamTest, GaussianSequenceIsPinnedPastTheSlowPaths) {
   // Golden, recorded with the float-compare ziggurat of 5e31f0d: the 10 000th draw of this stream
   // and the sum of all 10 000 (about 150 of them wedge or tail draws) pin every accept/reject
