@@ -96,6 +96,26 @@ TEST(RigidBodyTest, ConstantYawRateTurnsByRateTimesTime) {
   }
 }
 
+TEST(RigidBodyTest, SemiImplicitEulerTurnsByTheExactRotationEitherSideOfItsSeriesCutoff) {
+  // A spin about a principal axis keeps its rate, so one step turns by exactly rate * dt. The
+  // step's rotation comes from a Taylor series below a half-angle of about 0.0316 rad and from
+  // cos/sin above: 1 rad/s and 63 rad/s take the series at 1 ms, 64 and 100 rad/s the library.
+  for (const double rate_rad_s : {1.0, 63.0, 64.0, 100.0}) {
+    RigidBodyParams params;
+    RigidBodyState state;
+    state.angular_velocity_rad_s = {0.0, 0.0, rate_rad_s};
+    const double dt_s = 1e-3;
+
+    state = StepRigidBody(params, state, {}, kG, dt_s, Integrator::kSemiImplicitEuler);
+
+    const double half_angle = 0.5 * rate_rad_s * dt_s;
+    EXPECT_NEAR(state.orientation.w(), std::cos(half_angle), 1e-15) << rate_rad_s;
+    EXPECT_NEAR(state.orientation.z(), std::sin(half_angle), 1e-15) << rate_rad_s;
+    EXPECT_EQ(state.orientation.x(), 0.0) << rate_rad_s;
+    EXPECT_EQ(state.orientation.y(), 0.0) << rate_rad_s;
+  }
+}
+
 TEST(RigidBodyTest, BodyTorqueAcceleratesAboutItsAxis) {
   RigidBodyParams params;
   RigidBodyState state;
