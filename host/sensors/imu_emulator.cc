@@ -36,7 +36,7 @@ ImuReading SampleImu(const ImuParams& params, ImuState& state,
   // Draw order is fixed (gyro noise, accel noise, gyro walk, accel walk, x y z each): it is part
   // of the stream's reproducibility. One batch keeps the generator in registers for all twelve.
   std::array<double, 12> draws;
-  FillStandardGaussians(state.rng, draws.data(), static_cast<int>(draws.size()));
+  FillStandardGaussians(state.rng, draws);
   const auto axes = [&draws](int first) {
     return Eigen::Vector3d(draws[first], draws[first + 1], draws[first + 2]);
   };

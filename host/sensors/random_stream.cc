@@ -231,9 +231,9 @@ Eigen::Vector3d StandardGaussianVector(RandomStream& rng) {
   return {x, y, z};
 }
 
-void FillStandardGaussians(RandomStream& rng, double* out, int count) {
+void FillStandardGaussians(RandomStream& rng, std::span<double> out) {
   RandomStream::State s = rng.s_;
-  for (int i = 0; i < count; ++i) out[i] = GaussianFrom(s);
+  for (double& draw : out) draw = GaussianFrom(s);
   rng.s_ = s;
 }
 

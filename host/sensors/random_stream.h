@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <span>
 
 namespace hilrig::host {
 
@@ -53,7 +54,7 @@ class RandomStream {
   // Three Gaussian() draws in x, y, z order; a friend so that it can keep the generator state in
   // registers across the three instead of storing it back after each draw.
   friend Eigen::Vector3d StandardGaussianVector(RandomStream& rng);
-  friend void FillStandardGaussians(RandomStream& rng, double* out, int count);
+  friend void FillStandardGaussians(RandomStream& rng, std::span<double> out);
 
  private:
   using State = std::array<std::uint64_t, 4>;  // xoshiro256** state words
@@ -67,10 +68,10 @@ class RandomStream {
 // the per-axis noise of the emulators.
 Eigen::Vector3d StandardGaussianVector(RandomStream& rng);
 
-// `count` standard normal draws into out[0..count) in order (the same numbers as `count`
-// Gaussian() calls; nothing for count <= 0). One call keeps the generator state in registers over
-// the whole run, which is what a sensor drawing many axes per sample (the IMU: twelve) wants.
-void FillStandardGaussians(RandomStream& rng, double* out, int count);
+// Fills `out` with standard normal draws in order (the same numbers as out.size() Gaussian()
+// calls; an empty span draws nothing). One call keeps the generator state in registers over the
+// whole span, which is what a sensor drawing many axes per sample (the IMU: twelve) wants.
+void FillStandardGaussians(RandomStream& rng, std::span<double> out);
 
 }  // namespace hilrig::host
 

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -111,8 +112,8 @@ TEST(RandomStreamTest, FilledGaussiansAreSinglesInOrderThroughWedgeAndTail) {
   RandomStream batches = RandomStream::FromSeed(22, StreamId::kImu);
   RandomStream singles = batches;
   for (int i = 0; i < 25'000; ++i) {
-    double batch[12];
-    FillStandardGaussians(batches, batch, 12);
+    std::array<double, 12> batch;
+    FillStandardGaussians(batches, batch);
     for (int k = 0; k < 12; ++k) ASSERT_EQ(batch[k], singles.Gaussian()) << i << " " << k;
   }
   EXPECT_EQ(batches, singles);
@@ -121,11 +122,10 @@ TEST(RandomStreamTest, FilledGaussiansAreSinglesInOrderThroughWedgeAndTail) {
 TEST(RandomStreamTest, FillingNoGaussiansDrawsNothing) {
   RandomStream rng = RandomStream::FromSeed(23, StreamId::kImu);
   const RandomStream before = rng;
-  double unused = 7.0;
-  FillStandardGaussians(rng, &unused, 0);
-  FillStandardGaussians(rng, &unused, -3);
+  std::array<double, 1> untouched = {7.0};
+  FillStandardGaussians(rng, std::span<double>(untouched).first(0));
   EXPECT_EQ(rng, before);
-  EXPECT_EQ(unused, 7.0);
+  EXPECT_EQ(untouched[0], 7.0);
 }
 
 TEST(RandomStreamTest, GaussianSequenceIsPinnedPastTheSlowPaths) {
