@@ -146,6 +146,15 @@ std::vector<Sample> Fly(const Reference<S>& reference, double duration_s,
   return trace;
 }
 
+// At rest at (0, 0, 1): an IMU sample, a VIO pose and a second IMU sample one tick later, after
+// which the estimator knows where it is and the controller arms.
+template <typename S>
+void SettleAtHover(const FlightController<S>& controller, FlightControllerState<S>& state) {
+  controller.OnImu(state, Vec3<S>::Zero(), Vec3<S>(S(0), S(0), S(kG)), 0);
+  controller.OnVio(state, Vec3<S>(S(0), S(0), S(1)), Quat<S>::Identity(), 0);
+  controller.OnImu(state, Vec3<S>::Zero(), Vec3<S>(S(0), S(0), S(kG)), kTickNs);
+}
+
 template <typename S>
 Reference<S> HoverAt(double x, double y, double z) {
   Reference<S> r;
@@ -175,9 +184,7 @@ TYPED_TEST(FlightControllerTest, HoverStepSplitsTheWeightEqually) {
   using S = TypeParam;
   const FlightController<S> controller(DefaultFlightControllerParams<S>(S(kMassKg)));
   FlightControllerState<S> state;
-  controller.OnImu(state, Vec3<S>::Zero(), Vec3<S>(S(0), S(0), S(kG)), 0);
-  controller.OnVio(state, Vec3<S>(S(0), S(0), S(1)), Quat<S>::Identity(), 0);
-  controller.OnImu(state, Vec3<S>::Zero(), Vec3<S>(S(0), S(0), S(kG)), kTickNs);
+  SettleAtHover(controller, state);
 
   const FlightControllerOutput<S> out =
       controller.Step(state, HoverAt<S>(0, 0, 1), Vec3<S>::Zero(), S(1e-3));
@@ -191,9 +198,7 @@ TYPED_TEST(FlightControllerTest, YawChangeBetweenStepsReachesTheDesiredAttitude)
   using S = TypeParam;
   const FlightController<S> controller(DefaultFlightControllerParams<S>(S(kMassKg)));
   FlightControllerState<S> state;
-  controller.OnImu(state, Vec3<S>::Zero(), Vec3<S>(S(0), S(0), S(kG)), 0);
-  controller.OnVio(state, Vec3<S>(S(0), S(0), S(1)), Quat<S>::Identity(), 0);
-  controller.OnImu(state, Vec3<S>::Zero(), Vec3<S>(S(0), S(0), S(kG)), kTickNs);
+  SettleAtHover(controller, state);
   Reference<S> reference = HoverAt<S>(0, 0, 1);
   controller.Step(state, reference, Vec3<S>::Zero(), S(1e-3));
   reference.yaw_rad = S(0.8);
@@ -292,9 +297,7 @@ template <typename S>
 FlightControllerOutput<S> HoverStep(const FlightControllerParams<S>& params, const Vec3<S>& force_n,
                                     FlightControllerState<S>& state) {
   const FlightController<S> controller(params);
-  controller.OnImu(state, Vec3<S>::Zero(), Vec3<S>(S(0), S(0), S(kG)), 0);
-  controller.OnVio(state, Vec3<S>(S(0), S(0), S(1)), Quat<S>::Identity(), 0);
-  controller.OnImu(state, Vec3<S>::Zero(), Vec3<S>(S(0), S(0), S(kG)), kTickNs);
+  SettleAtHover(controller, state);
   return controller.Step(state, HoverAt<S>(0, 0, 1), force_n, S(1e-3));
 }
 

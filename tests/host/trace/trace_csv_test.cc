@@ -17,32 +17,36 @@ std::vector<std::string> Split(const std::string& line) {
   return fields;
 }
 
-TEST(TraceCsvTest, RowsHaveAsManyColumnsAsTheHeader) {
+// The header line and the first row of a trace that holds `sample` alone.
+struct HeaderAndRow {
+  std::string header;
+  std::string row;
+};
+
+HeaderAndRow WriteOne(const TraceSample& sample) {
   std::ostringstream out;
   TraceCsvWriter writer(out);
-  writer.Write(TraceSample{});
+  writer.Write(sample);
   std::istringstream lines(out.str());
-  std::string header, row;
-  std::getline(lines, header);
-  std::getline(lines, row);
-  EXPECT_EQ(Split(header).size(), Split(row).size());
-  EXPECT_EQ(Split(header).front(), "time_s");
+  HeaderAndRow written;
+  std::getline(lines, written.header);
+  std::getline(lines, written.row);
+  return written;
+}
+
+TEST(TraceCsvTest, RowsHaveAsManyColumnsAsTheHeader) {
+  const HeaderAndRow written = WriteOne(TraceSample{});
+  EXPECT_EQ(Split(written.header).size(), Split(written.row).size());
+  EXPECT_EQ(Split(written.header).front(), "time_s");
 }
 
 // The rows' numbers have 9 significant digits: within one unit in the 9th digit of the double.
 TEST(TraceCsvTest, NumbersHaveNineSignificantDigits) {
-  std::ostringstream out;
-  TraceCsvWriter writer(out);
   TraceSample sample;
   sample.time_s = 0.1 + 0.2;
   sample.position_m = {1.0 / 3.0, -2e-17, 12345.678};
   sample.reference_m = {-2.0 / 3.0, 1234567890123.0, 0.000123456789123};
-  writer.Write(sample);
-  std::istringstream lines(out.str());
-  std::string header, row;
-  std::getline(lines, header);
-  std::getline(lines, row);
-  const auto fields = Split(row);
+  const auto fields = Split(WriteOne(sample).row);
   const std::vector<std::string> expected = {"0.3",           "0.333333333",  "-2e-17",
                                              "12345.678",     "-0.666666667", "1.23456789e+12",
                                              "0.000123456789"};
@@ -53,18 +57,11 @@ TEST(TraceCsvTest, NumbersHaveNineSignificantDigits) {
 }
 
 TEST(TraceCsvTest, NonFiniteValuesAreSpelledNanAndInf) {
-  std::ostringstream out;
-  TraceCsvWriter writer(out);
   TraceSample sample;
   sample.position_m = {std::numeric_limits<double>::quiet_NaN(),
                        std::numeric_limits<double>::infinity(),
                        -std::numeric_limits<double>::infinity()};
-  writer.Write(sample);
-  std::istringstream lines(out.str());
-  std::string header, row;
-  std::getline(lines, header);
-  std::getline(lines, row);
-  const auto fields = Split(row);
+  const auto fields = Split(WriteOne(sample).row);
   EXPECT_EQ(fields[1], "nan");
   EXPECT_EQ(fields[2], "inf");
   EXPECT_EQ(fields[3], "-inf");
@@ -86,8 +83,6 @@ TEST(TraceCsvTest, HeaderNamesEveryColumnInOrder) {
 // Every column in its place: each gets a distinct value and the row must list them in header
 // order.
 TEST(TraceCsvTest, EveryFieldLandsInItsColumn) {
-  std::ostringstream out;
-  TraceCsvWriter writer(out);
   TraceSample s;
   s.time_s = 1;
   s.position_m = {2, 3, 4};
@@ -108,27 +103,16 @@ TEST(TraceCsvTest, EveryFieldLandsInItsColumn) {
   s.servo_angle_rad = 28;
   s.servo_command_rad = 29;
   s.object_damaged = true;
-  writer.Write(s);
-  std::istringstream lines(out.str());
-  std::string header, row;
-  std::getline(lines, header);
-  std::getline(lines, row);
-  EXPECT_EQ(row,
+  EXPECT_EQ(WriteOne(s).row,
             "1,2,3,4,2,3,5,6,7,8,9,10,11,12,1,0,1,13,14,15,16,17,18,19,20,21,22,23,24,25,26,27,28,"
             "29,1,0");
 }
 
 TEST(TraceCsvTest, ErrorColumnsAreComputedFromPositionAndReference) {
-  std::ostringstream out;
-  TraceCsvWriter writer(out);
   TraceSample sample;
   sample.position_m = {3, 4, 1};
   sample.reference_m = {0, 0, 2};
-  writer.Write(sample);
-  std::istringstream lines(out.str());
-  std::string header, row;
-  std::getline(lines, header);
-  std::getline(lines, row);
+  const auto [header, row] = WriteOne(sample);
   const auto names = Split(header);
   const auto values = Split(row);
   const auto column = [&](const std::string& name) {
