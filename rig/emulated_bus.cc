@@ -68,7 +68,15 @@ class EmulatedMedium {
 
   // Decides every transmission that starts before now_ns, and returns the time new frames are
   // queued at: now_ns, or the latest time seen if now_ns is earlier.
-  std::int64_t AdvanceTo(std::int64_t now_ns);
+  std::int64_t AdvanceTo(std::int64_t now_ns) {
+    latest_now_ns_ = std::max(latest_now_ns_, now_ns);
+    if (next_start_bound_ns_ < latest_now_ns_) TransmitUntilLatestNow();
+    return latest_now_ns_;
+  }
+  // A frame joined a TX queue at queued_ns: the next transmission may start as early as that.
+  void NoteQueued(std::int64_t queued_ns) {
+    next_start_bound_ns_ = std::min(next_start_bound_ns_, queued_ns);
+  }
   void InjectErrorFrame(const CanFrame& frame, std::int64_t now_ns);
 
   const EmulatedBusConfig& config() const { return config_; }
@@ -80,6 +88,7 @@ class EmulatedMedium {
   TxSource* Arbitrate(std::int64_t start_ns) const;
   // Earliest time any queued frame wants the wire, or max if nothing is queued.
   std::int64_t EarliestQueuedNs() const;
+  void TransmitUntilLatestNow();
   void Transmit(TxSource& source, std::int64_t start_ns);
   void TransmitCorrupted(TxSource& source, std::int64_t start_ns, std::int64_t duration_ns);
   void Deliver(const EmulatedEndpoint* sender, const CanFrame& frame, std::int64_t end_ns,
@@ -97,6 +106,10 @@ class EmulatedMedium {
   TxSource injector_;
   std::int64_t latest_now_ns_ = std::numeric_limits<std::int64_t>::min();
   std::int64_t bus_free_at_ns_ = 0;
+  // No transmission starts before this (a lower bound; frames leaving a queue unsent only make
+  // the true start later). Most ticks poll a bus with nothing due, and this answers them without
+  // looking at every queue.
+  std::int64_t next_start_bound_ns_ = std::numeric_limits<std::int64_t>::max();
   std::int64_t error_flag_ns_;
   std::int64_t bus_off_recovery_ns_;
   // FrameDurationNs of a classic data frame, by [extended][length], filled once: nearly all
@@ -131,6 +144,7 @@ class EmulatedEndpoint final : public CanBus {
       return sendable;
     }
     tx_.queue.push_back({frame, queued_ns});
+    medium_.NoteQueued(queued_ns);
     ++counters_.frames_sent;
     return {};
   }
@@ -341,18 +355,21 @@ EmulatedEndpoint* EmulatedMedium::Find(std::string_view name) const {
   return it == endpoints_.end() ? nullptr : *it;
 }
 
-std::int64_t EmulatedMedium::AdvanceTo(std::int64_t now_ns) {
-  latest_now_ns_ = std::max(latest_now_ns_, now_ns);
+void EmulatedMedium::TransmitUntilLatestNow() {
   while (true) {
     const std::int64_t start_ns = std::max(bus_free_at_ns_, EarliestQueuedNs());
-    if (start_ns >= latest_now_ns_) break;  // also when nothing is queued
+    if (start_ns >= latest_now_ns_) {  // also when nothing is queued (max)
+      next_start_bound_ns_ = start_ns;
+      return;
+    }
     Transmit(*Arbitrate(start_ns), start_ns);
   }
-  return latest_now_ns_;
 }
 
 void EmulatedMedium::InjectErrorFrame(const CanFrame& frame, std::int64_t now_ns) {
-  injector_.queue.push_back({frame, AdvanceTo(now_ns)});
+  const std::int64_t queued_ns = AdvanceTo(now_ns);
+  injector_.queue.push_back({frame, queued_ns});
+  NoteQueued(queued_ns);
 }
 
 std::int64_t EmulatedMedium::EarliestQueuedNs() const {

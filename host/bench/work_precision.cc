@@ -282,7 +282,11 @@ std::string DefaultVerdict(const SceneResult& scene) {
       .append(on)
       .append("; it ");
   out.append(run->passes_envelopes ? "passes" : "does NOT pass").append(" its envelopes\n");
-  return out;
+  const RunResult* cheapest = CheapestPassingFrontRun(scene);
+  out.append(scene.scene).append(": the cheapest run on the joint front that passes is ");
+  if (cheapest == nullptr) return out.append("none\n");
+  out.append(FidelityLabel(cheapest->run.fidelity)).append(" (");
+  return out.append(Number(cheapest->wall_s_per_sim_s)).append(" s per simulated s)\n");
 }
 
 }  // namespace
@@ -688,6 +692,15 @@ std::vector<ScatterPlot> WorkPrecisionPlots(const std::vector<SceneResult>& scen
     for (ErrorMetric metric : kErrorMetrics) plots.push_back(PlotFor(scene, metric));
   }
   return plots;
+}
+
+const RunResult* CheapestPassingFrontRun(const SceneResult& scene) {
+  const RunResult* cheapest = nullptr;
+  for (const RunResult& run : scene.runs) {
+    if (!run.on_joint_front || !run.passes_envelopes) continue;
+    if (cheapest == nullptr || run.wall_s_per_sim_s < cheapest->wall_s_per_sim_s) cheapest = &run;
+  }
+  return cheapest;
 }
 
 std::string FormatParetoTables(const SceneResult& scene) {

@@ -193,14 +193,20 @@ std::vector<std::size_t> ParetoFront(const std::vector<RunResult>& runs,
 // Sets RunResult::pareto from ParetoFront for every metric, and on_joint_front.
 void MarkParetoFronts(SceneResult& scene);
 
+// The run a scene should default to: the cheapest (least wall time per simulated second) of the
+// runs on the joint front that pass their envelopes, or null if none does. Cheaper runs off the
+// front are beaten by one about as fast and more accurate; cheaper ones that fail are not an
+// option. Needs MarkParetoFronts first.
+const RunResult* CheapestPassingFrontRun(const SceneResult& scene);
+
 // The CSV, header first, one row per run of every scene.
 std::string WorkPrecisionCsv(const std::vector<SceneResult>& scenes);
 
 // One log-log panel per scene and metric: error against wall time per simulated second.
 std::vector<ScatterPlot> WorkPrecisionPlots(const std::vector<SceneResult>& scenes);
 
-// Per scene and metric, the front as a table, and whether the scene's default is on it and
-// passes its envelopes.
+// Per scene and metric, the front as a table; whether the scene's default is on it and passes its
+// envelopes; and the cheapest passing run on the joint front.
 std::string FormatParetoTables(const SceneResult& scene);
 
 }  // namespace hilrig::host

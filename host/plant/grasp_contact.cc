@@ -135,16 +135,10 @@ std::array<double, kGripperPadCount> ImbalancedNormals(const StepContext& ctx,
   std::array<double, kGripperPadCount> normals;
   const double vx = kImbalanceGain * horizontal_body_n.x();
   const double vy = kImbalanceGain * horizontal_body_n.y();
-  // Rotating the first outward vector by 60 deg per pad avoids six sin/cos per tick.
-  const double c60 = 0.5;
-  const double s60 = std::sqrt(3.0) / 2.0;
-  double ox = ctx.constants.first_outward_x;
-  double oy = ctx.constants.first_outward_y;
+  const auto& ox = ctx.constants.outward_x;
+  const auto& oy = ctx.constants.outward_y;
   for (int i = 0; i < kGripperPadCount; ++i) {
-    normals[i] = std::max(0.0, ctx.contact.force_n - (ox * vx + oy * vy));
-    const double next_x = c60 * ox - s60 * oy;
-    oy = s60 * ox + c60 * oy;
-    ox = next_x;
+    normals[i] = std::max(0.0, ctx.contact.force_n - (ox[i] * vx + oy[i] * vy));
   }
   return normals;
 }
@@ -296,15 +290,12 @@ void StepSliding(const StepContext& ctx, GraspState& s, GraspForces& out) {
   s.object_height_m = height;
 }
 
-void RecordDamage(const ObjectParams& object, const GraspForces& out, GraspState& s) {
+// `largest_normal_n` is the largest finite normal force of the step (-inf if none): every pad
+// shares the indentation, so that pad reaches the criterion first if any does.
+void RecordDamage(const ObjectParams& object, double largest_normal_n, double indentation_m,
+                  GraspState& s) {
   if (s.damage != DamageMode::kNone || object.damage_mode == DamageMode::kNone) return;
-  // Every pad shares the indentation, so the pad with the largest finite normal force reaches
-  // the criterion first if any does: one check instead of one per pad.
-  double largest_normal_n = -std::numeric_limits<double>::infinity();
-  for (double normal : out.normal_force_n) {
-    if (std::isfinite(normal)) largest_normal_n = std::max(largest_normal_n, normal);
-  }
-  if (!DamageReached(object, largest_normal_n, out.indentation_m)) return;
+  if (!DamageReached(object, largest_normal_n, indentation_m)) return;
   s.damage = object.damage_mode;
   if (s.damage == DamageMode::kBurst || s.damage == DamageMode::kShatter) {
     s.mode = GraspMode::kDestroyed;
@@ -451,9 +442,22 @@ GraspSceneConstants MakeGraspSceneConstants(const GraspSceneParams& params) {
   GraspSceneConstants constants;
   constants.scene_usable = SceneUsable(params);
   constants.contact_usable = ContactUsable(params);
+  double ox = 1.0;
+  double oy = 0.0;
   if (std::isfinite(params.frame.first_azimuth_rad)) {
-    constants.first_outward_x = std::cos(params.frame.first_azimuth_rad);
-    constants.first_outward_y = std::sin(params.frame.first_azimuth_rad);
+    ox = std::cos(params.frame.first_azimuth_rad);
+    oy = std::sin(params.frame.first_azimuth_rad);
+  }
+  // Rotating the first outward vector by 60 deg per pad (rather than six sin/cos) is how these
+  // were always derived; kept so the imbalance rounds as before.
+  const double c60 = 0.5;
+  const double s60 = std::sqrt(3.0) / 2.0;
+  for (int i = 0; i < kGripperPadCount; ++i) {
+    constants.outward_x[i] = ox;
+    constants.outward_y[i] = oy;
+    const double next_x = c60 * ox - s60 * oy;
+    oy = s60 * ox + c60 * oy;
+    ox = next_x;
   }
   return constants;
 }
@@ -511,13 +515,21 @@ GraspForces StepGrasp(const GraspSceneParams& params, const GraspSceneConstants&
                       GraspState& state, const GraspVehicleSample& vehicle, double frame_angle_rad,
                       double dt_s) {
   GraspForces out;
+  StepGrasp(params, constants, state, vehicle, frame_angle_rad, dt_s, out);
+  return out;
+}
+
+void StepGrasp(const GraspSceneParams& params, const GraspSceneConstants& constants,
+               GraspState& state, const GraspVehicleSample& vehicle, double frame_angle_rad,
+               double dt_s, GraspForces& out) {
+  out = GraspForces{};
   if (!HasObject(state.mode)) {
     state.gripped = false;
-    return out;
+    return;
   }
   if (!InputsFinite(vehicle, frame_angle_rad, dt_s) || !StateFinite(state) ||
       !constants.scene_usable) {
-    return out;
+    return;
   }
   const double overlap =
       params.object.half_width_m - PadSurfaceRadius(params.frame, frame_angle_rad);
@@ -534,7 +546,7 @@ GraspForces StepGrasp(const GraspSceneParams& params, const GraspSceneConstants&
                   state.object_mass_kg,
                   kGripperPadCount * params.pad_stiffness_n_per_m.y(),
                   dt_s};
-  if (!std::isfinite(ctx.contact.force_n)) return out;
+  if (!std::isfinite(ctx.contact.force_n)) return;
   if (overlap > 0) state.contact_seed = SeedOf(ctx.contact, overlap);
 
   // A transition re-runs the new mode's handler in the same step; a mode already visited this
@@ -564,7 +576,8 @@ GraspForces StepGrasp(const GraspSceneParams& params, const GraspSceneConstants&
   }
   if (!HasObject(state.mode)) {  // dropped this step: nothing touches the pads any more
     state.gripped = false;
-    return GraspForces{};
+    out = GraspForces{};
+    return;
   }
 
   out.indentation_m = ctx.contact.indentation_m;
@@ -573,12 +586,13 @@ GraspForces StepGrasp(const GraspSceneParams& params, const GraspSceneConstants&
                                     ctx.contact.pad_compression_m) +
                           ObjectContactEnergy(params.object, ctx.contact.indentation_m));
   state.gripped = out.grasp_force_n > 0;
+  double largest_finite_normal_n = -std::numeric_limits<double>::infinity();
   for (double normal : out.normal_force_n) {
     state.peak_normal_force_n = std::max(state.peak_normal_force_n, normal);
+    if (std::isfinite(normal)) largest_finite_normal_n = std::max(largest_finite_normal_n, normal);
   }
   state.peak_indentation_m = std::max(state.peak_indentation_m, out.indentation_m);
-  RecordDamage(params.object, out, state);
-  return out;
+  RecordDamage(params.object, largest_finite_normal_n, out.indentation_m, state);
 }
 
 void PourMass(GraspState& state, double added_mass_kg) {

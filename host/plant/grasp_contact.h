@@ -203,9 +203,11 @@ SeriesSeed SeedOf(const SeriesContact& contact, double overlap_m);
 struct GraspSceneConstants {
   bool scene_usable = false;    // the checks of ValidateGraspScene the steps rely on
   bool contact_usable = false;  // what the series solve needs (the servo load's inner loop)
-  // Outward direction of pad 0 (body x, y); the others follow by 60 deg rotations.
-  double first_outward_x = 1.0;
-  double first_outward_y = 0.0;
+  // Outward direction of each pad (body x, y): pad 0's, the others following by 60 deg
+  // rotations. The same for every tick of a scene, so the imbalance does not rotate it each time.
+  // Zero until MakeGraspSceneConstants fills them (a default is not scene_usable either).
+  std::array<double, kGripperPadCount> outward_x{};
+  std::array<double, kGripperPadCount> outward_y{};
 };
 GraspSceneConstants MakeGraspSceneConstants(const GraspSceneParams& params);
 
@@ -239,6 +241,11 @@ GraspForces StepGrasp(const GraspSceneParams& params, GraspState& state,
 GraspForces StepGrasp(const GraspSceneParams& params, const GraspSceneConstants& constants,
                       GraspState& state, const GraspVehicleSample& vehicle, double frame_angle_rad,
                       double dt_s);
+// The same, writing this step's forces over `out`: a caller that keeps the forces from tick to
+// tick saves copying them out of a returned value.
+void StepGrasp(const GraspSceneParams& params, const GraspSceneConstants& constants,
+               GraspState& state, const GraspVehicleSample& vehicle, double frame_angle_rad,
+               double dt_s, GraspForces& out);
 
 // Mass flow into a container (ignored when <= 0 or non-finite).
 void PourMass(GraspState& state, double added_mass_kg);

@@ -48,72 +48,81 @@ QuadrotorState StepQuadrotor(const QuadrotorParams& params, const QuadrotorState
                              const std::array<double, kRotorCount>& commanded_thrust_n,
                              const Eigen::Vector3d& external_force_world_n,
                              const QuadrotorStepSize& step, double payload_mass_kg) {
-  const double dt_s = step.dt_s;
   QuadrotorState next = state;
-  next.ground_contact = false;
-  next.rotors =
+  AdvanceQuadrotor(params, next, commanded_thrust_n, external_force_world_n, step, payload_mass_kg);
+  return next;
+}
+
+void AdvanceQuadrotor(const QuadrotorParams& params, QuadrotorState& state,
+                      const std::array<double, kRotorCount>& commanded_thrust_n,
+                      const Eigen::Vector3d& external_force_world_n, const QuadrotorStepSize& step,
+                      double payload_mass_kg) {
+  const double dt_s = step.dt_s;
+  state.ground_contact = false;
+  state.rotors =
       StepRotorsWithBlend(params.rotors, state.rotors, commanded_thrust_n, step.rotor_lag_blend);
   if (params.fidelity == VehicleFidelity::kFixedStand) {
-    HoldOnStand(params, next);
-    return next;
+    HoldOnStand(params, state);
+    return;
   }
   const bool on_rail = params.fidelity == VehicleFidelity::kVertical1Dof;
-  const RigidBodyState start = on_rail ? OnVerticalRail(state.body) : state.body;
-  next.body = start;
+  if (on_rail) state.body = OnVerticalRail(state.body);
+  RigidBodyState& body_state = state.body;
 
   RigidBodyParams body = params.body;
   if (payload_mass_kg > 0 && std::isfinite(payload_mass_kg)) body.mass_kg += payload_mass_kg;
   const double mass = body.mass_kg;
   const double g = params.gravity_m_s2;
-  const Eigen::Matrix3d r_wb = start.orientation.toRotationMatrix();
-  const double collective = CollectiveThrust(next.rotors);
+  const Eigen::Matrix3d r_wb = body_state.orientation.toRotationMatrix();
+  const double collective = CollectiveThrust(state.rotors);
   Eigen::Vector3d non_thrust_force =
-      external_force_world_n - params.linear_drag_n_s_per_m * start.velocity_m_s;
+      external_force_world_n - params.linear_drag_n_s_per_m * body_state.velocity_m_s;
   if (on_rail) non_thrust_force.head<2>().setZero();  // the rail takes horizontal loads
 
   Wrench wrench;
   wrench.force_world_n = r_wb.col(2) * collective + non_thrust_force;
   wrench.torque_body_nm =
-      on_rail ? Eigen::Vector3d::Zero() : RotorTorqueBody(params.rotors, next.rotors);
+      on_rail ? Eigen::Vector3d::Zero() : RotorTorqueBody(params.rotors, state.rotors);
 
   if (state.on_ground && wrench.force_world_n.z() <= mass * g) {
-    next.body.position_m.z() = 0.0;
-    next.body.velocity_m_s.setZero();
-    next.body.angular_velocity_rad_s.setZero();
-    next.specific_force_body_m_s2 = r_wb.transpose() * Eigen::Vector3d(0.0, 0.0, g);
-    return next;
+    body_state.position_m.z() = 0.0;
+    body_state.velocity_m_s.setZero();
+    body_state.angular_velocity_rad_s.setZero();
+    state.specific_force_body_m_s2 = r_wb.transpose() * Eigen::Vector3d(0.0, 0.0, g);
+    return;
   }
 
-  next.on_ground = false;
-  next.airborne_once = true;
+  state.on_ground = false;
+  state.airborne_once = true;
+  // The touch-down below needs the velocity the step started with; the step overwrites the body.
+  const Eigen::Vector3d start_velocity_m_s = body_state.velocity_m_s;
   RigidBodyIntegratorOptions options;
   options.tolerance = params.integrator_tolerance;
   IntegratorStats stats;
-  next.body = StepRigidBody(body, start, wrench, g, dt_s, params.integrator, options, &stats);
-  next.integrator_accepted_substeps += stats.accepted_substeps;
-  next.integrator_rejected_substeps += stats.rejected_substeps;
-  next.integrator_failures += stats.failed ? 1 : 0;
+  body_state = StepRigidBody(body, body_state, wrench, g, dt_s, params.integrator, options, &stats);
+  state.integrator_accepted_substeps += stats.accepted_substeps;
+  state.integrator_rejected_substeps += stats.rejected_substeps;
+  state.integrator_failures += stats.failed ? 1 : 0;
   // Thrust written directly in the body frame so that hover reads exactly (0, 0, T/m).
-  next.specific_force_body_m_s2 = (r_wb.transpose() * non_thrust_force) / mass;
-  next.specific_force_body_m_s2.z() += collective / mass;
+  state.specific_force_body_m_s2 = (r_wb.transpose() * non_thrust_force) / mass;
+  state.specific_force_body_m_s2.z() += collective / mass;
 
-  if (next.body.position_m.z() < 0.0) {
-    const double impact_speed = std::max(0.0, -next.body.velocity_m_s.z());
+  if (body_state.position_m.z() < 0.0) {
+    const double impact_speed = std::max(0.0, -body_state.velocity_m_s.z());
     // The ground removed the whole velocity within this step; the accelerometer sees that
     // average deceleration as a spike, as a real one would (smeared over one tick).
-    const Eigen::Vector3d accel_world = -start.velocity_m_s / dt_s + Eigen::Vector3d(0.0, 0.0, g);
-    next.specific_force_body_m_s2 = next.body.orientation.conjugate() * accel_world;
-    next.body.position_m.z() = 0.0;
-    next.body.velocity_m_s.setZero();
-    next.body.angular_velocity_rad_s.setZero();
-    next.on_ground = true;
-    next.ground_contact = true;
-    next.touched_down_after_takeoff = true;
-    ++next.ground_impacts;
-    next.last_impact_speed_m_s = impact_speed;
-    next.max_impact_speed_m_s = std::max(state.max_impact_speed_m_s, impact_speed);
+    const Eigen::Vector3d accel_world = -start_velocity_m_s / dt_s + Eigen::Vector3d(0.0, 0.0, g);
+    state.specific_force_body_m_s2 = body_state.orientation.conjugate() * accel_world;
+    body_state.position_m.z() = 0.0;
+    body_state.velocity_m_s.setZero();
+    body_state.angular_velocity_rad_s.setZero();
+    state.on_ground = true;
+    state.ground_contact = true;
+    state.touched_down_after_takeoff = true;
+    ++state.ground_impacts;
+    state.last_impact_speed_m_s = impact_speed;
+    state.max_impact_speed_m_s = std::max(state.max_impact_speed_m_s, impact_speed);
   }
-  return next;
 }
 
 double HoverThrustPerRotor(const QuadrotorParams& params) {

@@ -88,6 +88,12 @@ QuadrotorState StepQuadrotor(const QuadrotorParams& params, const QuadrotorState
                              const std::array<double, kRotorCount>& commanded_thrust_n,
                              const Eigen::Vector3d& external_force_world_n,
                              const QuadrotorStepSize& step, double payload_mass_kg = 0.0);
+// The same step in place: `state` becomes the next state. A caller that keeps the state and
+// steps it every tick saves the two copies of the whole state that a step by value costs.
+void AdvanceQuadrotor(const QuadrotorParams& params, QuadrotorState& state,
+                      const std::array<double, kRotorCount>& commanded_thrust_n,
+                      const Eigen::Vector3d& external_force_world_n, const QuadrotorStepSize& step,
+                      double payload_mass_kg = 0.0);
 
 // m g / 4: the per-rotor thrust that holds a level vehicle still.
 double HoverThrustPerRotor(const QuadrotorParams& params);

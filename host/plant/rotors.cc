@@ -47,14 +47,15 @@ Eigen::Vector3d RotorPositionBody(const RotorParams& params, int rotor) {
 
 Eigen::Vector3d RotorTorqueBody(const RotorParams& params, const RotorState& state) {
   const double a = HalfDiagonal(params);
-  // r x (0, 0, T) = (r_y T, -r_x T, 0).
-  double roll = 0.0, pitch = 0.0, yaw = 0.0;
-  for (int i = 0; i < kRotorCount; ++i) {
-    const double t = state.thrust_n[i];
-    roll += kRotorYSign[i] * t;
-    pitch -= kRotorXSign[i] * t;
-    yaw += kRotorYawSign[i] * t;
-  }
+  // r x (0, 0, T) = (r_y T, -r_x T, 0). The sums are those of the sign tables in rotor order,
+  // written out: a +-1 factor is exact, so they round as the loop over the tables did.
+  static_assert(kRotorXSign == std::array<double, kRotorCount>{+1.0, -1.0, +1.0, -1.0});
+  static_assert(kRotorYSign == std::array<double, kRotorCount>{-1.0, +1.0, +1.0, -1.0});
+  static_assert(kRotorYawSign == std::array<double, kRotorCount>{-1.0, -1.0, +1.0, +1.0});
+  const std::array<double, kRotorCount>& t = state.thrust_n;
+  const double roll = ((-t[0] + t[1]) + t[2]) - t[3];
+  const double pitch = ((-t[0] + t[1]) - t[2]) + t[3];
+  const double yaw = ((-t[0] - t[1]) + t[2]) + t[3];
   return {a * roll, a * pitch, params.torque_per_thrust_m * yaw};
 }
 

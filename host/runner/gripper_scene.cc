@@ -105,7 +105,7 @@ void GripperScene::Step(double time_s, double servo_command_rad, const Quadrotor
   sample.specific_force_body_m_s2 = vehicle.specific_force_body_m_s2;
   sample.velocity_m_s = vehicle.body.velocity_m_s;
   sample.gravity_m_s2 = gravity_m_s2_;
-  forces_ = StepGrasp(scene_, scene_constants_, grasp_, sample, servo_.angle_rad, dt_s);
+  StepGrasp(scene_, scene_constants_, grasp_, sample, servo_.angle_rad, dt_s, forces_);
   if (grasp_.damage != DamageMode::kNone && damaged_at_s_ < 0) {
     damaged_at_s_ = time_s;
     any_damaged_ = true;

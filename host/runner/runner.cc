@@ -308,8 +308,8 @@ void LockstepRunner::Impl::StepPlant(std::int64_t now_ns) {
     payload_kg = gripper_->forces().payload_mass_kg;
   }
   for (int i = 0; i < config_.plant_substeps; ++i) {
-    plant_ = StepQuadrotor(config_.vehicle, plant_, command_.rotor_thrust_n, force_world_n,
-                           plant_substep_, payload_kg);
+    AdvanceQuadrotor(config_.vehicle, plant_, command_.rotor_thrust_n, force_world_n,
+                     plant_substep_, payload_kg);
   }
 }
 

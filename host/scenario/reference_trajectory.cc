@@ -62,25 +62,30 @@ ReferenceTrajectory::ReferenceTrajectory(const ReferenceSample& initial,
         segment.coefficients(axis, 0) = target(axis);
       }
     }
+    segment.held = SampleAt(segment, segment.duration_s, /*moving=*/false);
     segments_.push_back(segment);
   }
 }
 
 ReferenceSample ReferenceTrajectory::EvaluateSegment(const Segment& segment, double time_s) {
-  const double tau = std::clamp(time_s - segment.start_s, 0.0, segment.duration_s);
-  const bool moving = time_s - segment.start_s < segment.duration_s;
+  const double since_start_s = time_s - segment.start_s;
+  if (!(since_start_s < segment.duration_s)) return segment.held;
+  return SampleAt(segment, std::max(since_start_s, 0.0), /*moving=*/true);
+}
+
+ReferenceSample ReferenceTrajectory::SampleAt(const Segment& segment, double tau_s, bool moving) {
   Eigen::Vector4d position = Eigen::Vector4d::Zero();
   Eigen::Vector4d velocity = Eigen::Vector4d::Zero();
   Eigen::Vector4d acceleration = Eigen::Vector4d::Zero();
   for (int power = 5; power >= 0; --power) {
-    position = position * tau + segment.coefficients.col(power);
+    position = position * tau_s + segment.coefficients.col(power);
   }
   if (moving) {
     for (int power = 5; power >= 1; --power) {
-      velocity = velocity * tau + power * segment.coefficients.col(power);
+      velocity = velocity * tau_s + power * segment.coefficients.col(power);
     }
     for (int power = 5; power >= 2; --power) {
-      acceleration = acceleration * tau + power * (power - 1) * segment.coefficients.col(power);
+      acceleration = acceleration * tau_s + power * (power - 1) * segment.coefficients.col(power);
     }
   }
   ReferenceSample sample;

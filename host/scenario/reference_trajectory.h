@@ -32,13 +32,17 @@ class ReferenceTrajectory {
   ReferenceSample Evaluate(double time_s) const;
 
  private:
-  // One quintic per axis (x, y, z, yaw) over [start_s, start_s + duration_s]; held after.
+  // One quintic per axis (x, y, z, yaw) over [start_s, start_s + duration_s]; held after, at
+  // `held` (its end, at rest), kept once: a scenario spends most ticks holding a setpoint.
   struct Segment {
     double start_s = 0;
     double duration_s = 0;
     Eigen::Matrix<double, 4, 6> coefficients = Eigen::Matrix<double, 4, 6>::Zero();
+    ReferenceSample held;
   };
   static ReferenceSample EvaluateSegment(const Segment& segment, double time_s);
+  // The quintics at tau = t - start_s in [0, duration_s]; rates only while `moving`.
+  static ReferenceSample SampleAt(const Segment& segment, double tau_s, bool moving);
 
   ReferenceSample initial_;
   std::vector<Segment> segments_;

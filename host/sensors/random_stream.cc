@@ -86,6 +86,12 @@ struct ZigguratTables {
   // a convert, a multiply and a floating compare, with bit-identical accepted values.
   std::array<double, kZigLayers> scaled_x{};  // x[i] 2^-52
   std::array<std::uint64_t, kZigLayers> inside_below{};
+  // |j| < B as one unsigned compare without taking |j|: with B >= 1, -(B - 1) <= j <= B - 1
+  // exactly when j + (B - 1), wrapped to 64 bits, is below 2B - 1 (a j under -(B - 1) wraps to
+  // at least 2^64 - 2^52 - 1). A layer with B = 0 (the top one, x[256] = 0) accepts nothing,
+  // which a limit of 0 encodes.
+  std::array<std::uint64_t, kZigLayers> inside_bias{};   // B - 1, or 0 when B = 0
+  std::array<std::uint64_t, kZigLayers> inside_limit{};  // 2B - 1, or 0 when B = 0
 };
 
 // The least j >= 0 whose value in layer i is not inside the rectangle, found by testing the
@@ -113,11 +119,33 @@ constexpr ZigguratTables MakeZigguratTables() {
   for (int i = 0; i < kZigLayers; ++i) {
     t.scaled_x[i] = t.x[i] * 0x1.0p-52;
     t.inside_below[i] = InsideBelow(t, i);
+    const std::uint64_t b = t.inside_below[i];
+    t.inside_bias[i] = b > 0 ? b - 1 : 0;
+    t.inside_limit[i] = b > 0 ? 2 * b - 1 : 0;
   }
   return t;
 }
 
 constexpr ZigguratTables kZig = MakeZigguratTables();
+
+// The biased compare equals |j| < inside_below at every boundary of every layer and at the ends
+// of the 53-bit range, checked at compile time.
+constexpr bool BiasedCompareMatchesMagnitude() {
+  constexpr std::int64_t kMin = -(std::int64_t{1} << 52), kMax = (std::int64_t{1} << 52) - 1;
+  for (int i = 0; i < kZigLayers; ++i) {
+    const auto b = static_cast<std::int64_t>(kZig.inside_below[i]);
+    for (const std::int64_t j : {kMin, kMin + 1, -b - 1, -b, -b + 1, std::int64_t{-1},
+                                 std::int64_t{0}, std::int64_t{1}, b - 1, b, b + 1, kMax}) {
+      if (j < kMin || j > kMax) continue;
+      const bool biased =
+          static_cast<std::uint64_t>(j) + kZig.inside_bias[i] < kZig.inside_limit[i];
+      const std::uint64_t magnitude = j < 0 ? std::uint64_t(-j) : std::uint64_t(j);
+      if (biased != (magnitude < kZig.inside_below[i])) return false;
+    }
+  }
+  return true;
+}
+static_assert(BiasedCompareMatchesMagnitude());
 
 using State = std::array<std::uint64_t, 4>;
 
@@ -183,9 +211,9 @@ inline double GaussianFrom(State& s) {
   const std::uint64_t bits = Next(s);
   const auto layer = static_cast<std::size_t>(bits & 0xff);
   const std::int64_t j = static_cast<std::int64_t>(bits) >> 11;
-  const std::uint64_t magnitude =
-      j < 0 ? std::uint64_t{0} - static_cast<std::uint64_t>(j) : static_cast<std::uint64_t>(j);
-  if (magnitude < kZig.inside_below[layer]) [[likely]] {
+  // |j| < inside_below[layer], see ZigguratTables::inside_bias.
+  if (static_cast<std::uint64_t>(j) + kZig.inside_bias[layer] < kZig.inside_limit[layer])
+      [[likely]] {
     return static_cast<double>(j) * kZig.scaled_x[layer];  // inside the layer's rectangle
   }
   const SlowDraw slow = GaussianSlowPath(s, bits);

@@ -180,6 +180,26 @@ TEST(ParetoFrontTest, MarkParetoFrontsFlagsTheJointFront) {
   EXPECT_FALSE(scene.runs[2].on_joint_front);  // slower and worse in every error
 }
 
+TEST(ParetoFrontTest, TheRecommendedRunIsTheCheapestPassingOneOnTheJointFront) {
+  // 1: fastest, on the front, fails its envelopes. 2: next fastest on the front, passes.
+  // 3: slower and less accurate than 2, off the front. 4: slowest, most accurate, passes.
+  SceneResult scene;
+  scene.scene = "scene";
+  scene.runs = {Result(RunKind::kReference, 10, 0), Result(RunKind::kIntegrator, 1.0, 3.0),
+                Result(RunKind::kIntegrator, 2.0, 2.0), Result(RunKind::kDefault, 2.5, 2.5),
+                Result(RunKind::kField, 4.0, 1.0)};
+  scene.runs[2].passes_envelopes = scene.runs[3].passes_envelopes = true;
+  scene.runs[4].passes_envelopes = true;
+  MarkParetoFronts(scene);
+
+  EXPECT_EQ(CheapestPassingFrontRun(scene), &scene.runs[2]);
+  EXPECT_THAT(FormatParetoTables(scene),
+              ::testing::HasSubstr("scene: the cheapest run on the joint front that passes is "));
+  for (RunResult& run : scene.runs) run.passes_envelopes = false;
+  EXPECT_EQ(CheapestPassingFrontRun(scene), nullptr);
+  EXPECT_THAT(FormatParetoTables(scene), ::testing::HasSubstr("that passes is none\n"));
+}
+
 TEST(ParetoFrontTest, IncompleteRunsAreNotOnTheFront) {
   std::vector<RunResult> runs = {Result(RunKind::kIntegrator, 1, 0.1),
                                  Result(RunKind::kIntegrator, 2, 0.2)};

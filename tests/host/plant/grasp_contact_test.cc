@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "host/sensors/tactile/sensor_layout.h"
 
@@ -237,13 +238,23 @@ TEST(GraspSceneConstantsTest, FirstPadDirectionAndUsability) {
   EXPECT_TRUE(constants.scene_usable);
   EXPECT_TRUE(constants.contact_usable);
   // Default first azimuth 30 deg.
-  EXPECT_NEAR(constants.first_outward_x, std::sqrt(3.0) / 2.0, 1e-15);
-  EXPECT_NEAR(constants.first_outward_y, 0.5, 1e-15);
+  EXPECT_NEAR(constants.outward_x[0], std::sqrt(3.0) / 2.0, 1e-15);
+  EXPECT_NEAR(constants.outward_y[0], 0.5, 1e-15);
   scene.pad_stiffness_n_per_m.y() = kNaN;  // shear only: the contact solve can still run
   EXPECT_FALSE(MakeGraspSceneConstants(scene).scene_usable);
   EXPECT_TRUE(MakeGraspSceneConstants(scene).contact_usable);
   scene.object.stiffness = -1.0;
   EXPECT_FALSE(MakeGraspSceneConstants(scene).contact_usable);
+}
+
+TEST(GraspSceneConstantsTest, PadDirectionsStep60DegreesFromTheFirst) {
+  const GraspSceneConstants constants = MakeGraspSceneConstants(Scene());
+  // Default first azimuth 30 deg: pads at 30, 90, ..., 330 deg.
+  for (int i = 0; i < kGripperPadCount; ++i) {
+    const double azimuth = (30.0 + 60.0 * i) * std::numbers::pi / 180.0;
+    EXPECT_NEAR(constants.outward_x[i], std::cos(azimuth), 1e-15) << i;
+    EXPECT_NEAR(constants.outward_y[i], std::sin(azimuth), 1e-15) << i;
+  }
 }
 
 TEST(GraspSceneConstantsTest, UnusableConstantsGiveNoForces) {

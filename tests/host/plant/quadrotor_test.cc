@@ -27,6 +27,38 @@ TEST(QuadrotorTest, HoverThrustKeepsVehicleStillAtAltitude) {
   EXPECT_EQ(state.ground_impacts, 0u);
 }
 
+TEST(AdvanceQuadrotorTest, HoverInPlaceKeepsVehicleStill) {
+  QuadrotorParams params;
+  QuadrotorState state = MakeHoveringQuadrotor(params, {0.5, 0.0, 1.0}, 0.0);
+  const QuadrotorStepSize step = MakeQuadrotorStepSize(params, kDt);
+  for (int i = 0; i < 1000; ++i) {
+    AdvanceQuadrotor(params, state, Uniform(HoverThrustPerRotor(params)), kNoForce, step);
+  }
+  EXPECT_LT((state.body.position_m - Eigen::Vector3d(0.5, 0.0, 1.0)).norm(), 1e-12);
+  EXPECT_LT((state.specific_force_body_m_s2 - Eigen::Vector3d(0, 0, 9.81)).norm(), 1e-12);
+  EXPECT_EQ(state.integrator_accepted_substeps, 1000u);
+}
+
+// The touch-down's accelerometer spike is the velocity the step started with removed within the
+// step; the in-place step overwrites the body, so this checks it kept that velocity.
+TEST(AdvanceQuadrotorTest, TouchDownInPlaceUsesTheStartVelocity) {
+  QuadrotorParams params;  // level, no thrust: falls at g less the drag
+  QuadrotorState state = MakeHoveringQuadrotor(params, {0.0, 0.0, 0.5e-3}, 0.0);
+  state.rotors.thrust_n.fill(0.0);
+  state.body.velocity_m_s = {0.0, 0.0, -1.0};
+  AdvanceQuadrotor(params, state, Uniform(0.0), kNoForce, MakeQuadrotorStepSize(params, kDt));
+  // z = 0.5 mm - 1 mm - ... < 0: on the ground, the speed of the step's end, the spike of its
+  // start.
+  const double accel_z = -9.81 + 0.05 * 1.0 / 0.556;
+  EXPECT_TRUE(state.on_ground);
+  EXPECT_TRUE(state.ground_contact);
+  EXPECT_EQ(state.ground_impacts, 1u);
+  EXPECT_NEAR(state.last_impact_speed_m_s, 1.0 - accel_z * kDt, 1e-12);
+  EXPECT_NEAR(state.specific_force_body_m_s2.z(), 1.0 / kDt + 9.81, 1e-9);
+  EXPECT_EQ(state.body.position_m.z(), 0.0);
+  EXPECT_EQ(state.body.velocity_m_s.norm(), 0.0);
+}
+
 TEST(QuadrotorStepSizeTest, BlendIsTheRotorLagOverTheStep) {
   QuadrotorParams params;
   params.rotors.time_constant_s = 0.02;
