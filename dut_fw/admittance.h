@@ -68,25 +68,26 @@ S MaxStableAdmittanceDt(const AdmittanceParams<S>& params) {
   return bound;
 }
 
-// Advances the offset by dt with f_ext (world, N) and returns the desired (pd, vd, ad) for this
-// step. A non-finite force is treated as zero force and a non-positive or non-finite dt holds the
-// offset; both are counted in state.rejected_inputs, because a bad sample must never poison the
-// offset that the position loop will chase.
+// Advances the offset by dt with f_ext (world, N) and writes the desired (pd, vd, ad) for this step
+// into `desired` (which must not alias `reference`). A non-finite force is treated as zero force
+// and a non-positive or non-finite dt holds the offset; both are counted in state.rejected_inputs,
+// because a bad sample must never poison the offset that the position loop will chase. Returns
+// whether the force was finite, so a caller feeding the same force onward need not check it again.
 template <typename S>
-Reference<S> StepAdmittance(const AdmittanceParams<S>& params, AdmittanceState<S>& state,
-                            const NoDeduce<Reference<S>>& reference,
-                            const NoDeduce<Vec3<S>>& external_force_world_n, NoDeduce<S> dt_s) {
+bool StepAdmittanceInto(const AdmittanceParams<S>& params, AdmittanceState<S>& state,
+                        const NoDeduce<Reference<S>>& reference,
+                        const NoDeduce<Vec3<S>>& external_force_world_n, NoDeduce<S> dt_s,
+                        Reference<S>& desired) {
   Vec3<S> force_n = external_force_world_n;
-  if (!AllFinite(force_n)) {
+  const bool force_finite = AllFinite(force_n);
+  if (!force_finite) {
     force_n.setZero();
     ++state.rejected_inputs;
   }
-  const auto offset_accel = [&]() -> Vec3<S> {
-    return (force_n - params.damping_n_s_per_m.cwiseProduct(state.offset_rate_m_s) -
-            params.stiffness_n_per_m.cwiseProduct(state.offset_m))
-        .cwiseQuotient(params.mass_kg);
-  };
-  Vec3<S> accel_m_s2 = offset_accel();
+  const Vec3<S> accel_m_s2 =
+      (force_n - params.damping_n_s_per_m.cwiseProduct(state.offset_rate_m_s) -
+       params.stiffness_n_per_m.cwiseProduct(state.offset_m))
+          .cwiseQuotient(params.mass_kg);
   if (dt_s > S(0) && std::isfinite(dt_s)) {
     state.offset_rate_m_s += accel_m_s2 * dt_s;
     state.offset_m += state.offset_rate_m_s * dt_s;
@@ -94,11 +95,20 @@ Reference<S> StepAdmittance(const AdmittanceParams<S>& params, AdmittanceState<S
     ++state.rejected_inputs;
   }
 
-  Reference<S> desired;
   desired.position_m = reference.position_m + state.offset_m;
   desired.velocity_m_s = reference.velocity_m_s + state.offset_rate_m_s;
   desired.acceleration_m_s2 = reference.acceleration_m_s2 + accel_m_s2;
   desired.yaw_rad = reference.yaw_rad;
+  return force_finite;
+}
+
+// StepAdmittanceInto, returning the desired reference.
+template <typename S>
+Reference<S> StepAdmittance(const AdmittanceParams<S>& params, AdmittanceState<S>& state,
+                            const NoDeduce<Reference<S>>& reference,
+                            const NoDeduce<Vec3<S>>& external_force_world_n, NoDeduce<S> dt_s) {
+  Reference<S> desired;
+  StepAdmittanceInto<S>(params, state, reference, external_force_world_n, dt_s, desired);
   return desired;
 }
 

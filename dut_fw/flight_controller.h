@@ -113,7 +113,9 @@ template <typename S>
 class FlightController {
  public:
   explicit FlightController(const FlightControllerParams<S>& params)
-      : params_(params), max_tilt_tangent_(MaxTiltTangent(params.position)) {}
+      : params_(params),
+        max_tilt_tangent_(MaxTiltTangent(params.position)),
+        mixer_constants_(MixerConstantsOf(params.mixer)) {}
 
   const FlightControllerParams<S>& params() const { return params_; }
 
@@ -127,26 +129,31 @@ class FlightController {
     CorrectWithVio(params_.estimator, state.estimator, position_m, orientation, capture_time_ns);
   }
 
-  // One control step. Until the estimator is initialized the output is disarmed (all rotors 0) and
-  // the controller states are held at rest, so arming starts without a wound-up integrator or a
-  // stale admittance offset.
-  FlightControllerOutput<S> Step(FlightControllerState<S>& state, const Reference<S>& reference,
-                                 const Vec3<S>& external_force_world_n, S dt_s) const {
-    FlightControllerOutput<S> out;
+  // One control step, written into `out` (every field, so a caller can keep one output between
+  // steps instead of building and copying one per step). Until the estimator is initialized the
+  // output is disarmed (all rotors 0) and the controller states are held at rest, so arming starts
+  // without a wound-up integrator or a stale admittance offset.
+  void Step(FlightControllerState<S>& state, const Reference<S>& reference,
+            const Vec3<S>& external_force_world_n, S dt_s, FlightControllerOutput<S>& out) const {
     const EstimatorState<S>& est = state.estimator;
     if (!est.initialized) {
       state.admittance = AdmittanceState<S>{};
       state.attitude = AttitudeState<S>{};
+      out = FlightControllerOutput<S>{};
       out.desired = reference;
-      return out;
+      return;
     }
     out.armed = true;
     // A broken reference must not steer the vehicle anywhere: hold the current estimate instead.
-    const Reference<S> safe_reference = AllFinite(reference) ? reference : HoldHere(est);
-    out.desired = StepAdmittance(params_.admittance, state.admittance, safe_reference,
-                                 external_force_world_n, dt_s);
+    const bool force_finite =
+        AllFinite(reference)
+            ? StepAdmittanceInto<S>(params_.admittance, state.admittance, reference,
+                                    external_force_world_n, dt_s, out.desired)
+            : StepAdmittanceInto<S>(params_.admittance, state.admittance, HoldHere(est),
+                                    external_force_world_n, dt_s, out.desired);
+    // The admittance checked the force; a non-finite one feeds nothing forward.
     const Vec3<S> feedforward_n =
-        params_.load_feedforward ? external_force_world_n : Vec3<S>::Zero();
+        params_.load_feedforward && force_finite ? external_force_world_n : Vec3<S>::Zero();
     const PositionCommand<S> command = ComputePositionCommandWithTiltTangent(
         params_.position, max_tilt_tangent_, state.yaw_trig, out.desired, est.position_m,
         est.velocity_m_s, est.orientation, feedforward_n);
@@ -154,7 +161,14 @@ class FlightController {
     out.attitude_desired = command.attitude_desired;
     out.torque_body_nm = StepAttitude(params_.attitude, state.attitude, command.attitude_desired,
                                       est.orientation, est.angular_velocity_rad_s, dt_s);
-    out.rotor_thrust_n = Mix(params_.mixer, out.collective_thrust_n, out.torque_body_nm);
+    MixInto<S>(mixer_constants_, out.collective_thrust_n, out.torque_body_nm, out.rotor_thrust_n);
+  }
+
+  // The step above, returning a fresh output.
+  FlightControllerOutput<S> Step(FlightControllerState<S>& state, const Reference<S>& reference,
+                                 const Vec3<S>& external_force_world_n, S dt_s) const {
+    FlightControllerOutput<S> out;
+    Step(state, reference, external_force_world_n, dt_s, out);
     return out;
   }
 
@@ -167,7 +181,8 @@ class FlightController {
   }
 
   FlightControllerParams<S> params_;
-  S max_tilt_tangent_;  // MaxTiltTangent(params_.position), once instead of per step
+  S max_tilt_tangent_;                 // MaxTiltTangent(params_.position), once instead of per step
+  MixerConstants<S> mixer_constants_;  // MixerConstantsOf(params_.mixer), likewise
 };
 
 }  // namespace hilrig::dut_fw

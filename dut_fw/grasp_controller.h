@@ -91,8 +91,8 @@ struct GraspOutput {
   bool regulating = false;
 };
 
-// A start-up check for the integrator, and the gate of every step: finite gains, M > 0, B, K >= 0,
-// a non-empty servo range with closed above open (Δθ > 0 must close the frame, or the force
+// A start-up check for the integrator, and the gate of every checked step: finite gains, M > 0, B,
+// K >= 0, a non-empty servo range with closed above open (Δθ > 0 must close the frame, or the force
 // feedback would have the wrong sign), a positive slew rate and a finite settle time >= 0.
 template <typename S>
 bool GraspParamsValid(const GraspAdmittanceParams<S>& params) {
@@ -162,24 +162,18 @@ S TravelTime(const GraspAdmittanceParams<S>& params, S from_rad, S reference_ang
 
 }  // namespace grasp_controller_internal
 
-// One control step of the servo command (see header for the modes and the rejected inputs).
+// StepGraspController for parameters already known to be valid. Precondition:
+// GraspParamsValid(params) is true (the parameters are constant, so a caller that holds them checks
+// once where it sets them, and calls StepGraspController instead when the check failed); with
+// invalid parameters the result is unspecified. Every input other than the parameters is checked
+// here as in StepGraspController.
 template <typename S>
-GraspOutput<S> StepGraspController(const GraspAdmittanceParams<S>& params,
-                                   GraspControllerState<S>& state,
-                                   const NoDeduce<GraspCommand<S>>& command,
-                                   NoDeduce<S> grasp_force_estimate_n,
-                                   NoDeduce<bool> estimate_valid, NoDeduce<S> dt_s) {
+GraspOutput<S> StepGraspControllerWithValidParams(const GraspAdmittanceParams<S>& params,
+                                                  GraspControllerState<S>& state,
+                                                  const NoDeduce<GraspCommand<S>>& command,
+                                                  NoDeduce<S> grasp_force_estimate_n,
+                                                  NoDeduce<bool> estimate_valid, NoDeduce<S> dt_s) {
   namespace internal = grasp_controller_internal;
-  if (!GraspParamsValid(params)) {
-    internal::CountRejected(state);
-    state.offset_rad = S(0);
-    state.offset_rate_rad_s = S(0);
-    state.last_mode = GraspMode::kOpen;
-    const S angle_rad = std::isfinite(params.open_angle_rad)    ? params.open_angle_rad
-                        : std::isfinite(state.last_command_rad) ? state.last_command_rad
-                                                                : S(0);
-    return internal::Command(state, angle_rad, S(0), false);
-  }
   const S last_command_rad = std::clamp(
       std::isfinite(state.last_command_rad) ? state.last_command_rad : params.open_angle_rad,
       params.open_angle_rad, params.closed_angle_rad);
@@ -243,6 +237,29 @@ GraspOutput<S> StepGraspController(const GraspAdmittanceParams<S>& params,
     return internal::Command(state, last_command_rad, S(0), false);
   }
   return internal::Command(state, angle_rad, force_error_n, true);
+}
+
+// One control step of the servo command (see header for the modes and the rejected inputs), with
+// the parameters checked first: invalid ones never regulate and are counted in rejected_inputs.
+template <typename S>
+GraspOutput<S> StepGraspController(const GraspAdmittanceParams<S>& params,
+                                   GraspControllerState<S>& state,
+                                   const NoDeduce<GraspCommand<S>>& command,
+                                   NoDeduce<S> grasp_force_estimate_n,
+                                   NoDeduce<bool> estimate_valid, NoDeduce<S> dt_s) {
+  namespace internal = grasp_controller_internal;
+  if (!GraspParamsValid(params)) {
+    internal::CountRejected(state);
+    state.offset_rad = S(0);
+    state.offset_rate_rad_s = S(0);
+    state.last_mode = GraspMode::kOpen;
+    const S angle_rad = std::isfinite(params.open_angle_rad)    ? params.open_angle_rad
+                        : std::isfinite(state.last_command_rad) ? state.last_command_rad
+                                                                : S(0);
+    return internal::Command(state, angle_rad, S(0), false);
+  }
+  return StepGraspControllerWithValidParams<S>(params, state, command, grasp_force_estimate_n,
+                                               estimate_valid, dt_s);
 }
 
 }  // namespace hilrig::dut_fw

@@ -62,19 +62,37 @@ Eigen::Matrix<S, 4, 4> AllocationMatrix(const MixerGeometry<S>& geometry) {
   return a;
 }
 
+// The geometry's derived constants of the allocation, computed once per geometry instead of once
+// per control step. The expressions (and their order) are those Mix used inline, so the thrusts
+// are bit-identical; the yaw share keeps its division (a reciprocal would round differently).
 template <typename S>
-std::array<S, 4> Mix(const MixerGeometry<S>& geometry, NoDeduce<S> collective_thrust_n,
-                     const NoDeduce<Vec3<S>>& torque_body_nm) {
-  std::array<S, 4> thrust_n = {S(0), S(0), S(0), S(0)};
-  if (!std::isfinite(collective_thrust_n) || !AllFinite(torque_body_nm)) return thrust_n;
+struct MixerConstants {
+  S inv_4a;                  // 1 / (4a), a = L/√2: roll/pitch row norm² is 4a²
+  S four_kappa_m;            // 4κ: yaw row norm² over κ
+  S max_thrust_per_rotor_n;  // copied so the control step reads one struct
+};
 
-  const S max_n = geometry.max_thrust_per_rotor_n;
+template <typename S>
+MixerConstants<S> MixerConstantsOf(const MixerGeometry<S>& geometry) {
   const S a = geometry.arm_length_m / std::sqrt(S(2));
+  return MixerConstants<S>{S(1) / (S(4) * a), S(4) * geometry.torque_per_thrust_m,
+                           geometry.max_thrust_per_rotor_n};
+}
+
+// Mix below with the constants given and the thrusts written into `thrust_n`.
+template <typename S>
+void MixInto(const MixerConstants<S>& constants, NoDeduce<S> collective_thrust_n,
+             const NoDeduce<Vec3<S>>& torque_body_nm, std::array<S, 4>& thrust_n) {
+  if (!std::isfinite(collective_thrust_n) || !AllFinite(torque_body_nm)) {
+    thrust_n = {S(0), S(0), S(0), S(0)};
+    return;
+  }
+
+  const S max_n = constants.max_thrust_per_rotor_n;
   // Per-rotor shares from the scaled transpose: roll/pitch row norm² is 4a², yaw row norm² is 4κ².
-  const S inv_4a = S(1) / (S(4) * a);
-  const S roll_share = torque_body_nm.x() * inv_4a;
-  const S pitch_share = torque_body_nm.y() * inv_4a;
-  const S yaw_share = torque_body_nm.z() / (S(4) * geometry.torque_per_thrust_m);
+  const S roll_share = torque_body_nm.x() * constants.inv_4a;
+  const S pitch_share = torque_body_nm.y() * constants.inv_4a;
+  const S yaw_share = torque_body_nm.z() / constants.four_kappa_m;
   // y_i/a and -x_i/a for rotors 0..3 (see layout above).
   std::array<S, 4> rp = {-roll_share - pitch_share, roll_share + pitch_share,
                          roll_share - pitch_share, -roll_share + pitch_share};
@@ -114,6 +132,13 @@ std::array<S, 4> Mix(const MixerGeometry<S>& geometry, NoDeduce<S> collective_th
   for (int i = 0; i < 4; ++i) {
     thrust_n[i] = std::clamp(base + rp[i] + S(kRotorYawSign[i]) * yaw_applied, S(0), max_n);
   }
+}
+
+template <typename S>
+std::array<S, 4> Mix(const MixerGeometry<S>& geometry, NoDeduce<S> collective_thrust_n,
+                     const NoDeduce<Vec3<S>>& torque_body_nm) {
+  std::array<S, 4> thrust_n;
+  MixInto<S>(MixerConstantsOf(geometry), collective_thrust_n, torque_body_nm, thrust_n);
   return thrust_n;
 }
 

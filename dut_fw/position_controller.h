@@ -121,6 +121,8 @@ S MaxTiltTangent(const PositionGains<S>& gains) {
 
 // ComputePositionCommand below, with `max_tilt_tangent` = MaxTiltTangent(gains) given and the yaw's
 // half-angle trig taken from `yaw_trig` (the previous step's, updated here when the yaw changed).
+// Precondition: `external_force_world_n` is finite (ComputePositionCommand zeroes a non-finite one
+// before calling this; FlightController has it from the admittance's check of the same force).
 template <typename S>
 PositionCommand<S> ComputePositionCommandWithTiltTangent(
     const PositionGains<S>& gains, NoDeduce<S> max_tilt_tangent, HalfYawTrig<S>& yaw_trig,
@@ -128,8 +130,7 @@ PositionCommand<S> ComputePositionCommandWithTiltTangent(
     const NoDeduce<Vec3<S>>& velocity_m_s, const NoDeduce<Quat<S>>& attitude,
     const NoDeduce<Vec3<S>>& external_force_world_n) {
   const S weight_n = gains.mass_kg * gains.gravity_m_s2;
-  const Vec3<S> feedforward_n =
-      AllFinite(external_force_world_n) ? external_force_world_n : Vec3<S>::Zero();
+  const Vec3<S>& feedforward_n = external_force_world_n;
   const Vec3<S> accel_cmd_m_s2 = desired.acceleration_m_s2 +
                                  gains.kv_per_s.cwiseProduct(desired.velocity_m_s - velocity_m_s) +
                                  gains.kp_per_s2.cwiseProduct(desired.position_m - position_m);
@@ -174,9 +175,12 @@ PositionCommand<S> ComputePositionCommand(
     const NoDeduce<Quat<S>>& attitude,
     const NoDeduce<Vec3<S>>& external_force_world_n = Vec3<S>::Zero()) {
   HalfYawTrig<S> yaw_trig;
+  // A non-finite force is ignored (see header), here where it enters.
+  const Vec3<S> feedforward_n =
+      AllFinite(external_force_world_n) ? external_force_world_n : Vec3<S>::Zero();
   return ComputePositionCommandWithTiltTangent<S>(gains, MaxTiltTangent(gains), yaw_trig, desired,
                                                   position_m, velocity_m_s, attitude,
-                                                  external_force_world_n);
+                                                  feedforward_n);
 }
 
 }  // namespace hilrig::dut_fw

@@ -10,6 +10,7 @@ BasicInProcessDut<S>::BasicInProcessDut(const BasicDutFirmware<S>& firmware,
                                         std::unique_ptr<rig::CanBus> bus, double control_period_s)
     : controller_(firmware.flight),
       grasp_params_(firmware.grasp),
+      grasp_params_valid_(dut_fw::GraspParamsValid(grasp_params_)),
       external_force_in_position_loop_(firmware.external_force_in_position_loop),
       tactile_params_(firmware.tactile),
       bus_(std::move(bus)),
@@ -114,16 +115,21 @@ rig::Result<ActuatorMessage> BasicInProcessDut<S>::Step(std::uint64_t tick, std:
   const TactileForces tactile = SummarizeForces(now_ns);
   const dut_fw::Vec3<S> loop_force_n =
       external_force_in_position_loop_ ? tactile.external_world_n : dut_fw::Vec3<S>::Zero();
-  const auto output = controller_.Step(state_, reference_, loop_force_n, control_period_s_);
-  const auto grasp = dut_fw::StepGraspController(grasp_params_, grasp_state_, grasp_command_,
-                                                 tactile.grasp_n, tactile.valid, control_period_s_);
+  controller_.Step(state_, reference_, loop_force_n, control_period_s_, output_);
+  const dut_fw::GraspOutput<S> grasp =
+      grasp_params_valid_
+          ? dut_fw::StepGraspControllerWithValidParams(grasp_params_, grasp_state_, grasp_command_,
+                                                       tactile.grasp_n, tactile.valid,
+                                                       control_period_s_)
+          : dut_fw::StepGraspController(grasp_params_, grasp_state_, grasp_command_,
+                                        tactile.grasp_n, tactile.valid, control_period_s_);
   ActuatorMessage command;
   command.stamp = {commands_sent_++, now_ns};
   command.answers_sequence = tick;
   for (std::size_t i = 0; i < command.rotor_thrust_n.size(); ++i) {
-    command.rotor_thrust_n[i] = double(output.rotor_thrust_n[i]);
+    command.rotor_thrust_n[i] = double(output_.rotor_thrust_n[i]);
   }
-  command.armed = output.armed;
+  command.armed = output_.armed;
   command.servo_angle_rad = double(grasp.servo_angle_rad);
   command.estimated_position_m = state_.estimator.position_m.template cast<double>();
   command.tactile_ready = tactile.valid;

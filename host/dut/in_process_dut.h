@@ -49,7 +49,12 @@ class BasicInProcessDut final : public DutPort {
   dut_fw::FlightController<S> controller_;
   dut_fw::FlightControllerState<S> state_;
   dut_fw::Reference<S> reference_;
-  dut_fw::GraspAdmittanceParams<S> grasp_params_;
+  dut_fw::FlightControllerOutput<S> output_;  // filled in place by every control step
+  const dut_fw::GraspAdmittanceParams<S> grasp_params_;
+  // GraspParamsValid(grasp_params_), checked once here: the parameters never change, so a valid
+  // set takes the step without the per-step check and an invalid one the checked step (which
+  // commands the open angle and counts every step as rejected).
+  const bool grasp_params_valid_;
   dut_fw::GraspControllerState<S> grasp_state_;
   dut_fw::GraspCommand<S> grasp_command_;
   bool external_force_in_position_loop_;

@@ -125,6 +125,25 @@ TYPED_TEST(AdmittanceTest, NonFiniteForceIsIgnoredAndCounted) {
   EXPECT_EQ(desired.position_m, SomeReference<S>().position_m);
 }
 
+TYPED_TEST(AdmittanceTest, InPlaceStepReportsWhetherTheForceWasFinite) {
+  using S = TypeParam;
+  const AdmittanceParams<S> params = Params<S>(S(1), S(12), S(36));
+  AdmittanceState<S> state;
+  Reference<S> desired;
+
+  const bool nan_used = StepAdmittanceInto<S>(
+      params, state, SomeReference<S>(), Vec3<S>(S(1), std::numeric_limits<S>::quiet_NaN(), S(0)),
+      S(1e-3), desired);
+  const bool finite_used = StepAdmittanceInto<S>(params, state, SomeReference<S>(),
+                                                 Vec3<S>(S(2), S(0), S(0)), S(1e-3), desired);
+
+  EXPECT_FALSE(nan_used);
+  EXPECT_TRUE(finite_used);
+  // The one finite step: rate 2 N / 1 kg * 1 ms = 2 mm/s, offset 2 mm/s * 1 ms = 2 µm.
+  EXPECT_NEAR(desired.position_m.x(), 1.000002, 1e-6);
+  EXPECT_EQ(desired.yaw_rad, S(0.3));
+}
+
 TYPED_TEST(AdmittanceTest, NonPositiveDtHoldsTheOffset) {
   using S = TypeParam;
   const AdmittanceParams<S> params = Params<S>(S(1), S(12), S(36));

@@ -180,6 +180,24 @@ TYPED_TEST(FlightControllerTest, DisarmedUntilTheEstimatorIsInitialized) {
   for (S t : out.rotor_thrust_n) EXPECT_EQ(t, S(0));
 }
 
+TYPED_TEST(FlightControllerTest, InPlaceStepOverwritesAStaleArmedOutput) {
+  using S = TypeParam;
+  const FlightController<S> controller(DefaultFlightControllerParams<S>(S(kMassKg)));
+  FlightControllerState<S> armed_state;
+  SettleAtHover(controller, armed_state);
+  FlightControllerOutput<S> out;
+  controller.Step(armed_state, HoverAt<S>(0, 0, 1), Vec3<S>::Zero(), S(1e-3), out);
+  ASSERT_TRUE(out.armed);
+  FlightControllerState<S> fresh_state;
+
+  controller.Step(fresh_state, HoverAt<S>(0, 0, 2), Vec3<S>::Zero(), S(1e-3), out);
+
+  EXPECT_FALSE(out.armed);
+  for (S t : out.rotor_thrust_n) EXPECT_EQ(t, S(0));
+  EXPECT_EQ(out.collective_thrust_n, S(0));
+  EXPECT_EQ(out.desired.position_m.z(), S(2));
+}
+
 TYPED_TEST(FlightControllerTest, HoverStepSplitsTheWeightEqually) {
   using S = TypeParam;
   const FlightController<S> controller(DefaultFlightControllerParams<S>(S(kMassKg)));

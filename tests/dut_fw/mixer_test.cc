@@ -42,6 +42,29 @@ TYPED_TEST(MixerTest, AllocationMatrixMatchesTheSharedLayout) {
   EXPECT_NEAR(m(3, 2), 0.016, 1e-7);
 }
 
+TYPED_TEST(MixerTest, ConstantsAreTheInverseRowNorms) {
+  using S = TypeParam;
+
+  const MixerConstants<S> c = MixerConstantsOf(Geometry<S>());
+
+  // a = 0.1/√2, so 1/(4a) = √2/0.4 = 3.5355339...; 4κ = 0.064.
+  EXPECT_NEAR(c.inv_4a, 3.5355339059327378, 1e-6);
+  EXPECT_NEAR(c.four_kappa_m, 0.064, 1e-8);
+  EXPECT_EQ(c.max_thrust_per_rotor_n, S(4));
+}
+
+TYPED_TEST(MixerTest, MixIntoOverwritesEveryRotor) {
+  using S = TypeParam;
+  std::array<S, 4> thrust_n = {S(9), S(9), S(9), S(9)};
+
+  MixInto<S>(MixerConstantsOf(Geometry<S>()), S(8), Vec3<S>::Zero(), thrust_n);
+
+  for (S t : thrust_n) EXPECT_EQ(t, S(2));
+  MixInto<S>(MixerConstantsOf(Geometry<S>()), std::numeric_limits<S>::quiet_NaN(), Vec3<S>::Zero(),
+             thrust_n);
+  for (S t : thrust_n) EXPECT_EQ(t, S(0));
+}
+
 TYPED_TEST(MixerTest, PureCollectiveSplitsEqually) {
   using S = TypeParam;
 

@@ -13,6 +13,15 @@ namespace {
 
 constexpr double kControlPeriodS = 1e-3;
 
+// Regulate the grasp at 0.6 N from a 0.5 rad reference angle.
+SetpointMessage GraspSetpoint() {
+  SetpointMessage setpoint;
+  setpoint.grasp_regulate = true;
+  setpoint.grasp_force_n = 0.6;
+  setpoint.grasp_reference_angle_rad = 0.5;
+  return setpoint;
+}
+
 class InProcessDutTest : public ::testing::Test {
  protected:
   InProcessDutTest()
@@ -95,11 +104,8 @@ TEST_F(InProcessDutTest, KeepsTheFrameOpenUntilAGraspIsCommanded) {
 // mission's reference angle instead of winding the servo closed on a force it cannot see.
 TEST_F(InProcessDutTest, GraspWithoutAForceEstimateHoldsTheReferenceAngle) {
   HoverFor(1);
-  SetpointMessage setpoint;
+  SetpointMessage setpoint = GraspSetpoint();
   setpoint.position_m = Eigen::Vector3d(0, 0, 1);
-  setpoint.grasp_regulate = true;
-  setpoint.grasp_force_n = 0.6;
-  setpoint.grasp_reference_angle_rad = 0.5;
   dut_.SendSetpoint(setpoint);
   ActuatorMessage command;
   for (int i = 2; i < 50; ++i) command = dut_.Step(i, i * 1'000'000).value();
@@ -113,12 +119,21 @@ TEST(InProcessDutAblationTest, WithoutForceFeedbackTheGraspClosesTheFrameOpenLoo
   firmware.grasp.force_feedback = false;
   firmware.grasp.closed_angle_rad = 1.4;
   InProcessDut dut(firmware, bus.Connect("dut"), kControlPeriodS);
-  SetpointMessage setpoint;
-  setpoint.grasp_regulate = true;
-  setpoint.grasp_force_n = 0.6;
-  setpoint.grasp_reference_angle_rad = 0.5;
-  dut.SendSetpoint(setpoint);
+  dut.SendSetpoint(GraspSetpoint());
   EXPECT_DOUBLE_EQ(dut.Step(0, 0).value().servo_angle_rad, 1.4);
+}
+
+TEST(InProcessDutInvalidParamsTest, InvalidGraspParamsCommandTheOpenAngleEveryStep) {
+  rig::EmulatedBus bus;
+  DutFirmware firmware{FirmwareParamsFor(QuadrotorParams{}), std::nullopt, {}, true};
+  firmware.grasp.open_angle_rad = 0.2;
+  firmware.grasp.mass = std::numeric_limits<double>::quiet_NaN();
+  InProcessDut dut(firmware, bus.Connect("dut"), kControlPeriodS);
+  dut.SendSetpoint(GraspSetpoint());
+
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(dut.Step(i, i * 1'000'000).value().servo_angle_rad, 0.2);
+  }
 }
 
 }  // namespace
