@@ -168,7 +168,7 @@ struct SweepOptions {
   std::optional<double> duration_s;  // cut every run of the scene to this; --quick: 3 s
   // Runs cheaper than cheap_run_wall_s are timed this often more without sinks, in rounds over
   // the scene's runs (fastest kept); <= 1: every run is timed by its captured run alone.
-  int timing_repeats = 5;
+  int timing_repeats = 20;
   ParetoTolerance tolerance;
   double cheap_run_wall_s = 2.0;
   std::ostream* progress = nullptr;  // a line per run

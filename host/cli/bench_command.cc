@@ -20,13 +20,14 @@ namespace fs = std::filesystem;
 
 constexpr const char* kBenchUsage =
     "usage: hilrig bench --out DIR [--scenes balloon_grasp,load_ramp|all] [--scenarios DIR]\n"
-    "                    [--duration-s S] [--quick]\n";
+    "                    [--duration-s S] [--timing-repeats N] [--quick]\n";
 constexpr int kPlotColumns = 3;
 
 struct BenchOptions {
   fs::path out_dir;
   std::vector<std::string> scene_files;
   std::optional<double> duration_s;
+  std::optional<int> timing_repeats;
   bool quick = false;
 };
 
@@ -74,12 +75,29 @@ rig::Result<double> ParseDuration(const std::string& text) {
   return value;
 }
 
+// How often each cheap run is timed again (the fastest kept): 1..1000.
+rig::Result<int> ParseTimingRepeats(const std::string& text) {
+  std::size_t used = 0;
+  int value = 0;
+  try {
+    value = std::stoi(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || text.empty() || value < 1 || value > 1000) {
+    return rig::MakeError("--timing-repeats must be a whole number from 1 to 1000, got \"" + text +
+                          "\"");
+  }
+  return value;
+}
+
 rig::Result<BenchOptions> ParseBenchOptions(std::vector<std::string> args) {
   BenchOptions options;
   const auto quick = std::remove(args.begin() + 1, args.end(), std::string("--quick"));
   options.quick = quick != args.end();
   args.erase(quick, args.end());
-  auto parsed = ParseCliArgs(args, {"--out", "--scenes", "--scenarios", "--duration-s"});
+  auto parsed =
+      ParseCliArgs(args, {"--out", "--scenes", "--scenarios", "--duration-s", "--timing-repeats"});
   if (!parsed) return parsed.error();
   const CliArgs& cli = parsed.value();
   if (!cli.positional.empty()) return rig::MakeError("unexpected argument " + cli.positional[0]);
@@ -102,6 +120,11 @@ rig::Result<BenchOptions> ParseBenchOptions(std::vector<std::string> args) {
     auto value = ParseDuration(*duration);
     if (!value) return value.error();
     options.duration_s = value.value();
+  }
+  if (const std::string* repeats = cli.Option("--timing-repeats")) {
+    auto value = ParseTimingRepeats(*repeats);
+    if (!value) return value.error();
+    options.timing_repeats = value.value();
   }
   return options;
 }
@@ -149,6 +172,7 @@ int BenchCommand(const std::vector<std::string>& args, const CliStreams& io) {
   // A quick sweep is for tests: one timed run each, since every run's setup (field maps) costs
   // more than its 3 s of stepping.
   if (options.quick) sweep.timing_repeats = 1;
+  if (options.timing_repeats) sweep.timing_repeats = *options.timing_repeats;
   std::vector<SceneResult> scenes;
   for (const auto& [file, spec] : specs) {
     io.out << "== " << file << "\n";

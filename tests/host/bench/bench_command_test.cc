@@ -106,6 +106,29 @@ TEST_F(BenchCommandTest, NaNDurationIsBadInput) {
             kExitBadInput);
 }
 
+TEST_F(BenchCommandTest, TimingRepeatsOutsideOneToAThousandAreBadInput) {
+  for (const char* repeats : {"0", "-3", "1001", "2.5", "x", ""}) {
+    const CliResult result =
+        Cli({"bench", "--out", out_dir_.string(), "--timing-repeats", repeats});
+
+    EXPECT_EQ(result.exit_code, kExitBadInput) << repeats;
+    EXPECT_THAT(result.err, HasSubstr("--timing-repeats must be a whole number")) << repeats;
+  }
+}
+
+// --timing-repeats overrides --quick's single timing: every cheap run is timed that often.
+TEST_F(BenchCommandTest, TimingRepeatsSetHowOftenEachRunIsTimed) {
+  const CliResult result =
+      Cli({"bench", "--quick", "--duration-s", "0.5", "--timing-repeats", "3", "--scenes",
+           "load_ramp", "--scenarios", kScenarios, "--out", out_dir_.string()});
+  const auto rows = ReadCsv(out_dir_ / "work_precision.csv");
+
+  ASSERT_EQ(result.exit_code, kExitPass) << result.err;
+  ASSERT_GT(rows.size(), 2u);
+  const std::size_t timing_runs = Column(rows[0], "timing_runs");
+  for (std::size_t i = 2; i < rows.size(); ++i) EXPECT_EQ(rows[i][timing_runs], "3") << i;
+}
+
 TEST_F(BenchCommandTest, MissingOutIsBadInput) {
   const CliResult result = Cli({"bench", "--quick"});
 
