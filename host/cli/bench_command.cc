@@ -1,6 +1,7 @@
 #include "host/cli/bench_command.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <optional>
@@ -75,16 +76,11 @@ rig::Result<double> ParseDuration(const std::string& text) {
   return value;
 }
 
-// How often each cheap run is timed again (the fastest kept): 1..1000.
+// How often each cheap run is timed again (the fastest kept): 1..1000, whole text (as ParseSeed).
 rig::Result<int> ParseTimingRepeats(const std::string& text) {
-  std::size_t used = 0;
   int value = 0;
-  try {
-    value = std::stoi(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || text.empty() || value < 1 || value > 1000) {
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc() || end != text.data() + text.size() || value < 1 || value > 1000) {
     return rig::MakeError("--timing-repeats must be a whole number from 1 to 1000, got \"" + text +
                           "\"");
   }

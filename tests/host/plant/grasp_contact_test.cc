@@ -227,9 +227,12 @@ TEST(SeriesContactTest, KeptSolveIsReturnedOnlyAtItsOwnOverlap) {
   const double reference = ReferenceSeriesForce(628.0, 1.0, 0.010, kPadK, 0.0, next);
   EXPECT_NEAR(SolveSeriesContact(object, kPadK, 0.0, next, seed).force_n, reference,
               1e-9 * reference);
-  // A hand-made seed at the same overlap keeps no solve: it only starts the iteration.
+  // A hand-made seed at the same overlap keeps no solve: it only starts the iteration, which
+  // converges to the force there.
   const SeriesSeed hand_made{2e-3, 1.5e-3, 0.9};
-  EXPECT_FALSE(hand_made.has_solve);
+  const double at_seed = ReferenceSeriesForce(628.0, 1.0, 0.010, kPadK, 0.0, 2e-3);
+  EXPECT_NEAR(SolveSeriesContact(object, kPadK, 0.0, 2e-3, hand_made).force_n, at_seed,
+              1e-9 * at_seed);
 }
 
 TEST(GraspSceneConstantsTest, FirstPadDirectionAndUsability) {
