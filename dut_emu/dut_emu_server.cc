@@ -8,6 +8,7 @@
 #include <chrono>
 #include <span>
 
+#include "dut_emu/staged_can_bus.h"
 #include "host/dut/in_process_dut.h"
 #include "host/link/dut_config_codec.h"
 #include "host/link/hil_link_codec.h"
@@ -42,57 +43,6 @@ std::vector<std::string> Split(const std::string& text, char separator) {
     start = at + 1;
   }
 }
-
-// The DUT's bus as InProcessDut sees it. In lockstep the frames of a step are first staged (the
-// server waits until all announced frames are in) and stamped with the runner's times; Receive
-// then hands over exactly those. Frames nobody announced (a bench with real sensor nodes) pass
-// straight through with the inner bus's own stamps.
-class StagedCanBus final : public rig::CanBus {
- public:
-  explicit StagedCanBus(std::unique_ptr<rig::CanBus> inner) : inner_(std::move(inner)) {}
-
-  std::size_t Pump(std::int64_t now_ns) { return inner_->Receive(now_ns, staged_); }
-  std::size_t staged() const { return staged_.size(); }
-  // Frames handed to the DUT so far, staged or not: what its commands say they consumed.
-  std::uint64_t handed_over() const { return handed_over_; }
-  // Gives the step's frames the runner's times. In lockstep exactly those frames are staged. In
-  // real time late frames of earlier steps come first (they keep the time they were seen), and a
-  // shortfall is this step's last frames, still on their way.
-  void Restamp(std::span<const std::int64_t> times_ns) {
-    const std::size_t first =
-        staged_.size() > times_ns.size() ? staged_.size() - times_ns.size() : 0;
-    for (std::size_t i = 0; first + i < staged_.size() && i < times_ns.size(); ++i) {
-      staged_[first + i].time_ns = times_ns[i];
-    }
-  }
-
-  rig::Result<void> Send(const rig::CanFrame& frame, std::int64_t now_ns) override {
-    return inner_->Send(frame, now_ns);
-  }
-  std::size_t Receive(std::int64_t now_ns, std::vector<rig::TimedCanFrame>& out) override {
-    const std::size_t staged = staged_.size();
-    out.insert(out.end(), staged_.begin(), staged_.end());
-    staged_.clear();
-    const std::size_t handed = staged + inner_->Receive(now_ns, out);
-    handed_over_ += handed;
-    return handed;
-  }
-  void SetFilters(std::span<const rig::CanFilter> filters) override { inner_->SetFilters(filters); }
-  void SetReceiveErrorFrames(bool enabled) override { inner_->SetReceiveErrorFrames(enabled); }
-  void SetErrorFrameMask(std::uint32_t class_mask) override {
-    inner_->SetErrorFrameMask(class_mask);
-  }
-  rig::Result<void> SetReceiveOwnFrames(bool enabled) override {
-    return inner_->SetReceiveOwnFrames(enabled);
-  }
-  rig::BusState state() const override { return inner_->state(); }
-  rig::BusCounters counters() const override { return inner_->counters(); }
-
- private:
-  std::unique_ptr<rig::CanBus> inner_;
-  std::vector<rig::TimedCanFrame> staged_;
-  std::uint64_t handed_over_ = 0;
-};
 
 // The wait for a real-time step's frames: one control period (the answer is late after that
 // anyway), within sane bounds, and never longer than the lockstep wait.
@@ -207,7 +157,11 @@ rig::Result<void> Session::Handshake(std::unique_ptr<rig::CanBus> bus) {
   }
   auto setup = host::FromDutConfig(config.value().config());
   if (!setup) return rig::MakeError("bad firmware configuration: " + setup.error().message);
-  auto staged = std::make_unique<StagedCanBus>(std::move(bus));
+  // The runner announces every frame it forwards over UDP; nobody announces a real bus's frames.
+  const UnannouncedFrames unannounced = options_.can.kind == CanSpec::Kind::kSocketCan
+                                            ? UnannouncedFrames::kPassThrough
+                                            : UnannouncedFrames::kEarly;
+  auto staged = std::make_unique<StagedCanBus>(std::move(bus), unannounced);
   bus_ = staged.get();
   dut_ = std::make_unique<host::InProcessDut>(setup.value().firmware, std::move(staged),
                                               setup.value().control_period_s);
@@ -223,26 +177,27 @@ rig::Result<void> Session::WaitForFrames(const proto::StepRequest& step) {
                           std::to_string(expected) + " CAN frames but carries " +
                           std::to_string(step.can_frame_time_ns_size()) + " frame times");
   }
+  bus_->Announce({step.can_frame_time_ns().data(), static_cast<std::size_t>(expected)});
   // The frames are already on their way over loopback; short naps until they are in, bounded.
+  // Frames that came ahead of this request (a DUT that fell behind) are matched already.
   const std::chrono::nanoseconds wait =
       step.realtime() ? realtime_frame_wait_
                       : std::chrono::milliseconds(options_.frame_wait_timeout_ms);
   const auto deadline = std::chrono::steady_clock::now() + wait;
   const timespec nap{0, 20'000};
   bus_->Pump(step.now_ns());
-  while (bus_->staged() < expected && std::chrono::steady_clock::now() < deadline) {
+  while (bus_->missing() > 0 && std::chrono::steady_clock::now() < deadline) {
     ::nanosleep(&nap, nullptr);
     bus_->Pump(step.now_ns());
   }
   if (step.realtime()) {
     // The runner did not wait; neither does the DUT. Late frames reach a later step.
-    if (bus_->staged() < expected) ++frame_waits_expired_;
-  } else if (bus_->staged() != expected) {
-    return rig::MakeError("tick " + std::to_string(step.tick()) + ": " +
-                          std::to_string(bus_->staged()) + " CAN frames arrived, the runner sent " +
-                          std::to_string(expected));
+    if (bus_->missing() > 0) ++frame_waits_expired_;
+  } else if (bus_->missing() > 0 || bus_->early() > 0) {
+    const std::uint64_t arrived = expected - bus_->missing() + bus_->early();
+    return rig::MakeError("tick " + std::to_string(step.tick()) + ": " + std::to_string(arrived) +
+                          " CAN frames arrived, the runner sent " + std::to_string(expected));
   }
-  bus_->Restamp({step.can_frame_time_ns().data(), static_cast<std::size_t>(expected)});
   return {};
 }
 

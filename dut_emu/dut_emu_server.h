@@ -7,7 +7,8 @@
 // on the emulated bus; the server waits for exactly those frames (the bus and the link are separate
 // channels) and hands them to the DUT with those times, so both runs see the same inputs. In a
 // real-time run the runner does not wait for the answer, so the server waits for the frames at
-// most one control period and then steps with what arrived (counted). Each command says what the
+// most one control period and then steps with what arrived (counted); frames a DUT that fell behind
+// finds ahead of their request wait for it (staged_can_bus.h). Each command says what the
 // DUT had consumed (last IMU / VIO / setpoint sequence, CAN frames), from which the runner measures
 // response latency per stream.
 //

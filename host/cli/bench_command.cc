@@ -1,7 +1,6 @@
 #include "host/cli/bench_command.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <optional>
@@ -76,17 +75,6 @@ rig::Result<double> ParseDuration(const std::string& text) {
   return value;
 }
 
-// How often each cheap run is timed again (the fastest kept): 1..1000, whole text (as ParseSeed).
-rig::Result<int> ParseTimingRepeats(const std::string& text) {
-  int value = 0;
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (error != std::errc() || end != text.data() + text.size() || value < 1 || value > 1000) {
-    return rig::MakeError("--timing-repeats must be a whole number from 1 to 1000, got \"" + text +
-                          "\"");
-  }
-  return value;
-}
-
 rig::Result<BenchOptions> ParseBenchOptions(std::vector<std::string> args) {
   BenchOptions options;
   const auto quick = std::remove(args.begin() + 1, args.end(), std::string("--quick"));
@@ -118,7 +106,7 @@ rig::Result<BenchOptions> ParseBenchOptions(std::vector<std::string> args) {
     options.duration_s = value.value();
   }
   if (const std::string* repeats = cli.Option("--timing-repeats")) {
-    auto value = ParseTimingRepeats(*repeats);
+    auto value = ParseWholeNumberOption("--timing-repeats", *repeats, 1, 1000);
     if (!value) return value.error();
     options.timing_repeats = value.value();
   }

@@ -23,6 +23,7 @@
 #include "host/scenario/scenario_config.h"
 #include "host/scenario/scenario_loader.h"
 #include "rig/clock.h"
+#include "rig/realtime_scheduling.h"
 
 namespace hilrig::host {
 namespace {
@@ -38,6 +39,8 @@ constexpr const char* kUsage =
     "      (how long a dut process may take to answer a tick; default 1) [--realtime]\n"
     "      (pace the run by the wall clock, the DUT answering asynchronously; reports loop\n"
     "      period, late ticks and DUT latency and grades the spec's timing envelopes)\n"
+    "      [--rt-priority N] (the real-time loop and its dut process run under SCHED_FIFO\n"
+    "      at N, 1-99, default 50; 0 keeps the default scheduler; refused: a warning)\n"
     "  hilrig check FILE.textproto...                     validate scenario specs\n"
     "  hilrig bench --out DIR [--scenes a,b|all] [--duration-s S] [--quick]\n"
     "                                                     work-precision sweep\n"
@@ -52,14 +55,19 @@ constexpr const char* kUsage =
     "~/.cache/hilrig/reference); --no-reference skips it. Exit codes: 0 every check met its\n"
     "expected verdict, 1 a check did not or the run was cut short, 2 bad input or usage.\n";
 
+// SCHED_FIFO priority of a real-time run unless --rt-priority says otherwise: the middle of the
+// range, the default of ros2_control's controller manager.
+constexpr int kDefaultRealtimePriority = 50;
+
 struct RunOptions {
   std::string target;
   std::optional<std::string> out_dir;
   std::optional<std::uint64_t> seed;
   bool reference = true;  // --no-reference: do not compare with the reference run
-  std::optional<std::string> reference_cache_dir;  // --reference-cache
-  DutFactory dut_factory;                          // --dut process; unset: in process
-  bool realtime = false;                           // --realtime: paced by the wall clock
+  std::optional<std::string> reference_cache_dir;    // --reference-cache
+  DutFactory dut_factory;                            // --dut process; unset: in process
+  bool realtime = false;                             // --realtime: paced by the wall clock
+  int realtime_priority = kDefaultRealtimePriority;  // --rt-priority; 0: default scheduler
 };
 
 using Streams = CliStreams;
@@ -122,8 +130,8 @@ rig::Result<RunOptions> ParseRunOptions(std::vector<std::string> args) {
   if (with_reference && without_reference) {
     return rig::MakeError("--reference and --no-reference contradict each other");
   }
-  auto parsed =
-      ParseCliArgs(args, {"--out", "--seed", "--dut", "--dut-timeout-s", "--reference-cache"});
+  auto parsed = ParseCliArgs(
+      args, {"--out", "--seed", "--dut", "--dut-timeout-s", "--reference-cache", "--rt-priority"});
   if (!parsed) return parsed.error();
   const CliArgs& cli = parsed.value();
   if (cli.positional.size() != 1) {
@@ -141,6 +149,12 @@ rig::Result<RunOptions> ParseRunOptions(std::vector<std::string> args) {
     auto seed = ParseSeed(*seed_text);
     if (!seed) return seed.error();
     options.seed = seed.value();
+  }
+  if (const std::string* priority = cli.Option("--rt-priority")) {
+    if (!realtime) return rig::MakeError("--rt-priority applies to --realtime runs only");
+    auto value = ParseWholeNumberOption("--rt-priority", *priority, 0, rig::kMaxFifoPriority);
+    if (!value) return value.error();
+    options.realtime_priority = value.value();
   }
   auto dut = ParseDutOptions(cli, realtime);
   if (!dut) return dut.error();
@@ -191,9 +205,23 @@ rig::Result<proto::Report> RunToDirectory(const proto::Scenario& spec, const std
     plot_trace.Add(sample);
     if (reference != nullptr) captured.Add(sample);
   };
+  std::optional<rig::ScopedFifoScheduling> scheduling;
+  if (options.realtime && options.realtime_priority > 0) {
+    // Before the run starts its dut process, which inherits the policy.
+    scheduling.emplace(options.realtime_priority);
+    if (!scheduling->granted()) {
+      io.err << spec_path << ": " << scheduling->description()
+             << "; the timing figures are the default scheduler's\n";
+    }
+  }
   proto::Report report = RunScenario(config, {&trace, &can_log, &io.err, keep_sample},
                                      {&wall_clock, io.stop_requested, options.dut_factory,
                                       options.realtime ? &wall_clock : nullptr});
+  if (options.realtime) {
+    report.mutable_timing()->set_scheduling(scheduling ? scheduling->description()
+                                                       : "default scheduler (--rt-priority 0)");
+  }
+  scheduling.reset();  // writing files and plots is no real-time work
   report.set_spec_file(spec_path);
   // Calibrating at start and tabulating field maps happen before the first tick; the real-time
   // factor is the stepping loop's, and this is the rest.

@@ -34,4 +34,15 @@ rig::Result<std::uint64_t> ParseSeed(const std::string& text) {
   return seed;
 }
 
+rig::Result<int> ParseWholeNumberOption(const std::string& option, const std::string& text, int min,
+                                        int max) {
+  int value = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc() || end != text.data() + text.size() || value < min || value > max) {
+    return rig::MakeError(option + " must be a whole number from " + std::to_string(min) + " to " +
+                          std::to_string(max) + ", got \"" + text + "\"");
+  }
+  return value;
+}
+
 }  // namespace hilrig::host

@@ -33,4 +33,8 @@ rig::Result<CliArgs> ParseCliArgs(const std::vector<std::string>& args,
 
 rig::Result<std::uint64_t> ParseSeed(const std::string& text);
 
+// The value of `option`: a whole number from `min` to `max`, the whole text and nothing else.
+rig::Result<int> ParseWholeNumberOption(const std::string& option, const std::string& text, int min,
+                                        int max);
+
 }  // namespace hilrig::host

@@ -190,6 +190,7 @@ std::vector<std::string> FormatRealtimeTiming(const proto::Timing& timing) {
                 static_cast<unsigned long long>(timing.dut_commands_missed()),
                 static_cast<unsigned long long>(timing.control_ticks()));
   lines.emplace_back(buffer);
+  if (!timing.scheduling().empty()) lines.push_back("scheduling: " + timing.scheduling());
   if (timing.dut_latency_size() == 0) lines.emplace_back("dut latency: not measured by this DUT");
   for (const proto::StreamLatency& stream : timing.dut_latency()) {
     std::snprintf(buffer, sizeof(buffer),

@@ -216,6 +216,25 @@ TEST_F(DutEmuServerTest, RealtimeFrameThatComesLateReachesALaterStep) {
   EXPECT_EQ(consumed, 1u);
 }
 
+// A DUT that fell behind finds later steps' frames already in its socket: each step still
+// consumes only the frames it announces, without waiting for any.
+TEST_F(DutEmuServerTest, RealtimeFramesAheadOfTheirRequestWaitForIt) {
+  StartServer();
+  Handshake();
+  const std::array<std::uint8_t, 1> payload = {9};
+  ASSERT_TRUE(can_->Send(rig::CanFrame::Classic(0x55, payload), 900'000).ok());
+  ASSERT_TRUE(can_->Send(rig::CanFrame::Classic(0x56, payload), 1'900'000).ok());
+  ASSERT_TRUE(link_->Send(StepRequest(1, 1'000'000, {900'000}, true)).ok());
+  ASSERT_TRUE(link_->Send(StepRequest(2, 2'000'000, {1'900'000}, true)).ok());
+  const LinkReceived first = link_->Receive(kWaitMs);
+  const LinkReceived second = link_->Receive(kWaitMs);
+  ASSERT_EQ(first.status, LinkReceiveStatus::kMessage) << log_.str();
+  ASSERT_EQ(second.status, LinkReceiveStatus::kMessage) << log_.str();
+  EXPECT_EQ(first.message.command().can_frames_consumed(), 1u);
+  EXPECT_EQ(second.message.command().can_frames_consumed(), 2u);
+  EXPECT_EQ(second.message.command().can_frame_waits_expired(), 0u);
+}
+
 TEST_F(DutEmuServerTest, RefusesARunnerOfAnotherProtocolVersion) {
   StartServer();
   Handshake(99);

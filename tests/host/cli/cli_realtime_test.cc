@@ -67,6 +67,27 @@ TEST_F(CliRealtimeTest, RealtimeTakesNoValue) {
   EXPECT_THAT(run.err, HasSubstr("--dut \"bogus\""));  // the flag did not swallow the spec path
 }
 
+TEST_F(CliRealtimeTest, PriorityWithoutRealtimeOrOutOfRangeExitsTwo) {
+  const CliResult lockstep = Cli({"run", spec_, "--rt-priority", "50"});
+  EXPECT_EQ(lockstep.exit_code, kExitBadInput);
+  EXPECT_THAT(lockstep.err, HasSubstr("--rt-priority applies to --realtime runs only"));
+  for (const char* bad : {"100", "-1", "5.5", "high", ""}) {
+    const CliResult run = Cli({"run", spec_, "--realtime", "--rt-priority", bad});
+    EXPECT_EQ(run.exit_code, kExitBadInput) << bad;
+    EXPECT_THAT(run.err, HasSubstr("--rt-priority must be a whole number from 0 to 99, got \"" +
+                                   std::string(bad) + "\""));
+  }
+}
+
+TEST_F(CliRealtimeTest, PriorityZeroKeepsTheDefaultSchedulerAndSaysSo) {
+  const CliResult run =
+      Cli({"run", spec_, "--realtime", "--rt-priority", "0", "--out", (dir_ / "out").string()});
+
+  EXPECT_EQ(run.exit_code, kExitPass) << run.out << run.err;
+  EXPECT_EQ(ReadReport().timing().scheduling(), "default scheduler (--rt-priority 0)");
+  EXPECT_THAT(run.out, HasSubstr("scheduling: default scheduler (--rt-priority 0)"));
+}
+
 TEST_F(CliRealtimeTest, HelpNamesTheFlag) {
   const CliResult help = Cli({"help"});
 
@@ -110,6 +131,13 @@ TEST_F(CliRealtimeTest, ShortRealtimeRunReportsItsTiming) {
   EXPECT_GE(report.wall_s(), 1.99);  // tick 1999 was due at 1.999 s
   EXPECT_NEAR(report.real_time_factor(), 1.0, 0.1);
   EXPECT_EQ(report.timing_checks_size(), 4);
+  // SCHED_FIFO at the default priority where the machine grants it, else the refusal, warned.
+  if (timing.scheduling() != "SCHED_FIFO priority 50") {
+    EXPECT_THAT(timing.scheduling(), ::testing::StartsWith("default scheduler (SCHED_FIFO priority "
+                                                           "50 refused: "));
+    EXPECT_THAT(run.err, HasSubstr("the timing figures are the default scheduler's"));
+  }
+  EXPECT_THAT(run.out, HasSubstr("scheduling: " + timing.scheduling()));
 }
 
 TEST(TimingLinesTest, EvaluatedCheckPrintsItsValueInMicroseconds) {
