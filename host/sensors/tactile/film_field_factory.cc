@@ -1,6 +1,9 @@
 #include "host/sensors/tactile/film_field_factory.h"
 
 #include <charconv>
+#include <map>
+#include <mutex>
+#include <tuple>
 
 #include "host/sensors/tactile/field_map.h"
 #include "host/sensors/tactile/film_magnet.h"
@@ -43,13 +46,25 @@ FieldMapGrid OperatingVolumeMapGrid() {
 rig::Result<std::shared_ptr<const FilmFieldModel>> MakeFilmField(std::string_view fidelity) {
   const auto parsed = ParseFilmFidelity(fidelity);
   if (!parsed) return parsed.error();
-  auto tiled =
-      std::make_shared<const TiledFilmField>(FilmGeometry{}, parsed.value().tiles_per_side);
-  if (!parsed.value().field_map) return std::shared_ptr<const FilmFieldModel>(tiled);
-  const FieldMapGrid grid =
-      parsed.value().operating_volume ? OperatingVolumeMapGrid() : FieldMapGrid{};
-  return std::shared_ptr<const FilmFieldModel>(
-      std::make_shared<const FieldMapFilmField>(tiled, grid));
+  const FilmFidelity& level = parsed.value();
+  // Building a level can take a second (opmap:32 tabulates 11^3 film poses from 1 024 tiles), and
+  // a scenario folder or a bench sweep asks for the same few levels run after run. The models are
+  // immutable and answer a pose the same whatever was asked before, so one instance per level
+  // serves every caller for the life of the process: an exact cache, never a state.
+  static std::mutex mutex;
+  static std::map<std::tuple<bool, int, bool>, std::shared_ptr<const FilmFieldModel>> built;
+  const std::lock_guard<std::mutex> lock(mutex);
+  std::shared_ptr<const FilmFieldModel>& model =
+      built[{level.field_map, level.tiles_per_side, level.operating_volume}];
+  if (model != nullptr) return model;
+  auto tiled = std::make_shared<const TiledFilmField>(FilmGeometry{}, level.tiles_per_side);
+  if (!level.field_map) {
+    model = std::move(tiled);
+  } else {
+    model = std::make_shared<const FieldMapFilmField>(
+        std::move(tiled), level.operating_volume ? OperatingVolumeMapGrid() : FieldMapGrid{});
+  }
+  return model;
 }
 
 }  // namespace hilrig::host

@@ -32,6 +32,8 @@ FieldMapGrid OperatingVolumeMapGrid();
 // Checks a fidelity name without building anything.
 rig::Result<FilmFidelity> ParseFilmFidelity(std::string_view fidelity);
 
+// The model of a level, built the first time the process asks for it and shared from then on
+// (names of one level, "map" and "map:32", share one model).
 rig::Result<std::shared_ptr<const FilmFieldModel>> MakeFilmField(std::string_view fidelity);
 
 }  // namespace hilrig::host
