@@ -2,7 +2,6 @@
 
 #include <google/protobuf/io/coded_stream.h>
 #include <google/protobuf/io/zero_copy_stream_impl_lite.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -10,8 +9,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <sstream>
+
+#include "host/bench/cache_files.h"
 
 namespace hilrig::host {
 namespace {
@@ -21,30 +21,6 @@ namespace fs = std::filesystem;
 constexpr char kMagic[8] = {'H', 'R', 'R', 'E', 'F', '0', '0', '1'};
 // Per sample: time, position x/y/z, grasp force, load.
 constexpr std::size_t kDoublesPerSample = 6;
-
-class Fnv1a64 {
- public:
-  void Add(const void* data, std::size_t size) {
-    const auto* bytes = static_cast<const unsigned char*>(data);
-    for (std::size_t i = 0; i < size; ++i) {
-      hash_ ^= bytes[i];
-      hash_ *= 0x100000001b3ULL;
-    }
-  }
-  void Add(const std::string& text) {
-    const std::uint64_t size = text.size();
-    Add(&size, sizeof(size));  // length first, so that ("ab","c") and ("a","bc") differ
-    Add(text.data(), text.size());
-  }
-  std::string Hex() const {
-    char text[17];
-    std::snprintf(text, sizeof(text), "%016llx", static_cast<unsigned long long>(hash_));
-    return text;
-  }
-
- private:
-  std::uint64_t hash_ = 0xcbf29ce484222325ULL;
-};
 
 std::string DeterministicBytes(const google::protobuf::Message& message) {
   std::string bytes;
@@ -154,29 +130,17 @@ std::string ReferenceCache::PathOf(const std::string& key) const {
 }
 
 std::optional<CachedReference> ReferenceCache::Load(const std::string& key) const {
-  std::ifstream file(PathOf(key), std::ios::binary);
-  if (!file) return std::nullopt;
-  const std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-  return ParseReference(bytes);
+  const std::optional<std::string> bytes = ReadWholeFile(PathOf(key));
+  if (!bytes) return std::nullopt;
+  return ParseReference(*bytes);
 }
 
 rig::Result<void> ReferenceCache::Store(const std::string& key,
                                         const CachedReference& reference) const {
-  std::error_code error;
-  fs::create_directories(directory_, error);
-  if (error) return rig::MakeError("cannot create " + directory_ + ": " + error.message());
-  // A name of this process's own, so that two runs storing the same key at once cannot interleave.
-  const std::string temporary = PathOf(key) + ".tmp" + std::to_string(::getpid());
-  {
-    std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
-    const std::string bytes = SerializeReference(reference);
-    file.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    if (!file.flush()) return rig::MakeError("cannot write " + temporary);
-  }
-  fs::rename(temporary, PathOf(key), error);
-  if (error) {
-    fs::remove(temporary, error);
-    return rig::MakeError("cannot store the reference in " + directory_);
+  if (auto stored = WriteFileAtomically(directory_, PathOf(key), SerializeReference(reference));
+      !stored) {
+    return rig::MakeError("cannot store the reference in " + directory_ + " (" +
+                          stored.error().message + ")");
   }
   return {};
 }

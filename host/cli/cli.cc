@@ -10,6 +10,7 @@
 #include <optional>
 #include <vector>
 
+#include "host/bench/field_map_store.h"
 #include "host/bench/reference_cache.h"
 #include "host/bench/work_precision.h"
 #include "host/cli/bench_command.h"
@@ -52,7 +53,8 @@ constexpr const char* kUsage =
     "run writes report.json, junit.xml, trace.csv and can.log into --out (default\n"
     "hilrig_out/<scenario>) and compares the trace with the scene's reference run (tight\n"
     "integrator and field, kept in a cache per build: --reference-cache DIR, default\n"
-    "~/.cache/hilrig/reference); --no-reference skips it. Exit codes: 0 every check met its\n"
+    "~/.cache/hilrig/reference; DIR/field_maps keeps tabulated field maps, with or without\n"
+    "the reference); --no-reference skips it. Exit codes: 0 every check met its\n"
     "expected verdict, 1 a check did not or the run was cut short, 2 bad input or usage.\n";
 
 // SCHED_FIFO priority of a real-time run unless --rt-priority says otherwise: the middle of the
@@ -68,6 +70,7 @@ struct RunOptions {
   DutFactory dut_factory;                            // --dut process; unset: in process
   bool realtime = false;                             // --realtime: paced by the wall clock
   int realtime_priority = kDefaultRealtimePriority;  // --rt-priority; 0: default scheduler
+  const FieldMapTableStore* field_maps = nullptr;    // tabulated maps kept between runs
 };
 
 using Streams = CliStreams;
@@ -196,6 +199,11 @@ rig::Result<proto::Report> RunToDirectory(const proto::Scenario& spec, const std
   const std::int64_t setup_start_ns = wall_clock.NowNs();
   ScenarioConfig config =
       ResolveScenario(spec, options.seed, fs::path(spec_path).parent_path().string());
+  if (config.hall_sensors.tactile_enabled && options.field_maps != nullptr) {
+    auto film = MakeFilmField(config.hall_sensors.field_fidelity, options.field_maps);
+    if (!film) return rig::MakeError(spec_path + ": " + film.error().message);
+    config.hall_sensors.film_field = std::move(film).value();
+  }
   if (auto calibrated = LoadTactileCalibration(config); !calibrated) {
     return rig::MakeError(spec_path + ": tactile calibration: " + calibrated.error().message);
   }
@@ -372,12 +380,27 @@ int RunFolder(const RunOptions& options, const Streams& io) {
   return exit_code;
 }
 
+// The folder beside the reference cache that keeps tabulated field maps, or none when this
+// executable cannot name itself (the maps are then tabulated every run, as before).
+std::unique_ptr<FileFieldMapStore> MakeFieldMapStore(const RunOptions& options, const Streams& io) {
+  auto identity = ExecutableIdentity();
+  if (!identity) {
+    io.err << "hilrig: field map cache off (" << identity.error().message << ")\n";
+    return nullptr;
+  }
+  const fs::path directory =
+      fs::path(options.reference_cache_dir.value_or(DefaultReferenceCacheDir())) / "field_maps";
+  return std::make_unique<FileFieldMapStore>(directory.string(), identity.value(), &io.err);
+}
+
 int RunCommand(const std::vector<std::string>& args, const Streams& io) {
   auto options = ParseRunOptions(args);
   if (!options) {
     io.err << "hilrig run: " << options.error().message << "\n" << kUsage;
     return kExitBadInput;
   }
+  const std::unique_ptr<FileFieldMapStore> field_maps = MakeFieldMapStore(options.value(), io);
+  options.value().field_maps = field_maps.get();
   const std::string& target = options.value().target;
   std::error_code error;
   if (fs::is_directory(target, error)) return RunFolder(options.value(), io);

@@ -37,14 +37,7 @@ FilmCentreBox PadOperatingVolume(const SiliconeParams& silicone,
 FieldMapFilmField::FieldMapFilmField(std::shared_ptr<const FilmFieldModel> source,
                                      const FieldMapGrid& grid)
     : source_(std::move(source)), grid_(grid) {
-  if (!source_ || (grid.nodes.array() < 2).any() ||
-      !(grid.box.max_m.array() > grid.box.min_m.array()).all()) {
-    std::fprintf(stderr, "FieldMapFilmField: no source or a degenerate grid\n");
-    std::abort();
-  }
-  spacing_m_ = (grid.box.max_m - grid.box.min_m)
-                   .cwiseQuotient((grid.nodes.array() - 1).matrix().cast<double>());
-  stored_ = grid.nodes.array() + 2;
+  SetUpGrid();
   table_.resize(static_cast<size_t>(stored_.prod()));
   FilmPose pose;
   for (int k = 0; k < stored_.z(); ++k) {
@@ -57,6 +50,42 @@ FieldMapFilmField::FieldMapFilmField(std::shared_ptr<const FilmFieldModel> sourc
       }
     }
   }
+}
+
+FieldMapFilmField::FieldMapFilmField(std::shared_ptr<const FilmFieldModel> source,
+                                     const FieldMapGrid& grid, std::vector<Eigen::Vector3d> table)
+    : source_(std::move(source)), grid_(grid), table_(std::move(table)) {
+  SetUpGrid();
+}
+
+void FieldMapFilmField::SetUpGrid() {
+  if (!source_ || (grid_.nodes.array() < 2).any() ||
+      !(grid_.box.max_m.array() > grid_.box.min_m.array()).all()) {
+    std::fprintf(stderr, "FieldMapFilmField: no source or a degenerate grid\n");
+    std::abort();
+  }
+  spacing_m_ = (grid_.box.max_m - grid_.box.min_m)
+                   .cwiseQuotient((grid_.nodes.array() - 1).matrix().cast<double>());
+  stored_ = grid_.nodes.array() + 2;
+}
+
+std::size_t FieldMapFilmField::StoredNodeCount(const FieldMapGrid& grid) {
+  return static_cast<std::size_t>((grid.nodes.array() + 2).prod());
+}
+
+std::shared_ptr<const FieldMapFilmField> FieldMapFilmField::FromTable(
+    std::shared_ptr<const FilmFieldModel> source, const FieldMapGrid& grid,
+    std::vector<Eigen::Vector3d> table) {
+  if (!source || (grid.nodes.array() < 2).any() ||
+      !(grid.box.max_m.array() > grid.box.min_m.array()).all() ||
+      table.size() != StoredNodeCount(grid)) {
+    return nullptr;
+  }
+  for (const Eigen::Vector3d& node : table) {
+    if (!node.allFinite()) return nullptr;
+  }
+  return std::shared_ptr<const FieldMapFilmField>(
+      new FieldMapFilmField(std::move(source), grid, std::move(table)));
 }
 
 const Eigen::Vector3d& FieldMapFilmField::Node(int i, int j, int k) const {

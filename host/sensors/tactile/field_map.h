@@ -56,6 +56,14 @@ class FieldMapFilmField final : public FilmFieldModel {
   // Evaluates source on the grid (plus one layer of nodes outside it, for the cubic stencil).
   explicit FieldMapFilmField(std::shared_ptr<const FilmFieldModel> source,
                              const FieldMapGrid& grid = {});
+  // A map from a table tabulated before (table() of a map of the same source and grid, kept in a
+  // file), evaluating nothing; null when the table has the wrong size for the grid or a non-finite
+  // value.
+  static std::shared_ptr<const FieldMapFilmField> FromTable(
+      std::shared_ptr<const FilmFieldModel> source, const FieldMapGrid& grid,
+      std::vector<Eigen::Vector3d> table);
+  // The nodes the grid stores (grid.nodes + 2 per axis): the size of table().
+  static std::size_t StoredNodeCount(const FieldMapGrid& grid);
 
   // Interpolated inside the grid, the source model outside it.
   Eigen::Vector3d FieldAtChip(const FilmPose& pose) const override;
@@ -64,8 +72,13 @@ class FieldMapFilmField final : public FilmFieldModel {
   std::optional<Eigen::Vector3d> Lookup(const FilmPose& pose) const;
 
   const FieldMapGrid& grid() const { return grid_; }
+  // The field at every stored node, x fastest, then y, then z.
+  const std::vector<Eigen::Vector3d>& table() const { return table_; }
 
  private:
+  FieldMapFilmField(std::shared_ptr<const FilmFieldModel> source, const FieldMapGrid& grid,
+                    std::vector<Eigen::Vector3d> table);
+  void SetUpGrid();
   const Eigen::Vector3d& Node(int i, int j, int k) const;
   // The un-tilted film's field at `centre` from the table, or nothing off the grid.
   std::optional<Eigen::Vector3d> Interpolate(const Eigen::Vector3d& centre) const;

@@ -43,7 +43,15 @@ FieldMapGrid OperatingVolumeMapGrid() {
   return grid;
 }
 
-rig::Result<std::shared_ptr<const FilmFieldModel>> MakeFilmField(std::string_view fidelity) {
+std::string FilmFidelityName(const FilmFidelity& level) {
+  const std::string prefix = !level.field_map         ? "tiles:"
+                             : level.operating_volume ? "opmap:"
+                                                      : "map:";
+  return prefix + std::to_string(level.tiles_per_side);
+}
+
+rig::Result<std::shared_ptr<const FilmFieldModel>> MakeFilmField(std::string_view fidelity,
+                                                                 const FieldMapTableStore* store) {
   const auto parsed = ParseFilmFidelity(fidelity);
   if (!parsed) return parsed.error();
   const FilmFidelity& level = parsed.value();
@@ -60,10 +68,18 @@ rig::Result<std::shared_ptr<const FilmFieldModel>> MakeFilmField(std::string_vie
   auto tiled = std::make_shared<const TiledFilmField>(FilmGeometry{}, level.tiles_per_side);
   if (!level.field_map) {
     model = std::move(tiled);
-  } else {
-    model = std::make_shared<const FieldMapFilmField>(
-        std::move(tiled), level.operating_volume ? OperatingVolumeMapGrid() : FieldMapGrid{});
+    return model;
   }
+  const FieldMapGrid grid = level.operating_volume ? OperatingVolumeMapGrid() : FieldMapGrid{};
+  if (store != nullptr) {
+    if (auto table = store->Load(level, grid)) {
+      model = FieldMapFilmField::FromTable(tiled, grid, std::move(*table));
+      if (model != nullptr) return model;
+    }
+  }
+  auto map = std::make_shared<const FieldMapFilmField>(std::move(tiled), grid);
+  if (store != nullptr) store->Store(level, grid, map->table());
+  model = std::move(map);
   return model;
 }
 

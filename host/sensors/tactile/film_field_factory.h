@@ -7,8 +7,10 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "host/sensors/tactile/field_map.h"
 #include "host/sensors/tactile/film_field.h"
@@ -32,8 +34,26 @@ FieldMapGrid OperatingVolumeMapGrid();
 // Checks a fidelity name without building anything.
 rig::Result<FilmFidelity> ParseFilmFidelity(std::string_view fidelity);
 
+// Where tabulated field maps are kept between processes (host/bench/field_map_store.h keeps them
+// in files; tests use a fake). A map level asks it before tabulating and hands it what it
+// tabulated. Load answers nothing for a table it does not have or cannot read; the table it
+// answers is checked against the grid before use.
+class FieldMapTableStore {
+ public:
+  virtual ~FieldMapTableStore() = default;
+  virtual std::optional<std::vector<Eigen::Vector3d>> Load(const FilmFidelity& level,
+                                                           const FieldMapGrid& grid) const = 0;
+  virtual void Store(const FilmFidelity& level, const FieldMapGrid& grid,
+                     const std::vector<Eigen::Vector3d>& table) const = 0;
+};
+
+// The canonical name of a level ("map" is "map:32").
+std::string FilmFidelityName(const FilmFidelity& level);
+
 // The model of a level, built the first time the process asks for it and shared from then on
-// (names of one level, "map" and "map:32", share one model).
-rig::Result<std::shared_ptr<const FilmFieldModel>> MakeFilmField(std::string_view fidelity);
+// (names of one level, "map" and "map:32", share one model). A map level first asks `store`, if
+// given, for its table, and stores the table it had to tabulate.
+rig::Result<std::shared_ptr<const FilmFieldModel>> MakeFilmField(
+    std::string_view fidelity, const FieldMapTableStore* store = nullptr);
 
 }  // namespace hilrig::host

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <memory>
 #include <random>
 
@@ -93,6 +94,35 @@ TEST(FieldMapTest, OffGridFallsBackToSource) {
     EXPECT_FALSE(looked_up.has_value()) << centre.transpose();
     EXPECT_EQ(b, Source()->FieldAtChip(pose)) << centre.transpose();
   }
+}
+
+TEST(FieldMapTest, MapFromItsOwnTableAnswersBitForBit) {
+  const auto copy = FieldMapFilmField::FromTable(Source(), Map().grid(), Map().table());
+  ASSERT_NE(copy, nullptr);
+  EXPECT_EQ(Map().table().size(), FieldMapFilmField::StoredNodeCount(Map().grid()));
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const FilmCentreBox box = FilmWorkingVolume();
+  for (int i = 0; i < 20; ++i) {
+    FilmPose pose;
+    pose.centre_m =
+        box.min_m +
+        (box.max_m - box.min_m).cwiseProduct(Eigen::Vector3d(unit(rng), unit(rng), unit(rng)));
+    EXPECT_EQ(copy->FieldAtChip(pose), Map().FieldAtChip(pose)) << pose.centre_m.transpose();
+  }
+}
+
+TEST(FieldMapTest, TableOfTheWrongSizeOrWithANonFiniteValueIsRefused) {
+  std::vector<Eigen::Vector3d> short_table = Map().table();
+  short_table.pop_back();
+  EXPECT_EQ(FieldMapFilmField::FromTable(Source(), Map().grid(), short_table), nullptr);
+  std::vector<Eigen::Vector3d> with_nan = Map().table();
+  with_nan[5].y() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(FieldMapFilmField::FromTable(Source(), Map().grid(), with_nan), nullptr);
+  FieldMapGrid flat = Map().grid();
+  flat.box.max_m.z() = flat.box.min_m.z();
+  EXPECT_EQ(FieldMapFilmField::FromTable(Source(), flat, Map().table()), nullptr);
+  EXPECT_EQ(FieldMapFilmField::FromTable(nullptr, Map().grid(), Map().table()), nullptr);
 }
 
 }  // namespace

@@ -46,5 +46,75 @@ TEST(MakeFilmFieldTest, SharedModelAnswersLikeAFreshOne) {
   EXPECT_GT(fresh_t.norm(), 0.0);
 }
 
+// A store in memory: it answers what it was given and records what it was handed.
+class FakeFieldMapStore final : public FieldMapTableStore {
+ public:
+  std::optional<std::vector<Eigen::Vector3d>> Load(const FilmFidelity& level,
+                                                   const FieldMapGrid&) const override {
+    ++loads;
+    if (!answer || FilmFidelityName(level) != answer_level) return std::nullopt;
+    return answer;
+  }
+  void Store(const FilmFidelity& level, const FieldMapGrid& grid,
+             const std::vector<Eigen::Vector3d>& table) const override {
+    stored_level = FilmFidelityName(level);
+    stored_nodes = FieldMapFilmField::StoredNodeCount(grid);
+    stored = table;
+  }
+
+  std::string answer_level;
+  std::optional<std::vector<Eigen::Vector3d>> answer;
+  mutable int loads = 0;
+  mutable std::string stored_level;
+  mutable std::size_t stored_nodes = 0;
+  mutable std::vector<Eigen::Vector3d> stored;
+};
+
+TEST(MakeFilmFieldTest, MapLevelTheStoreLacksIsTabulatedAndHandedToIt) {
+  const FakeFieldMapStore store;
+  const auto model = MakeFilmField("map:3", &store).value();
+
+  EXPECT_EQ(store.loads, 1);
+  EXPECT_EQ(store.stored_level, "map:3");
+  ASSERT_EQ(store.stored.size(), store.stored_nodes);
+  const auto& map = dynamic_cast<const FieldMapFilmField&>(*model);
+  EXPECT_EQ(store.stored, map.table());
+  const FilmPose pose;
+  EXPECT_EQ(
+      model->FieldAtChip(pose),
+      FieldMapFilmField(std::make_shared<TiledFilmField>(FilmGeometry{}, 3)).FieldAtChip(pose));
+}
+
+TEST(MakeFilmFieldTest, MapLevelTheStoreHasIsReadNotTabulated) {
+  FakeFieldMapStore store;
+  store.answer_level = "opmap:3";
+  // A uniform field no film makes: only a map read from the store can answer it.
+  const Eigen::Vector3d uniform_t(1e-3, -2e-3, 3e-3);
+  store.answer = std::vector<Eigen::Vector3d>(
+      FieldMapFilmField::StoredNodeCount(OperatingVolumeMapGrid()), uniform_t);
+  const auto model = MakeFilmField("opmap:3", &store).value();
+
+  EXPECT_TRUE(store.stored.empty()) << "nothing was tabulated";
+  const FilmPose rest;  // the rest pose lies inside the operating volume
+  EXPECT_LT((model->FieldAtChip(rest) - uniform_t).norm(), 1e-15);
+}
+
+TEST(MakeFilmFieldTest, TableThatDoesNotFitTheGridIsTabulatedAgain) {
+  FakeFieldMapStore store;
+  store.answer_level = "opmap:2";
+  store.answer = std::vector<Eigen::Vector3d>(3, Eigen::Vector3d::Zero());
+  const auto model = MakeFilmField("opmap:2", &store).value();
+
+  EXPECT_EQ(store.stored_level, "opmap:2");
+  EXPECT_EQ(store.stored.size(), FieldMapFilmField::StoredNodeCount(OperatingVolumeMapGrid()));
+  EXPECT_GT(model->FieldAtChip(FilmPose{}).norm(), 0.0);
+}
+
+TEST(FilmFidelityTest, CanonicalNames) {
+  EXPECT_EQ(FilmFidelityName(ParseFilmFidelity("map").value()), "map:32");
+  EXPECT_EQ(FilmFidelityName(ParseFilmFidelity("opmap:4").value()), "opmap:4");
+  EXPECT_EQ(FilmFidelityName(ParseFilmFidelity("tiles:16").value()), "tiles:16");
+}
+
 }  // namespace
 }  // namespace hilrig::host

@@ -1,0 +1,63 @@
+#include "host/bench/cache_files.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+namespace hilrig::host {
+
+namespace fs = std::filesystem;
+
+void Fnv1a64::Add(const void* data, std::size_t size) {
+  const auto* bytes = static_cast<const unsigned char*>(data);
+  for (std::size_t i = 0; i < size; ++i) {
+    hash_ ^= bytes[i];
+    hash_ *= 0x100000001b3ULL;
+  }
+}
+
+void Fnv1a64::Add(const std::string& text) {
+  const std::uint64_t size = text.size();
+  Add(&size, sizeof(size));
+  Add(text.data(), text.size());
+}
+
+std::string Fnv1a64::Hex() const {
+  char text[17];
+  std::snprintf(text, sizeof(text), "%016llx", static_cast<unsigned long long>(hash_));
+  return text;
+}
+
+std::optional<std::string> ReadWholeFile(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) return std::nullopt;
+  return std::string((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+}
+
+rig::Result<void> WriteFileAtomically(const std::string& directory, const std::string& path,
+                                      const std::string& bytes) {
+  std::error_code error;
+  fs::create_directories(directory, error);
+  if (error) return rig::MakeError("cannot create " + directory + ": " + error.message());
+  const std::string temporary = path + ".tmp" + std::to_string(::getpid());
+  {
+    std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
+    file.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    if (!file.flush()) {
+      file.close();
+      fs::remove(temporary, error);
+      return rig::MakeError("cannot write " + temporary);
+    }
+  }
+  fs::rename(temporary, path, error);
+  if (error) {
+    fs::remove(temporary, error);
+    return rig::MakeError("cannot store " + path + ": " + error.message());
+  }
+  return {};
+}
+
+}  // namespace hilrig::host

@@ -1,0 +1,80 @@
+// `hilrig run` keeps tabulated field maps beside its reference cache, so that only the first run of
+// a build tabulates them. The maps are shared within a process, so this runs the hilrig executable
+// once per run, as a user does.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "tests/support/test_files.h"
+
+namespace hilrig::host {
+namespace {
+
+namespace fs = std::filesystem;
+
+class CliFieldMapCacheTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = FreshTestDir("hilrig_cli_field_map_cache_");
+    std::ofstream(dir_ / "pads.textproto") << R"(name: "pads"
+seed: 5
+vehicle { initial_position_m { z: 1 } }
+models { tactile { enabled: true field_fidelity: "map:2" zeroing_s: 0.2 } }
+simulation { duration_s: 0.5 }
+envelopes { name: "alt" signal: ALTITUDE_M upper: 2 }
+)";
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // Runs the scene into out/<name>; true when hilrig exited 0.
+  bool Run(const std::string& name) {
+    const std::string command =
+        std::string(HILRIG_BIN_DIR) + "/hilrig run " + (dir_ / "pads.textproto").string() +
+        " --no-reference --out " + (dir_ / "out" / name).string() + " --reference-cache " +
+        (dir_ / "cache").string() + " > " + (dir_ / (name + ".log")).string() + " 2>&1";
+    return std::system(command.c_str()) == 0;
+  }
+  std::vector<fs::path> CachedMaps() const {
+    std::vector<fs::path> maps;
+    for (const auto& entry : fs::directory_iterator(dir_ / "cache" / "field_maps")) {
+      maps.push_back(entry.path());
+    }
+    return maps;
+  }
+  std::string Trace(const std::string& name) const {
+    return ReadFile(dir_ / "out" / name / "trace.csv");
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(CliFieldMapCacheTest, TheFirstRunKeepsTheMapAndLaterRunsReadItToTheSameTrace) {
+  ASSERT_TRUE(Run("first")) << ReadFile(dir_ / "first.log");
+  ASSERT_EQ(CachedMaps().size(), 1u);
+  const fs::path map = CachedMaps().front();
+  EXPECT_EQ(map.extension(), ".map");
+  const auto written = fs::last_write_time(map);
+
+  ASSERT_TRUE(Run("second")) << ReadFile(dir_ / "second.log");
+  EXPECT_EQ(fs::last_write_time(map), written) << "read, not tabulated and written again";
+  EXPECT_EQ(Trace("second"), Trace("first"));
+  EXPECT_GT(Trace("first").size(), 100u);
+}
+
+TEST_F(CliFieldMapCacheTest, ADamagedMapIsTabulatedAgainToTheSameTrace) {
+  ASSERT_TRUE(Run("first")) << ReadFile(dir_ / "first.log");
+  ASSERT_EQ(CachedMaps().size(), 1u);
+  const fs::path map = CachedMaps().front();
+  const std::string good = ReadFile(map);
+  std::ofstream(map, std::ios::trunc) << good.substr(0, good.size() / 2);
+
+  ASSERT_TRUE(Run("second")) << ReadFile(dir_ / "second.log");
+  EXPECT_EQ(Trace("second"), Trace("first"));
+  EXPECT_EQ(ReadFile(map), good) << "the tabulated map replaced the damaged one";
+}
+
+}  // namespace
+}  // namespace hilrig::host
