@@ -7,7 +7,6 @@
 #include <cstdio>
 #include <iterator>
 #include <limits>
-#include <map>
 #include <memory>
 #include <span>
 
@@ -91,27 +90,6 @@ bool FiniteAt(const CapturedTrace& trace, std::size_t i) {
   return std::isfinite(trace.grasp_force_n[i]) && std::isfinite(trace.load_n[i]) &&
          trace.position_m[i].allFinite();
 }
-
-// The film field of each field level, built once per scene and shared by the runs at that level
-// (a field map takes seconds to tabulate, which the sweep would otherwise pay per run and per
-// timing repeat).
-class FilmFieldShelf {
- public:
-  rig::Result<void> ShareInto(ScenarioConfig& config) {
-    HallSensorConfig& hall = config.hall_sensors;
-    if (!hall.tactile_enabled) return {};
-    auto& film = films_[hall.field_fidelity];
-    if (film == nullptr) {
-      if (auto built = BuildFilmField(config); !built) return built.error();
-      film = hall.film_field;
-    }
-    hall.film_field = film;
-    return {};
-  }
-
- private:
-  std::map<std::string, std::shared_ptr<const FilmFieldModel>> films_;
-};
 
 bool CheapToRepeat(const RunResult& run, const SweepOptions& options) {
   return options.timing_repeats > 1 &&
@@ -560,14 +538,14 @@ rig::Result<SceneResult> SweepScene(const proto::Scenario& spec, const std::stri
   scene.runs.push_back(Evaluate(reference, ref_config, reference_run, reference_run.trace));
   scene.tolerance = options.tolerance;
   std::vector<ScenarioConfig> configs{ref_config};
-  FilmFieldShelf films;
   const bool has_film = spec.models().tactile().enabled();
   for (const PlannedRun& planned : PlanSweep(SceneFidelity(spec), has_film, options.quick)) {
     if (Interrupted(control)) return rig::MakeError("interrupted");
     auto config = ResolveWithCalibration(WithFidelity(base, planned.fidelity), spec_directory,
                                          ref_config.seed, ref_config.hall_sensors.calibration);
     if (!config) return config.error();
-    if (auto shared = films.ShareInto(config.value()); !shared) return shared.error();
+    // MakeFilmField shares one model per level, so no run or timing repeat tabulates a map again.
+    if (auto built = BuildFilmField(config.value()); !built) return built.error();
     const CapturedRun run = RunCaptured(config.value(), control);
     scene.runs.push_back(Evaluate(planned, config.value(), run, reference_run.trace));
     configs.push_back(std::move(config).value());
