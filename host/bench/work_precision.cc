@@ -260,6 +260,14 @@ std::string DefaultVerdict(const SceneResult& scene) {
       .append(on)
       .append("; it ");
   out.append(run->passes_envelopes ? "passes" : "does NOT pass").append(" its envelopes\n");
+  out.append(scene.scene).append(": as shipped (its own noise and seed) the default ");
+  if (scene.shipped.passed) {
+    out.append("meets every expected verdict\n");
+  } else {
+    out.append("does NOT meet its expected verdicts (");
+    for (const std::string& name : scene.shipped.missed) out.append(name).append(" ");
+    out.append("stop: ").append(scene.shipped.stop_reason).append(")\n");
+  }
   const RunResult* cheapest = CheapestPassingFrontRun(scene);
   out.append(scene.scene).append(": the cheapest run on the joint front that passes is ");
   if (cheapest == nullptr) return out.append("none\n");
@@ -562,7 +570,28 @@ rig::Result<SceneResult> SweepScene(const proto::Scenario& spec, const std::stri
   }
   TimeInRounds(configs, scene, options, control);
   MarkParetoFronts(scene);
+  auto shipped = RunDefaultAsShipped(spec, spec_directory, control);
+  if (!shipped) return shipped.error();
+  scene.shipped = std::move(shipped).value();
   return scene;
+}
+
+rig::Result<ShippedVerdict> RunDefaultAsShipped(const proto::Scenario& spec,
+                                                const std::string& spec_directory,
+                                                const RunControl& control) {
+  auto config = ResolveChecked(spec, spec_directory, std::nullopt);
+  if (!config) return config.error();
+  if (auto calibrated = LoadTactileCalibration(config.value()); !calibrated) {
+    return rig::MakeError(spec.name() + ": tactile calibration: " + calibrated.error().message);
+  }
+  const proto::Report report = RunScenario(config.value(), RunSinks{}, control);
+  ShippedVerdict verdict;
+  verdict.passed = report.passed();
+  verdict.stop_reason = report.stop_reason();
+  for (const proto::EnvelopeResult& envelope : report.envelopes()) {
+    if (!envelope.meets_expectation()) verdict.missed.push_back(envelope.name());
+  }
+  return verdict;
 }
 
 std::vector<std::size_t> ParetoFront(const std::vector<RunResult>& runs,

@@ -157,11 +157,28 @@ struct ParetoTolerance {
   double error_floor = 1e-9;
 };
 
+// The default run as `hilrig run` makes it: the spec's own noise and seed, calibrated on its own
+// field level. The sweep's runs are noise-free so that they differ only in their models, and a
+// scene whose outcome turns on a knife edge can meet its verdicts without noise and miss them with
+// it (bottle_ablation did until session 7).
+struct ShippedVerdict {
+  bool passed = false;
+  std::vector<std::string> missed;  // envelopes whose verdict was not the expected one
+  std::string stop_reason;
+};
+
 struct SceneResult {
   std::string scene;
   std::vector<RunResult> runs;  // runs[0] is the reference
   ParetoTolerance tolerance;
+  ShippedVerdict shipped;
 };
+
+// The default as shipped, for the whole scene even when the sweep cuts its runs short (a check
+// whose window lies past the cut has nothing to judge). One run: it costs what `hilrig run` does.
+rig::Result<ShippedVerdict> RunDefaultAsShipped(const proto::Scenario& spec,
+                                                const std::string& spec_directory,
+                                                const RunControl& control);
 
 struct SweepOptions {
   bool quick = false;
@@ -175,7 +192,7 @@ struct SweepOptions {
 };
 
 // The whole sweep of one scene: calibration at the reference fidelity, the reference run, then
-// PlanSweep's runs, all noise-free; fronts marked.
+// PlanSweep's runs, all noise-free; fronts marked; then the default once more as shipped.
 rig::Result<SceneResult> SweepScene(const proto::Scenario& spec, const std::string& spec_directory,
                                     const SweepOptions& options, const RunControl& control);
 

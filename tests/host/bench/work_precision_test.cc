@@ -411,6 +411,44 @@ TEST_F(SweepTimingTest, OneRepeatKeepsTheCapturedTiming) {
   for (const RunResult& run : scene.runs) {
     EXPECT_EQ(run.timing_runs, 1);
   }
+  EXPECT_TRUE(scene.shipped.passed) << "hover as shipped, whole, meets its verdicts";
+  EXPECT_EQ(scene.shipped.stop_reason, "completed");
+}
+
+// An envelope only a noise-free hover can meet: the default passes in the sweep's noise-free runs
+// and misses it as shipped, which is what RunDefaultAsShipped is there to tell.
+class ShippedVerdictTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    auto loaded = LoadScenario(std::string(HILRIG_SOURCE_DIR) + "/scenarios/hover.textproto");
+    ASSERT_TRUE(loaded.ok());
+    spec_ = loaded.value();
+    proto::Envelope* still = spec_.add_envelopes();
+    still->set_name("still_without_noise");
+    still->set_signal(proto::POSITION_ERROR_M);
+    still->set_upper(1e-6);  // without noise the settled hover is within 4e-9 m
+    still->set_from_s(12);
+    still->set_until_s(24);
+    control_.wall_clock = &wall_clock_;
+  }
+
+  proto::Scenario spec_;
+  rig::SimClock wall_clock_;
+  RunControl control_;
+};
+
+TEST_F(ShippedVerdictTest, NoiseTheSweepLeavesOutCanMissAVerdict) {
+  auto shipped = RunDefaultAsShipped(spec_, "", control_);
+  ASSERT_TRUE(shipped.ok()) << shipped.error().message;
+  EXPECT_FALSE(shipped.value().passed);
+  EXPECT_EQ(shipped.value().missed, std::vector<std::string>{"still_without_noise"});
+  EXPECT_EQ(shipped.value().stop_reason, "completed");
+
+  spec_.mutable_models()->set_noise(proto::NOISE_OFF);
+  auto noise_free = RunDefaultAsShipped(spec_, "", control_);
+  ASSERT_TRUE(noise_free.ok()) << noise_free.error().message;
+  EXPECT_TRUE(noise_free.value().passed) << "the same envelope without noise";
+  EXPECT_TRUE(noise_free.value().missed.empty());
 }
 
 }  // namespace
