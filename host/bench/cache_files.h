@@ -1,5 +1,6 @@
-// What the on-disk caches (reference traces, tabulated field maps) share: the 64-bit FNV-1a hash
-// their keys are made with, and whole-file reads and atomic writes. An entry is written to a name
+// What the on-disk caches (reference traces, tabulated field maps, calibrations) share: the 64-bit
+// FNV-1a hash their keys are made with, protobuf messages as deterministic bytes for those keys,
+// and whole-file reads and atomic writes. An entry is written to a name
 // of this process's own and renamed into place, so a crash or Ctrl-C never leaves half an entry
 // and two runs storing one key at once cannot interleave; a reader sees a whole entry or none.
 #pragma once
@@ -10,6 +11,10 @@
 #include <string>
 
 #include "rig/result.h"
+
+namespace google::protobuf {
+class Message;
+}
 
 namespace hilrig::host {
 
@@ -23,6 +28,9 @@ class Fnv1a64 {
  private:
   std::uint64_t hash_ = 0xcbf29ce484222325ULL;
 };
+
+// The message's bytes, the same for equal messages (map order fixed).
+std::string DeterministicBytes(const google::protobuf::Message& message);
 
 // The whole file, or nothing when it cannot be opened.
 std::optional<std::string> ReadWholeFile(const std::string& path);

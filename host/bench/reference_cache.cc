@@ -1,8 +1,5 @@
 #include "host/bench/reference_cache.h"
 
-#include <google/protobuf/io/coded_stream.h>
-#include <google/protobuf/io/zero_copy_stream_impl_lite.h>
-
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -21,16 +18,6 @@ namespace fs = std::filesystem;
 constexpr char kMagic[8] = {'H', 'R', 'R', 'E', 'F', '0', '0', '1'};
 // Per sample: time, position x/y/z, grasp force, load.
 constexpr std::size_t kDoublesPerSample = 6;
-
-std::string DeterministicBytes(const google::protobuf::Message& message) {
-  std::string bytes;
-  google::protobuf::io::StringOutputStream stream(&bytes);
-  google::protobuf::io::CodedOutputStream coded(&stream);
-  coded.SetSerializationDeterministic(true);
-  message.SerializeToCodedStream(&coded);
-  coded.Trim();
-  return bytes;
-}
 
 void AppendDouble(std::string& out, double value) {
   char bytes[sizeof(double)];

@@ -10,6 +10,7 @@
 #include <optional>
 #include <vector>
 
+#include "host/bench/calibration_store.h"
 #include "host/bench/field_map_store.h"
 #include "host/bench/reference_cache.h"
 #include "host/bench/work_precision.h"
@@ -53,8 +54,9 @@ constexpr const char* kUsage =
     "run writes report.json, junit.xml, trace.csv and can.log into --out (default\n"
     "hilrig_out/<scenario>) and compares the trace with the scene's reference run (tight\n"
     "integrator and field, kept in a cache per build: --reference-cache DIR, default\n"
-    "~/.cache/hilrig/reference; DIR/field_maps keeps tabulated field maps, with or without\n"
-    "the reference); --no-reference skips it. Exit codes: 0 every check met its\n"
+    "~/.cache/hilrig/reference; DIR/field_maps and DIR/calibrations keep tabulated field maps\n"
+    "and calibrations, with or without the reference); --no-reference skips it. Exit codes:\n"
+    "0 every check met its\n"
     "expected verdict, 1 a check did not or the run was cut short, 2 bad input or usage.\n";
 
 // SCHED_FIFO priority of a real-time run unless --rt-priority says otherwise: the middle of the
@@ -66,11 +68,12 @@ struct RunOptions {
   std::optional<std::string> out_dir;
   std::optional<std::uint64_t> seed;
   bool reference = true;  // --no-reference: do not compare with the reference run
-  std::optional<std::string> reference_cache_dir;    // --reference-cache
-  DutFactory dut_factory;                            // --dut process; unset: in process
-  bool realtime = false;                             // --realtime: paced by the wall clock
-  int realtime_priority = kDefaultRealtimePriority;  // --rt-priority; 0: default scheduler
-  const FieldMapTableStore* field_maps = nullptr;    // tabulated maps kept between runs
+  std::optional<std::string> reference_cache_dir;      // --reference-cache
+  DutFactory dut_factory;                              // --dut process; unset: in process
+  bool realtime = false;                               // --realtime: paced by the wall clock
+  int realtime_priority = kDefaultRealtimePriority;    // --rt-priority; 0: default scheduler
+  const FieldMapTableStore* field_maps = nullptr;      // tabulated maps kept between runs
+  const FileCalibrationStore* calibrations = nullptr;  // calibrations kept between runs
 };
 
 using Streams = CliStreams;
@@ -183,6 +186,31 @@ struct BufferedOutputFile {
   std::ofstream stream;
 };
 
+// The pads' film and the DUT's calibration, read from the caches when they hold them.
+rig::Result<void> SetUpTactile(const proto::Scenario& spec, const RunOptions& options,
+                               ScenarioConfig& config) {
+  HallSensorConfig& hall = config.hall_sensors;
+  if (!hall.tactile_enabled) return {};
+  if (options.field_maps != nullptr) {
+    auto film = MakeFilmField(hall.field_fidelity, options.field_maps);
+    if (!film) return film.error();
+    hall.film_field = std::move(film).value();
+  }
+  const FileCalibrationStore* store =
+      hall.calibration_file.empty() ? options.calibrations : nullptr;
+  if (store != nullptr) {
+    if (std::optional<proto::Calibration> cached = store->Load(spec, config.seed)) {
+      hall.calibration = std::move(*cached);
+      return {};
+    }
+  }
+  if (auto calibrated = LoadTactileCalibration(config); !calibrated) {
+    return rig::MakeError("tactile calibration: " + calibrated.error().message);
+  }
+  if (store != nullptr && hall.calibration) store->Store(spec, config.seed, *hall.calibration);
+  return {};
+}
+
 rig::Result<proto::Report> RunToDirectory(const proto::Scenario& spec, const std::string& spec_path,
                                           const fs::path& out_dir, const RunOptions& options,
                                           const ReferenceSource* reference, const Streams& io) {
@@ -199,13 +227,8 @@ rig::Result<proto::Report> RunToDirectory(const proto::Scenario& spec, const std
   const std::int64_t setup_start_ns = wall_clock.NowNs();
   ScenarioConfig config =
       ResolveScenario(spec, options.seed, fs::path(spec_path).parent_path().string());
-  if (config.hall_sensors.tactile_enabled && options.field_maps != nullptr) {
-    auto film = MakeFilmField(config.hall_sensors.field_fidelity, options.field_maps);
-    if (!film) return rig::MakeError(spec_path + ": " + film.error().message);
-    config.hall_sensors.film_field = std::move(film).value();
-  }
-  if (auto calibrated = LoadTactileCalibration(config); !calibrated) {
-    return rig::MakeError(spec_path + ": tactile calibration: " + calibrated.error().message);
+  if (auto set_up = SetUpTactile(spec, options, config); !set_up) {
+    return rig::MakeError(spec_path + ": " + set_up.error().message);
   }
   PlotTrace plot_trace;
   CapturedTrace captured;
@@ -380,17 +403,24 @@ int RunFolder(const RunOptions& options, const Streams& io) {
   return exit_code;
 }
 
-// The folder beside the reference cache that keeps tabulated field maps, or none when this
-// executable cannot name itself (the maps are then tabulated every run, as before).
-std::unique_ptr<FileFieldMapStore> MakeFieldMapStore(const RunOptions& options, const Streams& io) {
+// The folders beside the reference cache that keep tabulated field maps and calibrations; none
+// when this executable cannot name itself (the setup is then done in full every run, as before).
+struct SetupCaches {
+  std::unique_ptr<FileFieldMapStore> field_maps;
+  std::unique_ptr<FileCalibrationStore> calibrations;
+};
+
+SetupCaches MakeSetupCaches(const RunOptions& options, const Streams& io) {
   auto identity = ExecutableIdentity();
   if (!identity) {
-    io.err << "hilrig: field map cache off (" << identity.error().message << ")\n";
-    return nullptr;
+    io.err << "hilrig: field map and calibration caches off (" << identity.error().message << ")\n";
+    return {};
   }
-  const fs::path directory =
-      fs::path(options.reference_cache_dir.value_or(DefaultReferenceCacheDir())) / "field_maps";
-  return std::make_unique<FileFieldMapStore>(directory.string(), identity.value(), &io.err);
+  const fs::path root = options.reference_cache_dir.value_or(DefaultReferenceCacheDir());
+  return {std::make_unique<FileFieldMapStore>((root / "field_maps").string(), identity.value(),
+                                              &io.err),
+          std::make_unique<FileCalibrationStore>((root / "calibrations").string(), identity.value(),
+                                                 &io.err)};
 }
 
 int RunCommand(const std::vector<std::string>& args, const Streams& io) {
@@ -399,8 +429,9 @@ int RunCommand(const std::vector<std::string>& args, const Streams& io) {
     io.err << "hilrig run: " << options.error().message << "\n" << kUsage;
     return kExitBadInput;
   }
-  const std::unique_ptr<FileFieldMapStore> field_maps = MakeFieldMapStore(options.value(), io);
-  options.value().field_maps = field_maps.get();
+  const SetupCaches caches = MakeSetupCaches(options.value(), io);
+  options.value().field_maps = caches.field_maps.get();
+  options.value().calibrations = caches.calibrations.get();
   const std::string& target = options.value().target;
   std::error_code error;
   if (fs::is_directory(target, error)) return RunFolder(options.value(), io);

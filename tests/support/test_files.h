@@ -1,5 +1,6 @@
 // Files for tests that run commands and read what they wrote: a fresh folder per test (named after
-// the running test, so parallel tests never share one) and a whole file read back as text.
+// the running test, so parallel tests never share one), a whole file read back as text, and a
+// folder that cannot be made.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -27,6 +28,14 @@ inline std::filesystem::path FreshTestDir(const std::string& prefix) {
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
+}
+
+// A folder path that cannot be created: a regular file stands where its parent should be (in a
+// fresh test folder named with `prefix`). For testing writes that must fail.
+inline std::filesystem::path UncreatableFolder(const std::string& prefix) {
+  const std::filesystem::path blocker = FreshTestDir(prefix) / "blocker";
+  std::ofstream(blocker) << "a file where the folder should be";
+  return blocker / "folder";
 }
 
 }  // namespace hilrig::host

@@ -7,6 +7,8 @@
 #include <limits>
 #include <sstream>
 
+#include "tests/support/test_files.h"
+
 namespace hilrig::host {
 namespace {
 
@@ -76,17 +78,13 @@ TEST(FieldMapStoreTest, StoreThenLoadAndMissesForOtherCodeOrDamagedFiles) {
 }
 
 TEST(FieldMapStoreTest, AStoreThatFailsIsSaidAndCostsNothingElse) {
-  const std::string blocker = ::testing::TempDir() + "/field_map_store_blocker";
-  std::filesystem::remove_all(blocker);
-  std::ofstream(blocker) << "a file where the folder should be";
   std::ostringstream notes;
-  const FileFieldMapStore store(blocker + "/maps", "code-a", &notes);
+  const FileFieldMapStore store(UncreatableFolder("field_map_store_").string(), "code-a", &notes);
 
   store.Store({true, 4, true}, FieldMapGrid{}, ThreeNodes());
   EXPECT_NE(notes.str().find("the opmap:4 field map is not kept for later runs"), std::string::npos)
       << notes.str();
   EXPECT_FALSE(store.Load({true, 4, true}, FieldMapGrid{}).has_value());
-  std::filesystem::remove(blocker);
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
-// `hilrig run` keeps tabulated field maps beside its reference cache, so that only the first run of
-// a build tabulates them. The maps are shared within a process, so this runs the hilrig executable
-// once per run, as a user does.
+// `hilrig run` keeps tabulated field maps and calibrations beside its reference cache, so that only
+// the first run of a build makes them. The maps are shared within a process, so this runs the
+// hilrig executable once per run, as a user does.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -37,13 +37,14 @@ envelopes { name: "alt" signal: ALTITUDE_M upper: 2 }
         (dir_ / "cache").string() + " > " + (dir_ / (name + ".log")).string() + " 2>&1";
     return std::system(command.c_str()) == 0;
   }
-  std::vector<fs::path> CachedMaps() const {
-    std::vector<fs::path> maps;
-    for (const auto& entry : fs::directory_iterator(dir_ / "cache" / "field_maps")) {
-      maps.push_back(entry.path());
+  std::vector<fs::path> Cached(const std::string& folder) const {
+    std::vector<fs::path> files;
+    for (const auto& entry : fs::directory_iterator(dir_ / "cache" / folder)) {
+      files.push_back(entry.path());
     }
-    return maps;
+    return files;
   }
+  std::vector<fs::path> CachedMaps() const { return Cached("field_maps"); }
   std::string Trace(const std::string& name) const {
     return ReadFile(dir_ / "out" / name / "trace.csv");
   }
@@ -74,6 +75,22 @@ TEST_F(CliFieldMapCacheTest, ADamagedMapIsTabulatedAgainToTheSameTrace) {
   ASSERT_TRUE(Run("second")) << ReadFile(dir_ / "second.log");
   EXPECT_EQ(Trace("second"), Trace("first"));
   EXPECT_EQ(ReadFile(map), good) << "the tabulated map replaced the damaged one";
+}
+
+TEST_F(CliFieldMapCacheTest, TheCalibrationIsKeptAndADamagedOneIsMadeAgain) {
+  ASSERT_TRUE(Run("first")) << ReadFile(dir_ / "first.log");
+  ASSERT_EQ(Cached("calibrations").size(), 1u);
+  const fs::path calibration = Cached("calibrations").front();
+  const auto written = fs::last_write_time(calibration);
+  ASSERT_TRUE(Run("second")) << ReadFile(dir_ / "second.log");
+  EXPECT_EQ(fs::last_write_time(calibration), written) << "read, not made and written again";
+  EXPECT_EQ(Trace("second"), Trace("first"));
+
+  const std::string good = ReadFile(calibration);
+  std::ofstream(calibration, std::ios::trunc) << "garbage";
+  ASSERT_TRUE(Run("third")) << ReadFile(dir_ / "third.log");
+  EXPECT_EQ(Trace("third"), Trace("first"));
+  EXPECT_EQ(ReadFile(calibration), good) << "the calibration made again replaced the damaged one";
 }
 
 }  // namespace

@@ -1,0 +1,57 @@
+#include "host/bench/calibration_store.h"
+
+#include <filesystem>
+#include <string_view>
+
+#include "host/bench/cache_files.h"
+
+namespace hilrig::host {
+namespace {
+
+constexpr std::string_view kMagic = "HRCAL001";
+
+}  // namespace
+
+std::string CalibrationCacheKey(const proto::Scenario& spec, std::uint64_t seed,
+                                const std::string& code_identity) {
+  Fnv1a64 hash;
+  hash.Add(DeterministicBytes(spec));
+  hash.Add(&seed, sizeof(seed));
+  hash.Add(code_identity);
+  return hash.Hex();
+}
+
+FileCalibrationStore::FileCalibrationStore(std::string directory, std::string code_identity,
+                                           std::ostream* notes)
+    : directory_(std::move(directory)), code_identity_(std::move(code_identity)), notes_(notes) {}
+
+std::string FileCalibrationStore::PathOf(const proto::Scenario& spec, std::uint64_t seed) const {
+  return (std::filesystem::path(directory_) /
+          (CalibrationCacheKey(spec, seed, code_identity_) + ".calibration"))
+      .string();
+}
+
+std::optional<proto::Calibration> FileCalibrationStore::Load(const proto::Scenario& spec,
+                                                             std::uint64_t seed) const {
+  const std::optional<std::string> bytes = ReadWholeFile(PathOf(spec, seed));
+  if (!bytes || !bytes->starts_with(kMagic)) return std::nullopt;
+  proto::Calibration calibration;
+  // An empty message parses from no bytes; a stored calibration always has its sensors.
+  if (!calibration.ParseFromString(bytes->substr(kMagic.size())) ||
+      calibration.sensors_size() == 0) {
+    return std::nullopt;
+  }
+  return calibration;
+}
+
+void FileCalibrationStore::Store(const proto::Scenario& spec, std::uint64_t seed,
+                                 const proto::Calibration& calibration) const {
+  auto stored = WriteFileAtomically(directory_, PathOf(spec, seed),
+                                    std::string(kMagic) + DeterministicBytes(calibration));
+  if (!stored && notes_ != nullptr) {
+    *notes_ << "hilrig: the " << spec.name()
+            << " calibration is not kept for later runs: " << stored.error().message << "\n";
+  }
+}
+
+}  // namespace hilrig::host

@@ -1,0 +1,41 @@
+// Calibrations kept in files between processes. A scene whose pads run on a tiled film
+// (tactile_hover: tiles:8) spends most of its setup calibrating the DUT against that film at
+// start (0.7-1 s; a field map's scenes calibrate in milliseconds), and the result depends only on
+// the spec, the seed and the code. The key hashes the spec's deterministic bytes, the seed and the
+// executable's identity: any rebuild, and any edit to the spec (even to a check), is a new key,
+// which is coarse but never stale. A damaged or foreign file reads as a miss and the scene is
+// calibrated again; a store that fails only costs the next run the calibration, and is said.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <ostream>
+#include <string>
+
+#include "proto/calibration.pb.h"
+#include "proto/scenario.pb.h"
+
+namespace hilrig::host {
+
+// The key (16 hex digits) of a scene's calibration.
+std::string CalibrationCacheKey(const proto::Scenario& spec, std::uint64_t seed,
+                                const std::string& code_identity);
+
+class FileCalibrationStore {
+ public:
+  // `notes` (may be null) hears of stores that failed.
+  FileCalibrationStore(std::string directory, std::string code_identity, std::ostream* notes);
+
+  std::optional<proto::Calibration> Load(const proto::Scenario& spec, std::uint64_t seed) const;
+  void Store(const proto::Scenario& spec, std::uint64_t seed,
+             const proto::Calibration& calibration) const;
+
+  std::string PathOf(const proto::Scenario& spec, std::uint64_t seed) const;
+
+ private:
+  std::string directory_;
+  std::string code_identity_;
+  std::ostream* notes_;
+};
+
+}  // namespace hilrig::host
