@@ -160,6 +160,15 @@ S TravelTime(const GraspAdmittanceParams<S>& params, S from_rad, S reference_ang
   return distance_rad / params.servo_max_rate_rad_s + params.servo_settle_s;
 }
 
+// No offset and no offset rate, in `mode`: a grasp that opens or starts afresh carries nothing of
+// the last one's admittance.
+template <typename S>
+void ResetOffset(GraspControllerState<S>& state, GraspMode mode) {
+  state.offset_rad = S(0);
+  state.offset_rate_rad_s = S(0);
+  state.last_mode = mode;
+}
+
 }  // namespace grasp_controller_internal
 
 // StepGraspController for parameters already known to be valid. Precondition:
@@ -183,17 +192,13 @@ GraspOutput<S> StepGraspControllerWithValidParams(const GraspAdmittanceParams<S>
       internal::CountRejected(state);
     }
     const bool squeeze = command.mode == GraspMode::kForce;
-    state.offset_rad = S(0);
-    state.offset_rate_rad_s = S(0);
-    state.last_mode = squeeze ? GraspMode::kForce : GraspMode::kOpen;
+    internal::ResetOffset(state, squeeze ? GraspMode::kForce : GraspMode::kOpen);
     return internal::Command(state, squeeze ? params.closed_angle_rad : params.open_angle_rad, S(0),
                              false);
   }
 
   if (state.last_mode != GraspMode::kForce) {  // a new grasp starts at θ_r
-    state.offset_rad = S(0);
-    state.offset_rate_rad_s = S(0);
-    state.last_mode = GraspMode::kForce;
+    internal::ResetOffset(state, GraspMode::kForce);
     state.travel_hold_s =
         internal::TravelTime(params, last_command_rad, S(command.reference_angle_rad));
   }
@@ -250,9 +255,7 @@ GraspOutput<S> StepGraspController(const GraspAdmittanceParams<S>& params,
   namespace internal = grasp_controller_internal;
   if (!GraspParamsValid(params)) {
     internal::CountRejected(state);
-    state.offset_rad = S(0);
-    state.offset_rate_rad_s = S(0);
-    state.last_mode = GraspMode::kOpen;
+    internal::ResetOffset(state, GraspMode::kOpen);
     const S angle_rad = std::isfinite(params.open_angle_rad)    ? params.open_angle_rad
                         : std::isfinite(state.last_command_rad) ? state.last_command_rad
                                                                 : S(0);

@@ -44,17 +44,24 @@ std::string DeterministicBytes(const google::protobuf::Message& message) {
   return bytes;
 }
 
-std::optional<std::string> ReadWholeFile(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
+CacheFolder::CacheFolder(std::string directory, std::string extension)
+    : directory_(std::move(directory)), extension_(std::move(extension)) {}
+
+std::string CacheFolder::PathOf(const std::string& key) const {
+  return (fs::path(directory_) / (key + extension_)).string();
+}
+
+std::optional<std::string> CacheFolder::Load(const std::string& key) const {
+  std::ifstream file(PathOf(key), std::ios::binary);
   if (!file) return std::nullopt;
   return std::string((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
 }
 
-rig::Result<void> WriteFileAtomically(const std::string& directory, const std::string& path,
-                                      const std::string& bytes) {
+rig::Result<void> CacheFolder::Store(const std::string& key, const std::string& bytes) const {
   std::error_code error;
-  fs::create_directories(directory, error);
-  if (error) return rig::MakeError("cannot create " + directory + ": " + error.message());
+  fs::create_directories(directory_, error);
+  if (error) return rig::MakeError("cannot create " + directory_ + ": " + error.message());
+  const std::string path = PathOf(key);
   const std::string temporary = path + ".tmp" + std::to_string(::getpid());
   {
     std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
@@ -71,6 +78,13 @@ rig::Result<void> WriteFileAtomically(const std::string& directory, const std::s
     return rig::MakeError("cannot store " + path + ": " + error.message());
   }
   return {};
+}
+
+void SayIfNotKept(const rig::Result<void>& stored, const std::string& what, std::ostream* notes) {
+  if (!stored && notes != nullptr) {
+    *notes << "hilrig: the " << what << " is not kept for later runs: " << stored.error().message
+           << "\n";
+  }
 }
 
 }  // namespace hilrig::host

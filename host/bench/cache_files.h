@@ -1,13 +1,14 @@
 // What the on-disk caches (reference traces, tabulated field maps, calibrations) share: the 64-bit
 // FNV-1a hash their keys are made with, protobuf messages as deterministic bytes for those keys,
-// and whole-file reads and atomic writes. An entry is written to a name
-// of this process's own and renamed into place, so a crash or Ctrl-C never leaves half an entry
-// and two runs storing one key at once cannot interleave; a reader sees a whole entry or none.
+// and the folder that holds the entries. An entry is written to a name of this process's own and
+// renamed into place, so a crash or Ctrl-C never leaves half an entry and two runs storing one key
+// at once cannot interleave; a reader sees a whole entry or none.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <ostream>
 #include <string>
 
 #include "rig/result.h"
@@ -32,11 +33,25 @@ class Fnv1a64 {
 // The message's bytes, the same for equal messages (map order fixed).
 std::string DeterministicBytes(const google::protobuf::Message& message);
 
-// The whole file, or nothing when it cannot be opened.
-std::optional<std::string> ReadWholeFile(const std::string& path);
+// One cache's folder: an entry per key, named <key><extension>, read whole, written atomically.
+class CacheFolder {
+ public:
+  CacheFolder(std::string directory, std::string extension);
 
-// Creates `directory` if needed and puts `bytes` at `path` (inside it) atomically.
-rig::Result<void> WriteFileAtomically(const std::string& directory, const std::string& path,
-                                      const std::string& bytes);
+  std::string PathOf(const std::string& key) const;
+  // The entry's bytes, or nothing when it is absent or unreadable.
+  std::optional<std::string> Load(const std::string& key) const;
+  // Creates the folder if needed and puts the entry in place.
+  rig::Result<void> Store(const std::string& key, const std::string& bytes) const;
+
+  const std::string& directory() const { return directory_; }
+
+ private:
+  std::string directory_;
+  std::string extension_;
+};
+
+// Tells `notes` (if any) that `what` could not be stored: a later run makes it again.
+void SayIfNotKept(const rig::Result<void>& stored, const std::string& what, std::ostream* notes);
 
 }  // namespace hilrig::host

@@ -1,9 +1,6 @@
 #include "host/bench/calibration_store.h"
 
-#include <filesystem>
 #include <string_view>
-
-#include "host/bench/cache_files.h"
 
 namespace hilrig::host {
 namespace {
@@ -23,17 +20,18 @@ std::string CalibrationCacheKey(const proto::Scenario& spec, std::uint64_t seed,
 
 FileCalibrationStore::FileCalibrationStore(std::string directory, std::string code_identity,
                                            std::ostream* notes)
-    : directory_(std::move(directory)), code_identity_(std::move(code_identity)), notes_(notes) {}
+    : folder_(std::move(directory), ".calibration"),
+      code_identity_(std::move(code_identity)),
+      notes_(notes) {}
 
 std::string FileCalibrationStore::PathOf(const proto::Scenario& spec, std::uint64_t seed) const {
-  return (std::filesystem::path(directory_) /
-          (CalibrationCacheKey(spec, seed, code_identity_) + ".calibration"))
-      .string();
+  return folder_.PathOf(CalibrationCacheKey(spec, seed, code_identity_));
 }
 
 std::optional<proto::Calibration> FileCalibrationStore::Load(const proto::Scenario& spec,
                                                              std::uint64_t seed) const {
-  const std::optional<std::string> bytes = ReadWholeFile(PathOf(spec, seed));
+  const std::optional<std::string> bytes =
+      folder_.Load(CalibrationCacheKey(spec, seed, code_identity_));
   if (!bytes || !bytes->starts_with(kMagic)) return std::nullopt;
   proto::Calibration calibration;
   // An empty message parses from no bytes; a stored calibration always has its sensors.
@@ -46,12 +44,9 @@ std::optional<proto::Calibration> FileCalibrationStore::Load(const proto::Scenar
 
 void FileCalibrationStore::Store(const proto::Scenario& spec, std::uint64_t seed,
                                  const proto::Calibration& calibration) const {
-  auto stored = WriteFileAtomically(directory_, PathOf(spec, seed),
-                                    std::string(kMagic) + DeterministicBytes(calibration));
-  if (!stored && notes_ != nullptr) {
-    *notes_ << "hilrig: the " << spec.name()
-            << " calibration is not kept for later runs: " << stored.error().message << "\n";
-  }
+  SayIfNotKept(folder_.Store(CalibrationCacheKey(spec, seed, code_identity_),
+                             std::string(kMagic) + DeterministicBytes(calibration)),
+               spec.name() + " calibration", notes_);
 }
 
 }  // namespace hilrig::host

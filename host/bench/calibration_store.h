@@ -12,6 +12,7 @@
 #include <ostream>
 #include <string>
 
+#include "host/bench/cache_files.h"
 #include "proto/calibration.pb.h"
 #include "proto/scenario.pb.h"
 
@@ -33,7 +34,7 @@ class FileCalibrationStore {
   std::string PathOf(const proto::Scenario& spec, std::uint64_t seed) const;
 
  private:
-  std::string directory_;
+  CacheFolder folder_;
   std::string code_identity_;
   std::ostream* notes_;
 };

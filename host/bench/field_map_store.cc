@@ -2,9 +2,6 @@
 
 #include <cstdint>
 #include <cstring>
-#include <filesystem>
-
-#include "host/bench/cache_files.h"
 
 namespace hilrig::host {
 namespace {
@@ -60,28 +57,27 @@ std::optional<std::vector<Eigen::Vector3d>> ParseFieldMapTable(const std::string
 
 FileFieldMapStore::FileFieldMapStore(std::string directory, std::string code_identity,
                                      std::ostream* notes)
-    : directory_(std::move(directory)), code_identity_(std::move(code_identity)), notes_(notes) {}
+    : folder_(std::move(directory), ".map"),
+      code_identity_(std::move(code_identity)),
+      notes_(notes) {}
 
 std::string FileFieldMapStore::PathOf(const FilmFidelity& level, const FieldMapGrid& grid) const {
-  return (std::filesystem::path(directory_) /
-          (FieldMapCacheKey(level, grid, code_identity_) + ".map"))
-      .string();
+  return folder_.PathOf(FieldMapCacheKey(level, grid, code_identity_));
 }
 
 std::optional<std::vector<Eigen::Vector3d>> FileFieldMapStore::Load(
     const FilmFidelity& level, const FieldMapGrid& grid) const {
-  const std::optional<std::string> bytes = ReadWholeFile(PathOf(level, grid));
+  const std::optional<std::string> bytes =
+      folder_.Load(FieldMapCacheKey(level, grid, code_identity_));
   if (!bytes) return std::nullopt;
   return ParseFieldMapTable(*bytes);
 }
 
 void FileFieldMapStore::Store(const FilmFidelity& level, const FieldMapGrid& grid,
                               const std::vector<Eigen::Vector3d>& table) const {
-  auto stored = WriteFileAtomically(directory_, PathOf(level, grid), SerializeFieldMapTable(table));
-  if (!stored && notes_ != nullptr) {
-    *notes_ << "hilrig: the " << FilmFidelityName(level)
-            << " field map is not kept for later runs: " << stored.error().message << "\n";
-  }
+  SayIfNotKept(
+      folder_.Store(FieldMapCacheKey(level, grid, code_identity_), SerializeFieldMapTable(table)),
+      FilmFidelityName(level) + " field map", notes_);
 }
 
 }  // namespace hilrig::host

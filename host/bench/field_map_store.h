@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "host/bench/cache_files.h"
 #include "host/sensors/tactile/film_field_factory.h"
 
 namespace hilrig::host {
@@ -39,7 +40,7 @@ class FileFieldMapStore final : public FieldMapTableStore {
   std::string PathOf(const FilmFidelity& level, const FieldMapGrid& grid) const;
 
  private:
-  std::string directory_;
+  CacheFolder folder_;
   std::string code_identity_;
   std::ostream* notes_;
 };

@@ -8,8 +8,6 @@
 #include <fstream>
 #include <sstream>
 
-#include "host/bench/cache_files.h"
-
 namespace hilrig::host {
 namespace {
 
@@ -110,23 +108,18 @@ std::optional<CachedReference> ParseReference(const std::string& bytes) {
   return reference;
 }
 
-ReferenceCache::ReferenceCache(std::string directory) : directory_(std::move(directory)) {}
-
-std::string ReferenceCache::PathOf(const std::string& key) const {
-  return (fs::path(directory_) / (key + ".ref")).string();
-}
+ReferenceCache::ReferenceCache(std::string directory) : folder_(std::move(directory), ".ref") {}
 
 std::optional<CachedReference> ReferenceCache::Load(const std::string& key) const {
-  const std::optional<std::string> bytes = ReadWholeFile(PathOf(key));
+  const std::optional<std::string> bytes = folder_.Load(key);
   if (!bytes) return std::nullopt;
   return ParseReference(*bytes);
 }
 
 rig::Result<void> ReferenceCache::Store(const std::string& key,
                                         const CachedReference& reference) const {
-  if (auto stored = WriteFileAtomically(directory_, PathOf(key), SerializeReference(reference));
-      !stored) {
-    return rig::MakeError("cannot store the reference in " + directory_ + " (" +
+  if (auto stored = folder_.Store(key, SerializeReference(reference)); !stored) {
+    return rig::MakeError("cannot store the reference in " + folder_.directory() + " (" +
                           stored.error().message + ")");
   }
   return {};

@@ -12,6 +12,7 @@
 #include <optional>
 #include <string>
 
+#include "host/bench/cache_files.h"
 #include "host/bench/trace_capture.h"
 #include "proto/calibration.pb.h"
 #include "proto/scenario.pb.h"
@@ -53,12 +54,10 @@ class ReferenceCache {
   // Stores atomically (write to a temporary name, then rename).
   rig::Result<void> Store(const std::string& key, const CachedReference& reference) const;
 
-  const std::string& directory() const { return directory_; }
+  const std::string& directory() const { return folder_.directory(); }
 
  private:
-  std::string PathOf(const std::string& key) const;
-
-  std::string directory_;
+  CacheFolder folder_;
 };
 
 }  // namespace hilrig::host

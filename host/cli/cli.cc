@@ -55,9 +55,9 @@ constexpr const char* kUsage =
     "hilrig_out/<scenario>) and compares the trace with the scene's reference run (tight\n"
     "integrator and field, kept in a cache per build: --reference-cache DIR, default\n"
     "~/.cache/hilrig/reference; DIR/field_maps and DIR/calibrations keep tabulated field maps\n"
-    "and calibrations, with or without the reference); --no-reference skips it. Exit codes:\n"
-    "0 every check met its\n"
-    "expected verdict, 1 a check did not or the run was cut short, 2 bad input or usage.\n";
+    "and calibrations, with or without the reference); --no-reference skips it. Exit codes: 0\n"
+    "every check met its expected verdict, 1 a check did not or the run was cut short, 2 bad\n"
+    "input or usage.\n";
 
 // SCHED_FIFO priority of a real-time run unless --rt-priority says otherwise: the middle of the
 // range, the default of ros2_control's controller manager.

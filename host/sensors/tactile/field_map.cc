@@ -58,9 +58,13 @@ FieldMapFilmField::FieldMapFilmField(std::shared_ptr<const FilmFieldModel> sourc
   SetUpGrid();
 }
 
+bool FieldMapFilmField::Usable(const FilmFieldModel* source, const FieldMapGrid& grid) {
+  return source != nullptr && (grid.nodes.array() >= 2).all() &&
+         (grid.box.max_m.array() > grid.box.min_m.array()).all();
+}
+
 void FieldMapFilmField::SetUpGrid() {
-  if (!source_ || (grid_.nodes.array() < 2).any() ||
-      !(grid_.box.max_m.array() > grid_.box.min_m.array()).all()) {
+  if (!Usable(source_.get(), grid_)) {
     std::fprintf(stderr, "FieldMapFilmField: no source or a degenerate grid\n");
     std::abort();
   }
@@ -76,11 +80,7 @@ std::size_t FieldMapFilmField::StoredNodeCount(const FieldMapGrid& grid) {
 std::shared_ptr<const FieldMapFilmField> FieldMapFilmField::FromTable(
     std::shared_ptr<const FilmFieldModel> source, const FieldMapGrid& grid,
     std::vector<Eigen::Vector3d> table) {
-  if (!source || (grid.nodes.array() < 2).any() ||
-      !(grid.box.max_m.array() > grid.box.min_m.array()).all() ||
-      table.size() != StoredNodeCount(grid)) {
-    return nullptr;
-  }
+  if (!Usable(source.get(), grid) || table.size() != StoredNodeCount(grid)) return nullptr;
   for (const Eigen::Vector3d& node : table) {
     if (!node.allFinite()) return nullptr;
   }

@@ -78,6 +78,8 @@ class FieldMapFilmField final : public FilmFieldModel {
  private:
   FieldMapFilmField(std::shared_ptr<const FilmFieldModel> source, const FieldMapGrid& grid,
                     std::vector<Eigen::Vector3d> table);
+  // A source and a grid of at least 2 nodes per axis over a box of positive extent.
+  static bool Usable(const FilmFieldModel* source, const FieldMapGrid& grid);
   void SetUpGrid();
   const Eigen::Vector3d& Node(int i, int j, int k) const;
   // The un-tilted film's field at `centre` from the table, or nothing off the grid.

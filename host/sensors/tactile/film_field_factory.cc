@@ -3,7 +3,6 @@
 #include <charconv>
 #include <map>
 #include <mutex>
-#include <tuple>
 
 #include "host/sensors/tactile/field_map.h"
 #include "host/sensors/tactile/film_magnet.h"
@@ -60,10 +59,9 @@ rig::Result<std::shared_ptr<const FilmFieldModel>> MakeFilmField(std::string_vie
   // immutable and answer a pose the same whatever was asked before, so one instance per level
   // serves every caller for the life of the process: an exact cache, never a state.
   static std::mutex mutex;
-  static std::map<std::tuple<bool, int, bool>, std::shared_ptr<const FilmFieldModel>> built;
+  static std::map<std::string, std::shared_ptr<const FilmFieldModel>> built;
   const std::lock_guard<std::mutex> lock(mutex);
-  std::shared_ptr<const FilmFieldModel>& model =
-      built[{level.field_map, level.tiles_per_side, level.operating_volume}];
+  std::shared_ptr<const FilmFieldModel>& model = built[FilmFidelityName(level)];
   if (model != nullptr) return model;
   auto tiled = std::make_shared<const TiledFilmField>(FilmGeometry{}, level.tiles_per_side);
   if (!level.field_map) {
