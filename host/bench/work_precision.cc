@@ -259,7 +259,12 @@ std::string DefaultVerdict(const SceneResult& scene) {
   out.append(on.empty() ? ", on no single-error front" : ", on the single-error front for ")
       .append(on)
       .append("; it ");
-  out.append(run->passes_envelopes ? "passes" : "does NOT pass").append(" its envelopes\n");
+  out.append(run->passes_envelopes ? "passes" : "does NOT pass").append(" its envelopes");
+  if (scene.cut_to_s) {
+    out.append(" over the sweep's first ").append(Number(*scene.cut_to_s));
+    out.append(" s (a check whose window starts later has nothing to judge there)");
+  }
+  out.append("\n");
   out.append(scene.scene).append(": as shipped (its own noise and seed) the default ");
   if (scene.shipped.passed) {
     out.append("meets every expected verdict\n");
@@ -543,6 +548,7 @@ rig::Result<SceneResult> SweepScene(const proto::Scenario& spec, const std::stri
   }
   SceneResult scene;
   scene.scene = spec.name();
+  if (duration_s && *duration_s < spec.simulation().duration_s()) scene.cut_to_s = *duration_s;
   scene.runs.push_back(Evaluate(reference, ref_config, reference_run, reference_run.trace));
   scene.tolerance = options.tolerance;
   std::vector<ScenarioConfig> configs{ref_config};

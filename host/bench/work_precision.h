@@ -172,6 +172,10 @@ struct SceneResult {
   std::vector<RunResult> runs;  // runs[0] is the reference
   ParetoTolerance tolerance;
   ShippedVerdict shipped;
+  // Set when the sweep's runs were cut short of the scene (--quick, --duration-s): their
+  // envelope verdicts then cover only this much, and a check whose window starts later fails
+  // for having nothing to judge.
+  std::optional<double> cut_to_s;
 };
 
 // The default as shipped, for the whole scene even when the sweep cuts its runs short (a check

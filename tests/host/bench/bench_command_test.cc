@@ -87,6 +87,8 @@ TEST_F(BenchCommandTest, QuickSweepWritesOneRowPerRunAndAZeroErrorReference) {
   // The fronts are printed and drawn.
   EXPECT_THAT(result.out, HasSubstr("load_ramp: vertical load RMS error (N), Pareto front"));
   EXPECT_THAT(result.out, HasSubstr("load_ramp: the default (midpoint x2 opmap:32"));
+  // Cut to 3 s of the scene's 45, its own verdict covers only those 3 s, and says so.
+  EXPECT_THAT(result.out, HasSubstr("its envelopes over the sweep's first 3 s"));
   std::ifstream svg(out_dir_ / "work_precision.svg");
   std::stringstream text;
   text << svg.rdbuf();

@@ -200,6 +200,20 @@ TEST(ParetoFrontTest, TheRecommendedRunIsTheCheapestPassingOneOnTheJointFront) {
   EXPECT_THAT(FormatParetoTables(scene), ::testing::HasSubstr("that passes is none\n"));
 }
 
+TEST(ParetoFrontTest, TheDefaultsVerdictSaysWhenTheSweepWasCutShort) {
+  SceneResult scene;
+  scene.scene = "scene";
+  scene.runs = {Result(RunKind::kReference, 10, 0), Result(RunKind::kDefault, 1.0, 1.0)};
+  MarkParetoFronts(scene);
+
+  EXPECT_THAT(FormatParetoTables(scene), ::testing::HasSubstr("does NOT pass its envelopes\n"));
+  scene.cut_to_s = 3.0;
+  EXPECT_THAT(
+      FormatParetoTables(scene),
+      ::testing::HasSubstr("does NOT pass its envelopes over the sweep's first 3 s (a "
+                           "check whose window starts later has nothing to judge there)\n"));
+}
+
 TEST(ParetoFrontTest, IncompleteRunsAreNotOnTheFront) {
   std::vector<RunResult> runs = {Result(RunKind::kIntegrator, 1, 0.1),
                                  Result(RunKind::kIntegrator, 2, 0.2)};
