@@ -1,6 +1,9 @@
 #include "host/dut/firmware_config.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 
 #include "rig/check.h"
 
@@ -30,8 +33,11 @@ std::optional<dut_fw::TactileProcessorParams<S>> FirmwareTactileParamsFor(
   params.film = {S(calibration.film().k1()), S(calibration.film().c1()), S(calibration.film().k2()),
                  S(calibration.film().c2())};
   params.chip_setting = hall.tactile[0].chip.setting;
+  // Clamped before the cast: validation bounds zeroing_s, and a cast of an out-of-range double
+  // would be undefined rather than an error.
   params.zeroing_samples =
-      static_cast<std::uint32_t>(std::max(1L, std::lround(hall.zeroing_s * hall.node_rate_hz)));
+      static_cast<std::uint32_t>(std::clamp(std::round(hall.zeroing_s * hall.node_rate_hz), 1.0,
+                                            double(std::numeric_limits<std::uint32_t>::max())));
   params.compensation_enabled = hall.compensation;
   for (int i = 0; i < kTactileSensorCount; ++i) {
     const TactileSensorParams& sensor = hall.tactile[i];

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <set>
+#include <utility>
 
 #include "dut_fw/sensor_node.h"
 #include "fixtures/objects/object_fixtures.h"
@@ -68,6 +69,26 @@ void CheckAllFinite(const Message& message, const ProblemList& problems) {
   }
 }
 
+// The longest run. Nothing timed past it can happen in any run, and the bound keeps counts derived
+// from a time (zeroing_s at up to 1 kHz) well inside the firmware's 32-bit counters.
+constexpr double kMaxRunDurationS = 86400;
+
+// Flights happen around a bench, and the DUT's float build resolves a position 1 km out to
+// 0.06 mm; far beyond that a double stops resolving motion at all (at 1e300 m the vehicle cannot
+// move, and a run held its altitude there until the setpoint changed).
+constexpr double kMaxPositionM = 1000;
+
+void RequireNearOrigin(const proto::Vector3& position_m, const ProblemList& problems) {
+  const std::pair<const char*, double> axes[] = {
+      {"x", position_m.x()}, {"y", position_m.y()}, {"z", position_m.z()}};
+  for (const auto& [axis, value] : axes) {
+    // A non-finite one is already reported as such.
+    if (std::isfinite(value) && std::abs(value) > kMaxPositionM) {
+      problems.Add(axis, "must be within 1000 m of the origin");
+    }
+  }
+}
+
 void RequirePositive(bool has, double value, const char* field, const ProblemList& problems) {
   if (has && !(value > 0)) problems.Add(field, "must be > 0, got " + std::to_string(value));
 }
@@ -96,6 +117,7 @@ void CheckVehicle(const proto::Vehicle& vehicle, const ProblemList& problems) {
   if (vehicle.initial_position_m().z() < 0) {
     problems.Nested("initial_position_m").Add("z", "must be >= 0 (the ground is at z = 0)");
   }
+  RequireNearOrigin(vehicle.initial_position_m(), problems.Nested("initial_position_m"));
 }
 
 // The adaptive integrator's error bound is relative and absolute at once; at 1 or above it no
@@ -142,6 +164,9 @@ void CheckSensors(const proto::Models& models, const ProblemList& problems) {
     }
   }
   RequireNonNegative(tactile.has_zeroing_s(), tactile.zeroing_s(), "zeroing_s", hall);
+  if (tactile.has_zeroing_s() && tactile.zeroing_s() > kMaxRunDurationS) {
+    hall.Add("zeroing_s", "must be at most 86400 s (the longest run): the DUT would never zero");
+  }
   if (tactile.has_temperature_c() &&
       !(tactile.temperature_c() > -40 && tactile.temperature_c() < 125)) {
     hall.Add("temperature_c", "must be inside the MLX90393's -40..125 C");
@@ -154,12 +179,21 @@ void CheckSensors(const proto::Models& models, const ProblemList& problems) {
   CheckIntegratorTolerance(models, problems);
 }
 
+// The slowest control or trace rate: the ticks between two samples are counted in an int, and a
+// rate of 1e-300 Hz once passed as "dividing" the physics rate and crashed the run on a
+// division by zero. 100 s between rows is already slower than any scene needs.
+constexpr double kMinDividedRateHz = 0.01;
+
 // A rate must divide the physics rate so that it lands on whole ticks.
 void CheckDivides(bool has, double rate_hz, double physics_rate_hz, const char* field,
                   const ProblemList& problems) {
   if (!has) return;
   if (!(rate_hz > 0)) {
     problems.Add(field, "must be > 0");
+    return;
+  }
+  if (rate_hz < kMinDividedRateHz) {
+    problems.Add(field, "must be at least 0.01 Hz");
     return;
   }
   const double ratio = physics_rate_hz / rate_hz;
@@ -171,7 +205,7 @@ void CheckDivides(bool has, double rate_hz, double physics_rate_hz, const char* 
 void CheckSimulation(const proto::Simulation& simulation, const ProblemList& problems) {
   if (!simulation.has_duration_s()) {
     problems.AddHere("duration_s is required");
-  } else if (!(simulation.duration_s() > 0) || simulation.duration_s() > 86400) {
+  } else if (!(simulation.duration_s() > 0) || simulation.duration_s() > kMaxRunDurationS) {
     problems.Add("duration_s", "must be in (0, 86400] s");
   }
   const double physics_rate_hz =
@@ -253,6 +287,8 @@ void CheckTimeline(const proto::Scenario& scenario, const ProblemList& problems)
       case proto::TimelineEntry::kSetpoint:
         RequireNonNegative(entry.setpoint().has_transition_s(), entry.setpoint().transition_s(),
                            "transition_s", here.Nested("setpoint"));
+        RequireNearOrigin(entry.setpoint().position_m(),
+                          here.Nested("setpoint").Nested("position_m"));
         break;
       case proto::TimelineEntry::kDisturbance:
         if (!entry.disturbance().has_duration_s()) {

@@ -69,6 +69,19 @@ TEST(ScenarioLoaderTest, ControlRateMustDividePhysicsRate) {
   EXPECT_THAT(error, HasSubstr("simulation.control_rate_hz: must divide physics_rate_hz"));
 }
 
+// 1000 / 1e-300 is a whole number to a double, so 1e-300 Hz once "divided" the physics rate and
+// the run died on a division by zero.
+TEST(ScenarioLoaderTest, RatesTooSlowToCountInTicksAreRejected) {
+  for (const char* field : {"control_rate_hz", "trace_rate_hz"}) {
+    const std::string error =
+        ErrorOf(std::string("name: \"x\"\nsimulation { duration_s: 1 ") + field + ": 1e-300 }\n");
+    EXPECT_THAT(error,
+                HasSubstr(std::string("simulation.") + field + ": must be at least 0.01 Hz"));
+  }
+  EXPECT_TRUE(
+      ParseScenario("name: \"x\"\nsimulation { duration_s: 1 trace_rate_hz: 0.01 }\n", "s").ok());
+}
+
 TEST(ScenarioLoaderTest, ReportsEveryProblemAtOnce) {
   const std::string error = ErrorOf(
       "name: \"x\"\nsimulation { duration_s: -1 }\nvehicle { mass_kg: 0 arm_length_m: -1 }\n");

@@ -117,6 +117,35 @@ TEST(ScenarioValidationTest, MeanWindowMustBePositive) {
   EXPECT_THAT(error, HasSubstr("envelopes[1].mean_over_s: must be > 0"));
 }
 
+// 1e300 s once became one sample (lround out of range) and 2^32 s a window cut modulo 2^32
+// samples: a run that zeroed in a way the spec never asked for. No run outlasts a day.
+TEST(ScenarioValidationTest, ZeroingWindowLongerThanAnyRunIsRejected) {
+  for (const char* zeroing : {"1e300", "4294967296", "86401"}) {
+    std::string spec = kGraspScene;
+    spec.replace(spec.find("enabled: true"), 13,
+                 std::string("enabled: true zeroing_s: ") + zeroing);
+    EXPECT_THAT(ErrorOf(spec), HasSubstr("models.tactile.zeroing_s: must be at most 86400 s"))
+        << zeroing;
+  }
+  std::string longest = kGraspScene;
+  longest.replace(longest.find("enabled: true"), 13, "enabled: true zeroing_s: 86400");
+  EXPECT_TRUE(ParseScenario(longest, "spec.textproto").ok());
+}
+
+TEST(ScenarioValidationTest, PositionsFarFromTheBenchAreRejected) {
+  std::string far_start = kGraspScene;
+  far_start.replace(far_start.find("z: 0.5"), 6, "z: 1e300");
+  EXPECT_THAT(ErrorOf(far_start),
+              HasSubstr("vehicle.initial_position_m.z: must be within 1000 m of the origin"));
+  const std::string far_setpoint =
+      std::string(kGraspScene) + "timeline { at_s: 2 setpoint { position_m { x: -1000.5 } } }\n";
+  EXPECT_THAT(ErrorOf(far_setpoint),
+              HasSubstr("timeline[1].setpoint.position_m.x: must be within 1000 m of the origin"));
+  const std::string edge =
+      std::string(kGraspScene) + "timeline { at_s: 2 setpoint { position_m { y: 1000 } } }\n";
+  EXPECT_TRUE(ParseScenario(edge, "spec.textproto").ok());
+}
+
 TEST(ScenarioValidationTest, HandOverWithoutAnObjectIsRejected) {
   const std::string error = ErrorOf(R"(name: "x"
 simulation { duration_s: 2 }
