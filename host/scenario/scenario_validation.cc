@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <set>
+#include <sstream>
+#include <string>
 #include <utility>
 
 #include "dut_fw/sensor_node.h"
@@ -73,6 +75,23 @@ void CheckAllFinite(const Message& message, const ProblemList& problems) {
 // from a time (zeroing_s at up to 1 kHz) well inside the firmware's 32-bit counters.
 constexpr double kMaxRunDurationS = 86400;
 
+// The slowest rate of anything sampled on the physics ticks (control, trace, IMU, VIO): periods
+// are counted in ints of ticks or nanoseconds, and a rate of 1e-300 Hz once passed as "dividing"
+// the physics rate and crashed the run on a division by zero. 100 s between samples is already
+// slower than any scene needs.
+constexpr double kMinTickedRateHz = 0.01;
+
+// "1000 Hz", not std::to_string's "1000.000000".
+std::string HzText(double rate_hz) {
+  std::ostringstream text;
+  text << rate_hz << " Hz";
+  return text.str();
+}
+
+double PhysicsRateHz(const proto::Simulation& simulation) {
+  return simulation.has_physics_rate_hz() ? simulation.physics_rate_hz() : 1000.0;
+}
+
 // Flights happen around a bench, and the DUT's float build resolves a position 1 km out to
 // 0.06 mm; far beyond that a double stops resolving motion at all (at 1e300 m the vehicle cannot
 // move, and a run held its altitude there until the setpoint changed).
@@ -130,9 +149,23 @@ void CheckIntegratorTolerance(const proto::Models& models, const ProblemList& pr
   }
 }
 
-void CheckSensors(const proto::Models& models, const ProblemList& problems) {
+// The IMU and VIO emulators sample on physics ticks: a faster rate cannot be had (at 1e300 Hz
+// the VIO's period rounded to 0 ns and the run died dividing by it).
+void RequireTickedRate(bool has, double rate_hz, double physics_rate_hz,
+                       const ProblemList& problems) {
+  if (!has) return;
+  if (!(rate_hz > 0)) {
+    problems.Add("rate_hz", "must be > 0, got " + std::to_string(rate_hz));
+  } else if (rate_hz < kMinTickedRateHz || rate_hz > physics_rate_hz) {
+    problems.Add("rate_hz",
+                 "must be in [0.01 Hz, physics_rate_hz (" + HzText(physics_rate_hz) + ")]");
+  }
+}
+
+void CheckSensors(const proto::Models& models, double physics_rate_hz,
+                  const ProblemList& problems) {
   const ProblemList imu = problems.Nested("imu");
-  RequirePositive(models.imu().has_rate_hz(), models.imu().rate_hz(), "rate_hz", imu);
+  RequireTickedRate(models.imu().has_rate_hz(), models.imu().rate_hz(), physics_rate_hz, imu);
   RequireNonNegative(models.imu().has_gyro_noise_density_rad_s_sqrt_hz(),
                      models.imu().gyro_noise_density_rad_s_sqrt_hz(),
                      "gyro_noise_density_rad_s_sqrt_hz", imu);
@@ -144,7 +177,7 @@ void CheckSensors(const proto::Models& models, const ProblemList& problems) {
   RequireNonNegative(models.imu().has_accel_bias_sigma_m_s2(), models.imu().accel_bias_sigma_m_s2(),
                      "accel_bias_sigma_m_s2", imu);
   const ProblemList vio = problems.Nested("vio");
-  RequirePositive(models.vio().has_rate_hz(), models.vio().rate_hz(), "rate_hz", vio);
+  RequireTickedRate(models.vio().has_rate_hz(), models.vio().rate_hz(), physics_rate_hz, vio);
   RequireNonNegative(models.vio().has_latency_s(), models.vio().latency_s(), "latency_s", vio);
   if (models.vio().has_latency_s() && models.vio().latency_s() > 0.2) {
     vio.Add("latency_s", "must be <= 0.2 s (the DUT keeps 256 ms of state history)");
@@ -179,11 +212,6 @@ void CheckSensors(const proto::Models& models, const ProblemList& problems) {
   CheckIntegratorTolerance(models, problems);
 }
 
-// The slowest control or trace rate: the ticks between two samples are counted in an int, and a
-// rate of 1e-300 Hz once passed as "dividing" the physics rate and crashed the run on a
-// division by zero. 100 s between rows is already slower than any scene needs.
-constexpr double kMinDividedRateHz = 0.01;
-
 // A rate must divide the physics rate so that it lands on whole ticks.
 void CheckDivides(bool has, double rate_hz, double physics_rate_hz, const char* field,
                   const ProblemList& problems) {
@@ -192,13 +220,13 @@ void CheckDivides(bool has, double rate_hz, double physics_rate_hz, const char* 
     problems.Add(field, "must be > 0");
     return;
   }
-  if (rate_hz < kMinDividedRateHz) {
+  if (rate_hz < kMinTickedRateHz) {
     problems.Add(field, "must be at least 0.01 Hz");
     return;
   }
   const double ratio = physics_rate_hz / rate_hz;
   if (ratio < 1 || std::abs(ratio - std::round(ratio)) > 1e-9) {
-    problems.Add(field, "must divide physics_rate_hz (" + std::to_string(physics_rate_hz) + ")");
+    problems.Add(field, "must divide physics_rate_hz (" + HzText(physics_rate_hz) + ")");
   }
 }
 
@@ -208,8 +236,7 @@ void CheckSimulation(const proto::Simulation& simulation, const ProblemList& pro
   } else if (!(simulation.duration_s() > 0) || simulation.duration_s() > kMaxRunDurationS) {
     problems.Add("duration_s", "must be in (0, 86400] s");
   }
-  const double physics_rate_hz =
-      simulation.has_physics_rate_hz() ? simulation.physics_rate_hz() : 1000.0;
+  const double physics_rate_hz = PhysicsRateHz(simulation);
   if (!(physics_rate_hz >= 10 && physics_rate_hz <= 100000)) {
     problems.Add("physics_rate_hz", "must be in [10, 100000] Hz");
     return;
@@ -445,7 +472,7 @@ std::vector<FieldProblem> ValidateScenario(const proto::Scenario& scenario) {
   if (scenario.name().empty()) root.AddHere("name is required");
   CheckVehicle(scenario.vehicle(), root.Nested("vehicle"));
   CheckCanLift(scenario, root.Nested("vehicle"));
-  CheckSensors(scenario.models(), root.Nested("models"));
+  CheckSensors(scenario.models(), PhysicsRateHz(scenario.simulation()), root.Nested("models"));
   if (!scenario.has_simulation()) {
     root.AddHere("simulation is required (at least simulation { duration_s: ... })");
   } else {

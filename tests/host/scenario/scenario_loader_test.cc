@@ -82,6 +82,25 @@ TEST(ScenarioLoaderTest, RatesTooSlowToCountInTicksAreRejected) {
       ParseScenario("name: \"x\"\nsimulation { duration_s: 1 trace_rate_hz: 0.01 }\n", "s").ok());
 }
 
+// The VIO's period at 1e300 Hz rounded to 0 ns and the run died dividing by it; at 1e-300 Hz it
+// overflowed. Both emulators sample on the physics ticks.
+TEST(ScenarioLoaderTest, SensorRatesMustFitTheTicks) {
+  for (const char* sensor : {"imu", "vio"}) {
+    for (const char* rate : {"1e300", "1001", "1e-300"}) {
+      const std::string error =
+          ErrorOf(std::string("name: \"x\"\nsimulation { duration_s: 1 }\nmodels { ") + sensor +
+                  " { rate_hz: " + rate + " } }\n");
+      EXPECT_THAT(error, HasSubstr(std::string("models.") + sensor +
+                                   ".rate_hz: must be in [0.01 Hz, physics_rate_hz (1000"))
+          << sensor << " " << rate;
+    }
+  }
+  EXPECT_TRUE(ParseScenario("name: \"x\"\nsimulation { duration_s: 1 physics_rate_hz: 2000 }\n"
+                            "models { imu { rate_hz: 2000 } vio { rate_hz: 0.01 } }\n",
+                            "s")
+                  .ok());
+}
+
 TEST(ScenarioLoaderTest, ReportsEveryProblemAtOnce) {
   const std::string error = ErrorOf(
       "name: \"x\"\nsimulation { duration_s: -1 }\nvehicle { mass_kg: 0 arm_length_m: -1 }\n");
