@@ -81,10 +81,11 @@ constexpr double kMaxRunDurationS = 86400;
 // slower than any scene needs.
 constexpr double kMinTickedRateHz = 0.01;
 
-// "1000 Hz", not std::to_string's "1000.000000".
-std::string HzText(double rate_hz) {
+// Six significant digits: "-1", "1e-09", "5.56e+302" where std::to_string writes "-1.000000",
+// "0.000000" and a 303-digit number.
+std::string NumberText(double value) {
   std::ostringstream text;
-  text << rate_hz << " Hz";
+  text << value;
   return text.str();
 }
 
@@ -109,11 +110,11 @@ void RequireNearOrigin(const proto::Vector3& position_m, const ProblemList& prob
 }
 
 void RequirePositive(bool has, double value, const char* field, const ProblemList& problems) {
-  if (has && !(value > 0)) problems.Add(field, "must be > 0, got " + std::to_string(value));
+  if (has && !(value > 0)) problems.Add(field, "must be > 0, got " + NumberText(value));
 }
 
 void RequireNonNegative(bool has, double value, const char* field, const ProblemList& problems) {
-  if (has && !(value >= 0)) problems.Add(field, "must be >= 0, got " + std::to_string(value));
+  if (has && !(value >= 0)) problems.Add(field, "must be >= 0, got " + NumberText(value));
 }
 
 void CheckVehicle(const proto::Vehicle& vehicle, const ProblemList& problems) {
@@ -145,7 +146,7 @@ void CheckIntegratorTolerance(const proto::Models& models, const ProblemList& pr
   if (!models.has_integrator_tolerance()) return;
   const double tolerance = models.integrator_tolerance();
   if (!(tolerance > 0 && tolerance < 1)) {
-    problems.Add("integrator_tolerance", "must be > 0 and < 1, got " + std::to_string(tolerance));
+    problems.Add("integrator_tolerance", "must be > 0 and < 1, got " + NumberText(tolerance));
   }
 }
 
@@ -155,10 +156,10 @@ void RequireTickedRate(bool has, double rate_hz, double physics_rate_hz,
                        const ProblemList& problems) {
   if (!has) return;
   if (!(rate_hz > 0)) {
-    problems.Add("rate_hz", "must be > 0, got " + std::to_string(rate_hz));
+    problems.Add("rate_hz", "must be > 0, got " + NumberText(rate_hz));
   } else if (rate_hz < kMinTickedRateHz || rate_hz > physics_rate_hz) {
     problems.Add("rate_hz",
-                 "must be in [0.01 Hz, physics_rate_hz (" + HzText(physics_rate_hz) + ")]");
+                 "must be in [0.01 Hz, physics_rate_hz (" + NumberText(physics_rate_hz) + " Hz)]");
   }
 }
 
@@ -226,7 +227,7 @@ void CheckDivides(bool has, double rate_hz, double physics_rate_hz, const char* 
   }
   const double ratio = physics_rate_hz / rate_hz;
   if (ratio < 1 || std::abs(ratio - std::round(ratio)) > 1e-9) {
-    problems.Add(field, "must divide physics_rate_hz (" + HzText(physics_rate_hz) + ")");
+    problems.Add(field, "must divide physics_rate_hz (" + NumberText(physics_rate_hz) + " Hz)");
   }
 }
 
@@ -407,7 +408,7 @@ void CheckEnvelopes(const proto::Scenario& scenario, const ProblemList& problems
 
 void RequireFraction(bool has, double value, const char* field, const ProblemList& problems) {
   if (has && !(value >= 0 && value <= 1)) {
-    problems.Add(field, "must be a fraction in [0, 1], got " + std::to_string(value));
+    problems.Add(field, "must be a fraction in [0, 1], got " + NumberText(value));
   }
 }
 
@@ -423,14 +424,14 @@ void CheckTiming(const proto::Scenario& scenario, const ProblemList& problems) {
   if (timing.has_late_threshold_s() &&
       !(timing.late_threshold_s() > 0 && timing.late_threshold_s() < 1)) {
     problems.Add("late_threshold_s",
-                 "must be in (0, 1) s, got " + std::to_string(timing.late_threshold_s()));
+                 "must be in (0, 1) s, got " + NumberText(timing.late_threshold_s()));
   }
   const auto at_least_period = [&](bool has, double value, const char* field) {
     if (!has) return;
     if (!(value > 0)) {
-      problems.Add(field, "must be > 0, got " + std::to_string(value));
+      problems.Add(field, "must be > 0, got " + NumberText(value));
     } else if (value < period_s * (1 - 1e-9)) {
-      problems.Add(field, "must be >= the physics period (" + std::to_string(period_s) +
+      problems.Add(field, "must be >= the physics period (" + NumberText(period_s) +
                               " s): a loop paced at that period cannot beat it");
     }
   };
@@ -458,8 +459,12 @@ void CheckCanLift(const proto::Scenario& scenario, const ProblemList& problems) 
                                   ? scenario.environment().gravity_m_s2()
                                   : defaults.gravity_m_s2;
   if (mass_kg > 0 && 4 * max_thrust_n <= mass_kg * gravity_m_s2) {
-    problems.Add("max_thrust_per_rotor_n", "four rotors cannot lift the vehicle's weight (" +
-                                               std::to_string(mass_kg * gravity_m_s2) + " N)");
+    // The numbers behind it, since any of the three may be the mistake.
+    problems.Add("max_thrust_per_rotor_n",
+                 "four rotors (" + NumberText(4 * max_thrust_n) +
+                     " N at full thrust) cannot lift the vehicle's weight (" +
+                     NumberText(mass_kg * gravity_m_s2) + " N: " + NumberText(mass_kg) + " kg at " +
+                     NumberText(gravity_m_s2) + " m/s^2)");
   }
 }
 
