@@ -349,6 +349,17 @@ rig::Result<DutEmuOptions> ParseDutEmuArgs(const std::vector<std::string>& args)
   bool have_can = false;
   for (std::size_t i = 1; i < args.size(); ++i) {
     const std::string& flag = args[i];
+    // Every option takes a value; an unknown one is named as such, not as one missing its value.
+    constexpr std::string_view kOptions[] = {"--link",
+                                             "--can",
+                                             "--frame-timeout-ms",
+                                             "--test-garbage-at-tick",
+                                             "--test-exit-at-tick",
+                                             "--test-silent-at-tick",
+                                             "--test-wrong-tick-at-tick"};
+    if (std::find(std::begin(kOptions), std::end(kOptions), flag) == std::end(kOptions)) {
+      return rig::MakeError("unknown option " + flag);
+    }
     if (i + 1 >= args.size()) return rig::MakeError(flag + " needs a value");
     const std::string& value = args[++i];
     if (flag == "--link") {
@@ -382,8 +393,6 @@ rig::Result<DutEmuOptions> ParseDutEmuArgs(const std::vector<std::string>& args)
           : flag == "--test-wrong-tick-at-tick" ? options.wrong_tick_at_tick
                                                 : options.garbage_at_tick;
       hook = tick.value();
-    } else {
-      return rig::MakeError("unknown option " + flag);
     }
   }
   if (!have_link || !have_can) return rig::MakeError("--link and --can are required");

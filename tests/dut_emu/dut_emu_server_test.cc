@@ -305,6 +305,9 @@ TEST(DutEmuArgsTest, RefusesBadArguments) {
   EXPECT_FALSE(ParseDutEmuArgs({"dut_emu", "--link", "127.0.0.1:0", "--can", "udp:1"}).ok());
   EXPECT_FALSE(ParseDutEmuArgs({"dut_emu", "--link", "nohost", "--can", "udp:1"}).ok());
   EXPECT_FALSE(ParseDutEmuArgs({"dut_emu", "--bogus", "1"}).ok());
+  // Named for what it is, with or without a value after it.
+  EXPECT_EQ(ParseDutEmuArgs({"dut_emu", "--bogus"}).error().message, "unknown option --bogus");
+  EXPECT_EQ(ParseDutEmuArgs({"dut_emu", "--link"}).error().message, "--link needs a value");
   EXPECT_FALSE(ParseCanSpec("udp:70000").ok());
   EXPECT_FALSE(ParseCanSpec("udp:3000:2:2").ok());
   EXPECT_FALSE(ParseCanSpec("serial:/dev/ttyUSB0").ok());
