@@ -3,12 +3,13 @@
 #include <google/protobuf/io/coded_stream.h>
 #include <google/protobuf/io/zero_copy_stream_impl_lite.h>
 #include <google/protobuf/message.h>
-#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+
+#include "host/report/report_files.h"
 
 namespace hilrig::host {
 
@@ -61,23 +62,7 @@ rig::Result<void> CacheFolder::Store(const std::string& key, const std::string& 
   std::error_code error;
   fs::create_directories(directory_, error);
   if (error) return rig::MakeError("cannot create " + directory_ + ": " + error.message());
-  const std::string path = PathOf(key);
-  const std::string temporary = path + ".tmp" + std::to_string(::getpid());
-  {
-    std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
-    file.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    if (!file.flush()) {
-      file.close();
-      fs::remove(temporary, error);
-      return rig::MakeError("cannot write " + temporary);
-    }
-  }
-  fs::rename(temporary, path, error);
-  if (error) {
-    fs::remove(temporary, error);
-    return rig::MakeError("cannot store " + path + ": " + error.message());
-  }
-  return {};
+  return WriteTextFile(PathOf(key), bytes);
 }
 
 void SayIfNotKept(const rig::Result<void>& stored, const std::string& what, std::ostream* notes) {

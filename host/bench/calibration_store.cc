@@ -1,6 +1,7 @@
 #include "host/bench/calibration_store.h"
 
 #include <string_view>
+#include <utility>
 
 namespace hilrig::host {
 namespace {
@@ -47,6 +48,22 @@ void FileCalibrationStore::Store(const proto::Scenario& spec, std::uint64_t seed
   SayIfNotKept(folder_.Store(CalibrationCacheKey(spec, seed, code_identity_),
                              std::string(kMagic) + DeterministicBytes(calibration)),
                spec.name() + " calibration", notes_);
+}
+
+rig::Result<void> CalibrateThroughStore(const proto::Scenario& spec, ScenarioConfig& config,
+                                        const FileCalibrationStore* store) {
+  HallSensorConfig& hall = config.hall_sensors;
+  if (!hall.tactile_enabled) return {};
+  if (!hall.calibration_file.empty()) store = nullptr;
+  if (store != nullptr) {
+    if (std::optional<proto::Calibration> cached = store->Load(spec, config.seed)) {
+      hall.calibration = std::move(*cached);
+      return {};
+    }
+  }
+  if (auto calibrated = LoadTactileCalibration(config); !calibrated) return calibrated.error();
+  if (store != nullptr && hall.calibration) store->Store(spec, config.seed, *hall.calibration);
+  return {};
 }
 
 }  // namespace hilrig::host

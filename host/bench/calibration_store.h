@@ -13,8 +13,10 @@
 #include <string>
 
 #include "host/bench/cache_files.h"
+#include "host/scenario/scenario_config.h"
 #include "proto/calibration.pb.h"
 #include "proto/scenario.pb.h"
+#include "rig/result.h"
 
 namespace hilrig::host {
 
@@ -38,5 +40,13 @@ class FileCalibrationStore {
   std::string code_identity_;
   std::ostream* notes_;
 };
+
+// The DUT calibration of `config` (resolved from `spec`): from `store` when it holds one for the
+// spec and the config's seed, else calibrated now (LoadTactileCalibration) and stored. A null
+// store calibrates every time; a spec that names a calibration file reads that instead. The one
+// way `hilrig run` and `hilrig bench` set up a scene's DUT, so a sweep that calibrates at the
+// reference field (tiles:64, about 47 s) does it once per build, not once per sweep.
+rig::Result<void> CalibrateThroughStore(const proto::Scenario& spec, ScenarioConfig& config,
+                                        const FileCalibrationStore* store);
 
 }  // namespace hilrig::host

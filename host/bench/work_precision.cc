@@ -534,10 +534,12 @@ rig::Result<SceneResult> SweepScene(const proto::Scenario& spec, const std::stri
     base = TruncatedTo(std::move(base), std::min(*duration_s, spec.simulation().duration_s()));
   }
   const PlannedRun reference{RunKind::kReference, ReferenceFidelity(options.quick)};
-  auto reference_config =
-      ResolveChecked(WithFidelity(base, reference.fidelity), spec_directory, std::nullopt);
+  const proto::Scenario reference_spec = WithFidelity(base, reference.fidelity);
+  auto reference_config = ResolveChecked(reference_spec, spec_directory, std::nullopt);
   if (!reference_config) return reference_config.error();
-  if (auto calibrated = LoadTactileCalibration(reference_config.value()); !calibrated) {
+  if (auto calibrated =
+          CalibrateThroughStore(reference_spec, reference_config.value(), options.calibrations);
+      !calibrated) {
     return rig::MakeError(spec.name() + ": tactile calibration: " + calibrated.error().message);
   }
   const ScenarioConfig& ref_config = reference_config.value();
@@ -548,7 +550,9 @@ rig::Result<SceneResult> SweepScene(const proto::Scenario& spec, const std::stri
   }
   SceneResult scene;
   scene.scene = spec.name();
-  if (duration_s && *duration_s < spec.simulation().duration_s()) scene.cut_to_s = *duration_s;
+  if (duration_s.value_or(spec.simulation().duration_s()) < spec.simulation().duration_s()) {
+    scene.cut_to_s = duration_s;
+  }
   scene.runs.push_back(Evaluate(reference, ref_config, reference_run, reference_run.trace));
   scene.tolerance = options.tolerance;
   std::vector<ScenarioConfig> configs{ref_config};
@@ -559,7 +563,9 @@ rig::Result<SceneResult> SweepScene(const proto::Scenario& spec, const std::stri
                                          ref_config.seed, ref_config.hall_sensors.calibration);
     if (!config) return config.error();
     // MakeFilmField shares one model per level, so no run or timing repeat tabulates a map again.
-    if (auto built = BuildFilmField(config.value()); !built) return built.error();
+    if (auto built = BuildFilmField(config.value(), options.field_maps); !built) {
+      return built.error();
+    }
     const CapturedRun run = RunCaptured(config.value(), control);
     scene.runs.push_back(Evaluate(planned, config.value(), run, reference_run.trace));
     configs.push_back(std::move(config).value());
@@ -576,7 +582,8 @@ rig::Result<SceneResult> SweepScene(const proto::Scenario& spec, const std::stri
   }
   TimeInRounds(configs, scene, options, control);
   MarkParetoFronts(scene);
-  auto shipped = RunDefaultAsShipped(spec, spec_directory, control);
+  auto shipped =
+      RunDefaultAsShipped(spec, spec_directory, control, options.calibrations, options.field_maps);
   if (!shipped) return shipped.error();
   scene.shipped = std::move(shipped).value();
   return scene;
@@ -584,10 +591,13 @@ rig::Result<SceneResult> SweepScene(const proto::Scenario& spec, const std::stri
 
 rig::Result<ShippedVerdict> RunDefaultAsShipped(const proto::Scenario& spec,
                                                 const std::string& spec_directory,
-                                                const RunControl& control) {
+                                                const RunControl& control,
+                                                const FileCalibrationStore* calibrations,
+                                                const FieldMapTableStore* field_maps) {
   auto config = ResolveChecked(spec, spec_directory, std::nullopt);
   if (!config) return config.error();
-  if (auto calibrated = LoadTactileCalibration(config.value()); !calibrated) {
+  if (auto built = BuildFilmField(config.value(), field_maps); !built) return built.error();
+  if (auto calibrated = CalibrateThroughStore(spec, config.value(), calibrations); !calibrated) {
     return rig::MakeError(spec.name() + ": tactile calibration: " + calibrated.error().message);
   }
   const proto::Report report = RunScenario(config.value(), RunSinks{}, control);

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "host/bench/calibration_store.h"
 #include "host/bench/reference_cache.h"
 #include "host/bench/trace_capture.h"
 #include "host/report/scatter_plot.h"
@@ -182,7 +183,9 @@ struct SceneResult {
 // whose window lies past the cut has nothing to judge). One run: it costs what `hilrig run` does.
 rig::Result<ShippedVerdict> RunDefaultAsShipped(const proto::Scenario& spec,
                                                 const std::string& spec_directory,
-                                                const RunControl& control);
+                                                const RunControl& control,
+                                                const FileCalibrationStore* calibrations = nullptr,
+                                                const FieldMapTableStore* field_maps = nullptr);
 
 struct SweepOptions {
   bool quick = false;
@@ -193,6 +196,10 @@ struct SweepOptions {
   ParetoTolerance tolerance;
   double cheap_run_wall_s = 2.0;
   std::ostream* progress = nullptr;  // a line per run
+  // The on-disk setup caches (null: none). The reference calibration at tiles:64 takes about 47 s
+  // per tactile scene, the same in every sweep of one build.
+  const FileCalibrationStore* calibrations = nullptr;
+  const FieldMapTableStore* field_maps = nullptr;
 };
 
 // The whole sweep of one scene: calibration at the reference fidelity, the reference run, then

@@ -6,6 +6,7 @@
 #include <optional>
 #include <sstream>
 
+#include "host/bench/setup_caches.h"
 #include "host/bench/work_precision.h"
 #include "host/cli/cli.h"
 #include "host/report/report_files.h"
@@ -149,14 +150,19 @@ int BenchCommand(const std::vector<std::string>& args, const CliStreams& io) {
     return kExitBadInput;
   }
   const rig::SteadyClock wall_clock;
+  const SetupCaches caches = MakeSetupCaches(std::nullopt, io.err);
   SweepOptions sweep;
   sweep.quick = options.quick;
   sweep.duration_s = options.duration_s;
   sweep.progress = &io.err;
+  sweep.calibrations = caches.calibrations.get();
+  sweep.field_maps = caches.field_maps.get();
   // A quick sweep is for tests: one timed run each, since every run's setup (field maps) costs
   // more than its 3 s of stepping.
   if (options.quick) sweep.timing_repeats = 1;
   if (options.timing_repeats) sweep.timing_repeats = *options.timing_repeats;
+  // The files are rewritten after every scene, so a sweep that is interrupted or fails in a later
+  // scene keeps the scenes it finished (a full sweep takes about 14 minutes).
   std::vector<SceneResult> scenes;
   for (const auto& [file, spec] : specs) {
     io.out << "== " << file << "\n";
@@ -164,14 +170,18 @@ int BenchCommand(const std::vector<std::string>& args, const CliStreams& io) {
                             {&wall_clock, io.stop_requested, {}});
     if (!scene) {
       io.err << "hilrig bench: " << scene.error().message << "\n";
+      if (!scenes.empty()) {
+        io.err << "hilrig bench: " << options.out_dir.string() << " keeps the " << scenes.size()
+               << " scene(s) finished before it\n";
+      }
       return kExitCheckFailed;
     }
     io.out << FormatParetoTables(scene.value()) << std::endl;
     scenes.push_back(std::move(scene).value());
-  }
-  if (auto written = WriteOutputs(scenes, options.out_dir); !written) {
-    io.err << "hilrig bench: " << written.error().message << "\n";
-    return kExitBadInput;
+    if (auto written = WriteOutputs(scenes, options.out_dir); !written) {
+      io.err << "hilrig bench: " << written.error().message << "\n";
+      return kExitBadInput;
+    }
   }
   io.out << "wrote " << (options.out_dir / "work_precision.csv").string() << " and "
          << (options.out_dir / "work_precision.svg").string() << "\n";

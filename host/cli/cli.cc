@@ -13,6 +13,7 @@
 #include "host/bench/calibration_store.h"
 #include "host/bench/field_map_store.h"
 #include "host/bench/reference_cache.h"
+#include "host/bench/setup_caches.h"
 #include "host/bench/work_precision.h"
 #include "host/cli/bench_command.h"
 #include "host/cli/cli_args.h"
@@ -196,18 +197,9 @@ rig::Result<void> SetUpTactile(const proto::Scenario& spec, const RunOptions& op
     if (!film) return film.error();
     hall.film_field = std::move(film).value();
   }
-  const FileCalibrationStore* store =
-      hall.calibration_file.empty() ? options.calibrations : nullptr;
-  if (store != nullptr) {
-    if (std::optional<proto::Calibration> cached = store->Load(spec, config.seed)) {
-      hall.calibration = std::move(*cached);
-      return {};
-    }
-  }
-  if (auto calibrated = LoadTactileCalibration(config); !calibrated) {
+  if (auto calibrated = CalibrateThroughStore(spec, config, options.calibrations); !calibrated) {
     return rig::MakeError("tactile calibration: " + calibrated.error().message);
   }
-  if (store != nullptr && hall.calibration) store->Store(spec, config.seed, *hall.calibration);
   return {};
 }
 
@@ -403,33 +395,13 @@ int RunFolder(const RunOptions& options, const Streams& io) {
   return exit_code;
 }
 
-// The folders beside the reference cache that keep tabulated field maps and calibrations; none
-// when this executable cannot name itself (the setup is then done in full every run, as before).
-struct SetupCaches {
-  std::unique_ptr<FileFieldMapStore> field_maps;
-  std::unique_ptr<FileCalibrationStore> calibrations;
-};
-
-SetupCaches MakeSetupCaches(const RunOptions& options, const Streams& io) {
-  auto identity = ExecutableIdentity();
-  if (!identity) {
-    io.err << "hilrig: field map and calibration caches off (" << identity.error().message << ")\n";
-    return {};
-  }
-  const fs::path root = options.reference_cache_dir.value_or(DefaultReferenceCacheDir());
-  return {std::make_unique<FileFieldMapStore>((root / "field_maps").string(), identity.value(),
-                                              &io.err),
-          std::make_unique<FileCalibrationStore>((root / "calibrations").string(), identity.value(),
-                                                 &io.err)};
-}
-
 int RunCommand(const std::vector<std::string>& args, const Streams& io) {
   auto options = ParseRunOptions(args);
   if (!options) {
     io.err << "hilrig run: " << options.error().message << "\n" << kUsage;
     return kExitBadInput;
   }
-  const SetupCaches caches = MakeSetupCaches(options.value(), io);
+  const SetupCaches caches = MakeSetupCaches(options.value().reference_cache_dir, io.err);
   options.value().field_maps = caches.field_maps.get();
   options.value().calibrations = caches.calibrations.get();
   const std::string& target = options.value().target;

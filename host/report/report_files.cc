@@ -1,8 +1,10 @@
 #include "host/report/report_files.h"
 
 #include <google/protobuf/util/json_util.h>
+#include <unistd.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -11,11 +13,24 @@
 namespace hilrig::host {
 
 rig::Result<void> WriteTextFile(const std::string& path, const std::string& content) {
-  std::ofstream file(path, std::ios::binary | std::ios::trunc);
-  if (!file) return rig::MakeError("cannot write " + path);
-  file << content;
-  file.close();
-  if (!file) return rig::MakeError("error while writing " + path);
+  // Written beside the target and renamed over it, so a reader (or a rewrite after a crash) sees
+  // the old file or the new one, never a cut one.
+  const std::string temporary = path + ".tmp" + std::to_string(::getpid());
+  std::error_code error;
+  {
+    std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
+    file.write(content.data(), static_cast<std::streamsize>(content.size()));
+    if (!file.flush()) {
+      file.close();
+      std::filesystem::remove(temporary, error);
+      return rig::MakeError("cannot write " + path);
+    }
+  }
+  std::filesystem::rename(temporary, path, error);
+  if (error) {
+    std::filesystem::remove(temporary, error);
+    return rig::MakeError("cannot write " + path + ": " + error.message());
+  }
   return {};
 }
 

@@ -16,6 +16,7 @@ namespace hilrig::host {
 
 // Any of the rig's result messages (report, accuracy) as protobuf JSON, field names as in .proto.
 rig::Result<void> WriteJsonFile(const google::protobuf::Message& message, const std::string& path);
+// Whole or not at all: written beside `path` and renamed over it.
 rig::Result<void> WriteTextFile(const std::string& path, const std::string& content);
 rig::Result<void> WriteJunitXml(const proto::Report& report, const std::string& path);
 

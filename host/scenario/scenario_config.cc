@@ -268,10 +268,10 @@ ScenarioConfig ResolveScenario(const proto::Scenario& spec,
   return config;
 }
 
-rig::Result<void> BuildFilmField(ScenarioConfig& config) {
+rig::Result<void> BuildFilmField(ScenarioConfig& config, const FieldMapTableStore* field_maps) {
   HallSensorConfig& hall = config.hall_sensors;
   if (!hall.tactile_enabled || hall.film_field != nullptr) return {};
-  auto film = MakeFilmField(hall.field_fidelity);
+  auto film = MakeFilmField(hall.field_fidelity, field_maps);
   if (!film) return film.error();
   hall.film_field = std::move(film).value();
   return {};

@@ -26,6 +26,8 @@
 
 namespace hilrig::host {
 
+class FieldMapTableStore;  // host/sensors/tactile/film_field_factory.h
+
 struct DisturbanceCommand {
   double at_s = 0;
   double duration_s = 0;
@@ -138,7 +140,9 @@ ScenarioConfig ResolveScenario(const proto::Scenario& spec,
 // Does nothing when the tactile nodes are off.
 rig::Result<void> LoadTactileCalibration(ScenarioConfig& config);
 
-// Builds hall_sensors.film_field for its field_fidelity unless the config already has one.
-rig::Result<void> BuildFilmField(ScenarioConfig& config);
+// Builds hall_sensors.film_field for its field_fidelity unless the config already has one; a map
+// level's table comes from `field_maps` when it holds it (MakeFilmField).
+rig::Result<void> BuildFilmField(ScenarioConfig& config,
+                                 const FieldMapTableStore* field_maps = nullptr);
 
 }  // namespace hilrig::host

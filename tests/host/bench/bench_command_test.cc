@@ -131,6 +131,29 @@ TEST_F(BenchCommandTest, TimingRepeatsSetHowOftenEachRunIsTimed) {
   for (std::size_t i = 2; i < rows.size(); ++i) EXPECT_EQ(rows[i][timing_runs], "3") << i;
 }
 
+// The files are rewritten after each scene: a later scene that fails (or a Ctrl-C) leaves the
+// finished ones on disk, and says so.
+TEST_F(BenchCommandTest, AFailingSceneKeepsTheScenesFinishedBeforeIt) {
+  fs::create_directories(out_dir_);
+  const fs::path aborting = out_dir_ / "aborting.textproto";
+  std::ofstream(aborting) << R"(name: "aborting"
+vehicle { initial_position_m { z: 1 } }
+simulation { duration_s: 1 }
+envelopes { name: "never" signal: ALTITUDE_ERROR_M upper: -1 abort_on_violation: true }
+)";
+  const CliResult result =
+      Cli({"bench", "--quick", "--duration-s", "0.5", "--scenes", "hover," + aborting.string(),
+           "--scenarios", kScenarios, "--out", out_dir_.string()});
+  const auto rows = ReadCsv(out_dir_ / "work_precision.csv");
+
+  EXPECT_EQ(result.exit_code, kExitCheckFailed);
+  EXPECT_THAT(result.err, HasSubstr("aborting: the reference run stopped short"));
+  EXPECT_THAT(result.err, HasSubstr("keeps the 1 scene(s) finished before it"));
+  ASSERT_GT(rows.size(), 2u);
+  for (std::size_t i = 1; i < rows.size(); ++i) EXPECT_EQ(rows[i][0], "hover") << i;
+  EXPECT_TRUE(fs::exists(out_dir_ / "work_precision.svg"));
+}
+
 TEST_F(BenchCommandTest, MissingOutIsBadInput) {
   const CliResult result = Cli({"bench", "--quick"});
 

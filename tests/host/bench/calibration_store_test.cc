@@ -6,6 +6,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "host/scenario/scenario_config.h"
+#include "host/scenario/scenario_loader.h"
 #include "tests/support/test_files.h"
 
 namespace hilrig::host {
@@ -66,6 +68,39 @@ TEST(CalibrationStoreTest, AStoreThatFailsIsSaid) {
   store.Store(Spec("pads"), 1, TwoSensors());
   EXPECT_NE(notes.str().find("the pads calibration is not kept for later runs"), std::string::npos)
       << notes.str();
+}
+
+// The one path of `hilrig run` and `hilrig bench`: a miss calibrates and stores, a hit is what the
+// store holds (a planted calibration comes back), and no store calibrates every time.
+TEST(CalibrationStoreTest, CalibrateThroughStoreCalibratesOnceAndThenReads) {
+  const std::string dir = ::testing::TempDir() + "/calibrate_through_store_test";
+  std::filesystem::remove_all(dir);
+  const FileCalibrationStore store(dir, "code-a", nullptr);
+  const auto spec = ParseScenario(R"(name: "pads"
+models { tactile { enabled: true field_fidelity: "tiles:4" } }
+simulation { duration_s: 1 }
+)",
+                                  "pads.textproto");
+  ASSERT_TRUE(spec.ok()) << spec.error().message;
+
+  ScenarioConfig first = ResolveScenario(spec.value(), 1);
+  ASSERT_TRUE(CalibrateThroughStore(spec.value(), first, &store).ok());
+  ASSERT_TRUE(first.hall_sensors.calibration.has_value());
+  EXPECT_EQ(first.hall_sensors.calibration->sensors_size(), 6);
+  const auto stored = store.Load(spec.value(), 1);
+  ASSERT_TRUE(stored.has_value());
+  EXPECT_EQ(stored->SerializeAsString(), first.hall_sensors.calibration->SerializeAsString());
+
+  store.Store(spec.value(), 1, TwoSensors());
+  ScenarioConfig second = ResolveScenario(spec.value(), 1);
+  ASSERT_TRUE(CalibrateThroughStore(spec.value(), second, &store).ok());
+  EXPECT_EQ(second.hall_sensors.calibration->SerializeAsString(), TwoSensors().SerializeAsString());
+
+  ScenarioConfig without_store = ResolveScenario(spec.value(), 1);
+  ASSERT_TRUE(CalibrateThroughStore(spec.value(), without_store, nullptr).ok());
+  EXPECT_EQ(without_store.hall_sensors.calibration->SerializeAsString(),
+            first.hall_sensors.calibration->SerializeAsString());
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -1,0 +1,25 @@
+// The two on-disk caches of a scene's setup, beside the reference cache: tabulated field maps
+// (DIR/field_maps) and DUT calibrations (DIR/calibrations), shared by `hilrig run` and
+// `hilrig bench`. Both are keyed on the executable's bytes, so when this executable cannot name
+// itself they are off, said once on `notes`, and every setup is done in full as without them.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <ostream>
+#include <string>
+
+#include "host/bench/calibration_store.h"
+#include "host/bench/field_map_store.h"
+
+namespace hilrig::host {
+
+struct SetupCaches {
+  std::unique_ptr<FileFieldMapStore> field_maps;
+  std::unique_ptr<FileCalibrationStore> calibrations;
+};
+
+// Under `root`, or DefaultReferenceCacheDir() when it is empty.
+SetupCaches MakeSetupCaches(const std::optional<std::string>& root, std::ostream& notes);
+
+}  // namespace hilrig::host
