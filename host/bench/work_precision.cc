@@ -537,6 +537,11 @@ rig::Result<SceneResult> SweepScene(const proto::Scenario& spec, const std::stri
   const proto::Scenario reference_spec = WithFidelity(base, reference.fidelity);
   auto reference_config = ResolveChecked(reference_spec, spec_directory, std::nullopt);
   if (!reference_config) return reference_config.error();
+  if (options.progress != nullptr && reference_config.value().hall_sensors.tactile_enabled) {
+    *options.progress << spec.name() << ": the DUT's calibration at the reference field ("
+                      << reference.fidelity.field_fidelity
+                      << "; once per build, then read from the cache)" << std::endl;
+  }
   if (auto calibrated =
           CalibrateThroughStore(reference_spec, reference_config.value(), options.calibrations);
       !calibrated) {
