@@ -380,8 +380,13 @@ void LockstepRunner::Impl::DrainCanLog(std::int64_t now_ns) {
 
 void LockstepRunner::Impl::ReportProgress(std::int64_t now_ns) {
   const std::int64_t wall_ns = control_.wall_clock->NowNs();
-  if (sinks_.progress == nullptr || wall_ns < next_progress_wall_ns_) return;
+  if (wall_ns < next_progress_wall_ns_) return;
   next_progress_wall_ns_ = wall_ns + kProgressPeriodNs;
+  // The files' buffers (1 MiB in `hilrig run`, 26 s of a real-time trace) go to the files every
+  // few wall seconds, so a process that is killed or dies keeps all but its last seconds.
+  if (sinks_.trace_csv != nullptr) sinks_.trace_csv->flush();
+  if (sinks_.can_log != nullptr) sinks_.can_log->flush();
+  if (sinks_.progress == nullptr) return;
   *sinks_.progress << config_.name << ": " << Seconds(now_ns) << " / " << config_.duration_s
                    << " s simulated, real-time factor "
                    << Seconds(now_ns) / std::max(1e-9, Seconds(wall_ns - wall_start_ns_)) << "x";

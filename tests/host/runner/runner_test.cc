@@ -51,6 +51,46 @@ timeline { at_s: 0 setpoint { position_m { z: 1 } } }
 envelopes { name: "alt" signal: ALTITUDE_ERROR_M upper: 0.05 }
 )";
 
+// A wall clock that moves 5 s each time it is read: every look the runner takes at it is a
+// progress moment.
+class FiveSecondsPerRead final : public rig::Clock {
+ public:
+  std::int64_t NowNs() const override { return now_ns_ += 5'000'000'000; }
+
+ private:
+  mutable std::int64_t now_ns_ = 0;
+};
+
+// Counts the flushes that reach it.
+class SyncCountingBuffer final : public std::stringbuf {
+ public:
+  int syncs = 0;
+
+ protected:
+  int sync() override {
+    ++syncs;
+    return std::stringbuf::sync();
+  }
+};
+
+// The trace and the CAN log reach their files every few wall seconds (not only when their
+// buffers fill), so a process that is killed keeps all but its last seconds.
+TEST(RunnerTest, TraceAndCanLogAreFlushedEveryFewWallSeconds) {
+  ScenarioConfig config = ConfigFrom(kHoverInAir);
+  config.duration_s = 40;  // about ten looks at the wall clock, one per 4096 ticks
+  SyncCountingBuffer trace_buffer, can_buffer;
+  std::ostream trace(&trace_buffer), can_log(&can_buffer);
+  const FiveSecondsPerRead wall_clock;
+
+  const proto::Report report =
+      RunScenario(config, {.trace_csv = &trace, .can_log = &can_log}, {.wall_clock = &wall_clock});
+
+  EXPECT_EQ(report.stop_reason(), "completed");
+  EXPECT_GE(trace_buffer.syncs, 5);
+  EXPECT_GE(can_buffer.syncs, 5);
+  EXPECT_FALSE(trace_buffer.str().empty());
+}
+
 TEST(RunnerTest, RunsForItsDurationAndCompletes) {
   const RunOutput output = RunToEnd(ConfigFrom(kHoverInAir));
   EXPECT_EQ(output.report.stop_reason(), "completed");
