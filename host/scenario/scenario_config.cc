@@ -78,8 +78,13 @@ QuadrotorParams ResolveVehicle(const proto::Scenario& spec) {
 
 void ResolveSensors(const proto::Scenario& spec, ScenarioConfig& config) {
   const bool noise = spec.models().noise() == proto::NOISE_ON;
+  // The IMU and VIO sample on physics ticks. Their defaults (1000 and 30 Hz) are capped at the
+  // tick rate: a 500 Hz scene got 500 IMU samples a second with noise scaled for 1000 Hz (sqrt(2)
+  // too much) and a report that said 1000 Hz.
+  const double physics_rate_hz = PhysicsRateHz(spec.simulation());
   const proto::Imu& imu = spec.models().imu();
-  config.imu.rate_hz = Or(imu.has_rate_hz(), imu.rate_hz(), config.imu.rate_hz);
+  config.imu.rate_hz =
+      Or(imu.has_rate_hz(), imu.rate_hz(), std::min(config.imu.rate_hz, physics_rate_hz));
   config.imu.gyro_noise_density_rad_s_sqrt_hz =
       Or(imu.has_gyro_noise_density_rad_s_sqrt_hz(), imu.gyro_noise_density_rad_s_sqrt_hz(),
          config.imu.gyro_noise_density_rad_s_sqrt_hz);
@@ -95,7 +100,8 @@ void ResolveSensors(const proto::Scenario& spec, ScenarioConfig& config) {
   config.imu.noise_enabled = noise;
 
   const proto::Vio& vio = spec.models().vio();
-  config.vio.rate_hz = Or(vio.has_rate_hz(), vio.rate_hz(), config.vio.rate_hz);
+  config.vio.rate_hz =
+      Or(vio.has_rate_hz(), vio.rate_hz(), std::min(config.vio.rate_hz, physics_rate_hz));
   config.vio.latency_s = Or(vio.has_latency_s(), vio.latency_s(), config.vio.latency_s);
   config.vio.position_noise_m =
       Or(vio.has_position_noise_m(), vio.position_noise_m(), config.vio.position_noise_m);
@@ -150,8 +156,7 @@ void ResolveHallSensors(const proto::Scenario& spec, const std::string& spec_dir
 
 void ResolveSimulation(const proto::Simulation& simulation, ScenarioConfig& config) {
   config.duration_s = simulation.duration_s();
-  const double physics_rate_hz =
-      Or(simulation.has_physics_rate_hz(), simulation.physics_rate_hz(), 1000.0);
+  const double physics_rate_hz = PhysicsRateHz(simulation);
   config.physics_step_ns = std::llround(1e9 / physics_rate_hz);
   config.control_every_ticks = static_cast<int>(
       std::lround(physics_rate_hz / Or(simulation.has_control_rate_hz(),
@@ -275,6 +280,10 @@ rig::Result<void> BuildFilmField(ScenarioConfig& config, const FieldMapTableStor
   if (!film) return film.error();
   hall.film_field = std::move(film).value();
   return {};
+}
+
+double PhysicsRateHz(const proto::Simulation& simulation) {
+  return Or(simulation.has_physics_rate_hz(), simulation.physics_rate_hz(), kDefaultPhysicsRateHz);
 }
 
 rig::Result<void> LoadTactileCalibration(ScenarioConfig& config) {

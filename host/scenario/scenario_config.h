@@ -140,6 +140,10 @@ ScenarioConfig ResolveScenario(const proto::Scenario& spec,
 // Does nothing when the tactile nodes are off.
 rig::Result<void> LoadTactileCalibration(ScenarioConfig& config);
 
+// The spec's physics (tick) rate, or the default.
+inline constexpr double kDefaultPhysicsRateHz = 1000;
+double PhysicsRateHz(const proto::Simulation& simulation);
+
 // Builds hall_sensors.film_field for its field_fidelity unless the config already has one; a map
 // level's table comes from `field_maps` when it holds it (MakeFilmField).
 rig::Result<void> BuildFilmField(ScenarioConfig& config,

@@ -13,6 +13,7 @@
 #include "dut_fw/sensor_node.h"
 #include "fixtures/objects/object_fixtures.h"
 #include "host/plant/quadrotor.h"
+#include "host/scenario/scenario_config.h"
 #include "host/sensors/tactile/film_field_factory.h"
 
 namespace hilrig::host {
@@ -87,10 +88,6 @@ std::string NumberText(double value) {
   std::ostringstream text;
   text << value;
   return text.str();
-}
-
-double PhysicsRateHz(const proto::Simulation& simulation) {
-  return simulation.has_physics_rate_hz() ? simulation.physics_rate_hz() : 1000.0;
 }
 
 // Flights happen around a bench, and the DUT's float build resolves a position 1 km out to
@@ -417,10 +414,8 @@ void RequireFraction(bool has, double value, const char* field, const ProblemLis
 void CheckTiming(const proto::Scenario& scenario, const ProblemList& problems) {
   const proto::TimingEnvelopes& timing = scenario.timing();
   const proto::Simulation& simulation = scenario.simulation();
-  const double period_s =
-      1.0 / (simulation.has_physics_rate_hz() && simulation.physics_rate_hz() > 0
-                 ? simulation.physics_rate_hz()
-                 : 1000.0);
+  const double physics_rate_hz = PhysicsRateHz(simulation);
+  const double period_s = 1.0 / (physics_rate_hz > 0 ? physics_rate_hz : kDefaultPhysicsRateHz);
   if (timing.has_late_threshold_s() &&
       !(timing.late_threshold_s() > 0 && timing.late_threshold_s() < 1)) {
     problems.Add("late_threshold_s",
