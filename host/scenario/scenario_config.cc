@@ -142,7 +142,7 @@ void ResolveHallSensors(const proto::Scenario& spec, const std::string& spec_dir
   hall.reference.earth_field_enabled = base.earth_field_enabled;
   hall.field_fidelity =
       Or(tactile.has_field_fidelity(), tactile.field_fidelity(), std::string(kDefaultFilmFidelity));
-  hall.node_rate_hz = Or(tactile.has_node_rate_hz(), tactile.node_rate_hz(), 50.0);
+  hall.node_rate_hz = Or(tactile.has_node_rate_hz(), tactile.node_rate_hz(), kDefaultNodeRateHz);
   hall.temperature_c = Or(tactile.has_temperature_c(), tactile.temperature_c(), 25.0);
   hall.compensation = Or(tactile.has_compensation(), tactile.compensation(), true);
   hall.zeroing_s = Or(tactile.has_zeroing_s(), tactile.zeroing_s(), 1.0);

@@ -142,6 +142,8 @@ rig::Result<void> LoadTactileCalibration(ScenarioConfig& config);
 
 // The spec's physics (tick) rate, or the default.
 inline constexpr double kDefaultPhysicsRateHz = 1000;
+// The design's sensor rate: every Hall node samples at it unless the spec sets node_rate_hz.
+inline constexpr double kDefaultNodeRateHz = 50;
 double PhysicsRateHz(const proto::Simulation& simulation);
 
 // Builds hall_sensors.film_field for its field_fidelity unless the config already has one; a map

@@ -194,6 +194,15 @@ void CheckSensors(const proto::Models& models, double physics_rate_hz,
                "200, 250, 500 or 1000 Hz)");
     }
   }
+  // The nodes are stepped on ticks, one sample per tick at most: 1 kHz nodes in a 500 Hz scene
+  // sent 500 samples a second each, and the DUT counted every other one as lost on the bus.
+  const double node_rate_hz =
+      tactile.has_node_rate_hz() ? tactile.node_rate_hz() : kDefaultNodeRateHz;
+  if ((tactile.enabled() || tactile.has_node_rate_hz()) && node_rate_hz > physics_rate_hz) {
+    hall.Add("node_rate_hz", "the nodes sample on physics ticks: " + NumberText(node_rate_hz) +
+                                 " Hz is above physics_rate_hz (" + NumberText(physics_rate_hz) +
+                                 " Hz)");
+  }
   RequireNonNegative(tactile.has_zeroing_s(), tactile.zeroing_s(), "zeroing_s", hall);
   if (tactile.has_zeroing_s() && tactile.zeroing_s() > kMaxRunDurationS) {
     hall.Add("zeroing_s", "must be at most 86400 s (the longest run): the DUT would never zero");

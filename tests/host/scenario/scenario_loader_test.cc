@@ -101,6 +101,22 @@ TEST(ScenarioLoaderTest, SensorRatesMustFitTheTicks) {
                   .ok());
 }
 
+// 1 kHz nodes in a 500 Hz scene sent 500 samples a second each, and the DUT counted every other
+// one as lost on the bus; the default 50 Hz nodes cannot run in a 20 Hz scene either.
+TEST(ScenarioLoaderTest, NodeRateAboveTheTickRateIsRefused) {
+  EXPECT_THAT(ErrorOf("name: \"x\"\nsimulation { duration_s: 1 physics_rate_hz: 500 }\n"
+                      "models { tactile { enabled: true node_rate_hz: 1000 } }\n"),
+              HasSubstr("models.tactile.node_rate_hz: the nodes sample on physics ticks: 1000 Hz "
+                        "is above physics_rate_hz (500 Hz)"));
+  EXPECT_THAT(ErrorOf("name: \"x\"\nsimulation { duration_s: 1 physics_rate_hz: 20 }\n"
+                      "models { tactile { enabled: true } }\n"),
+              HasSubstr("50 Hz is above physics_rate_hz (20 Hz)"));
+  EXPECT_TRUE(ParseScenario("name: \"x\"\nsimulation { duration_s: 1 physics_rate_hz: 500 }\n"
+                            "models { tactile { enabled: true node_rate_hz: 500 } }\n",
+                            "s")
+                  .ok());
+}
+
 TEST(ScenarioLoaderTest, ReportsEveryProblemAtOnce) {
   const std::string error = ErrorOf(
       "name: \"x\"\nsimulation { duration_s: -1 }\nvehicle { mass_kg: 0 arm_length_m: -1 }\n");
