@@ -51,7 +51,8 @@ void FileCalibrationStore::Store(const proto::Scenario& spec, std::uint64_t seed
 }
 
 rig::Result<void> CalibrateThroughStore(const proto::Scenario& spec, ScenarioConfig& config,
-                                        const FileCalibrationStore* store) {
+                                        const FileCalibrationStore* store,
+                                        const std::atomic<bool>* stop_requested) {
   HallSensorConfig& hall = config.hall_sensors;
   if (!hall.tactile_enabled) return {};
   if (!hall.calibration_file.empty()) store = nullptr;
@@ -61,7 +62,9 @@ rig::Result<void> CalibrateThroughStore(const proto::Scenario& spec, ScenarioCon
       return {};
     }
   }
-  if (auto calibrated = LoadTactileCalibration(config); !calibrated) return calibrated.error();
+  if (auto calibrated = LoadTactileCalibration(config, stop_requested); !calibrated) {
+    return calibrated.error();
+  }
   if (store != nullptr && hall.calibration) store->Store(spec, config.seed, *hall.calibration);
   return {};
 }

@@ -46,7 +46,9 @@ class FileCalibrationStore {
 // store calibrates every time; a spec that names a calibration file reads that instead. The one
 // way `hilrig run` and `hilrig bench` set up a scene's DUT, so a sweep that calibrates at the
 // reference field (tiles:64, about 47 s) does it once per build, not once per sweep.
+// `stop_requested` (may be null) ends a calibration early, as an "interrupted" error.
 rig::Result<void> CalibrateThroughStore(const proto::Scenario& spec, ScenarioConfig& config,
-                                        const FileCalibrationStore* store);
+                                        const FileCalibrationStore* store,
+                                        const std::atomic<bool>* stop_requested = nullptr);
 
 }  // namespace hilrig::host

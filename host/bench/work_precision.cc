@@ -542,8 +542,8 @@ rig::Result<SceneResult> SweepScene(const proto::Scenario& spec, const std::stri
                       << reference.fidelity.field_fidelity
                       << "; once per build, then read from the cache)" << std::endl;
   }
-  if (auto calibrated =
-          CalibrateThroughStore(reference_spec, reference_config.value(), options.calibrations);
+  if (auto calibrated = CalibrateThroughStore(reference_spec, reference_config.value(),
+                                              options.calibrations, control.stop_requested);
       !calibrated) {
     return rig::MakeError(spec.name() + ": tactile calibration: " + calibrated.error().message);
   }
@@ -602,7 +602,9 @@ rig::Result<ShippedVerdict> RunDefaultAsShipped(const proto::Scenario& spec,
   auto config = ResolveChecked(spec, spec_directory, std::nullopt);
   if (!config) return config.error();
   if (auto built = BuildFilmField(config.value(), field_maps); !built) return built.error();
-  if (auto calibrated = CalibrateThroughStore(spec, config.value(), calibrations); !calibrated) {
+  if (auto calibrated =
+          CalibrateThroughStore(spec, config.value(), calibrations, control.stop_requested);
+      !calibrated) {
     return rig::MakeError(spec.name() + ": tactile calibration: " + calibrated.error().message);
   }
   const proto::Report report = RunScenario(config.value(), RunSinks{}, control);

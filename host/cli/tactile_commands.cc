@@ -135,8 +135,13 @@ int CalibrateCommand(const std::vector<std::string>& args, const CliStreams& io)
     return Fail(io, "calibrate", ready.error().message);
   }
   const fixtures::CalibrationBench bench;
-  proto::Calibration calibration =
-      fixtures::Calibrate(bench, *options.value().film, options.value().seed);
+  std::optional<proto::Calibration> calibrated = fixtures::CalibrateUnlessStopped(
+      bench, *options.value().film, options.value().seed, io.stop_requested);
+  if (!calibrated) {
+    io.err << "hilrig calibrate: interrupted, nothing written\n";
+    return kExitCheckFailed;
+  }
+  proto::Calibration& calibration = *calibrated;
   calibration.set_field_fidelity(options.value().fidelity);
   const fs::path path = fs::path(options.value().out_dir) / "calibration.textproto";
   if (auto written = fixtures::WriteCalibrationFile(calibration, path.string()); !written) {

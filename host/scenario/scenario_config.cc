@@ -286,7 +286,8 @@ double PhysicsRateHz(const proto::Simulation& simulation) {
   return Or(simulation.has_physics_rate_hz(), simulation.physics_rate_hz(), kDefaultPhysicsRateHz);
 }
 
-rig::Result<void> LoadTactileCalibration(ScenarioConfig& config) {
+rig::Result<void> LoadTactileCalibration(ScenarioConfig& config,
+                                         const std::atomic<bool>* stop_requested) {
   HallSensorConfig& hall = config.hall_sensors;
   if (!hall.tactile_enabled) return {};
   if (!hall.calibration_file.empty()) {
@@ -301,7 +302,9 @@ rig::Result<void> LoadTactileCalibration(ScenarioConfig& config) {
   bench.reference = hall.reference;
   bench.earth_field_world_t = config.earth_field.field_world_t;
   bench.temperature_c = hall.temperature_c;
-  hall.calibration = fixtures::Calibrate(bench, *hall.film_field, config.seed);
+  hall.calibration =
+      fixtures::CalibrateUnlessStopped(bench, *hall.film_field, config.seed, stop_requested);
+  if (!hall.calibration) return rig::MakeError("interrupted");
   hall.calibration->set_field_fidelity(hall.field_fidelity);
   return {};
 }

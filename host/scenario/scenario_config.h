@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -138,7 +139,9 @@ ScenarioConfig ResolveScenario(const proto::Scenario& spec,
 // The DUT's tactile calibration, as the firmware would be flashed with it: read from the spec's
 // calibration file, or found by running the calibration jigs on the scene's own sensor models.
 // Does nothing when the tactile nodes are off.
-rig::Result<void> LoadTactileCalibration(ScenarioConfig& config);
+// `stop_requested` (may be null) ends a calibration early, as an "interrupted" error.
+rig::Result<void> LoadTactileCalibration(ScenarioConfig& config,
+                                         const std::atomic<bool>* stop_requested = nullptr);
 
 // The spec's physics (tick) rate, or the default.
 inline constexpr double kDefaultPhysicsRateHz = 1000;
