@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "host/link/dut_config_codec.h"
+#include "rig/number_text.h"
 
 namespace hilrig::host {
 namespace {
@@ -89,11 +90,11 @@ rig::Result<void> ValidateProcessDutOptions(const ProcessDutOptions& options) {
     return !std::isfinite(seconds) || seconds <= 0 || seconds > 3600;
   };
   if (bad_timeout(options.answer_timeout_s)) {
-    return rig::MakeError("dut answer timeout " + std::to_string(options.answer_timeout_s) +
+    return rig::MakeError("dut answer timeout " + rig::NumberText(options.answer_timeout_s) +
                           " s: must be positive, finite and at most an hour");
   }
   if (bad_timeout(options.start_timeout_s)) {
-    return rig::MakeError("dut start timeout " + std::to_string(options.start_timeout_s) +
+    return rig::MakeError("dut start timeout " + rig::NumberText(options.start_timeout_s) +
                           " s: must be positive, finite and at most an hour");
   }
   if (options.listen_address.empty()) return rig::MakeError("empty link listen address");

@@ -23,6 +23,7 @@
 #include "rig/candump_log.h"
 #include "rig/check.h"
 #include "rig/emulated_bus.h"
+#include "rig/number_text.h"
 
 namespace hilrig::host {
 namespace {
@@ -424,7 +425,7 @@ bool LockstepRunner::Impl::Step() {
     // A step size or model the integrator cannot hold: say so and stop, instead of carrying NaN
     // through the trace.
     stop_reason_ = "numerical instability: the plant state is not finite after " +
-                   std::to_string(Seconds(now_ns)) + " s";
+                   rig::NumberText(Seconds(now_ns)) + " s";
     ended_ = true;
     return false;
   }

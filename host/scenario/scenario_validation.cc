@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <set>
-#include <sstream>
 #include <string>
 #include <utility>
 
@@ -15,6 +14,7 @@
 #include "host/plant/quadrotor.h"
 #include "host/scenario/scenario_config.h"
 #include "host/sensors/tactile/film_field_factory.h"
+#include "rig/number_text.h"
 
 namespace hilrig::host {
 namespace {
@@ -82,14 +82,6 @@ constexpr double kMaxRunDurationS = 86400;
 // slower than any scene needs.
 constexpr double kMinTickedRateHz = 0.01;
 
-// Six significant digits: "-1", "1e-09", "5.56e+302" where std::to_string writes "-1.000000",
-// "0.000000" and a 303-digit number.
-std::string NumberText(double value) {
-  std::ostringstream text;
-  text << value;
-  return text.str();
-}
-
 // Flights happen around a bench, and the DUT's float build resolves a position 1 km out to
 // 0.06 mm; far beyond that a double stops resolving motion at all (at 1e300 m the vehicle cannot
 // move, and a run held its altitude there until the setpoint changed).
@@ -107,11 +99,11 @@ void RequireNearOrigin(const proto::Vector3& position_m, const ProblemList& prob
 }
 
 void RequirePositive(bool has, double value, const char* field, const ProblemList& problems) {
-  if (has && !(value > 0)) problems.Add(field, "must be > 0, got " + NumberText(value));
+  if (has && !(value > 0)) problems.Add(field, "must be > 0, got " + rig::NumberText(value));
 }
 
 void RequireNonNegative(bool has, double value, const char* field, const ProblemList& problems) {
-  if (has && !(value >= 0)) problems.Add(field, "must be >= 0, got " + NumberText(value));
+  if (has && !(value >= 0)) problems.Add(field, "must be >= 0, got " + rig::NumberText(value));
 }
 
 void CheckVehicle(const proto::Vehicle& vehicle, const ProblemList& problems) {
@@ -143,7 +135,7 @@ void CheckIntegratorTolerance(const proto::Models& models, const ProblemList& pr
   if (!models.has_integrator_tolerance()) return;
   const double tolerance = models.integrator_tolerance();
   if (!(tolerance > 0 && tolerance < 1)) {
-    problems.Add("integrator_tolerance", "must be > 0 and < 1, got " + NumberText(tolerance));
+    problems.Add("integrator_tolerance", "must be > 0 and < 1, got " + rig::NumberText(tolerance));
   }
 }
 
@@ -153,10 +145,10 @@ void RequireTickedRate(bool has, double rate_hz, double physics_rate_hz,
                        const ProblemList& problems) {
   if (!has) return;
   if (!(rate_hz > 0)) {
-    problems.Add("rate_hz", "must be > 0, got " + NumberText(rate_hz));
+    problems.Add("rate_hz", "must be > 0, got " + rig::NumberText(rate_hz));
   } else if (rate_hz < kMinTickedRateHz || rate_hz > physics_rate_hz) {
-    problems.Add("rate_hz",
-                 "must be in [0.01 Hz, physics_rate_hz (" + NumberText(physics_rate_hz) + " Hz)]");
+    problems.Add("rate_hz", "must be in [0.01 Hz, physics_rate_hz (" +
+                                rig::NumberText(physics_rate_hz) + " Hz)]");
   }
 }
 
@@ -199,9 +191,9 @@ void CheckSensors(const proto::Models& models, double physics_rate_hz,
   const double node_rate_hz =
       tactile.has_node_rate_hz() ? tactile.node_rate_hz() : kDefaultNodeRateHz;
   if ((tactile.enabled() || tactile.has_node_rate_hz()) && node_rate_hz > physics_rate_hz) {
-    hall.Add("node_rate_hz", "the nodes sample on physics ticks: " + NumberText(node_rate_hz) +
-                                 " Hz is above physics_rate_hz (" + NumberText(physics_rate_hz) +
-                                 " Hz)");
+    hall.Add("node_rate_hz", "the nodes sample on physics ticks: " + rig::NumberText(node_rate_hz) +
+                                 " Hz is above physics_rate_hz (" +
+                                 rig::NumberText(physics_rate_hz) + " Hz)");
   }
   RequireNonNegative(tactile.has_zeroing_s(), tactile.zeroing_s(), "zeroing_s", hall);
   if (tactile.has_zeroing_s() && tactile.zeroing_s() > kMaxRunDurationS) {
@@ -233,7 +225,8 @@ void CheckDivides(bool has, double rate_hz, double physics_rate_hz, const char* 
   }
   const double ratio = physics_rate_hz / rate_hz;
   if (ratio < 1 || std::abs(ratio - std::round(ratio)) > 1e-9) {
-    problems.Add(field, "must divide physics_rate_hz (" + NumberText(physics_rate_hz) + " Hz)");
+    problems.Add(field,
+                 "must divide physics_rate_hz (" + rig::NumberText(physics_rate_hz) + " Hz)");
   }
 }
 
@@ -414,7 +407,7 @@ void CheckEnvelopes(const proto::Scenario& scenario, const ProblemList& problems
 
 void RequireFraction(bool has, double value, const char* field, const ProblemList& problems) {
   if (has && !(value >= 0 && value <= 1)) {
-    problems.Add(field, "must be a fraction in [0, 1], got " + NumberText(value));
+    problems.Add(field, "must be a fraction in [0, 1], got " + rig::NumberText(value));
   }
 }
 
@@ -428,14 +421,14 @@ void CheckTiming(const proto::Scenario& scenario, const ProblemList& problems) {
   if (timing.has_late_threshold_s() &&
       !(timing.late_threshold_s() > 0 && timing.late_threshold_s() < 1)) {
     problems.Add("late_threshold_s",
-                 "must be in (0, 1) s, got " + NumberText(timing.late_threshold_s()));
+                 "must be in (0, 1) s, got " + rig::NumberText(timing.late_threshold_s()));
   }
   const auto at_least_period = [&](bool has, double value, const char* field) {
     if (!has) return;
     if (!(value > 0)) {
-      problems.Add(field, "must be > 0, got " + NumberText(value));
+      problems.Add(field, "must be > 0, got " + rig::NumberText(value));
     } else if (value < period_s * (1 - 1e-9)) {
-      problems.Add(field, "must be >= the physics period (" + NumberText(period_s) +
+      problems.Add(field, "must be >= the physics period (" + rig::NumberText(period_s) +
                               " s): a loop paced at that period cannot beat it");
     }
   };
@@ -465,10 +458,10 @@ void CheckCanLift(const proto::Scenario& scenario, const ProblemList& problems) 
   if (mass_kg > 0 && 4 * max_thrust_n <= mass_kg * gravity_m_s2) {
     // The numbers behind it, since any of the three may be the mistake.
     problems.Add("max_thrust_per_rotor_n",
-                 "four rotors (" + NumberText(4 * max_thrust_n) +
+                 "four rotors (" + rig::NumberText(4 * max_thrust_n) +
                      " N at full thrust) cannot lift the vehicle's weight (" +
-                     NumberText(mass_kg * gravity_m_s2) + " N: " + NumberText(mass_kg) + " kg at " +
-                     NumberText(gravity_m_s2) + " m/s^2)");
+                     rig::NumberText(mass_kg * gravity_m_s2) + " N: " + rig::NumberText(mass_kg) +
+                     " kg at " + rig::NumberText(gravity_m_s2) + " m/s^2)");
   }
 }
 

@@ -1,0 +1,12 @@
+// Numbers in messages and reasons people read: six significant digits, the shortest form that
+// shows them ("-1", "0.001", "1e-09", "5.56e+299"), where std::to_string writes a fixed six
+// decimals ("0.000000" for 1e-9) and every digit of a huge number (300 of them for 1e300).
+#pragma once
+
+#include <string>
+
+namespace hilrig::rig {
+
+std::string NumberText(double value);
+
+}  // namespace hilrig::rig

@@ -1,0 +1,23 @@
+#include "rig/number_text.h"
+
+#include <gtest/gtest.h>
+
+#include <limits>
+
+namespace hilrig::rig {
+namespace {
+
+TEST(NumberTextTest, SixSignificantDigitsInTheShortestForm) {
+  EXPECT_EQ(NumberText(-1), "-1");
+  EXPECT_EQ(NumberText(0), "0");
+  EXPECT_EQ(NumberText(1000), "1000");
+  EXPECT_EQ(NumberText(0.001), "0.001");
+  EXPECT_EQ(NumberText(1e-9), "1e-09");  // std::to_string: "0.000000"
+  EXPECT_EQ(NumberText(5.56e299), "5.56e+299");
+  EXPECT_EQ(NumberText(2.3456789), "2.34568");
+  EXPECT_EQ(NumberText(std::numeric_limits<double>::infinity()), "inf");
+  EXPECT_EQ(NumberText(std::numeric_limits<double>::quiet_NaN()), "nan");
+}
+
+}  // namespace
+}  // namespace hilrig::rig
