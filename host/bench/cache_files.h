@@ -33,22 +33,29 @@ class Fnv1a64 {
 // The message's bytes, the same for equal messages (map order fixed).
 std::string DeterministicBytes(const google::protobuf::Message& message);
 
-// One cache's folder: an entry per key, named <key><extension>, read whole, written atomically.
+// One cache's folder: an entry per key, named <key><extension>, read whole, written atomically,
+// and at most `max_entries` of them. Every key carries the executable's identity, so each rebuild
+// starts a new set and the old ones are never read again: without a bound the folders grew by
+// megabytes per build. A store beyond the bound removes the entries used least recently (a load
+// marks its entry used).
 class CacheFolder {
  public:
-  CacheFolder(std::string directory, std::string extension);
+  CacheFolder(std::string directory, std::string extension, std::size_t max_entries);
 
   std::string PathOf(const std::string& key) const;
   // The entry's bytes, or nothing when it is absent or unreadable.
   std::optional<std::string> Load(const std::string& key) const;
-  // Creates the folder if needed and puts the entry in place.
+  // Creates the folder if needed, puts the entry in place, and trims the folder to max_entries.
   rig::Result<void> Store(const std::string& key, const std::string& bytes) const;
 
   const std::string& directory() const { return directory_; }
 
  private:
+  void RemoveLeastRecentlyUsed() const;
+
   std::string directory_;
   std::string extension_;
+  std::size_t max_entries_;
 };
 
 // Tells `notes` (if any) that `what` could not be stored: a later run makes it again.

@@ -6,6 +6,10 @@
 namespace hilrig::host {
 namespace {
 
+// The folder's bound (CacheFolder): about 1 KB each: a thousand scene and seed variants of one
+// build.
+constexpr std::size_t kMaxCalibrationEntries = 1000;
+
 constexpr std::string_view kMagic = "HRCAL001";
 
 }  // namespace
@@ -21,7 +25,7 @@ std::string CalibrationCacheKey(const proto::Scenario& spec, std::uint64_t seed,
 
 FileCalibrationStore::FileCalibrationStore(std::string directory, std::string code_identity,
                                            std::ostream* notes)
-    : folder_(std::move(directory), ".calibration"),
+    : folder_(std::move(directory), ".calibration", kMaxCalibrationEntries),
       code_identity_(std::move(code_identity)),
       notes_(notes) {}
 

@@ -6,6 +6,9 @@
 namespace hilrig::host {
 namespace {
 
+// The folder's bound (CacheFolder): about 45 KB each, every map level of about a dozen builds.
+constexpr std::size_t kMaxFieldMapEntries = 64;
+
 constexpr char kMagic[8] = {'H', 'R', 'M', 'A', 'P', '0', '0', '1'};
 constexpr std::size_t kHeaderBytes = sizeof(kMagic) + sizeof(std::uint64_t);
 constexpr std::size_t kNodeBytes = 3 * sizeof(double);
@@ -57,7 +60,7 @@ std::optional<std::vector<Eigen::Vector3d>> ParseFieldMapTable(const std::string
 
 FileFieldMapStore::FileFieldMapStore(std::string directory, std::string code_identity,
                                      std::ostream* notes)
-    : folder_(std::move(directory), ".map"),
+    : folder_(std::move(directory), ".map", kMaxFieldMapEntries),
       code_identity_(std::move(code_identity)),
       notes_(notes) {}
 

@@ -11,6 +11,10 @@
 namespace hilrig::host {
 namespace {
 
+// The folder's bound (CacheFolder): up to about 0.4 MB each: every shipped scene over many builds
+// and seeds.
+constexpr std::size_t kMaxReferenceEntries = 200;
+
 namespace fs = std::filesystem;
 
 constexpr char kMagic[8] = {'H', 'R', 'R', 'E', 'F', '0', '0', '1'};
@@ -108,7 +112,8 @@ std::optional<CachedReference> ParseReference(const std::string& bytes) {
   return reference;
 }
 
-ReferenceCache::ReferenceCache(std::string directory) : folder_(std::move(directory), ".ref") {}
+ReferenceCache::ReferenceCache(std::string directory)
+    : folder_(std::move(directory), ".ref", kMaxReferenceEntries) {}
 
 std::optional<CachedReference> ReferenceCache::Load(const std::string& key) const {
   const std::optional<std::string> bytes = folder_.Load(key);
