@@ -6,9 +6,12 @@
 #include <algorithm>
 #include <charconv>
 #include <chrono>
+#include <iterator>
+#include <set>
 #include <span>
 
 #include "dut_emu/staged_can_bus.h"
+#include "host/cli/cli_args.h"
 #include "host/dut/in_process_dut.h"
 #include "host/link/dut_config_codec.h"
 #include "host/link/hil_link_codec.h"
@@ -344,58 +347,44 @@ rig::Result<CanSpec> ParseCanSpec(const std::string& text) {
 }
 
 rig::Result<DutEmuOptions> ParseDutEmuArgs(const std::vector<std::string>& args) {
+  constexpr const char* kTestHooks[] = {"--test-garbage-at-tick", "--test-exit-at-tick",
+                                        "--test-silent-at-tick", "--test-wrong-tick-at-tick"};
+  std::set<std::string> allowed{"--link", "--can", "--frame-timeout-ms"};
+  allowed.insert(std::begin(kTestHooks), std::end(kTestHooks));
+  auto parsed = host::ParseCliArgs(args, allowed);
+  if (!parsed) return parsed.error();
+  const host::CliArgs& cli = parsed.value();
+  if (!cli.positional.empty()) return rig::MakeError("unexpected argument " + cli.positional[0]);
+  const std::string* link = cli.Option("--link");
+  const std::string* can = cli.Option("--can");
+  if (link == nullptr || can == nullptr) return rig::MakeError("--link and --can are required");
+
   DutEmuOptions options;
-  bool have_link = false;
-  bool have_can = false;
-  for (std::size_t i = 1; i < args.size(); ++i) {
-    const std::string& flag = args[i];
-    // Every option takes a value; an unknown one is named as such, not as one missing its value.
-    constexpr std::string_view kOptions[] = {"--link",
-                                             "--can",
-                                             "--frame-timeout-ms",
-                                             "--test-garbage-at-tick",
-                                             "--test-exit-at-tick",
-                                             "--test-silent-at-tick",
-                                             "--test-wrong-tick-at-tick"};
-    if (std::find(std::begin(kOptions), std::end(kOptions), flag) == std::end(kOptions)) {
-      return rig::MakeError("unknown option " + flag);
-    }
-    if (i + 1 >= args.size()) return rig::MakeError(flag + " needs a value");
-    const std::string& value = args[++i];
-    if (flag == "--link") {
-      const std::size_t colon = value.rfind(':');
-      if (colon == std::string::npos || colon == 0) {
-        return rig::MakeError("--link \"" + value + "\": expected HOST:PORT");
-      }
-      auto port = ParseNumber<std::uint16_t>(value.substr(colon + 1), "link port");
-      if (!port || port.value() == 0) {
-        return rig::MakeError("--link \"" + value + "\": bad port");
-      }
-      options.link_host = value.substr(0, colon);
-      options.link_port = port.value();
-      have_link = true;
-    } else if (flag == "--can") {
-      auto spec = ParseCanSpec(value);
-      if (!spec) return spec.error();
-      options.can = spec.value();
-      have_can = true;
-    } else if (flag == "--frame-timeout-ms") {
-      auto ms = ParseNumber<int>(value, "--frame-timeout-ms");
-      if (!ms || ms.value() <= 0) return rig::MakeError("--frame-timeout-ms must be positive");
-      options.frame_wait_timeout_ms = ms.value();
-    } else if (flag == "--test-garbage-at-tick" || flag == "--test-exit-at-tick" ||
-               flag == "--test-silent-at-tick" || flag == "--test-wrong-tick-at-tick") {
-      auto tick = ParseNumber<std::uint64_t>(value, flag);
-      if (!tick) return tick.error();
-      std::optional<std::uint64_t>& hook =
-          flag == "--test-exit-at-tick"         ? options.exit_at_tick
-          : flag == "--test-silent-at-tick"     ? options.silent_at_tick
-          : flag == "--test-wrong-tick-at-tick" ? options.wrong_tick_at_tick
-                                                : options.garbage_at_tick;
-      hook = tick.value();
-    }
+  const std::size_t colon = link->rfind(':');
+  if (colon == std::string::npos || colon == 0) {
+    return rig::MakeError("--link \"" + *link + "\": expected HOST:PORT");
   }
-  if (!have_link || !have_can) return rig::MakeError("--link and --can are required");
+  auto port = ParseNumber<std::uint16_t>(link->substr(colon + 1), "link port");
+  if (!port || port.value() == 0) return rig::MakeError("--link \"" + *link + "\": bad port");
+  options.link_host = link->substr(0, colon);
+  options.link_port = port.value();
+  auto spec = ParseCanSpec(*can);
+  if (!spec) return spec.error();
+  options.can = spec.value();
+  if (const std::string* timeout = cli.Option("--frame-timeout-ms")) {
+    auto ms = ParseNumber<int>(*timeout, "--frame-timeout-ms");
+    if (!ms || ms.value() <= 0) return rig::MakeError("--frame-timeout-ms must be positive");
+    options.frame_wait_timeout_ms = ms.value();
+  }
+  std::optional<std::uint64_t>* hooks[] = {&options.garbage_at_tick, &options.exit_at_tick,
+                                           &options.silent_at_tick, &options.wrong_tick_at_tick};
+  for (std::size_t i = 0; i < std::size(kTestHooks); ++i) {
+    const std::string* value = cli.Option(kTestHooks[i]);
+    if (value == nullptr) continue;
+    auto tick = ParseNumber<std::uint64_t>(*value, kTestHooks[i]);
+    if (!tick) return tick.error();
+    *hooks[i] = tick.value();
+  }
   return options;
 }
 

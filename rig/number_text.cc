@@ -1,13 +1,20 @@
 #include "rig/number_text.h"
 
-#include <sstream>
+#include <array>
+#include <charconv>
+#include <cmath>
 
 namespace hilrig::rig {
 
 std::string NumberText(double value) {
-  std::ostringstream text;
-  text << value;  // the stream's default: %g with six significant digits
-  return text.str();
+  // The sign of a NaN says nothing, and printf would show it ("-nan").
+  if (!std::isfinite(value)) return std::isnan(value) ? "nan" : (value > 0 ? "inf" : "-inf");
+  // printf's %.6g, without a locale: to_chars with six significant digits.
+  std::array<char, 32> buffer{};
+  const auto [end, error] = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value,
+                                          std::chars_format::general, 6);
+  if (error != std::errc()) return "0";  // unreachable: 32 characters hold any %.6g
+  return std::string(buffer.data(), end);
 }
 
 }  // namespace hilrig::rig

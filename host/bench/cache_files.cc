@@ -58,13 +58,14 @@ std::string CacheFolder::PathOf(const std::string& key) const {
 }
 
 std::optional<std::string> CacheFolder::Load(const std::string& key) const {
-  std::ifstream file(PathOf(key), std::ios::binary);
+  const std::string path = PathOf(key);
+  std::ifstream file(path, std::ios::binary);
   if (!file) return std::nullopt;
   std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
   // Used now: the modification time is what the trimming orders by (a failure only makes the
   // entry look older).
   std::error_code error;
-  fs::last_write_time(PathOf(key), fs::file_time_type::clock::now(), error);
+  fs::last_write_time(path, fs::file_time_type::clock::now(), error);
   return bytes;
 }
 

@@ -43,9 +43,9 @@ class FileCalibrationStore {
 
 // The DUT calibration of `config` (resolved from `spec`): from `store` when it holds one for the
 // spec and the config's seed, else calibrated now (LoadTactileCalibration) and stored. A null
-// store calibrates every time; a spec that names a calibration file reads that instead. The one
-// way `hilrig run` and `hilrig bench` set up a scene's DUT, so a sweep that calibrates at the
-// reference field (tiles:64, about 47 s) does it once per build, not once per sweep.
+// store calibrates every time; a spec that names a calibration file reads that instead. Through
+// SetUpTactile (setup_caches.h) `hilrig run` and `hilrig bench` both use it, so a sweep that
+// calibrates at the reference field (tiles:64, about 47 s) does it once per build, not per sweep.
 // `stop_requested` (may be null) ends a calibration early, as an "interrupted" error.
 rig::Result<void> CalibrateThroughStore(const proto::Scenario& spec, ScenarioConfig& config,
                                         const FileCalibrationStore* store,

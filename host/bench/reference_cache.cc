@@ -33,9 +33,7 @@ double ReadDouble(const char* at) {
   return value;
 }
 
-}  // namespace
-
-rig::Result<std::string> ExecutableIdentity() {
+rig::Result<std::string> HashOwnExecutable() {
   std::ifstream exe("/proc/self/exe", std::ios::binary);
   if (!exe) return rig::MakeError("cannot read /proc/self/exe");
   Fnv1a64 hash;
@@ -44,6 +42,15 @@ rig::Result<std::string> ExecutableIdentity() {
     hash.Add(buffer, static_cast<std::size_t>(exe.gcount()));
   }
   return hash.Hex();
+}
+
+}  // namespace
+
+// The running executable's bytes cannot change under it, so they are hashed once per process
+// (`hilrig run` asks for the reference cache and again for the setup caches).
+rig::Result<std::string> ExecutableIdentity() {
+  static const rig::Result<std::string> identity = HashOwnExecutable();
+  return identity;
 }
 
 std::string ReferenceCacheKey(const proto::Scenario& reference_spec, std::uint64_t seed,

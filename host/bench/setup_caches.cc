@@ -19,4 +19,16 @@ SetupCaches MakeSetupCaches(const std::optional<std::string>& root, std::ostream
                                                  identity.value(), &notes)};
 }
 
+rig::Result<void> SetUpTactile(const proto::Scenario& spec, ScenarioConfig& config,
+                               const FieldMapTableStore* field_maps,
+                               const FileCalibrationStore* calibrations,
+                               const std::atomic<bool>* stop_requested) {
+  if (auto built = BuildFilmField(config, field_maps); !built) return built.error();
+  if (auto calibrated = CalibrateThroughStore(spec, config, calibrations, stop_requested);
+      !calibrated) {
+    return rig::MakeError("tactile calibration: " + calibrated.error().message);
+  }
+  return {};
+}
+
 }  // namespace hilrig::host

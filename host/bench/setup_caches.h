@@ -4,6 +4,7 @@
 // itself they are off, said once on `notes`, and every setup is done in full as without them.
 #pragma once
 
+#include <atomic>
 #include <memory>
 #include <optional>
 #include <ostream>
@@ -21,5 +22,15 @@ struct SetupCaches {
 
 // Under `root`, or DefaultReferenceCacheDir() when it is empty.
 SetupCaches MakeSetupCaches(const std::optional<std::string>& root, std::ostream& notes);
+
+// A tactile scene's film (BuildFilmField through `field_maps`) and DUT calibration
+// (CalibrateThroughStore through `calibrations`), each read from its cache when it holds it and
+// made and kept when not: the one setup of `hilrig run` and `hilrig bench`. Null stores make
+// both; a scene without pads needs neither. A calibration's failure reads "tactile calibration:
+// ...".
+rig::Result<void> SetUpTactile(const proto::Scenario& spec, ScenarioConfig& config,
+                               const FieldMapTableStore* field_maps,
+                               const FileCalibrationStore* calibrations,
+                               const std::atomic<bool>* stop_requested);
 
 }  // namespace hilrig::host

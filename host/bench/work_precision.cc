@@ -1,8 +1,6 @@
 #include "host/bench/work_precision.h"
 
 #include <algorithm>
-#include <array>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <iterator>
@@ -10,9 +8,11 @@
 #include <memory>
 #include <span>
 
+#include "host/bench/setup_caches.h"
 #include "host/runner/run_statistics.h"
 #include "host/scenario/scenario_validation.h"
 #include "host/sensors/tactile/film_field_factory.h"
+#include "rig/number_text.h"
 
 namespace hilrig::host {
 namespace {
@@ -22,15 +22,6 @@ constexpr double kSweepTolerance = 1e-6;
 constexpr int kReferenceSubsteps = 8;
 constexpr double kQuickDurationS = 3;
 constexpr double kTimeMatchS = 1e-6;
-
-std::string Number(double value) {
-  if (!std::isfinite(value)) return std::isnan(value) ? "nan" : (value > 0 ? "inf" : "-inf");
-  std::array<char, 64> buffer{};
-  const auto [end, error] = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value,
-                                          std::chars_format::general, 6);
-  if (error != std::errc()) return "0";
-  return std::string(buffer.data(), end);
-}
 
 std::string CsvField(const std::string& text) {
   if (text.find_first_of(",\"\n") == std::string::npos) return text;
@@ -132,7 +123,7 @@ RunResult Evaluate(const PlannedRun& planned, const ScenarioConfig& config,
 }
 
 std::string RealTimeFactor(double wall_s_per_sim_s) {
-  return wall_s_per_sim_s > 0 ? Number(1 / wall_s_per_sim_s) : "0";
+  return wall_s_per_sim_s > 0 ? rig::NumberText(1 / wall_s_per_sim_s) : "0";
 }
 
 std::string ParetoField(const RunResult& run) {
@@ -148,7 +139,7 @@ std::string IntegratorField(const FidelityChoice& fidelity) {
   std::string name = IntegratorName(fidelity.integrator);
   if (fidelity.integrator == proto::INTEGRATOR_DORMAND_PRINCE) {
     name.append("(")
-        .append(Number(fidelity.integrator_tolerance.value_or(kSweepTolerance)))
+        .append(rig::NumberText(fidelity.integrator_tolerance.value_or(kSweepTolerance)))
         .append(")");
   }
   return name;
@@ -253,7 +244,7 @@ std::string DefaultVerdict(const SceneResult& scene) {
     on.append(on.empty() ? "" : ", ").append(MetricName(metric));
   std::string out = scene.scene;
   out.append(": the default (").append(FidelityLabel(run->run.fidelity)).append(", ");
-  out.append(Number(run->wall_s_per_sim_s)).append(" s per simulated s) is ");
+  out.append(rig::NumberText(run->wall_s_per_sim_s)).append(" s per simulated s) is ");
   out.append(run->on_joint_front ? "on the joint front (time against all three errors)"
                                  : "NOT on the joint front (time against all three errors)");
   out.append(on.empty() ? ", on no single-error front" : ", on the single-error front for ")
@@ -261,7 +252,7 @@ std::string DefaultVerdict(const SceneResult& scene) {
       .append("; it ");
   out.append(run->passes_envelopes ? "passes" : "does NOT pass").append(" its envelopes");
   if (scene.cut_to_s) {
-    out.append(" over the sweep's first ").append(Number(*scene.cut_to_s));
+    out.append(" over the sweep's first ").append(rig::NumberText(*scene.cut_to_s));
     out.append(" s (a check whose window starts later has nothing to judge there)");
   }
   out.append("\n");
@@ -277,7 +268,7 @@ std::string DefaultVerdict(const SceneResult& scene) {
   out.append(scene.scene).append(": the cheapest run on the joint front that passes is ");
   if (cheapest == nullptr) return out.append("none\n");
   out.append(FidelityLabel(cheapest->run.fidelity)).append(" (");
-  return out.append(Number(cheapest->wall_s_per_sim_s)).append(" s per simulated s)\n");
+  return out.append(rig::NumberText(cheapest->wall_s_per_sim_s)).append(" s per simulated s)\n");
 }
 
 }  // namespace
@@ -542,10 +533,10 @@ rig::Result<SceneResult> SweepScene(const proto::Scenario& spec, const std::stri
                       << reference.fidelity.field_fidelity
                       << "; once per build, then read from the cache)" << std::endl;
   }
-  if (auto calibrated = CalibrateThroughStore(reference_spec, reference_config.value(),
-                                              options.calibrations, control.stop_requested);
-      !calibrated) {
-    return rig::MakeError(spec.name() + ": tactile calibration: " + calibrated.error().message);
+  if (auto set_up = SetUpTactile(reference_spec, reference_config.value(), options.field_maps,
+                                 options.calibrations, control.stop_requested);
+      !set_up) {
+    return rig::MakeError(spec.name() + ": " + set_up.error().message);
   }
   const ScenarioConfig& ref_config = reference_config.value();
   const CapturedRun reference_run = RunCaptured(ref_config, control);
@@ -577,13 +568,14 @@ rig::Result<SceneResult> SweepScene(const proto::Scenario& spec, const std::stri
     if (options.progress != nullptr) {
       *options.progress << scene.scene << ": " << RunKindName(planned.kind) << " "
                         << FidelityLabel(planned.fidelity) << ": "
-                        << Number(scene.runs.back().wall_s_per_sim_s) << " s/sim s" << std::endl;
+                        << rig::NumberText(scene.runs.back().wall_s_per_sim_s) << " s/sim s"
+                        << std::endl;
     }
   }
   if (options.progress != nullptr && options.timing_repeats > 1) {
     *options.progress << scene.scene << ": timing the runs under "
-                      << Number(options.cheap_run_wall_s) << " s " << options.timing_repeats
-                      << " more times, in rounds" << std::endl;
+                      << rig::NumberText(options.cheap_run_wall_s) << " s "
+                      << options.timing_repeats << " more times, in rounds" << std::endl;
   }
   TimeInRounds(configs, scene, options, control);
   MarkParetoFronts(scene);
@@ -601,11 +593,10 @@ rig::Result<ShippedVerdict> RunDefaultAsShipped(const proto::Scenario& spec,
                                                 const FieldMapTableStore* field_maps) {
   auto config = ResolveChecked(spec, spec_directory, std::nullopt);
   if (!config) return config.error();
-  if (auto built = BuildFilmField(config.value(), field_maps); !built) return built.error();
-  if (auto calibrated =
-          CalibrateThroughStore(spec, config.value(), calibrations, control.stop_requested);
-      !calibrated) {
-    return rig::MakeError(spec.name() + ": tactile calibration: " + calibrated.error().message);
+  if (auto set_up =
+          SetUpTactile(spec, config.value(), field_maps, calibrations, control.stop_requested);
+      !set_up) {
+    return rig::MakeError(spec.name() + ": " + set_up.error().message);
   }
   const proto::Report report = RunScenario(config.value(), RunSinks{}, control);
   ShippedVerdict verdict;
@@ -691,18 +682,18 @@ std::string WorkPrecisionCsv(const std::vector<SceneResult>& scenes) {
                                                RunKindName(run.run.kind),
                                                IntegratorField(run.run.fidelity),
                                                std::to_string(run.run.fidelity.plant_substeps),
-                                               Number(run.step_s),
+                                               rig::NumberText(run.step_s),
                                                run.run.fidelity.field_fidelity,
-                                               Number(run.wall_s_per_sim_s),
+                                               rig::NumberText(run.wall_s_per_sim_s),
                                                RealTimeFactor(run.wall_s_per_sim_s),
-                                               Number(e.grasp_force_rms_n),
-                                               Number(e.grasp_force_max_n),
-                                               Number(e.load_rms_n),
-                                               Number(e.position_rms_m),
-                                               Number(e.position_max_m),
+                                               rig::NumberText(e.grasp_force_rms_n),
+                                               rig::NumberText(e.grasp_force_max_n),
+                                               rig::NumberText(e.load_rms_n),
+                                               rig::NumberText(e.position_rms_m),
+                                               rig::NumberText(e.position_max_m),
                                                run.passes_envelopes ? "true" : "false",
                                                ParetoField(run),
-                                               Number(e.load_max_n),
+                                               rig::NumberText(e.load_max_n),
                                                std::to_string(e.samples_compared),
                                                std::to_string(e.samples_missing),
                                                std::to_string(run.timing_runs),

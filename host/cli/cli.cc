@@ -187,23 +187,6 @@ struct BufferedOutputFile {
   std::ofstream stream;
 };
 
-// The pads' film and the DUT's calibration, read from the caches when they hold them.
-rig::Result<void> SetUpTactile(const proto::Scenario& spec, const RunOptions& options,
-                               const std::atomic<bool>* stop_requested, ScenarioConfig& config) {
-  HallSensorConfig& hall = config.hall_sensors;
-  if (!hall.tactile_enabled) return {};
-  if (options.field_maps != nullptr) {
-    auto film = MakeFilmField(hall.field_fidelity, options.field_maps);
-    if (!film) return film.error();
-    hall.film_field = std::move(film).value();
-  }
-  if (auto calibrated = CalibrateThroughStore(spec, config, options.calibrations, stop_requested);
-      !calibrated) {
-    return rig::MakeError("tactile calibration: " + calibrated.error().message);
-  }
-  return {};
-}
-
 rig::Result<proto::Report> RunToDirectory(const proto::Scenario& spec, const std::string& spec_path,
                                           const fs::path& out_dir, const RunOptions& options,
                                           const ReferenceSource* reference, const Streams& io) {
@@ -220,7 +203,9 @@ rig::Result<proto::Report> RunToDirectory(const proto::Scenario& spec, const std
   const std::int64_t setup_start_ns = wall_clock.NowNs();
   ScenarioConfig config =
       ResolveScenario(spec, options.seed, fs::path(spec_path).parent_path().string());
-  if (auto set_up = SetUpTactile(spec, options, io.stop_requested, config); !set_up) {
+  if (auto set_up =
+          SetUpTactile(spec, config, options.field_maps, options.calibrations, io.stop_requested);
+      !set_up) {
     return rig::MakeError(spec_path + ": " + set_up.error().message);
   }
   PlotTrace plot_trace;
