@@ -4,7 +4,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -26,6 +25,7 @@
 #include "host/scenario/scenario_config.h"
 #include "host/scenario/scenario_loader.h"
 #include "rig/clock.h"
+#include "rig/file_io.h"
 #include "rig/realtime_scheduling.h"
 
 namespace hilrig::host {
@@ -175,29 +175,20 @@ struct ScenarioOutcome {
   proto::Report report;
 };
 
-// An output file with a 1 MiB buffer instead of the stream's 8 KiB: the trace and the CAN log are
-// written from inside the stepping loop, whose wall time is the run's real-time factor, and a
-// write system call costs tens of microseconds on a VM.
-struct BufferedOutputFile {
-  explicit BufferedOutputFile(const fs::path& path) : buffer(std::size_t{1} << 20) {
-    stream.rdbuf()->pubsetbuf(buffer.data(), static_cast<std::streamsize>(buffer.size()));
-    stream.open(path, std::ios::binary | std::ios::trunc);
-  }
-  std::vector<char> buffer;  // declared first: it outlives the stream that flushes into it
-  std::ofstream stream;
-};
-
 rig::Result<proto::Report> RunToDirectory(const proto::Scenario& spec, const std::string& spec_path,
                                           const fs::path& out_dir, const RunOptions& options,
                                           const ReferenceSource* reference, const Streams& io) {
   std::error_code error;
   fs::create_directories(out_dir, error);
   if (error) return rig::MakeError("cannot create " + out_dir.string() + ": " + error.message());
-  BufferedOutputFile trace_file(out_dir / "trace.csv");
-  BufferedOutputFile can_log_file(out_dir / "can.log");
-  std::ofstream& trace = trace_file.stream;
-  std::ofstream& can_log = can_log_file.stream;
-  if (!trace || !can_log) return rig::MakeError("cannot write into " + out_dir.string());
+  // The trace and the CAN log are written from inside the stepping loop, whose wall time is the
+  // run's real-time factor: rig::OutputFile buffers 1 MiB of them between write system calls.
+  auto trace_file = rig::OutputFile::Create((out_dir / "trace.csv").string());
+  if (!trace_file) return trace_file.error();
+  auto can_log_file = rig::OutputFile::Create((out_dir / "can.log").string());
+  if (!can_log_file) return can_log_file.error();
+  std::ostream& trace = trace_file.value()->stream();
+  std::ostream& can_log = can_log_file.value()->stream();
 
   const rig::SteadyClock wall_clock;
   const std::int64_t setup_start_ns = wall_clock.NowNs();
@@ -253,10 +244,8 @@ rig::Result<proto::Report> RunToDirectory(const proto::Scenario& spec, const std
       io.err << spec_path << ": no fidelity error: " << error.error().message << "\n";
     }
   }
-  trace.close();
-  can_log.close();
-  if (!trace || !can_log)
-    return rig::MakeError("error while writing logs into " + out_dir.string());
+  if (auto closed = trace_file.value()->Close(); !closed) return closed.error();
+  if (auto closed = can_log_file.value()->Close(); !closed) return closed.error();
   if (auto written = WriteJsonFile(report, (out_dir / "report.json").string()); !written) {
     return written.error();
   }

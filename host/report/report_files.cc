@@ -9,29 +9,12 @@
 #include <sstream>
 
 #include "host/report/xml_text.h"
+#include "rig/file_io.h"
 
 namespace hilrig::host {
 
 rig::Result<void> WriteTextFile(const std::string& path, const std::string& content) {
-  // Written beside the target and renamed over it, so a reader (or a rewrite after a crash) sees
-  // the old file or the new one, never a cut one.
-  const std::string temporary = path + ".tmp" + std::to_string(::getpid());
-  std::error_code error;
-  {
-    std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
-    file.write(content.data(), static_cast<std::streamsize>(content.size()));
-    if (!file.flush()) {
-      file.close();
-      std::filesystem::remove(temporary, error);
-      return rig::MakeError("cannot write " + path);
-    }
-  }
-  std::filesystem::rename(temporary, path, error);
-  if (error) {
-    std::filesystem::remove(temporary, error);
-    return rig::MakeError("cannot write " + path + ": " + error.message());
-  }
-  return {};
+  return rig::WriteFileAtomically(path, content);
 }
 
 namespace {

@@ -3,12 +3,10 @@
 #include <google/protobuf/io/tokenizer.h>
 #include <google/protobuf/text_format.h>
 
-#include <cerrno>
-#include <cstring>
-#include <fstream>
 #include <sstream>
 
 #include "host/scenario/scenario_validation.h"
+#include "rig/file_io.h"
 
 namespace hilrig::host {
 namespace {
@@ -111,13 +109,9 @@ rig::Result<proto::Scenario> ParseScenario(const std::string& text, const std::s
 }
 
 rig::Result<proto::Scenario> LoadScenario(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file)
-    return rig::MakeError(path + ": cannot open scenario file (" + std::strerror(errno) + ")");
-  std::stringstream text;
-  text << file.rdbuf();
-  if (file.bad()) return rig::MakeError(path + ": read error");
-  return ParseScenario(text.str(), path);
+  auto text = rig::ReadRegularFile(path, kMaxScenarioFileBytes);
+  if (!text) return text.error();
+  return ParseScenario(text.value(), path);
 }
 
 }  // namespace hilrig::host

@@ -4,6 +4,7 @@
 // author can go straight to it. All problems of a file are reported at once, not just the first.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -22,7 +23,12 @@ struct SpecProblem {
   std::string ToString() const;
 };
 
-// Reads, parses and validates; on failure the error message lists every problem, one per line.
+// The largest spec file read: a shipped spec is a few KB, so 16 MiB leaves room for generated
+// timelines while `/dev/zero` or a mistyped path to a data file is refused at once.
+inline constexpr std::size_t kMaxScenarioFileBytes = std::size_t{16} << 20;
+
+// Reads (a regular file, at most kMaxScenarioFileBytes), parses and validates; on failure the error
+// message lists every problem, one per line.
 rig::Result<proto::Scenario> LoadScenario(const std::string& path);
 
 // Parses and validates text that came from `file_label`; for tests and for `hilrig check`.

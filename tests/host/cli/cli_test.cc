@@ -16,6 +16,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 const std::string kHover = std::string(HILRIG_SOURCE_DIR) + "/scenarios/hover.textproto";
 
@@ -123,7 +124,32 @@ envelopes { name: "alt" signal: ALTITUDE_M upper: 2 }
 )");
   const CliResult result = Cli({"run", spec.string(), "--out", (dir_ / "out").string()});
   EXPECT_EQ(result.exit_code, kExitBadInput);
-  EXPECT_THAT(result.err, HasSubstr("nowhere/calibration.textproto: cannot open"));
+  EXPECT_THAT(result.err,
+              HasSubstr("cannot read " + (dir_ / "nowhere/calibration.textproto").string() +
+                        ": No such file or directory"));
+}
+
+TEST_F(CliTest, ACalibrationFileThatIsNotOneIsRefusedWithoutQuotingIt) {
+  {
+    std::ofstream secret(dir_ / "secret.txt");
+    secret << "hunter2secret: the first word a parse error would quote\n";
+  }
+  for (const std::string& calibration :
+       {(dir_ / "secret.txt").string(), std::string("/dev/zero")}) {
+    const fs::path spec = WriteSpec("pads.textproto", R"(name: "pads"
+simulation { duration_s: 1 }
+models { tactile { enabled: true calibration_file: ")" + calibration +
+                                                          R"(" } }
+envelopes { name: "alt" signal: ALTITUDE_M upper: 2 }
+)");
+    // Protobuf's parser logs what it stumbled on to the process's stderr, beside the command's.
+    ::testing::internal::CaptureStderr();
+    const CliResult result = Cli({"run", spec.string(), "--out", (dir_ / "out").string()});
+    const std::string logged = ::testing::internal::GetCapturedStderr();
+    EXPECT_EQ(result.exit_code, kExitBadInput) << calibration;
+    EXPECT_THAT(result.err, HasSubstr(calibration)) << result.err;
+    EXPECT_THAT(result.err + logged, Not(HasSubstr("hunter2secret"))) << result.err << logged;
+  }
 }
 
 TEST_F(CliTest, MissingFileExitsTwo) {

@@ -159,7 +159,8 @@ TEST(ScenarioLoaderTest, MissingFileIsAnErrorNamingTheFile) {
   const auto result = LoadScenario("/nonexistent/dir/none.textproto");
   ASSERT_FALSE(result.ok());
   EXPECT_THAT(result.error().message, HasSubstr("/nonexistent/dir/none.textproto"));
-  EXPECT_THAT(result.error().message, HasSubstr("cannot open"));
+  EXPECT_THAT(result.error().message, HasSubstr("cannot read"));
+  EXPECT_THAT(result.error().message, HasSubstr("No such file or directory"));
 }
 
 }  // namespace

@@ -1,0 +1,124 @@
+#include "rig/file_io.h"
+
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <filesystem>
+#include <set>
+
+#include "tests/support/test_files.h"
+
+namespace hilrig::rig {
+namespace {
+
+namespace fs = std::filesystem;
+using host::FreshTestDir;
+using host::ReadFile;
+
+void Write(const fs::path& path, const std::string& text) {
+  ASSERT_TRUE(WriteFileAtomically(path.string(), text));
+}
+
+TEST(ReadRegularFileTest, ReadsARegularFileWhole) {
+  const fs::path dir = FreshTestDir("file_io_");
+  Write(dir / "spec", "name: \"x\"\n");
+  auto read = ReadRegularFile((dir / "spec").string(), 100);
+  ASSERT_TRUE(read) << read.error().message;
+  EXPECT_EQ(read.value(), "name: \"x\"\n");
+}
+
+TEST(ReadRegularFileTest, RefusesAFileAboveTheCapWithoutQuotingIt) {
+  const fs::path dir = FreshTestDir("file_io_");
+  Write(dir / "big", std::string(101, 'q'));
+  auto read = ReadRegularFile((dir / "big").string(), 100);
+  ASSERT_FALSE(read);
+  EXPECT_NE(read.error().message.find("larger than 100 bytes"), std::string::npos);
+  EXPECT_NE(read.error().message.find((dir / "big").string()), std::string::npos);
+  EXPECT_EQ(read.error().message.find("qqq"), std::string::npos);
+}
+
+TEST(ReadRegularFileTest, RefusesAFifoWithoutBlocking) {
+  const fs::path dir = FreshTestDir("file_io_");
+  const fs::path fifo = dir / "pipe";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  auto read = ReadRegularFile(fifo.string(), 100);  // no writer: a blocking open would hang
+  ASSERT_FALSE(read);
+  EXPECT_NE(read.error().message.find("a FIFO"), std::string::npos) << read.error().message;
+}
+
+TEST(ReadRegularFileTest, RefusesDevicesAndFolders) {
+  auto zero = ReadRegularFile("/dev/zero", 1 << 20);
+  ASSERT_FALSE(zero);
+  EXPECT_NE(zero.error().message.find("a device"), std::string::npos) << zero.error().message;
+  auto folder = ReadRegularFile(FreshTestDir("file_io_").string(), 100);
+  ASSERT_FALSE(folder);
+  EXPECT_NE(folder.error().message.find("a folder"), std::string::npos);
+}
+
+TEST(ReadRegularFileTest, NamesAMissingFileAndTheCause) {
+  auto read = ReadRegularFile("/nonexistent/spec.textproto", 100);
+  ASSERT_FALSE(read);
+  EXPECT_EQ(read.error().message,
+            "cannot read /nonexistent/spec.textproto: No such file or directory");
+}
+
+TEST(TemporaryNameBesideTest, IsUnpredictable) {
+  std::set<std::string> names;
+  for (int i = 0; i < 50; ++i) names.insert(TemporaryNameBeside("/x/report.json"));
+  EXPECT_EQ(names.size(), 50u);
+  EXPECT_EQ(names.begin()->rfind("/x/report.json.tmp-", 0), 0u);
+}
+
+TEST(WriteFileAtomicallyTest, ReplacesAPlantedSymlinkAndLeavesItsTargetAlone) {
+  const fs::path dir = FreshTestDir("file_io_");
+  Write(dir / "victim", "precious");
+  fs::create_symlink(dir / "victim", dir / "report.json");
+  Write(dir / "report.json", "new");
+  EXPECT_EQ(ReadFile(dir / "victim"), "precious");
+  EXPECT_FALSE(fs::is_symlink(dir / "report.json"));
+  EXPECT_EQ(ReadFile(dir / "report.json"), "new");
+}
+
+TEST(WriteFileAtomicallyTest, AFailureNamesTheFileAndLeavesNoTemporary) {
+  const fs::path dir = FreshTestDir("file_io_");
+  fs::create_directory(dir / "taken");  // rename over a non-empty folder fails
+  Write(dir / "taken" / "inside", "x");
+  auto written = WriteFileAtomically((dir / "taken").string(), "y");
+  ASSERT_FALSE(written);
+  EXPECT_EQ(written.error().message.rfind("cannot write " + (dir / "taken").string() + ": ", 0),
+            0u);
+  int entries = 0;
+  for ([[maybe_unused]] const auto& entry : fs::directory_iterator(dir)) ++entries;
+  EXPECT_EQ(entries, 1);
+}
+
+TEST(OutputFileTest, WritesThroughItsBuffer) {
+  const fs::path dir = FreshTestDir("file_io_");
+  auto file = OutputFile::Create((dir / "trace.csv").string(), 16);
+  ASSERT_TRUE(file) << file.error().message;
+  file.value()->stream() << "t,x\n" << std::string(100, 'a') << "\n" << 1.5 << "\n";
+  ASSERT_TRUE(file.value()->Close());
+  EXPECT_EQ(ReadFile(dir / "trace.csv"), "t,x\n" + std::string(100, 'a') + "\n1.5\n");
+}
+
+TEST(OutputFileTest, DoesNotFollowAPlantedSymlink) {
+  const fs::path dir = FreshTestDir("file_io_");
+  Write(dir / "victim", "precious");
+  fs::create_symlink(dir / "victim", dir / "can.log");
+  auto file = OutputFile::Create((dir / "can.log").string());
+  ASSERT_FALSE(file);
+  EXPECT_NE(file.error().message.find("symbolic link"), std::string::npos);
+  EXPECT_EQ(ReadFile(dir / "victim"), "precious");
+}
+
+TEST(OutputFileTest, AFullDeviceIsAnErrorNamingTheFileAndTheCause) {
+  auto file = OutputFile::Create("/dev/full", 64);
+  ASSERT_TRUE(file) << file.error().message;
+  file.value()->stream() << std::string(1000, 'x');
+  auto closed = file.value()->Close();
+  ASSERT_FALSE(closed);
+  EXPECT_EQ(closed.error().message, "cannot write /dev/full: No space left on device");
+}
+
+}  // namespace
+}  // namespace hilrig::rig
