@@ -161,7 +161,7 @@ struct ParetoTolerance {
 // The default run as `hilrig run` makes it: the spec's own noise and seed, calibrated on its own
 // field level. The sweep's runs are noise-free so that they differ only in their models, and a
 // scene whose outcome turns on a knife edge can meet its verdicts without noise and miss them with
-// it (bottle_ablation did until session 7).
+// it.
 struct ShippedVerdict {
   bool passed = false;
   std::vector<std::string> missed;  // envelopes whose verdict was not the expected one

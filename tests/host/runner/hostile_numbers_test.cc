@@ -1,11 +1,10 @@
 // Every number of a spec that sets nearly every field, replaced in turn by a hostile value (NaN,
 // the infinities, -1, 0, tiny, huge, 2^32): the spec is either refused with a message that names
-// the field, or it runs (cut to 0.3 s) to a report with a stop reason. Mutating the shipped specs
-// this way in session 8 found three numbers that killed the run (a trace rate of 1e-300 Hz, a VIO
-// at 1e300 Hz, both on a division by zero) or ran as something else (a zeroing window of 1e300 s
-// that zeroed over one sample); this keeps that class of input closed. The tactile nodes are left
-// out: each spec would need a calibration of its own (seconds each); their numbers are covered by
-// the scenario validation tests.
+// the field, or it runs (cut to 0.3 s) to a report with a stop reason. It keeps closed the class
+// of numbers that kill a run (a trace rate of 1e-300 Hz, a VIO at 1e300 Hz: divisions by zero) or
+// run as something else (a zeroing window of 1e300 s that zeroes over one sample). The tactile
+// nodes are left out: each spec would need a calibration of its own (seconds each); their numbers
+// are covered by the scenario validation tests.
 #include <gtest/gtest.h>
 
 #include <algorithm>
