@@ -97,6 +97,9 @@ struct BusCounters {
   std::uint64_t send_failures = 0;
   // Input that could not be a frame (e.g. a bad UDP datagram): counted and dropped, never raised.
   std::uint64_t frames_dropped_malformed = 0;
+  // Frames from a sender that is not a member of the bus (a UDP datagram from a port outside it):
+  // counted and dropped, so that no other process on the host can inject sensor data.
+  std::uint64_t frames_dropped_foreign = 0;
   // Frames accepted by Send but discarded before transmission (the controller went bus-off).
   std::uint64_t frames_dropped_tx = 0;
   // The controller's error counters (TEC, REC) where the backend has them; 0 otherwise.

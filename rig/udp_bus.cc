@@ -1,7 +1,5 @@
 #include "rig/udp_bus.h"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <array>
 #include <boost/asio/io_context.hpp>
@@ -9,6 +7,8 @@
 #include <limits>
 #include <string>
 #include <utility>
+
+#include "rig/os_random.h"
 
 namespace hilrig::rig {
 namespace {
@@ -114,11 +114,21 @@ struct UdpBus::Socket {
   udp::socket socket{io};
   std::vector<udp::endpoint> peers;  // every port of the bus, this endpoint's own included
   udp::endpoint local;
+  std::uint16_t base_port = 0;
+  std::size_t node_count = 0;
 
   // A socket bound to a wildcard address sees its own datagrams come from 127.0.0.1.
+  bool FromBusAddress(const udp::endpoint& sender) const {
+    return local.address().is_unspecified() || sender.address() == local.address();
+  }
   bool IsOwn(const udp::endpoint& sender) const {
-    return sender.port() == local.port() &&
-           (local.address().is_unspecified() || sender.address() == local.address());
+    return sender.port() == local.port() && FromBusAddress(sender);
+  }
+  // The bus's ports are one range: a comparison, whatever the node count.
+  bool IsMember(const udp::endpoint& sender) const {
+    return sender.port() >= base_port &&
+           static_cast<std::size_t>(sender.port() - base_port) < node_count &&
+           FromBusAddress(sender);
   }
 };
 
@@ -132,6 +142,8 @@ Result<std::unique_ptr<UdpBus>> UdpBus::Open(const UdpBusConfig& config) {
     socket->peers.emplace_back(address, static_cast<std::uint16_t>(config.base_port + k));
   }
   socket->local = socket->peers[config.node_index];
+  socket->base_port = config.base_port;
+  socket->node_count = config.node_count;
   const auto fail = [&](const std::string& what) -> Result<std::unique_ptr<UdpBus>> {
     return MakeError("UdpBus " + what + " " + socket->local.address().to_string() + ":" +
                      std::to_string(socket->local.port()) + ": " + error.message());
@@ -207,6 +219,10 @@ bool UdpBus::ReceiveOne(std::int64_t now_ns, std::vector<TimedCanFrame>& out) {
     ++counters_.frames_dropped_malformed;
     return true;
   }
+  if (!socket_->IsMember(sender)) {
+    ++counters_.frames_dropped_foreign;
+    return true;
+  }
   const CanFrame& frame = decoded.value().frame;
   const bool own_frame = socket_->IsOwn(sender);
   if (own_frame && !receive_own_frames_) return true;
@@ -247,10 +263,15 @@ Result<std::vector<std::unique_ptr<UdpBus>>> OpenGroupAt(std::size_t node_count,
 Result<std::vector<std::unique_ptr<UdpBus>>> OpenUdpBusGroup(std::size_t node_count,
                                                              std::uint16_t first_base_port,
                                                              int attempts) {
+  std::size_t base_port = first_base_port;
+  if (base_port == 0) {
+    std::array<std::uint8_t, 4> random{};
+    if (Result<void> filled = FillWithOsRandomBytes(random); !filled) {
+      return MakeError("no random port for the UDP bus: " + filled.error().message);
+    }
+    base_port = 20'000 + static_cast<std::size_t>(GetLe(random.data(), random.size()) % 40'000);
+  }
   std::string last_error = "no attempt made";
-  std::size_t base_port = first_base_port != 0
-                              ? first_base_port
-                              : 20'000 + (static_cast<std::size_t>(::getpid()) * 97) % 40'000;
   for (int attempt = 0; attempt < attempts; ++attempt, base_port += node_count) {
     if (base_port + node_count - 1 > std::numeric_limits<std::uint16_t>::max()) break;
     auto endpoints = OpenGroupAt(node_count, static_cast<std::uint16_t>(base_port));

@@ -11,7 +11,10 @@
 //   7  u8 reserved (0)    8  u32 id    12  i64 sender time in ns    20  payload
 // A datagram that is short, long, of another magic or version, with unknown flag or reserved
 // bits, a payload size that disagrees with its length, or a frame ValidateFrame refuses is
-// counted in frames_dropped_malformed and dropped.
+// counted in frames_dropped_malformed and dropped. A well-formed one whose source is not one of the
+// bus's ports on the bus's address is counted in frames_dropped_foreign and dropped: any process on
+// the host may send to a loopback port, but only the members hold the bus's ports (a bus bound to
+// a wildcard address takes its members' ports from any address).
 //
 // Time: Receive is a non-blocking poll of the socket, and every frame it returns is stamped with
 // the now_ns passed to it, i.e. "arrived by the time this endpoint looked". The sender's time
@@ -97,9 +100,9 @@ class UdpBus final : public CanBus {
 
 // All node_count endpoints of one bus inside this process, on the first range of free ports
 // from first_base_port on (trying up to `attempts` ranges, node_count apart). first_base_port 0
-// starts at a port in 20000..59999 derived from the process id, so that test processes running
-// in parallel rarely try the same ports. For tests and benchmarks; processes sharing a bus each
-// open their own node with UdpBus::Open.
+// starts at a random port in 20000..59999 (from the kernel, so that no other process can tell the
+// bus's ports in advance, and processes running in parallel rarely try the same ones). Processes
+// sharing a bus each open their own node with UdpBus::Open.
 Result<std::vector<std::unique_ptr<UdpBus>>> OpenUdpBusGroup(std::size_t node_count,
                                                              std::uint16_t first_base_port = 0,
                                                              int attempts = 64);

@@ -7,6 +7,7 @@
 #include <boost/asio/ip/udp.hpp>
 #include <cstdint>
 #include <memory>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -113,13 +114,42 @@ TEST(UdpBusTest, MalformedDatagramsAreCountedAndDropped) {
   const std::vector<MalformedCase> cases = MalformedCases();
 
   for (const MalformedCase& bad : cases) stranger.send_to(asio::buffer(bad.datagram), target);
-  stranger.send_to(asio::buffer(Encode(Sample())), target);
+  ASSERT_TRUE(pair[0]->Send(Sample(), 0).ok());
   const std::vector<TimedCanFrame> received = ReceiveFrames(*pair[1], 1);
 
   ASSERT_EQ(received.size(), 1u);
   EXPECT_EQ(received[0].frame, Sample());
   EXPECT_EQ(pair[1]->counters().frames_dropped_malformed, cases.size());
   EXPECT_EQ(pair[1]->counters().frames_received, 1u);
+}
+
+// Any process on the host can send to a loopback port: a well-formed frame from a port outside the
+// bus must not reach the receiver (it would pass for sensor data).
+TEST(UdpBusTest, FrameFromOutsideTheBusIsCountedAndDropped) {
+  auto pair = OpenPair();
+  ASSERT_EQ(pair.size(), 2u);
+  asio::io_context io;
+  udp::socket stranger(io, udp::endpoint(asio::ip::make_address("127.0.0.1"), 0));
+  const udp::endpoint target(asio::ip::make_address("127.0.0.1"), pair[1]->local_port());
+  const CanFrame forged = CanFrame::Classic(0x7FF, std::array<std::uint8_t, 2>{0xAA, 0x55});
+
+  stranger.send_to(asio::buffer(Encode(forged)), target);
+  ASSERT_TRUE(pair[0]->Send(Sample(), 0).ok());
+  const std::vector<TimedCanFrame> received = ReceiveFrames(*pair[1], 1);
+
+  ASSERT_EQ(received.size(), 1u);
+  EXPECT_EQ(received[0].frame, Sample());
+  EXPECT_EQ(pair[1]->counters().frames_dropped_foreign, 1u);
+  EXPECT_EQ(pair[1]->counters().frames_dropped_malformed, 0u);
+  EXPECT_EQ(pair[1]->counters().frames_received, 1u);
+}
+
+// The ports come from the kernel's randomness, not from anything another process can read (such
+// as the process id): groups opened one after the other in one process land on different ports.
+TEST(UdpBusTest, GroupPortsAreNotAFunctionOfTheProcess) {
+  std::set<std::uint16_t> base_ports;
+  for (int i = 0; i < 4; ++i) base_ports.insert(OpenPair().at(0)->local_port());
+  EXPECT_GT(base_ports.size(), 1u);
 }
 
 TEST(UdpBusTest, ReceiverStampsFramesWithItsOwnNow) {
