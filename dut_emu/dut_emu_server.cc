@@ -241,6 +241,7 @@ proto::LinkMessage Session::Answer(const host::ActuatorMessage& command) const {
   if (last_setpoint_.seen) fields->set_last_setpoint_sequence(last_setpoint_.sequence);
   fields->set_can_frames_consumed(bus_->handed_over());
   fields->set_can_frame_waits_expired(frame_waits_expired_);
+  fields->set_can_frames_dropped_foreign(bus_->counters().frames_dropped_foreign);
   return answer;
 }
 

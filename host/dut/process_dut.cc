@@ -183,6 +183,8 @@ std::vector<std::pair<std::string, double>> ProcessDut::link_metrics() const {
   metrics.emplace_back("link_commands_received", static_cast<double>(commands_received_));
   metrics.emplace_back("link_can_frames_forwarded", static_cast<double>(can_frames_forwarded_));
   metrics.emplace_back("link_watchdog_timeouts", static_cast<double>(watchdog_timeouts_));
+  metrics.emplace_back("dut_can_frames_dropped_foreign",
+                       static_cast<double>(dut_frames_dropped_foreign_));
   if (!latencies_) return metrics;  // lockstep reports stay as they were
   const auto d = [](std::uint64_t value) { return static_cast<double>(value); };
   metrics.emplace_back("link_commands_superseded", d(commands_superseded_));
@@ -438,6 +440,7 @@ rig::Result<void> ProcessDut::MatchRequest(std::uint64_t answers_tick,
 void ProcessDut::RecordCoverage(const proto::ActuatorCommand& command,
                                 std::int64_t arrival_wall_ns) {
   dut_frame_waits_expired_ = command.can_frame_waits_expired();
+  dut_frames_dropped_foreign_ = command.can_frames_dropped_foreign();
   if (!latencies_) return;
   if (command.has_last_imu_sequence()) {
     Cover(latencies_->imu, command.last_imu_sequence(), arrival_wall_ns);

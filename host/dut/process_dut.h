@@ -145,6 +145,7 @@ class ProcessDut final : public DutPort {
   std::uint64_t unrequested_answers_ = 0;
   std::uint64_t latency_samples_dropped_ = 0;
   std::uint64_t dut_frame_waits_expired_ = 0;
+  std::uint64_t dut_frames_dropped_foreign_ = 0;  // forged datagrams the DUT's bus dropped
 };
 
 }  // namespace hilrig::host

@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/udp.hpp>
 #include <sstream>
 #include <thread>
 
@@ -34,6 +37,7 @@ class DutEmuServerTest : public ::testing::Test {
     listener_ = host::LinkListener::Listen().value();
     auto buses = rig::OpenUdpBusGroup(2).value();
     can_ = std::move(buses[0]);
+    dut_can_port_ = buses[1]->local_port();
     options.link_port = listener_->port();
     options_ = options;
     server_ = std::thread([this, bus = std::move(buses[1])]() mutable {
@@ -87,6 +91,7 @@ class DutEmuServerTest : public ::testing::Test {
   std::unique_ptr<host::LinkListener> listener_;
   std::unique_ptr<host::LinkConnection> link_;
   std::unique_ptr<rig::UdpBus> can_;
+  std::uint16_t dut_can_port_ = 0;
   host::LinkSequencer sequencer_;
   std::thread server_;
 };
@@ -134,6 +139,31 @@ TEST_F(DutEmuServerTest, WaitsForTheAnnouncedCanFrames) {
   const LinkReceived answer = link_->Receive(kWaitMs);
   ASSERT_EQ(answer.status, LinkReceiveStatus::kMessage) << log_.str();
   EXPECT_EQ(answer.message.command().answers_sequence(), 0u);
+}
+
+// Another process on the host sends a well-formed frame to the DUT's CAN port: it is dropped and
+// counted, and the lockstep step that follows gets exactly the frame the runner announced.
+TEST_F(DutEmuServerTest, ForgedDatagramIsDroppedAndTheStepGoesOn) {
+  StartServer();
+  Handshake();
+  boost::asio::io_context io;
+  boost::asio::ip::udp::socket stranger(
+      io, boost::asio::ip::udp::endpoint(boost::asio::ip::make_address("127.0.0.1"), 0));
+  std::array<std::uint8_t, rig::kUdpCanMaxDatagramBytes> forged{};
+  const std::size_t size = rig::EncodeUdpCanDatagram(
+      rig::CanFrame::Classic(0x123, std::array<std::uint8_t, 3>{9, 9, 9}), 400'000, forged);
+  stranger.send_to(boost::asio::buffer(forged.data(), size),
+                   {boost::asio::ip::make_address("127.0.0.1"), dut_can_port_});
+  ASSERT_TRUE(
+      can_->Send(rig::CanFrame::Classic(0x123, std::array<std::uint8_t, 3>{1, 2, 3}), 500'000)
+          .ok());
+  ASSERT_TRUE(link_->Send(StepRequest(0, 1'000'000, {500'000})).ok());
+  const LinkReceived answer = link_->Receive(kWaitMs);
+  ASSERT_EQ(answer.status, LinkReceiveStatus::kMessage) << log_.str();
+  ASSERT_TRUE(answer.message.has_command()) << answer.message.DebugString();
+  EXPECT_EQ(answer.message.command().answers_sequence(), 0u);
+  EXPECT_EQ(answer.message.command().can_frames_consumed(), 1u);
+  EXPECT_EQ(answer.message.command().can_frames_dropped_foreign(), 1u);
 }
 
 TEST_F(DutEmuServerTest, GivesUpWhenAnnouncedFramesNeverCome) {
