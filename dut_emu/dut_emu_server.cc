@@ -145,10 +145,16 @@ rig::Result<void> Session::Handshake(std::unique_ptr<rig::CanBus> bus) {
   proto::LinkMessage hello;
   hello.mutable_hello()->set_role(proto::Hello::DUT);
   hello.mutable_hello()->set_name("dut_emu " + std::to_string(::getpid()));
+  if (options_.link_token) hello.mutable_hello()->set_token(options_.link_token->Proof());
   sequencer_.Stamp(hello, 0);
   if (auto sent = link_->Send(hello); !sent) return sent.error();
   auto runner_hello = ReceiveWithin(kHandshakeTimeoutMs, "runner's hello");
   if (!runner_hello) return runner_hello.error();
+  if (runner_hello.value().has_bye()) {
+    return rig::MakeError("the runner refused the link (" + runner_hello.value().bye().reason() +
+                          "); the link token comes from --token-file or " +
+                          host::kLinkTokenEnvironment);
+  }
   if (!runner_hello.value().has_hello() ||
       runner_hello.value().hello().role() != proto::Hello::RUNNER) {
     return rig::MakeError("the runner's first message is not a runner hello");
@@ -310,8 +316,10 @@ int Session::Run(std::unique_ptr<rig::CanBus> bus) {
 
 const char* const kDutEmuUsage =
     "usage: dut_emu --link HOST:PORT --can udp:BASE_PORT[:INDEX[:COUNT]]|socketcan:IFACE\n"
-    "               [--frame-timeout-ms N]\n"
-    "Connects to the runner's HIL link and runs the dut_fw controller behind it.\n"
+    "               [--token-file PATH] [--frame-timeout-ms N]\n"
+    "Connects to the runner's HIL link and runs the dut_fw controller behind it. It proves to\n"
+    "the runner that it is the DUT with the runner's link token (32 hex digits), read from\n"
+    "--token-file or else from the HILRIG_LINK_TOKEN environment variable.\n"
     "Exit codes: 0 the runner said bye or a signal stopped it, 1 the link, the bus or the\n"
     "runner failed, 2 bad usage.\n";
 
@@ -350,7 +358,7 @@ rig::Result<CanSpec> ParseCanSpec(const std::string& text) {
 rig::Result<DutEmuOptions> ParseDutEmuArgs(const std::vector<std::string>& args) {
   constexpr const char* kTestHooks[] = {"--test-garbage-at-tick", "--test-exit-at-tick",
                                         "--test-silent-at-tick", "--test-wrong-tick-at-tick"};
-  std::set<std::string> allowed{"--link", "--can", "--frame-timeout-ms"};
+  std::set<std::string> allowed{"--link", "--can", "--frame-timeout-ms", "--token-file"};
   allowed.insert(std::begin(kTestHooks), std::end(kTestHooks));
   auto parsed = host::ParseCliArgs(args, allowed);
   if (!parsed) return parsed.error();
@@ -372,6 +380,7 @@ rig::Result<DutEmuOptions> ParseDutEmuArgs(const std::vector<std::string>& args)
   auto spec = ParseCanSpec(*can);
   if (!spec) return spec.error();
   options.can = spec.value();
+  if (const std::string* token_file = cli.Option("--token-file")) options.token_file = *token_file;
   if (const std::string* timeout = cli.Option("--frame-timeout-ms")) {
     auto ms = ParseNumber<int>(*timeout, "--frame-timeout-ms");
     if (!ms || ms.value() <= 0) return rig::MakeError("--frame-timeout-ms must be positive");
@@ -387,6 +396,19 @@ rig::Result<DutEmuOptions> ParseDutEmuArgs(const std::vector<std::string>& args)
     *hooks[i] = tick.value();
   }
   return options;
+}
+
+rig::Result<host::LinkToken> LoadLinkToken(const DutEmuOptions& options,
+                                           const char* environment_value) {
+  if (!options.token_file.empty()) return host::ReadLinkTokenFile(options.token_file);
+  const std::string variable = host::kLinkTokenEnvironment;
+  if (environment_value == nullptr) {
+    return rig::MakeError("no link token: pass --token-file PATH or set " + variable +
+                          " (the runner sets it for the dut_emu it starts)");
+  }
+  auto token = host::ParseLinkToken(environment_value);
+  if (!token) return rig::MakeError(variable + ": " + token.error().message);
+  return token;
 }
 
 int RunDutEmu(const DutEmuOptions& options, const std::atomic<bool>* stop_requested,

@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "host/link/link_token.h"
 #include "rig/can_bus.h"
 #include "rig/result.h"
 #include "rig/udp_bus.h"
@@ -49,6 +50,9 @@ rig::Result<CanSpec> ParseCanSpec(const std::string& text);
 struct DutEmuOptions {
   std::string link_host = "127.0.0.1";
   std::uint16_t link_port = 0;
+  // What the hello proves to the runner (LoadLinkToken); without one the runner refuses the DUT.
+  std::optional<host::LinkToken> link_token;
+  std::string token_file;  // --token-file: where a DUT started by hand finds its token
   CanSpec can;
   int connect_timeout_ms = 5000;
   // How long a StepRequest waits for the CAN frames it announces before the DUT gives up.
@@ -64,10 +68,16 @@ struct DutEmuOptions {
 
 inline constexpr std::uint64_t kWrongTickOffset = 1'000'000;
 
-// argv[1..] of dut_emu: --link HOST:PORT --can SPEC [--frame-timeout-ms N]
+// argv[1..] of dut_emu: --link HOST:PORT --can SPEC [--token-file PATH] [--frame-timeout-ms N]
 // [--test-garbage-at-tick T] [--test-exit-at-tick T] [--test-silent-at-tick T]
 // [--test-wrong-tick-at-tick T].
 rig::Result<DutEmuOptions> ParseDutEmuArgs(const std::vector<std::string>& args);
+
+// The link token for the hello: read from options.token_file when one is given, else parsed from
+// `environment_value`, the value of host::kLinkTokenEnvironment (null: unset), which is how the
+// runner hands it to the dut_emu it starts. Missing or malformed: an error saying where to put it.
+rig::Result<host::LinkToken> LoadLinkToken(const DutEmuOptions& options,
+                                           const char* environment_value);
 
 extern const char* const kDutEmuUsage;
 

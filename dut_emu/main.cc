@@ -2,6 +2,7 @@
 #include <signal.h>
 
 #include <atomic>
+#include <cstdlib>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -37,6 +38,15 @@ int main(int argc, char** argv) {
     std::cerr << "dut_emu: " << options.error().message << "\n" << hilrig::dut_emu::kDutEmuUsage;
     return hilrig::dut_emu::kExitUsage;
   }
+  auto token = hilrig::dut_emu::LoadLinkToken(options.value(),
+                                              std::getenv(hilrig::host::kLinkTokenEnvironment));
+  if (!token) {
+    std::cerr << "dut_emu: " << token.error().message << "\n";
+    return hilrig::dut_emu::kExitUsage;
+  }
+  options.value().link_token = token.value();
+  // Nothing this process starts needs the secret.
+  ::unsetenv(hilrig::host::kLinkTokenEnvironment);
   static_assert(std::atomic<bool>::is_always_lock_free);
   InstallSignalHandlers();
   return hilrig::dut_emu::RunDutEmu(options.value(), &g_stop_requested, std::cerr);

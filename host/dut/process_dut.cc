@@ -8,7 +8,9 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "host/link/dut_acceptor.h"
 #include "host/link/dut_config_codec.h"
+#include "host/link/link_token.h"
 #include "rig/number_text.h"
 
 namespace hilrig::host {
@@ -52,35 +54,26 @@ std::string DialAddress(const std::string& listen_address) {
   return listen_address;
 }
 
-// Waits for the child to say hello on the link, watching it does not die meanwhile.
-rig::Result<proto::LinkMessage> ReceiveWhileAlive(LinkConnection& link, ChildProcess& child,
-                                                  int timeout_ms, const std::string& what) {
-  for (int waited_ms = 0; waited_ms < timeout_ms; waited_ms += kPollSliceMs) {
-    LinkReceived received = link.Receive(kPollSliceMs);
-    if (received.status == LinkReceiveStatus::kMessage) return std::move(received.message);
-    if (received.status != LinkReceiveStatus::kTimeout) {
-      return rig::MakeError("link failed while waiting for the " + what + ": " +
-                            (received.error.empty() ? "closed" : received.error));
-    }
+// Accepts connections until the child proves the link token in its hello, watching that it does
+// not die meanwhile; connections that do not prove it are refused and counted by `acceptor`.
+rig::Result<AcceptedDut> AcceptDut(DutAcceptor& acceptor, ChildProcess& child, int timeout_ms) {
+  // The start deadline is wall time by nature: it bounds how long the process may take.
+  const rig::SteadyClock clock;
+  const std::int64_t deadline_ns = clock.NowNs() + std::int64_t{timeout_ms} * 1'000'000;
+  while (true) {
+    if (std::optional<AcceptedDut> dut = acceptor.Poll(kPollSliceMs)) return std::move(*dut);
+    std::optional<std::string> failure;
     if (auto exit = child.PollExit()) {
-      return rig::MakeError("dut process " + *exit + " before its " + what);
+      failure = "dut process " + *exit + " before proving the link token";
+    } else if (clock.NowNs() >= deadline_ns) {
+      failure = "the dut process did not prove the link token within " +
+                std::to_string(timeout_ms) + " ms";
     }
+    if (!failure) continue;
+    acceptor.RefusePending();
+    if (acceptor.rejected_count() > 0) *failure += " (" + acceptor.RejectedSummary() + ")";
+    return rig::MakeError(*failure);
   }
-  return rig::MakeError("no " + what + " from the dut process within " +
-                        std::to_string(timeout_ms) + " ms");
-}
-
-rig::Result<std::unique_ptr<LinkConnection>> AcceptWhileAlive(LinkListener& listener,
-                                                              ChildProcess& child, int timeout_ms) {
-  for (int waited_ms = 0; waited_ms < timeout_ms; waited_ms += kPollSliceMs) {
-    auto link = listener.Accept(kPollSliceMs);
-    if (link) return link;
-    if (auto exit = child.PollExit()) {
-      return rig::MakeError("dut process " + *exit + " before connecting to the link");
-    }
-  }
-  return rig::MakeError("the dut process did not connect to the link within " +
-                        std::to_string(timeout_ms) + " ms");
 }
 
 }  // namespace
@@ -115,17 +108,22 @@ rig::Result<std::unique_ptr<ProcessDut>> ProcessDut::Start(const DutFirmware& fi
   if (!udp) return rig::MakeError("UDP CAN bus for the dut: " + udp.error().message);
   std::unique_ptr<rig::UdpBus> forward_bus = std::move(udp.value()[0]);
   udp.value()[1].reset();
+  auto token = NewLinkToken();
+  if (!token) return token.error();
   std::vector<std::string> argv = {
       path.value(), "--link",
       DialAddress(options.listen_address) + ":" + std::to_string(listener.value()->port()), "--can",
       "udp:" + std::to_string(forward_bus->local_port()) + ":1:2"};
   argv.insert(argv.end(), options.extra_args.begin(), options.extra_args.end());
-  auto child = ChildProcess::Spawn(argv);
+  auto child =
+      ChildProcess::Spawn(argv, {std::string(kLinkTokenEnvironment) + "=" + token.value().Hex()});
   if (!child) return child.error();
-  const int start_ms = Milliseconds(options.start_timeout_s);
-  auto link = AcceptWhileAlive(*listener.value(), child.value(), start_ms);
-  if (!link) return link.error();
+  DutAcceptor acceptor(*listener.value(), token.value());
+  auto accepted = AcceptDut(acceptor, child.value(), Milliseconds(options.start_timeout_s));
+  if (!accepted) return accepted.error();
+  std::unique_ptr<LinkConnection>& link = accepted.value().link;
 
+  // Only the proven DUT hears from the runner, the firmware included.
   LinkSequencer sequencer;
   proto::LinkMessage hello;
   hello.mutable_hello()->set_role(proto::Hello::RUNNER);
@@ -135,17 +133,14 @@ rig::Result<std::unique_ptr<ProcessDut>> ProcessDut::Start(const DutFirmware& fi
   *config.mutable_config() = ToDutConfig(firmware, control_period_s);
   sequencer.Stamp(config, 0);
   for (const proto::LinkMessage* message : {&hello, &config}) {
-    if (auto sent = link.value()->Send(*message); !sent) return sent.error();
+    if (auto sent = link->Send(*message); !sent) return sent.error();
   }
-  auto dut_hello = ReceiveWhileAlive(*link.value(), child.value(), start_ms, "hello");
-  if (!dut_hello) return dut_hello.error();
-  if (!dut_hello.value().has_hello() || dut_hello.value().hello().role() != proto::Hello::DUT) {
-    return rig::MakeError("the dut process's first message is not a dut hello");
-  }
-  auto dut = std::unique_ptr<ProcessDut>(
-      new ProcessDut(std::move(child).value(), std::move(link).value(), std::move(runner_bus),
-                     std::move(forward_bus), options));
+  auto dut = std::unique_ptr<ProcessDut>(new ProcessDut(std::move(child).value(), std::move(link),
+                                                        std::move(runner_bus),
+                                                        std::move(forward_bus), options));
   dut->sequencer_ = sequencer;
+  dut->peers_refused_ = acceptor.rejected_count();
+  dut->peers_refused_summary_ = acceptor.RejectedSummary();
   return dut;
 }
 
@@ -173,7 +168,8 @@ ProcessDut::~ProcessDut() {
 
 std::string ProcessDut::description() const {
   return "dut_fw in a dut_emu process (pid " + std::to_string(child_.pid()) +
-         ") over the HIL link, " + (latencies_ ? "real time" : "lockstep");
+         ") over the HIL link, " + (latencies_ ? "real time" : "lockstep") +
+         (peers_refused_summary_.empty() ? "" : "; " + peers_refused_summary_);
 }
 
 std::vector<std::pair<std::string, double>> ProcessDut::link_metrics() const {
@@ -183,6 +179,7 @@ std::vector<std::pair<std::string, double>> ProcessDut::link_metrics() const {
   metrics.emplace_back("link_commands_received", static_cast<double>(commands_received_));
   metrics.emplace_back("link_can_frames_forwarded", static_cast<double>(can_frames_forwarded_));
   metrics.emplace_back("link_watchdog_timeouts", static_cast<double>(watchdog_timeouts_));
+  metrics.emplace_back("link_peers_refused", static_cast<double>(peers_refused_));
   metrics.emplace_back("dut_can_frames_dropped_foreign",
                        static_cast<double>(dut_frames_dropped_foreign_));
   if (!latencies_) return metrics;  // lockstep reports stay as they were

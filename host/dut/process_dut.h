@@ -53,8 +53,10 @@ rig::Result<void> ValidateProcessDutOptions(const ProcessDutOptions& options);
 
 class ProcessDut final : public DutPort {
  public:
-  // Starts dut_emu and completes the handshake (hello both ways, the firmware configuration).
-  // `runner_bus` is the DUT's endpoint on the runner's emulated bus.
+  // Starts dut_emu with a fresh link token in its environment and completes the handshake: the
+  // first connection whose hello proves the token is the DUT (others are refused and counted in
+  // link_peers_refused, and named in the description), which then gets the runner's hello and the
+  // firmware configuration. `runner_bus` is the DUT's endpoint on the runner's emulated bus.
   static rig::Result<std::unique_ptr<ProcessDut>> Start(const DutFirmware& firmware,
                                                         std::unique_ptr<rig::CanBus> runner_bus,
                                                         double control_period_s,
@@ -146,6 +148,9 @@ class ProcessDut final : public DutPort {
   std::uint64_t latency_samples_dropped_ = 0;
   std::uint64_t dut_frame_waits_expired_ = 0;
   std::uint64_t dut_frames_dropped_foreign_ = 0;  // forged datagrams the DUT's bus dropped
+  // Connections to the link port that did not prove the token, and who they were.
+  std::uint64_t peers_refused_ = 0;
+  std::string peers_refused_summary_;
 };
 
 }  // namespace hilrig::host

@@ -6,14 +6,34 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <string_view>
 
 extern char** environ;
 
 namespace hilrig::host {
 namespace {
+
+// environ with `added` appended and any variable `added` names left out.
+std::vector<char*> ChildEnvironment(const std::vector<std::string>& added) {
+  std::vector<char*> variables;
+  for (char** entry = environ; *entry != nullptr; ++entry) {
+    const std::string_view variable(*entry);
+    const std::string_view name = variable.substr(0, variable.find('='));
+    const bool replaced = std::any_of(added.begin(), added.end(), [&](const std::string& a) {
+      return a.size() > name.size() && a.compare(0, name.size(), name) == 0 &&
+             a[name.size()] == '=';
+    });
+    if (!replaced) variables.push_back(*entry);
+  }
+  for (const std::string& variable : added)
+    variables.push_back(const_cast<char*>(variable.c_str()));
+  variables.push_back(nullptr);
+  return variables;
+}
 
 std::string DescribeStatus(int status) {
   if (WIFEXITED(status)) return "exited with status " + std::to_string(WEXITSTATUS(status));
@@ -23,7 +43,8 @@ std::string DescribeStatus(int status) {
 
 }  // namespace
 
-rig::Result<ChildProcess> ChildProcess::Spawn(const std::vector<std::string>& argv) {
+rig::Result<ChildProcess> ChildProcess::Spawn(const std::vector<std::string>& argv,
+                                              const std::vector<std::string>& environment) {
   if (argv.empty()) return rig::MakeError("no program to start");
   std::vector<char*> args;
   for (const std::string& arg : argv) args.push_back(const_cast<char*>(arg.c_str()));
@@ -34,9 +55,10 @@ rig::Result<ChildProcess> ChildProcess::Spawn(const std::vector<std::string>& ar
   ::posix_spawnattr_init(&attributes);
   ::posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
   ::posix_spawnattr_setpgroup(&attributes, 0);
+  std::vector<char*> variables = ChildEnvironment(environment);
   pid_t pid = -1;
   const int error =
-      ::posix_spawn(&pid, argv[0].c_str(), nullptr, &attributes, args.data(), environ);
+      ::posix_spawn(&pid, argv[0].c_str(), nullptr, &attributes, args.data(), variables.data());
   ::posix_spawnattr_destroy(&attributes);
   if (error != 0) return rig::MakeError("cannot start " + argv[0] + ": " + std::strerror(error));
   return ChildProcess(pid);

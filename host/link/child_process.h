@@ -16,8 +16,11 @@ namespace hilrig::host {
 
 class ChildProcess {
  public:
-  // Starts argv[0] (a path, not searched in PATH) with argv, in a process group of its own.
-  static rig::Result<ChildProcess> Spawn(const std::vector<std::string>& argv);
+  // Starts argv[0] (a path, not searched in PATH) with argv, in a process group of its own, with
+  // this process's environment plus `environment` ("NAME=value" each, replacing a variable of the
+  // same name): what only the child may know goes there, never in argv, which every user can read.
+  static rig::Result<ChildProcess> Spawn(const std::vector<std::string>& argv,
+                                         const std::vector<std::string>& environment = {});
   ChildProcess(ChildProcess&& other) noexcept;
   ChildProcess& operator=(ChildProcess&& other) noexcept;
   ChildProcess(const ChildProcess&) = delete;

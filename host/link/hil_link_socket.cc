@@ -17,6 +17,10 @@ namespace asio = boost::asio;
 using asio::ip::tcp;
 using Deadline = std::chrono::steady_clock::time_point;
 
+// Connections the kernel holds for accepting: others on the host may connect before the DUT (the
+// handshake refuses them), and a full queue would make the DUT's connect wait on a SYN retry.
+constexpr int kListenBacklog = 64;
+
 // The transport's deadlines are wall time by nature: they bound how long the peer may take.
 Deadline DeadlineIn(int timeout_ms) {
   return std::chrono::steady_clock::now() + std::chrono::milliseconds(std::max(timeout_ms, 0));
@@ -188,7 +192,7 @@ rig::Result<std::unique_ptr<LinkListener>> LinkListener::Listen(const std::strin
   if (acceptor->acceptor.open(local.protocol(), error)) return fail("open");
   acceptor->acceptor.set_option(tcp::acceptor::reuse_address(true), error);
   if (acceptor->acceptor.bind(local, error)) return fail("bind");
-  if (acceptor->acceptor.listen(1, error)) return fail("listen on");
+  if (acceptor->acceptor.listen(kListenBacklog, error)) return fail("listen on");
   if (acceptor->acceptor.non_blocking(true, error)) return fail("set non-blocking on");
   return std::unique_ptr<LinkListener>(new LinkListener(std::move(acceptor)));
 }

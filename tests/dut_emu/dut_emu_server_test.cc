@@ -304,6 +304,32 @@ TEST_F(DutEmuServerTest, RunnerVanishingIsAFailure) {
   EXPECT_NE(log_.str().find("closed the link without a bye"), std::string::npos);
 }
 
+TEST_F(DutEmuServerTest, HelloProvesTheLinkToken) {
+  DutEmuOptions options;
+  options.link_token = host::NewLinkToken().value();
+  StartServer(options);
+  const LinkReceived hello = link_->Receive(kWaitMs);
+  ASSERT_EQ(hello.status, LinkReceiveStatus::kMessage);
+  EXPECT_TRUE(host::ProvesLinkToken(*options.link_token, hello.message.hello().token()));
+}
+
+// A DUT started by hand with a wrong token hears why the runner hung up.
+TEST_F(DutEmuServerTest, RunnerThatRefusesTheDutIsAClearError) {
+  StartServer();
+  ASSERT_EQ(link_->Receive(kWaitMs).status, LinkReceiveStatus::kMessage);  // the DUT's hello
+  proto::LinkMessage bye;
+  bye.mutable_bye()->set_error(true);
+  bye.mutable_bye()->set_reason("refused: wrong_token");
+  sequencer_.Stamp(bye, 0);
+  ASSERT_TRUE(link_->Send(bye).ok());
+  link_.reset();
+  EXPECT_EQ(Join(), kExitFailed);
+  EXPECT_NE(log_.str().find("the runner refused the link (refused: wrong_token); the link token "
+                            "comes from --token-file or HILRIG_LINK_TOKEN"),
+            std::string::npos)
+      << log_.str();
+}
+
 TEST(DutEmuArgsTest, ParsesTheWrongTickTestHook) {
   const auto options = ParseDutEmuArgs({"dut_emu", "--link", "127.0.0.1:4000", "--can", "udp:30000",
                                         "--test-wrong-tick-at-tick", "12"})
@@ -322,6 +348,13 @@ TEST(DutEmuArgsTest, ParsesLinkAndUdpBus) {
   EXPECT_EQ(options.can.udp.base_port, 30000);
   EXPECT_EQ(options.can.udp.node_index, 1u);
   EXPECT_EQ(options.can.udp.node_count, 2u);
+}
+
+TEST(DutEmuArgsTest, ParsesATokenFile) {
+  const auto options = ParseDutEmuArgs({"dut_emu", "--link", "127.0.0.1:4000", "--can", "udp:30000",
+                                        "--token-file", "/run/dut/token"})
+                           .value();
+  EXPECT_EQ(options.token_file, "/run/dut/token");
 }
 
 TEST(DutEmuArgsTest, ParsesSocketCan) {

@@ -9,11 +9,13 @@
 
 #include "host/dut/firmware_config.h"
 #include "host/dut/in_process_dut.h"
+#include "host/link/link_token.h"
 #include "host/runner/runner.h"
 #include "host/scenario/scenario_config.h"
 #include "host/scenario/scenario_loader.h"
 #include "rig/clock.h"
 #include "rig/emulated_bus.h"
+#include "tests/support/test_files.h"
 
 namespace hilrig::host {
 namespace {
@@ -140,6 +142,22 @@ TEST_F(ProcessDutTest, DestructorEndsAndReapsTheProcess) {
   errno = 0;
   EXPECT_EQ(::kill(pid, 0), -1);  // reaped: no such process any more
   EXPECT_EQ(errno, ESRCH);
+}
+
+// `ps` shows every process's command line to every user; the token must not be there.
+TEST_F(ProcessDutTest, LinkTokenTravelsInTheChildsEnvironmentNotItsCommandLine) {
+  auto dut = Start();
+  ASSERT_NE(dut, nullptr);
+  const std::string proc = "/proc/" + std::to_string(dut->pid());
+  const std::string environment = ReadFile(proc + "/environ");
+  const std::string variable = std::string(kLinkTokenEnvironment) + "=";
+  const std::size_t at = environment.find(variable);
+  ASSERT_NE(at, std::string::npos);
+  const std::string token = environment.substr(at + variable.size(), 32);
+  EXPECT_TRUE(ParseLinkToken(token).ok());
+  const std::string command_line = ReadFile(proc + "/cmdline");
+  ASSERT_FALSE(command_line.empty());
+  EXPECT_EQ(command_line.find(token), std::string::npos);
 }
 
 TEST_F(ProcessDutTest, MissingExecutableIsAClearStartError) {
