@@ -1,16 +1,17 @@
 // dut_emu: the dut_fw controller as its own process, behind the HIL link. It connects to the
-// runner's link, takes the firmware configuration the runner sends, and from then on forwards each
-// link message to an InProcessDut -- the very code the in-process run uses, not a copy -- which
-// reads the tactile sensors from a CAN bus of its own (the loopback UDP bus, or SocketCAN on a
-// bench). A StepRequest is answered with the ActuatorCommand of that tick. In lockstep the request
-// says how many CAN frames the runner put on the bus for this step and when each finished arriving
-// on the emulated bus; the server waits for exactly those frames (the bus and the link are separate
-// channels) and hands them to the DUT with those times, so both runs see the same inputs. In a
-// real-time run the runner does not wait for the answer, so the server waits for the frames at
-// most one control period and then steps with what arrived (counted); frames a DUT that fell behind
-// finds ahead of their request wait for it (staged_can_bus.h). Each command says what the
-// DUT had consumed (last IMU / VIO / setpoint sequence, CAN frames), from which the runner measures
-// response latency per stream.
+// runner's link, proves with the runner's link token that it is the DUT the runner started, takes
+// the firmware configuration the runner sends (refused if any number is bad), and from then on
+// forwards each link message to an InProcessDut -- the very code the in-process run uses, not a
+// copy -- which reads the tactile sensors from a CAN bus of its own (the loopback UDP bus, or
+// SocketCAN on a bench). A StepRequest is answered with the ActuatorCommand of that tick. In
+// lockstep the request says how many CAN frames the runner put on the bus for this step and when
+// each finished arriving on the emulated bus; the server waits for exactly those frames (the bus
+// and the link are separate channels) and hands them to the DUT with those times, so both runs see
+// the same inputs. In a real-time run the runner does not wait for the answer, so the server waits
+// for the frames at most one control period and then steps with what arrived (counted); frames a
+// DUT that fell behind finds ahead of their request wait for it (staged_can_bus.h). Each command
+// says what the DUT had consumed (last IMU / VIO / setpoint sequence, CAN frames), from which the
+// runner measures response latency per stream.
 //
 // The library part lets tests run the server in a thread; dut_emu/main.cc is the executable.
 #pragma once

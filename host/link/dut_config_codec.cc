@@ -3,6 +3,8 @@
 #include <cmath>
 #include <string>
 
+#include "host/link/firmware_check.h"
+
 namespace hilrig::host {
 namespace {
 
@@ -221,6 +223,7 @@ rig::Result<DutSetup> FromDutConfig(const proto::DutConfig& config) {
   }
   setup.firmware.grasp = FromProto(config.grasp());
   setup.firmware.external_force_in_position_loop = config.external_force_in_position_loop();
+  if (auto valid = CheckDutFirmware(setup.firmware); !valid) return valid.error();
   return setup;
 }
 

@@ -2,7 +2,8 @@
 // FirmwareFor() makes of a scenario) and the control period, to and from the DutConfig message.
 // Every number is carried as it is, so that the DUT process and the in-process DUT are configured
 // bit for bit alike; the decoding side checks the shape (six tactile nodes, valid chip setting, a
-// positive finite control period) and refuses anything else with a clear error.
+// positive finite control period) and every number (host/link/firmware_check.h), and refuses
+// anything else with an error that names the field.
 #pragma once
 
 #include "host/dut/firmware_config.h"

@@ -7,6 +7,7 @@
 #include <array>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/udp.hpp>
+#include <limits>
 #include <sstream>
 #include <thread>
 
@@ -46,13 +47,14 @@ class DutEmuServerTest : public ::testing::Test {
     link_ = listener_->Accept(kWaitMs).value();
   }
 
-  void Handshake(std::uint32_t version = host::kHilLinkProtocolVersion) {
+  void Handshake(std::uint32_t version = host::kHilLinkProtocolVersion,
+                 const host::DutFirmware& firmware = HoverFirmware()) {
     proto::LinkMessage hello;
     hello.mutable_hello()->set_role(proto::Hello::RUNNER);
     sequencer_.Stamp(hello, 0);
     hello.mutable_hello()->mutable_header()->set_protocol_version(version);
     proto::LinkMessage config;
-    *config.mutable_config() = host::ToDutConfig(HoverFirmware(), kControlPeriodS);
+    *config.mutable_config() = host::ToDutConfig(firmware, kControlPeriodS);
     sequencer_.Stamp(config, 0);
     ASSERT_TRUE(link_->Send(hello).ok());
     ASSERT_TRUE(link_->Send(config).ok());
@@ -273,6 +275,20 @@ TEST_F(DutEmuServerTest, RefusesARunnerOfAnotherProtocolVersion) {
   ASSERT_TRUE(answer.message.has_bye());
   EXPECT_NE(answer.message.bye().reason().find("bad_version"), std::string::npos)
       << answer.message.bye().reason();
+  EXPECT_EQ(Join(), kExitFailed);
+}
+
+TEST_F(DutEmuServerTest, RefusesAFirmwareWithANanNamingTheField) {
+  StartServer();
+  host::DutFirmware firmware = HoverFirmware();
+  firmware.flight.position.mass_kg = std::numeric_limits<double>::quiet_NaN();
+  Handshake(host::kHilLinkProtocolVersion, firmware);
+  const LinkReceived answer = link_->Receive(kWaitMs);
+  ASSERT_EQ(answer.status, LinkReceiveStatus::kMessage);
+  ASSERT_TRUE(answer.message.has_bye()) << answer.message.DebugString();
+  EXPECT_TRUE(answer.message.bye().error());
+  EXPECT_EQ(answer.message.bye().reason(),
+            "bad firmware configuration: flight.position.mass_kg is nan: must be finite and > 0");
   EXPECT_EQ(Join(), kExitFailed);
 }
 

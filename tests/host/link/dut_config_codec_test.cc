@@ -105,5 +105,75 @@ TEST(DutConfigCodecTest, RefusesAMatrixOfTheWrongSize) {
   EXPECT_NE(setup.error().message.find("10 values instead of 9"), std::string::npos);
 }
 
+struct BadFirmware {
+  std::string error;  // the whole message: it names the field and the rule
+  void (*edit)(DutFirmware&);
+};
+
+constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// A NaN, a negative, an infinite or an out-of-range number in each part of the firmware.
+const BadFirmware kBadFirmware[] = {
+    {"flight.position.mass_kg is nan: must be finite and > 0",
+     [](DutFirmware& f) { f.flight.position.mass_kg = kNan; }},
+    {"flight.admittance.mass_kg.y is -1: must be finite and > 0",
+     [](DutFirmware& f) { f.flight.admittance.mass_kg.y() = -1; }},
+    {"flight.attitude.k_p_nm_s.z is inf: must be finite and >= 0",
+     [](DutFirmware& f) { f.flight.attitude.k_p_nm_s.z() = kInf; }},
+    {"flight.attitude.derivative_cutoff_hz is 0: must be finite and > 0",
+     [](DutFirmware& f) { f.flight.attitude.derivative_cutoff_hz = 0; }},
+    {"flight.position.max_tilt_rad is 2: must lie in [0, 1.5708]",
+     [](DutFirmware& f) { f.flight.position.max_tilt_rad = 2; }},
+    {"flight.position.max_collective_thrust_n is 1: must be at least min_collective_thrust_n (2)",
+     [](DutFirmware& f) {
+       f.flight.position.min_collective_thrust_n = 2;
+       f.flight.position.max_collective_thrust_n = 1;
+     }},
+    {"flight.mixer.max_thrust_per_rotor_n is -4: must be finite and > 0",
+     [](DutFirmware& f) { f.flight.mixer.max_thrust_per_rotor_n = -4; }},
+    {"flight.estimator.position_gain is 1.5: must lie in [0, 1]",
+     [](DutFirmware& f) { f.flight.estimator.position_gain = 1.5; }},
+    {"flight.estimator.nominal_vio_period_s is nan: must be finite and > 0",
+     [](DutFirmware& f) { f.flight.estimator.nominal_vio_period_s = kNan; }},
+    {"tactile.nodes[2].node_id is 9: must lie in [1, 6]",
+     [](DutFirmware& f) { f.tactile->nodes[2].node_id = 9; }},
+    {"tactile.nodes[3].node_id is 1: used by an earlier node",
+     [](DutFirmware& f) { f.tactile->nodes[3].node_id = 1; }},
+    {"tactile.nodes[4].rotation_body_from_sensor[7] is nan: must be finite",
+     [](DutFirmware& f) { f.tactile->nodes[4].rotation_body_from_sensor(2, 1) = kNan; }},
+    {"tactile.nodes[5].gain_a.x is -inf: must be finite",
+     [](DutFirmware& f) { f.tactile->nodes[5].gain_a.x() = -kInf; }},
+    {"tactile.film.k2 is 0: must be finite and not 0",
+     [](DutFirmware& f) { f.tactile->film.k2 = 0; }},
+    {"tactile.zeroing_samples is 0: must be at least 1",
+     [](DutFirmware& f) { f.tactile->zeroing_samples = 0; }},
+    {"tactile.max_sample_age_ns is -5: must be > 0",
+     [](DutFirmware& f) { f.tactile->max_sample_age_ns = -5; }},
+    {"grasp.mass is nan: must be finite and > 0", [](DutFirmware& f) { f.grasp.mass = kNan; }},
+    {"grasp.damping is -65: must be finite and >= 0",
+     [](DutFirmware& f) { f.grasp.damping = -65; }},
+    {"grasp.closed_angle_rad is -1: must be above open_angle_rad (0)",
+     [](DutFirmware& f) { f.grasp.closed_angle_rad = -1; }},
+    {"grasp.servo_max_rate_rad_s is 0: must be > 0",
+     [](DutFirmware& f) { f.grasp.servo_max_rate_rad_s = 0; }},
+};
+
+TEST(DutConfigCodecTest, RefusesNumbersOutOfRangeNamingTheField) {
+  for (const BadFirmware& bad : kBadFirmware) {
+    DutFirmware firmware = DistinctFirmware();
+    bad.edit(firmware);
+    const auto setup = FromDutConfig(ToDutConfig(firmware, 1e-3));
+    ASSERT_FALSE(setup.ok()) << bad.error;
+    EXPECT_EQ(setup.error().message, bad.error);
+  }
+}
+
+TEST(DutConfigCodecTest, ServoWithoutTravelHoldIsAccepted) {
+  DutFirmware firmware = DistinctFirmware();
+  firmware.grasp.servo_max_rate_rad_s = kInf;  // the firmware's "no travel hold"
+  EXPECT_TRUE(FromDutConfig(ToDutConfig(firmware, 1e-3)).ok());
+}
+
 }  // namespace
 }  // namespace hilrig::host
