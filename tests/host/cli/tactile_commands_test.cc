@@ -85,7 +85,7 @@ TEST(TactileCommandsTest, BadInvocationsExitTwoWithAReason) {
   EXPECT_THAT(Cli({"calibrate"}).err, HasSubstr("--out DIR is required"));
   EXPECT_EQ(Cli({"accuracy", "--out", "/tmp/x"}).exit_code, kExitBadInput);
   EXPECT_THAT(Cli({"decode", "--calibration", "/nonexistent.textproto"}).err,
-              HasSubstr("cannot open"));
+              HasSubstr("cannot read /nonexistent.textproto: No such file or directory"));
   EXPECT_THAT(Cli({"calibrate", "--out", "/tmp/x", "--field", "tiles:0"}).err,
               HasSubstr("tiles per side"));
   EXPECT_THAT(Cli({"calibrate", "--out", "/tmp/x", "--field", "magic"}).err,
