@@ -48,19 +48,6 @@ std::string SceneFile(const std::string& scene, const fs::path& scenarios_dir) {
   return (scenarios_dir / (scene + ".textproto")).string();
 }
 
-// Every shipped scene: the specs directly in the scenarios folder, sorted.
-std::vector<std::string> AllSceneFiles(const fs::path& scenarios_dir) {
-  std::vector<std::string> files;
-  std::error_code error;
-  for (const auto& entry : fs::directory_iterator(scenarios_dir, error)) {
-    if (entry.is_regular_file() && entry.path().extension() == ".textproto") {
-      files.push_back(entry.path().string());
-    }
-  }
-  std::sort(files.begin(), files.end());
-  return files;
-}
-
 rig::Result<double> ParseDuration(const std::string& text) {
   std::size_t used = 0;
   double value = 0;
@@ -93,7 +80,9 @@ rig::Result<BenchOptions> ParseBenchOptions(std::vector<std::string> args) {
   const fs::path scenarios_dir = scenarios != nullptr ? *scenarios : "scenarios";
   const std::string* scenes = cli.Option("--scenes");
   if (scenes != nullptr && *scenes == "all") {
-    options.scene_files = AllSceneFiles(scenarios_dir);
+    auto all = ScenarioFilesIn(scenarios_dir.string());
+    if (!all) return all.error();
+    options.scene_files = std::move(all).value();
   } else {
     for (const std::string& scene :
          SplitCommas(scenes != nullptr ? *scenes : "balloon_grasp,load_ramp")) {

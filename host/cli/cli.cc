@@ -296,17 +296,6 @@ void PrintRun(const ScenarioOutcome& outcome, const Streams& io) {
   io.out << FormatTimingLine(outcome.report) << std::endl;
 }
 
-std::vector<std::string> ScenarioFilesIn(const fs::path& folder) {
-  std::vector<std::string> files;
-  for (const auto& entry : fs::directory_iterator(folder)) {
-    if (entry.is_regular_file() && entry.path().extension() == ".textproto") {
-      files.push_back(entry.path().string());
-    }
-  }
-  std::sort(files.begin(), files.end());
-  return files;
-}
-
 std::string SummaryRow(const ScenarioOutcome& outcome) {
   const char* verdict = outcome.exit_code == kExitPass       ? "PASS"
                         : outcome.exit_code == kExitBadInput ? "INVALID"
@@ -343,7 +332,12 @@ std::unique_ptr<ReferenceSetup> MakeReferenceSetup(const RunOptions& options, co
 }
 
 int RunFolder(const RunOptions& options, const Streams& io) {
-  const std::vector<std::string> files = ScenarioFilesIn(options.target);
+  const auto listed = ScenarioFilesIn(options.target);
+  if (!listed) {
+    io.err << "hilrig run: " << listed.error().message << "\n";
+    return kExitBadInput;
+  }
+  const std::vector<std::string>& files = listed.value();
   if (files.empty()) {
     io.err << options.target << ": no *.textproto scenario in this folder\n";
     return kExitBadInput;
@@ -381,9 +375,14 @@ int RunCommand(const std::vector<std::string>& args, const Streams& io) {
   options.value().calibrations = caches.calibrations.get();
   const std::string& target = options.value().target;
   std::error_code error;
-  if (fs::is_directory(target, error)) return RunFolder(options.value(), io);
-  if (!fs::exists(target, error)) {
+  const fs::file_status status = fs::status(target, error);
+  if (fs::is_directory(status)) return RunFolder(options.value(), io);
+  if (status.type() == fs::file_type::not_found) {
     io.err << target << ": no such file or folder\n";
+    return kExitBadInput;
+  }
+  if (error) {  // a link loop, a folder on the way that cannot be searched
+    io.err << target << ": " << error.message() << "\n";
     return kExitBadInput;
   }
   const fs::path out_dir =

@@ -3,6 +3,8 @@
 #include <google/protobuf/io/tokenizer.h>
 #include <google/protobuf/text_format.h>
 
+#include <algorithm>
+#include <filesystem>
 #include <sstream>
 
 #include "host/scenario/scenario_validation.h"
@@ -112,6 +114,20 @@ rig::Result<proto::Scenario> LoadScenario(const std::string& path) {
   auto text = rig::ReadRegularFile(path, kMaxScenarioFileBytes);
   if (!text) return text.error();
   return ParseScenario(text.value(), path);
+}
+
+rig::Result<std::vector<std::string>> ScenarioFilesIn(const std::string& folder) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> files;
+  std::error_code error;
+  // Only names are read: an entry's status could fail (a link loop) and is the loader's concern.
+  for (fs::directory_iterator entry(folder, error), end; !error && entry != end;
+       entry.increment(error)) {
+    if (entry->path().extension() == ".textproto") files.push_back(entry->path().string());
+  }
+  if (error) return rig::MakeError("cannot list folder " + folder + ": " + error.message());
+  std::sort(files.begin(), files.end());
+  return files;
 }
 
 }  // namespace hilrig::host

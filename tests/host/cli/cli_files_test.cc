@@ -1,0 +1,124 @@
+// What hilrig does with a damaged file system around it: links that loop or point nowhere in a
+// scenario folder, a folder it cannot list, an output path that is a file.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "host/cli/cli.h"
+#include "tests/support/cli_runner.h"
+#include "tests/support/test_files.h"
+
+namespace hilrig::host {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+constexpr const char* kLoopMessage = "Too many levels of symbolic links";
+constexpr const char* kShortSpec = R"(name: "short"
+simulation { duration_s: 0.5 }
+envelopes { name: "grounded" signal: ALTITUDE_M upper: 0.01 }
+)";
+
+class CliFilesTest : public ::testing::Test {
+ protected:
+  void SetUp() override { dir_ = FreshTestDir("hilrig_cli_files_"); }
+  fs::path Write(const fs::path& path, const std::string& text) {
+    fs::create_directories(path.parent_path());
+    std::ofstream(path) << text;
+    return path;
+  }
+  // A link that points at itself: every attempt to follow it fails with ELOOP.
+  fs::path Loop(const fs::path& path) {
+    fs::create_directories(path.parent_path());
+    fs::create_symlink(path.filename(), path);
+    return path;
+  }
+  CliResult Run(const fs::path& target, const fs::path& out) {
+    return Cli({"run", target.string(), "--no-reference", "--out", out.string()});
+  }
+  fs::path dir_;
+};
+
+TEST_F(CliFilesTest, ALinkLoopInAScenarioFolderIsNamedAndTheOtherScenariosRun) {
+  const fs::path folder = dir_ / "scenarios";
+  Write(folder / "a_short.textproto", kShortSpec);
+  Loop(folder / "elsewhere");  // not a spec: never looked at
+  const fs::path loop = Loop(folder / "b_loop.textproto");
+  const CliResult result = Run(folder, dir_ / "out");
+  EXPECT_EQ(result.exit_code, kExitBadInput) << result.err;
+  EXPECT_THAT(result.err, HasSubstr("cannot read " + loop.string() + ": " + kLoopMessage));
+  EXPECT_THAT(result.out, HasSubstr("INVALID"));
+  EXPECT_TRUE(fs::exists(dir_ / "out" / "a_short" / "report.json"));
+}
+
+TEST_F(CliFilesTest, ALinkLoopThatIsNoSpecLeavesTheFolderRunAlone) {
+  const fs::path folder = dir_ / "scenarios";
+  Write(folder / "a_short.textproto", kShortSpec);
+  Loop(folder / "elsewhere");
+  const CliResult result = Run(folder, dir_ / "out");
+  EXPECT_EQ(result.exit_code, kExitPass) << result.err;
+}
+
+TEST_F(CliFilesTest, ADanglingLinkNamedAsASpecIsAnErrorNotSkipped) {
+  const fs::path folder = dir_ / "scenarios";
+  Write(folder / "a_short.textproto", kShortSpec);
+  fs::create_symlink("nowhere.textproto", folder / "b_gone.textproto");
+  const CliResult result = Run(folder, dir_ / "out");
+  EXPECT_EQ(result.exit_code, kExitBadInput);
+  EXPECT_THAT(result.err, HasSubstr("cannot read " + (folder / "b_gone.textproto").string() +
+                                    ": No such file or directory"));
+}
+
+TEST_F(CliFilesTest, ALinkLoopAsTheTargetIsNamedWithItsCause) {
+  const fs::path loop = Loop(dir_ / "loop.textproto");
+  for (const std::string command : {"run", "check"}) {
+    const CliResult result = Cli({command, loop.string()});
+    EXPECT_EQ(result.exit_code, kExitBadInput) << command;
+    EXPECT_THAT(result.err, HasSubstr(loop.string())) << command;
+    EXPECT_THAT(result.err, HasSubstr(kLoopMessage)) << command << result.err;
+  }
+}
+
+TEST_F(CliFilesTest, AFolderThatCannotBeListedIsNamed) {
+  if (::geteuid() == 0) GTEST_SKIP() << "root lists any folder";
+  const fs::path folder = dir_ / "locked";
+  Write(folder / "a_short.textproto", kShortSpec);
+  fs::permissions(folder, fs::perms::owner_exec);  // searchable, not readable
+  const CliResult result = Run(folder, dir_ / "out");
+  fs::permissions(folder, fs::perms::owner_all);
+  EXPECT_EQ(result.exit_code, kExitBadInput);
+  EXPECT_THAT(result.err, HasSubstr("cannot list folder " + folder.string()));
+}
+
+TEST_F(CliFilesTest, AnOutputFolderThatIsAFileIsNamed) {
+  const fs::path spec = Write(dir_ / "short.textproto", kShortSpec);
+  const fs::path file = Write(dir_ / "a_file", "not a folder");
+  const CliResult result = Run(spec, file);
+  EXPECT_EQ(result.exit_code, kExitBadInput);
+  EXPECT_THAT(result.err, HasSubstr("cannot create " + file.string() + ": Not a directory"));
+}
+
+TEST_F(CliFilesTest, BenchNamesALinkLoopAmongAllScenes) {
+  const fs::path folder = dir_ / "scenarios";
+  Write(folder / "a_short.textproto", kShortSpec);
+  const fs::path loop = Loop(folder / "b_loop.textproto");
+  const CliResult result = Cli({"bench", "--scenes", "all", "--scenarios", folder.string(),
+                                "--quick", "--out", (dir_ / "out").string()});
+  EXPECT_EQ(result.exit_code, kExitBadInput);
+  EXPECT_THAT(result.err, HasSubstr("cannot read " + loop.string() + ": " + kLoopMessage));
+}
+
+TEST_F(CliFilesTest, BenchNamesAScenariosFolderThatIsNone) {
+  const fs::path file = Write(dir_ / "a_file", "not a folder");
+  const CliResult result = Cli(
+      {"bench", "--scenes", "all", "--scenarios", file.string(), "--out", (dir_ / "out").string()});
+  EXPECT_EQ(result.exit_code, kExitBadInput);
+  EXPECT_THAT(result.err, HasSubstr("cannot list folder " + file.string() + ": Not a directory"));
+}
+
+}  // namespace
+}  // namespace hilrig::host
