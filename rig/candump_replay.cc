@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "rig/bounded_line.h"
 #include "rig/candump_log.h"
 
 namespace hilrig::rig {
@@ -11,9 +12,16 @@ Result<CandumpReplay> CandumpReplay::Read(std::istream& log, double speed) {
   if (!(speed > 0) || !std::isfinite(speed)) return MakeError("replay speed must be > 0");
   std::vector<TimedCanFrame> frames;
   std::string line;
-  int line_number = 0;
-  while (std::getline(log, line)) {
-    ++line_number;
+  for (int line_number = 1;; ++line_number) {
+    const LineRead read = ReadBoundedLine(log, kMaxCandumpLineBytes, line);
+    if (read == LineRead::kEnd) break;
+    if (read == LineRead::kReadError) {
+      return MakeError("cannot read the log after line " + std::to_string(line_number - 1));
+    }
+    if (read == LineRead::kTooLong) {
+      return MakeError("line " + std::to_string(line_number) + ": longer than " +
+                       std::to_string(kMaxCandumpLineBytes) + " bytes, not a candump line");
+    }
     if (line.empty() || line[0] == '#') continue;
     auto parsed = ParseCandumpLine(line);
     if (!parsed) {

@@ -5,6 +5,7 @@
 // replayed like any other frame.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <istream>
 #include <string>
@@ -15,9 +16,14 @@
 
 namespace hilrig::rig {
 
+// The longest candump line is under 200 bytes (a CAN FD frame's 64 data bytes in hex, a 16-byte
+// interface name, a 20-digit timestamp); a longer one is not a log line.
+inline constexpr std::size_t kMaxCandumpLineBytes = 1024;
+
 class CandumpReplay {
  public:
-  // Reads the whole log; errors name the line. `speed` > 0 (1 = recorded time).
+  // Reads the whole log; errors name the line, and a line longer than kMaxCandumpLineBytes is
+  // one. `speed` > 0 (1 = recorded time).
   static Result<CandumpReplay> Read(std::istream& log, double speed);
 
   // Sends every frame due at `now_ns`; returns how many went out (a failed send is counted and

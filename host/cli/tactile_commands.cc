@@ -3,20 +3,22 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <optional>
-#include <sstream>
 
 #include "fixtures/calibration/calibration_file.h"
 #include "fixtures/calibration/calibration_procedure.h"
 #include "host/cli/cli.h"
 #include "host/report/report_files.h"
 #include "host/sensors/tactile/film_field_factory.h"
+#include "rig/bounded_line.h"
 
 namespace hilrig::host {
 namespace {
 
 namespace fs = std::filesystem;
+
+// A reading is three numbers; 4 KiB is far past any such line and bounds what one line can hold.
+constexpr std::size_t kMaxDecodeLineBytes = 4096;
 
 struct TactileOptions {
   std::string out_dir;
@@ -117,7 +119,7 @@ std::optional<Eigen::Vector3d> ParseFieldLine(const std::string& line) {
     cursor = end;
   }
   while (*cursor == ' ' || *cursor == '\t' || *cursor == '\r') ++cursor;
-  if (*cursor != '\0') return std::nullopt;
+  if (cursor != line.c_str() + line.size()) return std::nullopt;  // also a NUL inside the line
   return field_t;
 }
 
@@ -182,7 +184,19 @@ int DecodeCommand(const std::vector<std::string>& args, const CliStreams& io, st
   const dut_fw::FilmConstants<double> film = fixtures::FilmConstantsOf(calibration.value());
   int exit_code = kExitPass;
   std::string line;
-  while (std::getline(in, line)) {
+  for (std::size_t line_number = 1;; ++line_number) {
+    const rig::LineRead read = rig::ReadBoundedLine(in, kMaxDecodeLineBytes, line);
+    if (read == rig::LineRead::kEnd) break;
+    if (read == rig::LineRead::kReadError) {
+      return Fail(io, "decode",
+                  "cannot read standard input after line " + std::to_string(line_number - 1));
+    }
+    if (read == rig::LineRead::kTooLong) {
+      return Fail(io, "decode",
+                  "line " + std::to_string(line_number) + ": longer than " +
+                      std::to_string(kMaxDecodeLineBytes) +
+                      " bytes; not a list of readings, stopped");
+    }
     const auto field_t = ParseFieldLine(line);
     if (!field_t) {
       io.out << "invalid malformed_line\n";

@@ -60,6 +60,14 @@ TEST_F(CandumpReplayTest, MalformedLineNamesItsNumber) {
   EXPECT_THAT(replay.error().message, ::testing::HasSubstr("line 2"));
 }
 
+TEST_F(CandumpReplayTest, ALineLongerThanAnyCandumpLineIsAnErrorNamingIt) {
+  std::istringstream log("(1.000000) can0 101#01\n(1.000000) can0 101#" +
+                         std::string(kMaxCandumpLineBytes, '0') + "\n");
+  const auto replay = CandumpReplay::Read(log, 1.0);
+  ASSERT_FALSE(replay.ok());
+  EXPECT_THAT(replay.error().message, ::testing::HasSubstr("line 2: longer than 1024 bytes"));
+}
+
 TEST_F(CandumpReplayTest, RejectsNonPositiveSpeed) {
   std::istringstream log(kLog);
   EXPECT_FALSE(CandumpReplay::Read(log, 0.0).ok());

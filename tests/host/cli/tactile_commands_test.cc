@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -79,6 +80,30 @@ TEST(TactileCommandsTest, DecodePrintsSOrAFlagPerLine) {
 TEST(TactileCommandsTest, DecodeOfCleanInputExitsZero) {
   EXPECT_EQ(Cli({"decode", "--calibration", CalibrationFile()}, "0 0 0.003\n").exit_code,
             kExitPass);
+}
+
+TEST(TactileCommandsTest, DecodeStopsAtALineLongerThanAnyReadingAndNamesIt) {
+  const CliResult result = Cli({"decode", "--calibration", CalibrationFile()},
+                               "0 0 0.003\n" + std::string(5000, '7') + "\n0 0 0.003\n");
+  EXPECT_EQ(result.exit_code, kExitBadInput);
+  EXPECT_THAT(result.err, HasSubstr("line 2: longer than 4096 bytes"));
+  EXPECT_EQ(std::count(result.out.begin(), result.out.end(), '\n'), 1) << result.out;
+}
+
+TEST(TactileCommandsTest, DecodeOfAnInputWithoutNewlinesStopsAtTheCap) {
+  // As /dev/zero on stdin would be: the first line never ends.
+  const CliResult result =
+      Cli({"decode", "--calibration", CalibrationFile()}, std::string(std::size_t{1} << 20, '\0'));
+  EXPECT_EQ(result.exit_code, kExitBadInput);
+  EXPECT_THAT(result.err, HasSubstr("line 1: longer than 4096 bytes"));
+  EXPECT_EQ(result.out, "");
+}
+
+TEST(TactileCommandsTest, DecodeTakesALineOfExactlyTheCap) {
+  std::string line = "0 0 0.003";
+  line += std::string(4096 - line.size(), ' ');
+  const CliResult result = Cli({"decode", "--calibration", CalibrationFile()}, line + "\n");
+  EXPECT_EQ(result.exit_code, kExitPass) << result.err;
 }
 
 TEST(TactileCommandsTest, BadInvocationsExitTwoWithAReason) {
