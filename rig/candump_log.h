@@ -37,7 +37,7 @@ void AppendCandumpLine(const TimedCanFrame& frame, std::string_view interface_na
                        std::string& out, DirectionMark mark = DirectionMark::kNone);
 
 // The inverse of FormatCandumpLine: returns the frame and the interface name. A trailing newline
-// is ignored. Errors name what was wrong with the line.
+// is ignored. Errors name what was wrong with the line, never quote it.
 Result<std::pair<TimedCanFrame, std::string>> ParseCandumpLine(std::string_view line);
 
 // Writes one line per frame to a stream it does not own; the line is built in a reused buffer.

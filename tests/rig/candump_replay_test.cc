@@ -60,6 +60,14 @@ TEST_F(CandumpReplayTest, MalformedLineNamesItsNumber) {
   EXPECT_THAT(replay.error().message, ::testing::HasSubstr("line 2"));
 }
 
+TEST_F(CandumpReplayTest, AMalformedLineIsNamedByNumberNotQuoted) {
+  std::istringstream log("(1.000000) can0 101#01\nhunter2secret was here\n");
+  const auto replay = CandumpReplay::Read(log, 1.0);
+  ASSERT_FALSE(replay.ok());
+  EXPECT_THAT(replay.error().message, ::testing::HasSubstr("line 2: bad candump line"));
+  EXPECT_THAT(replay.error().message, ::testing::Not(::testing::HasSubstr("hunter2")));
+}
+
 TEST_F(CandumpReplayTest, ALineLongerThanAnyCandumpLineIsAnErrorNamingIt) {
   std::istringstream log("(1.000000) can0 101#01\n(1.000000) can0 101#" +
                          std::string(kMaxCandumpLineBytes, '0') + "\n");
