@@ -1,10 +1,10 @@
 #include "rig/dbc.h"
 
 #include <charconv>
-#include <fstream>
 #include <sstream>
 
 #include "rig/can_bus.h"
+#include "rig/file_io.h"
 
 namespace hilrig::rig {
 namespace {
@@ -220,11 +220,9 @@ Result<DbcDatabase> ParseDbc(std::string_view text) {
 }
 
 Result<DbcDatabase> LoadDbcFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return MakeError("cannot open dbc file " + path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  Result<DbcDatabase> database = ParseDbc(text.str());
+  Result<std::string> text = ReadRegularFile(path, kMaxDbcFileBytes);
+  if (!text) return text.error();
+  Result<DbcDatabase> database = ParseDbc(text.value());
   if (!database) return MakeError(path + ": " + database.error().message);
   return database;
 }

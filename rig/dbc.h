@@ -6,6 +6,7 @@
 // checked against the rig's own codec instead of trusted to agree with it.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -53,8 +54,12 @@ struct DbcDatabase {
   const DbcMessage* FindMessage(std::uint32_t id, bool extended = false) const;
 };
 
+// The largest DBC file read: a whole vehicle's database is a few MB.
+inline constexpr std::size_t kMaxDbcFileBytes = std::size_t{16} << 20;
+
 // Errors name the line number and what could not be read.
 Result<DbcDatabase> ParseDbc(std::string_view text);
+// A regular file of at most kMaxDbcFileBytes (rig::ReadRegularFile), parsed.
 Result<DbcDatabase> LoadDbcFile(const std::string& path);
 
 // The raw value of `signal` in `payload` (sign-extended when the signal is signed). Errors when the

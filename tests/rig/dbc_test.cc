@@ -112,7 +112,15 @@ TEST(DbcTest, MissingFileIsAnError) {
   const Result<DbcDatabase> loaded = LoadDbcFile("/nonexistent/tactile.dbc");
 
   ASSERT_FALSE(loaded.ok());
-  EXPECT_NE(loaded.error().message.find("cannot open"), std::string::npos);
+  EXPECT_NE(loaded.error().message.find("cannot read"), std::string::npos);
+}
+
+TEST(DbcTest, AFolderIsRefusedNotReadAsAnEmptyDatabase) {
+  const std::string folder = HILRIG_SOURCE_DIR "/proto";
+  const Result<DbcDatabase> loaded = LoadDbcFile(folder);
+  ASSERT_FALSE(loaded.ok());
+  EXPECT_NE(loaded.error().message.find("cannot read " + folder + ": a folder"), std::string::npos)
+      << loaded.error().message;
 }
 
 }  // namespace
