@@ -186,6 +186,8 @@ int DecodeCommand(const std::vector<std::string>& args, const CliStreams& io, st
   std::string line;
   for (std::size_t line_number = 1;; ++line_number) {
     const rig::LineRead read = rig::ReadBoundedLine(in, kMaxDecodeLineBytes, line);
+    // Reading flushed the answers so far (stdin is tied to stdout): stop once they cannot go out.
+    if (!io.out) return kExitBadInput;
     if (read == rig::LineRead::kEnd) break;
     if (read == rig::LineRead::kReadError) {
       return Fail(io, "decode",
@@ -210,7 +212,8 @@ int DecodeCommand(const std::vector<std::string>& args, const CliStreams& io, st
       io.out << "invalid " << dut_fw::DecodeStatusName(s.status) << "\n";
     }
   }
-  return exit_code;
+  io.out.flush();
+  return io.out ? exit_code : kExitBadInput;
 }
 
 }  // namespace hilrig::host

@@ -1,5 +1,6 @@
 #include "host/cli/tactile_commands.h"
 
+#include <fcntl.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -10,6 +11,7 @@
 #include <sstream>
 
 #include "host/cli/cli.h"
+#include "rig/file_io.h"
 #include "tests/support/cli_runner.h"
 
 namespace hilrig::host {
@@ -104,6 +106,22 @@ TEST(TactileCommandsTest, DecodeTakesALineOfExactlyTheCap) {
   line += std::string(4096 - line.size(), ' ');
   const CliResult result = Cli({"decode", "--calibration", CalibrationFile()}, line + "\n");
   EXPECT_EQ(result.exit_code, kExitPass) << result.err;
+}
+
+TEST(TactileCommandsTest, DecodeStopsReadingOnceItsAnswersCannotBeWritten) {
+  const int full_device = ::open("/dev/full", O_WRONLY | O_CLOEXEC);
+  ASSERT_GE(full_device, 0);
+  rig::FdStreamBuf full(full_device, 0);  // unbuffered: the first answer fails
+  std::ostream out(&full);
+  std::ostringstream err;
+  std::string readings;
+  for (int i = 0; i < 1000; ++i) readings += "0 0 0.003\n";
+  std::istringstream in(readings);
+  EXPECT_EQ(RunCli({"decode", "--calibration", CalibrationFile()}, out, err, nullptr, &in),
+            kExitBadInput);
+  EXPECT_EQ(full.error_number(), ENOSPC);
+  EXPECT_FALSE(in.eof()) << "read all " << readings.size() << " bytes";
+  EXPECT_LT(in.tellg(), std::streampos(100));
 }
 
 TEST(TactileCommandsTest, BadInvocationsExitTwoWithAReason) {

@@ -1,0 +1,85 @@
+// hilrig as a child process: standard output on a full device.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "host/cli/cli.h"
+#include "tests/support/hilrig_process.h"
+#include "tests/support/test_files.h"
+
+namespace hilrig::host {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+const std::string kHover = std::string(HILRIG_SOURCE_DIR) + "/scenarios/hover.textproto";
+constexpr const char* kStdoutFull =
+    "hilrig: cannot write to standard output: No space left on device";
+
+// Six sensors with unit gains: enough for decode to answer every line.
+std::string SyntheticCalibration() {
+  std::string text = "film { k1: 1 c1: 0.001 k2: 1 c2: 0.002 }\n";
+  for (int node = 1; node <= 6; ++node) {
+    text += "sensors { node_id: " + std::to_string(node) +
+            " a { x: 1 y: 1 z: 1 } b { x: 0 y: 0 z: 0 } }\n";
+  }
+  return text;
+}
+
+class CliProcessTest : public ::testing::Test {
+ protected:
+  void SetUp() override { dir_ = FreshTestDir("hilrig_cli_process_"); }
+  ProcessResult Hilrig(const std::string& arguments) {
+    return RunHilrig(arguments, dir_ / "stderr.txt");
+  }
+  std::string Write(const std::string& name, const std::string& text) {
+    std::ofstream(dir_ / name) << text;
+    return (dir_ / name).string();
+  }
+  fs::path dir_;
+};
+
+TEST_F(CliProcessTest, CheckWithStandardOutputOnAFullDeviceFailsAndSaysWhy) {
+  const ProcessResult result = Hilrig("check " + kHover + " >/dev/full");
+  EXPECT_EQ(result.exit_code, kExitBadInput);
+  EXPECT_THAT(result.err, HasSubstr(kStdoutFull));
+}
+
+TEST_F(CliProcessTest, RunWithStandardOutputOnAFullDeviceFailsButKeepsItsFiles) {
+  const std::string spec = Write("short.textproto", R"(name: "short"
+simulation { duration_s: 0.5 }
+envelopes { name: "grounded" signal: ALTITUDE_M upper: 0.01 }
+)");
+  const ProcessResult result =
+      Hilrig("run " + spec + " --no-reference --out " + (dir_ / "out").string() + " >/dev/full");
+  EXPECT_EQ(result.exit_code, kExitBadInput);
+  EXPECT_THAT(result.err, HasSubstr(kStdoutFull));
+  EXPECT_THAT(ReadFile(dir_ / "out" / "report.json"), HasSubstr("\"stop_reason\": \"completed\""));
+}
+
+TEST_F(CliProcessTest, CalibrateWithStandardOutputOnAFullDeviceFailsButKeepsTheFile) {
+  const ProcessResult result =
+      Hilrig("calibrate --field map:16 --out " + (dir_ / "cal").string() + " >/dev/full");
+  EXPECT_EQ(result.exit_code, kExitBadInput);
+  EXPECT_THAT(result.err, HasSubstr(kStdoutFull));
+  EXPECT_THAT(ReadFile(dir_ / "cal" / "calibration.textproto"), HasSubstr("node_id: 6"));
+}
+
+TEST_F(CliProcessTest, DecodeWithStandardOutputOnAFullDeviceFailsAndSaysWhy) {
+  const std::string calibration = Write("calibration.textproto", SyntheticCalibration());
+  const std::string readings = Write("readings.txt", "0 0 0.003\n0.0001 0 0.003\n");
+  // The same input to a working standard output exits 0: the failure is the lost output.
+  EXPECT_EQ(
+      Hilrig("decode --calibration " + calibration + " <" + readings + " >/dev/null").exit_code,
+      kExitPass);
+  const ProcessResult result =
+      Hilrig("decode --calibration " + calibration + " <" + readings + " >/dev/full");
+  EXPECT_EQ(result.exit_code, kExitBadInput);
+  EXPECT_THAT(result.err, HasSubstr(kStdoutFull));
+}
+
+}  // namespace
+}  // namespace hilrig::host
