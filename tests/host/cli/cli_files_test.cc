@@ -1,5 +1,5 @@
 // What hilrig does with a damaged file system around it: links that loop or point nowhere in a
-// scenario folder, a folder it cannot list, an output path that is a file.
+// scenario folder, an output path that is a file, links planted where outputs go.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -100,6 +100,46 @@ TEST_F(CliFilesTest, AnOutputFolderThatIsAFileIsNamed) {
   const CliResult result = Run(spec, file);
   EXPECT_EQ(result.exit_code, kExitBadInput);
   EXPECT_THAT(result.err, HasSubstr("cannot create " + file.string() + ": Not a directory"));
+}
+
+TEST_F(CliFilesTest, AnOutputThatCannotBeWrittenIsNamedWithTheCause) {
+  const fs::path spec = Write(dir_ / "short.textproto", kShortSpec);
+  for (const char* file : {"trace.csv", "can.log", "report.json", "junit.xml"}) {
+    const fs::path out = dir_ / (std::string("out_") + file);
+    Write(out / file / "in_the_way", "a folder stands where the file goes");
+    const CliResult result = Run(spec, out);
+    EXPECT_EQ(result.exit_code, kExitBadInput) << file;
+    EXPECT_THAT(result.err, HasSubstr("cannot write " + (out / file).string() + ": Is a directory"))
+        << result.err;
+  }
+}
+
+TEST_F(CliFilesTest, ALinkPlantedAtTheCanLogIsNotFollowed) {
+  const fs::path spec = Write(dir_ / "short.textproto", kShortSpec);
+  const fs::path victim = Write(dir_ / "victim.txt", "precious");
+  fs::create_directories(dir_ / "out");
+  fs::create_symlink(victim, dir_ / "out" / "can.log");
+  const CliResult result = Run(spec, dir_ / "out");
+  EXPECT_EQ(result.exit_code, kExitBadInput);
+  EXPECT_THAT(result.err, HasSubstr((dir_ / "out" / "can.log").string() +
+                                    ": it is a symbolic link, which is not followed"));
+  EXPECT_EQ(ReadFile(victim), "precious");
+}
+
+TEST_F(CliFilesTest, LinksPlantedAtTheReportAndAtGuessableTemporaryNamesAreNotFollowed) {
+  const fs::path spec = Write(dir_ / "short.textproto", kShortSpec);
+  const fs::path victim = Write(dir_ / "victim.txt", "precious");
+  fs::create_directories(dir_ / "out");
+  fs::create_symlink(victim, dir_ / "out" / "report.json");
+  // A temporary name made of the path and the process id could be guessed and planted.
+  for (const char* file : {"report.json", "junit.xml"}) {
+    fs::create_symlink(victim, dir_ / "out" / (file + (".tmp" + std::to_string(::getpid()))));
+  }
+  const CliResult result = Run(spec, dir_ / "out");
+  EXPECT_EQ(result.exit_code, kExitPass) << result.err;
+  EXPECT_EQ(ReadFile(victim), "precious");
+  EXPECT_FALSE(fs::is_symlink(dir_ / "out" / "report.json"));
+  EXPECT_THAT(ReadFile(dir_ / "out" / "report.json"), HasSubstr("\"scenario\": \"short\""));
 }
 
 TEST_F(CliFilesTest, BenchNamesALinkLoopAmongAllScenes) {

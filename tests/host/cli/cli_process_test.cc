@@ -1,9 +1,12 @@
-// hilrig as a child process: standard output on a full device.
+// hilrig as a child process: standard output on a full device, and inputs that would block or
+// exhaust the process (a FIFO, /dev/zero) given as a spec or a calibration.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <filesystem>
 #include <fstream>
+#include <vector>
 
 #include "host/cli/cli.h"
 #include "tests/support/hilrig_process.h"
@@ -38,6 +41,15 @@ class CliProcessTest : public ::testing::Test {
   std::string Write(const std::string& name, const std::string& text) {
     std::ofstream(dir_ / name) << text;
     return (dir_ / name).string();
+  }
+  // `check` and `run` of one spec.
+  std::vector<std::string> Commands(const std::string& spec) const {
+    return {"check " + spec, "run " + spec + " --no-reference --out " + (dir_ / "out").string()};
+  }
+  std::string Fifo() {
+    const fs::path fifo = dir_ / "pipe.textproto";
+    EXPECT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    return fifo.string();
   }
   fs::path dir_;
 };
@@ -79,6 +91,36 @@ TEST_F(CliProcessTest, DecodeWithStandardOutputOnAFullDeviceFailsAndSaysWhy) {
       Hilrig("decode --calibration " + calibration + " <" + readings + " >/dev/full");
   EXPECT_EQ(result.exit_code, kExitBadInput);
   EXPECT_THAT(result.err, HasSubstr(kStdoutFull));
+}
+
+TEST_F(CliProcessTest, AFifoAsASpecIsRefusedAtOnce) {
+  const std::string fifo = Fifo();
+  for (const std::string& command : Commands(fifo)) {
+    const ProcessResult result = Hilrig(command);
+    EXPECT_EQ(result.exit_code, kExitBadInput) << command;
+    EXPECT_THAT(result.err, HasSubstr("cannot read " + fifo + ": a FIFO")) << command;
+  }
+}
+
+TEST_F(CliProcessTest, DevZeroAsASpecIsRefusedAtOnce) {
+  for (const std::string& command : Commands("/dev/zero")) {
+    const ProcessResult result = Hilrig(command);
+    EXPECT_EQ(result.exit_code, kExitBadInput) << command;
+    EXPECT_THAT(result.err, HasSubstr("cannot read /dev/zero: a device")) << command;
+  }
+}
+
+TEST_F(CliProcessTest, AFifoOrDevZeroAsACalibrationIsRefusedAtOnce) {
+  const std::string fifo = Fifo();
+  for (const std::string& calibration : {fifo, std::string("/dev/zero")}) {
+    for (const std::string& command : {std::string("decode </dev/null"),
+                                       "accuracy --field map:2 --out " + (dir_ / "acc").string()}) {
+      const ProcessResult result = Hilrig(command + " --calibration " + calibration);
+      EXPECT_EQ(result.exit_code, kExitBadInput) << command << calibration;
+      EXPECT_THAT(result.err, HasSubstr("cannot read " + calibration + ": a "))
+          << command << calibration;
+    }
+  }
 }
 
 }  // namespace
