@@ -41,7 +41,7 @@ GripperScene::GripperScene(const ScenarioConfig& config,
 }
 
 void GripperScene::Present(const ObjectPlacement& placement) {
-  if (next_object_ > 0) finished_.push_back(Outcomes().back());
+  if (next_object_ > 0) finished_.push_back(CurrentOutcome());
   scene_.object = placement.object;
   scene_.stand_height_m = placement.stand_height_m;
   scene_.stand_present = true;
@@ -131,14 +131,18 @@ Eigen::Vector3d GripperScene::ContactForceWorld(const Eigen::Quaterniond& attitu
 
 std::vector<proto::ObjectOutcome> GripperScene::Outcomes() const {
   std::vector<proto::ObjectOutcome> outcomes = finished_;
+  outcomes.push_back(CurrentOutcome());
+  return outcomes;
+}
+
+proto::ObjectOutcome GripperScene::CurrentOutcome() const {
   proto::ObjectOutcome current = current_;
   current.set_damage(DamageModeName(grasp_.damage));
   if (damaged_at_s_ >= 0) current.set_damaged_at_s(damaged_at_s_);
   current.set_final_state(GraspModeName(grasp_.mode));
   current.set_peak_normal_force_n(grasp_.peak_normal_force_n);
   current.set_peak_indentation_m(grasp_.peak_indentation_m);
-  outcomes.push_back(current);
-  return outcomes;
+  return current;
 }
 
 }  // namespace hilrig::host

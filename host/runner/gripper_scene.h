@@ -63,6 +63,7 @@ class GripperScene {
 
  private:
   void Present(const ObjectPlacement& placement);
+  proto::ObjectOutcome CurrentOutcome() const;
   double PourRateKgPerS(double time_s) const;
 
   const GripperConfig& config_;
