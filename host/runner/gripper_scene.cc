@@ -30,7 +30,10 @@ GripperScene::GripperScene(const ScenarioConfig& config,
                            const std::array<TactileSensorParams, kTactileSensorCount>& pads)
     : config_(config.gripper),
       scene_(SceneFor(config, pads[0])),
-      gravity_m_s2_(config.vehicle.gravity_m_s2) {
+      gravity_m_s2_(config.vehicle.gravity_m_s2),
+      pour_rate_kg_per_s_(EventSchedule(config.gripper.pours, [](const PourEvent& pour) {
+        return pour.mass_kg / pour.duration_s;
+      })) {
   HILRIG_CHECK(config_.enabled && !config_.objects.empty(), "a gripper scene needs an object");
   for (int i = 0; i < kTactileSensorCount; ++i) {
     body_from_pad_[i] = pads[i].mounting_body_from_sensor.toRotationMatrix();
@@ -52,16 +55,14 @@ void GripperScene::Present(const ObjectPlacement& placement) {
   damaged_at_s_ = -1;
 }
 
-GripperCommand GripperScene::CommandAt(double time_s) const {
-  // The latest event at or before time_s; the default reference angle is worked out for that one
-  // only (value_or would evaluate it for every earlier event too).
-  const GraspCommandEvent* latest = nullptr;
-  for (const GraspCommandEvent& event : config_.grasps) {
-    if (event.at_s > time_s) break;
-    latest = &event;
-  }
+GripperCommand GripperScene::CommandAt(double time_s) {
+  // The latest event at or before time_s (grasps are in time order); the default reference angle
+  // is worked out for that one only.
+  const std::size_t passed = grasp_cursor_.Seek(
+      time_s, config_.grasps.size(), [this](std::size_t i) { return config_.grasps[i].at_s; });
   GripperCommand command;
-  if (latest == nullptr) return command;
+  if (passed == 0) return command;
+  const GraspCommandEvent* latest = &config_.grasps[passed - 1];
   command.regulate = latest->regulate;
   command.force_n = latest->force_n;
   command.reference_angle_rad =
@@ -69,16 +70,6 @@ GripperCommand GripperScene::CommandAt(double time_s) const {
           ? *latest->reference_angle_rad
           : AngleForPadRadius(scene_.frame, scene_.object.half_width_m + kApproachMarginM);
   return command;
-}
-
-double GripperScene::PourRateKgPerS(double time_s) const {
-  double rate = 0;
-  for (const PourEvent& pour : config_.pours) {
-    if (time_s >= pour.at_s && time_s < pour.at_s + pour.duration_s) {
-      rate += pour.mass_kg / pour.duration_s;
-    }
-  }
-  return rate;
 }
 
 void GripperScene::Step(double time_s, double servo_command_rad, const QuadrotorState& vehicle,
@@ -92,7 +83,7 @@ void GripperScene::Step(double time_s, double servo_command_rad, const Quadrotor
     scene_.stand_present = false;
     ++next_support_removal_;
   }
-  if (!config_.pours.empty()) PourMass(grasp_, PourRateKgPerS(time_s) * dt_s);
+  if (!config_.pours.empty()) PourMass(grasp_, pour_rate_kg_per_s_.At(time_s) * dt_s);
   if (dt_s != servo_decay_dt_s_) {
     servo_decay_ = ServoLagDecay(config_.servo, dt_s);
     servo_decay_dt_s_ = dt_s;
@@ -143,6 +134,11 @@ proto::ObjectOutcome GripperScene::CurrentOutcome() const {
   current.set_peak_normal_force_n(grasp_.peak_normal_force_n);
   current.set_peak_indentation_m(grasp_.peak_indentation_m);
   return current;
+}
+
+std::uint64_t GripperScene::timeline_entries_stepped() const {
+  return next_object_ + next_support_removal_ + grasp_cursor_.steps() +
+         pour_rate_kg_per_s_.pieces_stepped();
 }
 
 }  // namespace hilrig::host

@@ -9,12 +9,14 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "host/plant/grasp_contact.h"
 #include "host/plant/quadrotor.h"
 #include "host/plant/servo.h"
 #include "host/scenario/scenario_config.h"
+#include "host/scenario/timeline_schedule.h"
 #include "proto/report.pb.h"
 
 namespace hilrig::host {
@@ -32,8 +34,9 @@ class GripperScene {
   GripperScene(const ScenarioConfig& config,
                const std::array<TactileSensorParams, kTactileSensorCount>& pads);
 
-  // The grasp command in force at `time_s` (the latest timeline grasp at or before it).
-  GripperCommand CommandAt(double time_s) const;
+  // The grasp command in force at `time_s` (the latest timeline grasp at or before it). Times that
+  // do not decrease cost O(1) amortised, however many grasps the timeline has.
+  GripperCommand CommandAt(double time_s);
 
   // One physics tick: objects due are put on the stand, pours add mass, the servo moves toward
   // `servo_command_rad` against the grasp's load and the contact is solved for the vehicle's state.
@@ -61,10 +64,13 @@ class GripperScene {
   // One outcome per object presented so far (the current one as it is now).
   std::vector<proto::ObjectOutcome> Outcomes() const;
 
+  // Timeline entries (grasps, objects, support removals, pour schedule pieces) stepped over so
+  // far: each at most once over a run, however many ticks it has.
+  std::uint64_t timeline_entries_stepped() const;
+
  private:
   void Present(const ObjectPlacement& placement);
   proto::ObjectOutcome CurrentOutcome() const;
-  double PourRateKgPerS(double time_s) const;
 
   const GripperConfig& config_;
   std::array<Eigen::Matrix3d, kTactileSensorCount> body_from_pad_;
@@ -82,6 +88,8 @@ class GripperScene {
   GraspForces forces_;
   std::size_t next_object_ = 0;
   std::size_t next_support_removal_ = 0;
+  TimeCursor grasp_cursor_;
+  IntervalSumSchedule<double> pour_rate_kg_per_s_;
   std::vector<proto::ObjectOutcome> finished_;
   proto::ObjectOutcome current_;
   double damaged_at_s_ = -1;

@@ -36,8 +36,11 @@ HallSensorNodes::HallSensorNodes(const HallSensorConfig& config, const EarthFiel
   settings.chip = config.reference.chip.setting;
   const auto add = [&](const TactileSensorParams& params) {
     dut_fw::SensorNode<> firmware(params.node_id, 0, settings);
+    auto stray_field_t = EventSchedule(
+        config.stray_fields, [](const StrayFieldEvent& stray) { return stray.field_sensor_t; },
+        [&](const StrayFieldEvent& stray) { return stray.node_id == params.node_id; });
     nodes_.push_back({&params, MakeTactileSensorConstants(params, SamplePeriodS(firmware)),
-                      InitialTactileSensorState(params, seed), firmware});
+                      InitialTactileSensorState(params, seed), firmware, std::move(stray_field_t)});
   };
   if (config.tactile_enabled) {
     for (const TactileSensorParams& params : config.tactile) add(params);
@@ -59,11 +62,10 @@ void HallSensorNodes::TickNode(Node& node, const Eigen::Vector3d& pad_force_n,
     if (period_s != node.constants.silicone.dt_s) {
       node.constants = MakeTactileSensorConstants(*node.params, period_s);
     }
-    const TactileReading reading = SampleTactileSensor(
-        *node.params, node.constants, node.model, *film_, pad_force_n, attitude_world_body,
-        earth_field_.field_world_t, config_.temperature_c,
-        config_.stray_fields.empty() ? Eigen::Vector3d::Zero()
-                                     : StrayFieldAt(node.params->node_id, now_ns));
+    const TactileReading reading =
+        SampleTactileSensor(*node.params, node.constants, node.model, *film_, pad_force_n,
+                            attitude_world_body, earth_field_.field_world_t, config_.temperature_c,
+                            node.stray_field_t.At(static_cast<double>(now_ns) / 1e9));
     Send(node.firmware.TakeSample(now_ns, dut_fw::ChipConversion{reading.code, false}), now_ns);
   }
   if (node.firmware.StatusDue(now_ns)) {
@@ -73,16 +75,10 @@ void HallSensorNodes::TickNode(Node& node, const Eigen::Vector3d& pad_force_n,
   }
 }
 
-Eigen::Vector3d HallSensorNodes::StrayFieldAt(std::uint8_t node_id, std::int64_t now_ns) const {
-  const double time_s = static_cast<double>(now_ns) / 1e9;
-  Eigen::Vector3d field_t = Eigen::Vector3d::Zero();
-  for (const StrayFieldEvent& stray : config_.stray_fields) {
-    if (stray.node_id == node_id && time_s >= stray.at_s &&
-        time_s < stray.at_s + stray.duration_s) {
-      field_t += stray.field_sensor_t;
-    }
-  }
-  return field_t;
+std::uint64_t HallSensorNodes::stray_field_pieces_stepped() const {
+  std::uint64_t stepped = 0;
+  for (const Node& node : nodes_) stepped += node.stray_field_t.pieces_stepped();
+  return stepped;
 }
 
 void HallSensorNodes::Tick(std::int64_t now_ns, const Eigen::Quaterniond& attitude_world_body,

@@ -12,6 +12,7 @@
 
 #include "dut_fw/sensor_node.h"
 #include "host/scenario/scenario_config.h"
+#include "host/scenario/timeline_schedule.h"
 #include "host/sensors/tactile/film_field.h"
 #include "host/sensors/tactile/tactile_sensor.h"
 #include "rig/can_bus.h"
@@ -32,6 +33,8 @@ class HallSensorNodes {
   std::uint64_t frames_sent() const { return frames_sent_; }
   // Frames the bus refused (full TX queue, bus-off); the DUT sees them as sequence gaps.
   std::uint64_t frames_dropped() const { return frames_dropped_; }
+  // Pieces of the nodes' stray-field schedules stepped over so far: each at most once over a run.
+  std::uint64_t stray_field_pieces_stepped() const;
 
  private:
   struct Node {
@@ -39,11 +42,11 @@ class HallSensorNodes {
     TactileSensorConstants constants;  // for the firmware's current sample period
     TactileSensorState model;
     dut_fw::SensorNode<> firmware;
+    IntervalSumSchedule<Eigen::Vector3d> stray_field_t;  // the timeline's, at this node
   };
 
   void TickNode(Node& node, const Eigen::Vector3d& pad_force_n,
                 const Eigen::Quaterniond& attitude_world_body, std::int64_t now_ns);
-  Eigen::Vector3d StrayFieldAt(std::uint8_t node_id, std::int64_t now_ns) const;
   void Send(const dut_fw::NodeFrame& frame, std::int64_t now_ns);
 
   const HallSensorConfig& config_;

@@ -17,6 +17,7 @@
 #include "host/runner/realtime_pacer.h"
 #include "host/runner/run_statistics.h"
 #include "host/runner/timing_checks.h"
+#include "host/scenario/timeline_schedule.h"
 #include "host/sensors/random_stream.h"
 #include "host/sensors/tactile/film_field_factory.h"
 #include "host/trace/trace_csv.h"
@@ -81,6 +82,7 @@ class LockstepRunner::Impl {
   Impl(const ScenarioConfig& config, const RunSinks& sinks, const RunControl& control);
   bool Tick();
   proto::Report Finish();
+  std::uint64_t TimelineEntriesStepped() const;
 
  private:
   bool Step();
@@ -89,7 +91,6 @@ class LockstepRunner::Impl {
   bool TakeNewestCommand();
   void ApplyCommand(ActuatorMessage&& command);
   bool ControlStep(std::uint64_t control_tick, std::int64_t now_ns);
-  Eigen::Vector3d DisturbanceAt(double time_s) const;
   void StepPlant(std::int64_t now_ns);
   bool PlantFinite() const;
   void FillGraspTrace(TraceSample& sample) const;
@@ -107,6 +108,7 @@ class LockstepRunner::Impl {
   std::unique_ptr<rig::CanBus> can_logger_;
   std::unique_ptr<DutPort> dut_;
   ReferenceTrajectory reference_;
+  IntervalSumSchedule<Eigen::Vector3d> disturbance_force_n_;
 
   QuadrotorState plant_;
   ImuState imu_;
@@ -153,6 +155,8 @@ LockstepRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
       bus_(BusConfigFor(config)),
       can_logger_(bus_.Connect("can-logger")),
       reference_(config.initial_reference, config.setpoints),
+      disturbance_force_n_(EventSchedule(
+          config.disturbances, [](const DisturbanceCommand& d) { return d.force_world_n; })),
       imu_(MakeImuState(config.imu, RandomStream::FromSeed(
                                         config.seed, static_cast<std::uint64_t>(StreamId::kImu)))),
       hall_sensors_(config.hall_sensors, config.earth_field, config.seed, FilmFieldFor(config),
@@ -287,21 +291,11 @@ bool LockstepRunner::Impl::TakeNewestCommand() {
   return true;
 }
 
-Eigen::Vector3d LockstepRunner::Impl::DisturbanceAt(double time_s) const {
-  Eigen::Vector3d force_n = Eigen::Vector3d::Zero();
-  for (const DisturbanceCommand& disturbance : config_.disturbances) {
-    if (time_s >= disturbance.at_s && time_s < disturbance.at_s + disturbance.duration_s) {
-      force_n += disturbance.force_world_n;
-    }
-  }
-  return force_n;
-}
-
 // The gripper moves first, against the vehicle as it is, so that the vehicle step carries the held
 // object's mass and the contacts' force of this tick.
 void LockstepRunner::Impl::StepPlant(std::int64_t now_ns) {
   const double dt_s = Seconds(config_.physics_step_ns);
-  Eigen::Vector3d force_world_n = DisturbanceAt(Seconds(now_ns));
+  Eigen::Vector3d force_world_n = disturbance_force_n_.At(Seconds(now_ns));
   double payload_kg = 0;
   if (gripper_) {
     gripper_->Step(Seconds(now_ns), command_.servo_angle_rad, plant_, dt_s);
@@ -531,6 +525,11 @@ proto::Report LockstepRunner::Impl::Finish() {
   return report;
 }
 
+std::uint64_t LockstepRunner::Impl::TimelineEntriesStepped() const {
+  return disturbance_force_n_.pieces_stepped() + hall_sensors_.stray_field_pieces_stepped() +
+         (gripper_ ? gripper_->timeline_entries_stepped() : 0);
+}
+
 LockstepRunner::LockstepRunner(const ScenarioConfig& config, const RunSinks& sinks,
                                const RunControl& control)
     : impl_(std::make_unique<Impl>(config, sinks, control)) {}
@@ -540,6 +539,10 @@ LockstepRunner::~LockstepRunner() = default;
 bool LockstepRunner::Tick() { return impl_->Tick(); }
 
 proto::Report LockstepRunner::Finish() { return impl_->Finish(); }
+
+std::uint64_t LockstepRunner::timeline_entries_stepped() const {
+  return impl_->TimelineEntriesStepped();
+}
 
 proto::Report RunScenario(const ScenarioConfig& config, const RunSinks& sinks,
                           const RunControl& control) {

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <atomic>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <ostream>
@@ -59,6 +60,11 @@ class LockstepRunner {
 
   // Ends the run and builds its report; call once.
   proto::Report Finish();
+
+  // Timeline entries and schedule pieces the run has stepped over so far (setpoints aside, which
+  // are looked up in O(log n)): each at most once over a run, so a tick's share does not grow with
+  // the timeline.
+  std::uint64_t timeline_entries_stepped() const;
 
  private:
   class Impl;

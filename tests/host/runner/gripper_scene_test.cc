@@ -47,7 +47,7 @@ timeline { at_s: 1 grasp { force_n: 2 } }
 timeline { at_s: 3 grasp { open: true } }
 timeline { at_s: 5 grasp { force_n: 1 reference_angle_rad: 0.7 } }
 )");
-  const GripperScene scene(config, config.hall_sensors.tactile);
+  GripperScene scene(config, config.hall_sensors.tactile);
   EXPECT_FALSE(scene.CommandAt(0.5).regulate);
   const GripperCommand grasp = scene.CommandAt(2.0);
   EXPECT_TRUE(grasp.regulate);
