@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <set>
 #include <string>
 #include <utility>
@@ -12,7 +13,9 @@
 #include "dut_fw/sensor_node.h"
 #include "fixtures/objects/object_fixtures.h"
 #include "host/plant/quadrotor.h"
+#include "host/scenario/field_problems.h"
 #include "host/scenario/scenario_config.h"
+#include "host/scenario/spec_limits.h"
 #include "host/sensors/tactile/film_field_factory.h"
 #include "rig/number_text.h"
 
@@ -22,54 +25,20 @@ namespace {
 using google::protobuf::FieldDescriptor;
 using google::protobuf::Message;
 
-// Collects problems under a path prefix, so each check names fields relative to its message.
-class ProblemList {
- public:
-  explicit ProblemList(std::vector<FieldProblem>& problems, std::string prefix = "")
-      : problems_(problems), prefix_(std::move(prefix)) {}
-
-  ProblemList Nested(const std::string& field) const { return ProblemList(problems_, Join(field)); }
-  ProblemList Element(const std::string& field, int index) const {
-    return ProblemList(problems_, Join(field) + "[" + std::to_string(index) + "]");
-  }
-  void Add(const std::string& field, std::string message) const {
-    problems_.push_back({Join(field), std::move(message)});
-  }
-  // A problem with the message this list is about, not one of its fields.
-  void AddHere(std::string message) const { problems_.push_back({prefix_, std::move(message)}); }
-
- private:
-  std::string Join(const std::string& field) const {
-    return prefix_.empty() ? field : prefix_ + "." + field;
-  }
-  std::vector<FieldProblem>& problems_;
-  std::string prefix_;
-};
-
 // NaN and infinity parse fine in text format but are never a meaningful parameter.
-void CheckAllFinite(const Message& message, const ProblemList& problems) {
+std::optional<std::string> NonFiniteProblem(const Message& message, const FieldDescriptor* field,
+                                            int index) {
   const auto* reflection = message.GetReflection();
-  std::vector<const FieldDescriptor*> fields;
-  reflection->ListFields(message, &fields);
-  for (const FieldDescriptor* field : fields) {
-    const bool is_float = field->cpp_type() == FieldDescriptor::CPPTYPE_DOUBLE ||
-                          field->cpp_type() == FieldDescriptor::CPPTYPE_FLOAT;
-    const bool is_message = field->cpp_type() == FieldDescriptor::CPPTYPE_MESSAGE;
-    if (field->is_repeated()) {
-      for (int i = 0; i < reflection->FieldSize(message, field); ++i) {
-        if (is_message) {
-          CheckAllFinite(reflection->GetRepeatedMessage(message, field, i),
-                         problems.Element(field->name(), i));
-        } else if (is_float && !std::isfinite(reflection->GetRepeatedDouble(message, field, i))) {
-          problems.Element(field->name(), i).AddHere("must be a finite number");
-        }
-      }
-    } else if (is_message) {
-      CheckAllFinite(reflection->GetMessage(message, field), problems.Nested(field->name()));
-    } else if (is_float && !std::isfinite(reflection->GetDouble(message, field))) {
-      problems.Add(field->name(), "must be a finite number");
-    }
+  double value = 0;
+  if (field->cpp_type() == FieldDescriptor::CPPTYPE_DOUBLE) {
+    value = index < 0 ? reflection->GetDouble(message, field)
+                      : reflection->GetRepeatedDouble(message, field, index);
+  } else if (field->cpp_type() == FieldDescriptor::CPPTYPE_FLOAT) {
+    value = index < 0 ? reflection->GetFloat(message, field)
+                      : reflection->GetRepeatedFloat(message, field, index);
   }
+  if (std::isfinite(value)) return std::nullopt;
+  return "must be a finite number";
 }
 
 // The longest run. Nothing timed past it can happen in any run, and the bound keeps counts derived
@@ -377,6 +346,8 @@ void CheckEnvelopes(const proto::Scenario& scenario, const ProblemList& problems
     const ProblemList here = problems.Element("envelopes", i);
     if (envelope.name().empty()) {
       here.AddHere("name is required");
+    } else if (auto problem = NameCharacterProblem(envelope.name())) {
+      here.Add("name", std::move(*problem));
     } else if (!names.insert(envelope.name()).second) {
       here.Add("name", "\"" + envelope.name() + "\" is used by an earlier envelope");
     }
@@ -470,8 +441,15 @@ void CheckCanLift(const proto::Scenario& scenario, const ProblemList& problems) 
 std::vector<FieldProblem> ValidateScenario(const proto::Scenario& scenario) {
   std::vector<FieldProblem> problems;
   const ProblemList root(problems);
-  CheckAllFinite(scenario, root);
-  if (scenario.name().empty()) root.AddHere("name is required");
+  // Later checks quote strings back (an unknown fixture, a repeated envelope name) and look at the
+  // entries one by one: a spec past its sizes gets only those problems.
+  if (!CheckSpecSizes(scenario, root)) return problems;
+  CheckEveryScalar(scenario, root, NonFiniteProblem);
+  if (scenario.name().empty()) {
+    root.AddHere("name is required");
+  } else if (auto problem = NameCharacterProblem(scenario.name())) {
+    root.Add("name", std::move(*problem));
+  }
   CheckVehicle(scenario.vehicle(), root.Nested("vehicle"));
   CheckCanLift(scenario, root.Nested("vehicle"));
   CheckSensors(scenario.models(), PhysicsRateHz(scenario.simulation()), root.Nested("models"));

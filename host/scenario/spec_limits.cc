@@ -1,0 +1,75 @@
+#include "host/scenario/spec_limits.h"
+
+#include <algorithm>
+
+namespace hilrig::host {
+namespace {
+
+using google::protobuf::FieldDescriptor;
+using google::protobuf::Message;
+
+bool IsName(const FieldDescriptor* field) {
+  return field ==
+             proto::Scenario::descriptor()->FindFieldByNumber(proto::Scenario::kNameFieldNumber) ||
+         field ==
+             proto::Envelope::descriptor()->FindFieldByNumber(proto::Envelope::kNameFieldNumber);
+}
+
+// Only the length is named: the text may be megabytes.
+std::optional<std::string> TextSizeProblem(const Message& message, const FieldDescriptor* field,
+                                           int index) {
+  if (field->cpp_type() != FieldDescriptor::CPPTYPE_STRING) return std::nullopt;
+  const auto* reflection = message.GetReflection();
+  std::string scratch;
+  const std::string& text =
+      index < 0 ? reflection->GetStringReference(message, field, &scratch)
+                : reflection->GetRepeatedStringReference(message, field, index, &scratch);
+  if (IsName(field)) {
+    if (text.size() <= kMaxNameChars) return std::nullopt;
+    return "a name may hold at most " + std::to_string(kMaxNameChars) + " characters, got " +
+           std::to_string(text.size());
+  }
+  if (text.size() <= kMaxTextBytes) return std::nullopt;
+  return "must be at most " + std::to_string(kMaxTextBytes) + " bytes, got " +
+         std::to_string(text.size());
+}
+
+// The first entry past the bound is where the problem is located.
+bool CheckCount(int count, int bound, const char* list, const ProblemList& problems) {
+  if (count <= bound) return true;
+  problems.Element(list, bound)
+      .AddHere("is past the bound of " + std::to_string(bound) + " " + list +
+               " entries (the spec has " + std::to_string(count) + ")");
+  return false;
+}
+
+bool IsNameCharacter(char c) {
+  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+         std::string_view(" _-.:+()").find(c) != std::string_view::npos;
+}
+
+}  // namespace
+
+bool CheckSpecSizes(const proto::Scenario& scenario, const ProblemList& problems) {
+  bool within = true;
+  CheckEveryScalar(scenario, problems,
+                   [&](const Message& message, const FieldDescriptor* field, int index) {
+                     auto problem = TextSizeProblem(message, field, index);
+                     within = within && !problem;
+                     return problem;
+                   });
+  within =
+      CheckCount(scenario.timeline_size(), kMaxTimelineEntries, "timeline", problems) && within;
+  within = CheckCount(scenario.envelopes_size(), kMaxEnvelopes, "envelopes", problems) && within;
+  return within;
+}
+
+std::optional<std::string> NameCharacterProblem(std::string_view name) {
+  // Every character before the first bad one is ASCII, so its byte offset is its position.
+  const auto bad = std::find_if_not(name.begin(), name.end(), IsNameCharacter);
+  if (bad == name.end()) return std::nullopt;
+  return "character " + std::to_string(bad - name.begin() + 1) +
+         " is not a letter, digit, space or one of _ - . : + ( )";
+}
+
+}  // namespace hilrig::host

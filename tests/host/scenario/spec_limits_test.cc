@@ -1,0 +1,106 @@
+// The sizes a spec may have: names, free text and the spec's lists are bounded and refused with a
+// located message that gives the size, never the text; a name holds only characters that read as
+// text in junit.xml, the plots and the terminal.
+#include "host/scenario/spec_limits.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "host/scenario/scenario_loader.h"
+#include "host/scenario/scenario_validation.h"
+
+namespace hilrig::host {
+namespace {
+
+using ::testing::HasSubstr;
+using ::testing::Not;
+
+std::string Spec(const std::string& name, const std::string& more = "") {
+  return "name: \"" + name + "\"\nsimulation { duration_s: 1 }\n" + more +
+         "envelopes { name: \"alt\" signal: ALTITUDE_M upper: 2 }\n";
+}
+
+std::string ErrorOf(const std::string& text) {
+  const auto result = ParseScenario(text, "spec.textproto");
+  EXPECT_FALSE(result.ok()) << "expected an error";
+  return result.ok() ? std::string() : result.error().message;
+}
+
+bool Accepted(const std::string& text) {
+  const auto result = ParseScenario(text, "spec.textproto");
+  EXPECT_TRUE(result.ok()) << result.error().message;
+  return result.ok();
+}
+
+TEST(SpecLimitsTest, ALongScenarioNameIsRefusedWithItsSizeNotItsText) {
+  const std::string name(10 * 1024, 'n');
+  const std::string error = ErrorOf(Spec(name));
+  EXPECT_EQ(error, "spec.textproto:1:1: name: a name may hold at most 200 characters, got 10240");
+  EXPECT_TRUE(Accepted(Spec(std::string(kMaxNameChars, 'n'))));
+}
+
+TEST(SpecLimitsTest, ALongEnvelopeNameIsRefusedAtTheEnvelope) {
+  const std::string error = ErrorOf(Spec(
+      "s", "envelopes {\n  name: \"" + std::string(201, 'e') + "\" signal: TILT_DEG upper: 1 }\n"));
+  EXPECT_THAT(error, HasSubstr("spec.textproto:4:3: envelopes[0].name: a name may hold at most "
+                               "200 characters, got 201"));
+}
+
+// The other strings are free text, bounded; a checked one (a fixture) is not quoted back either.
+TEST(SpecLimitsTest, LongFreeTextIsRefusedWithoutBeingQuoted) {
+  const std::string description = "description: \"" + std::string(4097, 'd') + "\"\n";
+  EXPECT_THAT(ErrorOf(Spec("s", description)),
+              HasSubstr("spec.textproto:3:1: description: must be at most 4096 bytes, got 4097"));
+  EXPECT_TRUE(Accepted(Spec("s", "description: \"" + std::string(4096, 'd') + "\"\n")));
+  const std::string error =
+      ErrorOf(Spec("s", "object { fixture: \"" + std::string(5000, 'f') + "\" }\n"));
+  EXPECT_THAT(error, HasSubstr("object.fixture: must be at most 4096 bytes, got 5000"));
+  EXPECT_THAT(error, Not(HasSubstr("ffff")));
+}
+
+TEST(SpecLimitsTest, NamesHoldOnlyTextCharacters) {
+  EXPECT_TRUE(Accepted(Spec("grasp (egg) 1.5-2: x+y_z")));
+  // A newline, an escape sequence, a quote, markup, non-ASCII and invalid UTF-8.
+  for (const std::string name :
+       {"a\\nb", "red\\x1b[31m", "say \\\"hi\\\"", "<b>", "caf\\303\\251", "bad\\377", "a/b"}) {
+    const std::string error = ErrorOf(Spec(name));
+    EXPECT_THAT(error, HasSubstr("spec.textproto:1:1: name: character ")) << name;
+    EXPECT_THAT(error, HasSubstr("is not a letter, digit, space or one of _ - . : + ( )")) << name;
+  }
+  EXPECT_THAT(ErrorOf(Spec("s", "envelopes { name: \"ti\\tlt\" signal: TILT_DEG upper: 1 }\n")),
+              HasSubstr("envelopes[0].name: character 3 is not"));
+}
+
+TEST(SpecLimitsTest, TimelinePastItsBoundIsOneProblemAtTheFirstEntryPastIt) {
+  proto::Scenario spec;
+  spec.set_name("long");
+  spec.mutable_simulation()->set_duration_s(1);
+  for (int i = 0; i <= kMaxTimelineEntries; ++i) spec.add_timeline()->set_at_s(2);  // each invalid
+  const std::vector<FieldProblem> problems = ValidateScenario(spec);
+  ASSERT_EQ(problems.size(), 1u);
+  EXPECT_EQ(problems[0].field_path, "timeline[100000]");
+  EXPECT_EQ(problems[0].message,
+            "is past the bound of 100000 timeline entries (the spec has 100001)");
+}
+
+TEST(SpecLimitsTest, EnvelopesPastTheirBoundAreRefused) {
+  proto::Scenario spec;
+  spec.set_name("many");
+  spec.mutable_simulation()->set_duration_s(1);
+  for (int i = 0; i <= kMaxEnvelopes; ++i) {
+    proto::Envelope& envelope = *spec.add_envelopes();
+    envelope.set_name("e" + std::to_string(i));
+    envelope.set_signal(proto::TILT_DEG);
+    envelope.set_upper(1);
+  }
+  const std::vector<FieldProblem> problems = ValidateScenario(spec);
+  ASSERT_EQ(problems.size(), 1u);
+  EXPECT_EQ(problems[0].field_path, "envelopes[1000]");
+  spec.mutable_envelopes()->RemoveLast();
+  EXPECT_TRUE(ValidateScenario(spec).empty());
+}
+
+}  // namespace
+}  // namespace hilrig::host
