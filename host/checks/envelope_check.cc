@@ -31,16 +31,10 @@ std::optional<double> EnvelopeCheck::CheckedValue(const TraceSample& sample,
   if (!has_mean_) return value;
   // Half a microsecond of slack so that a window of whole trace periods counts as full.
   constexpr double kSlackS = 5e-7;
-  auto& window = progress.window;
-  window.emplace_back(sample.time_s, value);
-  while (!window.empty() && sample.time_s - window.front().first >= mean_over_s_ - kSlackS) {
-    window.pop_front();
-  }
+  progress.window.Add(sample.time_s, value, mean_over_s_ - kSlackS);
   if (sample.time_s - from_s_ < mean_over_s_ - kSlackS) return std::nullopt;
   // A window shorter than the slack holds no sample: its mean is NaN (0 / 0), a violation.
-  double sum = 0;
-  for (const auto& [time_s, windowed] : window) sum += windowed;
-  return sum / static_cast<double>(window.size());
+  return progress.window.Mean();
 }
 
 bool EnvelopeCheck::Observe(const TraceSample& sample, EnvelopeProgress& progress) const {

@@ -6,11 +6,10 @@
 #pragma once
 
 #include <cstdint>
-#include <deque>
 #include <limits>
 #include <optional>
-#include <utility>
 
+#include "host/checks/trailing_mean.h"
 #include "host/trace/trace_sample.h"
 #include "proto/report.pb.h"
 #include "proto/scenario.pb.h"
@@ -24,7 +23,7 @@ struct EnvelopeProgress {
   double worst_at_s = 0;
   bool violated = false;
   double first_violation_at_s = 0;
-  std::deque<std::pair<double, double>> window;  // (time, value) for mean_over_s
+  TrailingMean window;  // for mean_over_s
 };
 
 class EnvelopeCheck {
