@@ -161,8 +161,8 @@ void ResolveSimulation(const proto::Simulation& simulation, ScenarioConfig& conf
   config.control_every_ticks = static_cast<int>(
       std::lround(physics_rate_hz / Or(simulation.has_control_rate_hz(),
                                        simulation.control_rate_hz(), physics_rate_hz)));
-  config.trace_every_ticks = static_cast<int>(std::lround(
-      physics_rate_hz / Or(simulation.has_trace_rate_hz(), simulation.trace_rate_hz(), 100.0)));
+  config.trace_every_ticks =
+      static_cast<int>(std::lround(physics_rate_hz / TraceRateHz(simulation)));
   config.can_bitrate_bps = Or(simulation.has_can_bitrate_bps(), simulation.can_bitrate_bps(), 1e6);
   config.plant_substeps = static_cast<int>(
       Or(simulation.has_plant_substeps(), simulation.plant_substeps(), std::uint32_t{1}));
@@ -284,6 +284,10 @@ rig::Result<void> BuildFilmField(ScenarioConfig& config, const FieldMapTableStor
 
 double PhysicsRateHz(const proto::Simulation& simulation) {
   return Or(simulation.has_physics_rate_hz(), simulation.physics_rate_hz(), kDefaultPhysicsRateHz);
+}
+
+double TraceRateHz(const proto::Simulation& simulation) {
+  return Or(simulation.has_trace_rate_hz(), simulation.trace_rate_hz(), kDefaultTraceRateHz);
 }
 
 rig::Result<void> LoadTactileCalibration(ScenarioConfig& config,

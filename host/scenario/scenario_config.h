@@ -148,6 +148,9 @@ inline constexpr double kDefaultPhysicsRateHz = 1000;
 // The design's sensor rate: every Hall node samples at it unless the spec sets node_rate_hz.
 inline constexpr double kDefaultNodeRateHz = 50;
 double PhysicsRateHz(const proto::Simulation& simulation);
+// The spec's trace rate, or the default.
+inline constexpr double kDefaultTraceRateHz = 100;
+double TraceRateHz(const proto::Simulation& simulation);
 
 // Builds hall_sensors.film_field for its field_fidelity unless the config already has one; a map
 // level's table comes from `field_maps` when it holds it (MakeFilmField).

@@ -463,6 +463,7 @@ std::vector<FieldProblem> ValidateScenario(const proto::Scenario& scenario) {
   CheckGraspController(scenario.grasp_controller(), root.Nested("grasp_controller"));
   CheckTimeline(scenario, root);
   CheckEnvelopes(scenario, root);
+  CheckMeanWindows(scenario, root);
   CheckTiming(scenario, root.Nested("timing"));
   if (scenario.environment().has_gravity_m_s2() && !(scenario.environment().gravity_m_s2() > 0)) {
     root.Nested("environment").Add("gravity_m_s2", "must be > 0");

@@ -1,6 +1,10 @@
 #include "host/scenario/spec_limits.h"
 
 #include <algorithm>
+#include <cmath>
+
+#include "host/scenario/scenario_config.h"
+#include "rig/number_text.h"
 
 namespace hilrig::host {
 namespace {
@@ -62,6 +66,27 @@ bool CheckSpecSizes(const proto::Scenario& scenario, const ProblemList& problems
       CheckCount(scenario.timeline_size(), kMaxTimelineEntries, "timeline", problems) && within;
   within = CheckCount(scenario.envelopes_size(), kMaxEnvelopes, "envelopes", problems) && within;
   return within;
+}
+
+void CheckMeanWindows(const proto::Scenario& scenario, const ProblemList& problems) {
+  const double trace_rate_hz = TraceRateHz(scenario.simulation());
+  const double duration_s = scenario.simulation().duration_s();
+  // Bad rates and durations are refused on their own.
+  if (!(trace_rate_hz > 0 && std::isfinite(trace_rate_hz) && duration_s > 0)) return;
+  double samples = 0;
+  for (int i = 0; i < scenario.envelopes_size(); ++i) {
+    const proto::Envelope& envelope = scenario.envelopes(i);
+    if (!(envelope.mean_over_s() > 0)) continue;
+    // A window longer than the run holds the whole run.
+    samples += std::min(envelope.mean_over_s(), duration_s) * trace_rate_hz;
+    if (samples > kMaxMeanWindowSamples) {
+      problems.Element("envelopes", i)
+          .Add("mean_over_s", "the mean windows up to here hold " + rig::NumberText(samples) +
+                                  " trace samples, past the bound of " +
+                                  rig::NumberText(kMaxMeanWindowSamples));
+      return;
+    }
+  }
 }
 
 std::optional<std::string> NameCharacterProblem(std::string_view name) {

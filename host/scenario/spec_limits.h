@@ -28,9 +28,18 @@ inline constexpr int kMaxEnvelopes = 1000;
 // locations, the messages and the resolved events, about 1.5 KB per entry.
 inline constexpr int kMaxTimelineEntries = 100000;
 
+// The envelopes' mean_over_s windows hold every trace sample they span (at most the run), 16 bytes
+// each: 1e6 samples in all is 16 MB, a 1000 s steady-state check on ten signals at the default
+// 100 Hz trace.
+inline constexpr double kMaxMeanWindowSamples = 1e6;
+
 // Adds a problem for each string longer than its limit and each list longer than its bound; false
 // when there was one.
 bool CheckSpecSizes(const proto::Scenario& scenario, const ProblemList& problems);
+
+// Adds a problem at the envelope whose mean window takes the spec's windows past
+// kMaxMeanWindowSamples.
+void CheckMeanWindows(const proto::Scenario& scenario, const ProblemList& problems);
 
 // What is wrong with a name's characters (where, without quoting the name), or nothing.
 std::optional<std::string> NameCharacterProblem(std::string_view name);

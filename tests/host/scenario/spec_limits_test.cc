@@ -102,5 +102,21 @@ TEST(SpecLimitsTest, EnvelopesPastTheirBoundAreRefused) {
   EXPECT_TRUE(ValidateScenario(spec).empty());
 }
 
+// Each mean window keeps every trace sample it spans, at most the run's: in a 6000 s run at
+// 100 Hz, windows of 4000 s and 1000 s are within the bound, and one more of 9000 s (the whole
+// run) makes 1.1e6 samples, past it.
+TEST(SpecLimitsTest, MeanWindowsPastTheirBoundAreRefusedAtTheEnvelopeThatPassesIt) {
+  const std::string spec = R"(name: "s"
+simulation { duration_s: 6000 }
+envelopes { name: "a" signal: TILT_DEG upper: 1 mean_over_s: 4000 }
+envelopes { name: "b" signal: TILT_DEG upper: 1 mean_over_s: 1000 }
+)";
+  EXPECT_TRUE(Accepted(spec));
+  EXPECT_THAT(ErrorOf(spec + "envelopes { name: \"c\" signal: TILT_DEG upper: 1\n"
+                             "  mean_over_s: 9000 }\n"),
+              HasSubstr("spec.textproto:6:3: envelopes[2].mean_over_s: the mean windows up to "
+                        "here hold 1.1e+06 trace samples, past the bound of 1e+06"));
+}
+
 }  // namespace
 }  // namespace hilrig::host
