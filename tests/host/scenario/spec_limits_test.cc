@@ -91,7 +91,7 @@ TEST(SpecLimitsTest, EnvelopesPastTheirBoundAreRefused) {
   spec.mutable_simulation()->set_duration_s(1);
   for (int i = 0; i <= kMaxEnvelopes; ++i) {
     proto::Envelope& envelope = *spec.add_envelopes();
-    envelope.set_name("e" + std::to_string(i));
+    envelope.set_name(std::string("e").append(std::to_string(i)));
     envelope.set_signal(proto::TILT_DEG);
     envelope.set_upper(1);
   }

@@ -73,7 +73,9 @@ TEST(TimelineScheduleTest, ARunStepsOverEachPieceOnceHoweverManyTicks) {
   for (std::int64_t tick = 0; tick <= kTicks; ++tick) {
     const double time_s = static_cast<double>(tick) / 1e3;
     const Eigen::Vector3d& sum = schedule.At(time_s);
-    if (tick % 997 == 0) EXPECT_NEAR(sum.x(), ScannedSum(intervals, time_s).x(), 1e-12);
+    if (tick % 997 == 0) {
+      EXPECT_NEAR(sum.x(), ScannedSum(intervals, time_s).x(), 1e-12);
+    }
   }
   EXPECT_LE(schedule.pieces_stepped(), schedule.piece_count());
 }
