@@ -39,14 +39,10 @@ struct ScopedFd {
   }
 };
 
-}  // namespace
-
-Error WriteError(const std::string& path, int error_number) {
-  return MakeError("cannot write " + path + ": " + Reason(error_number));
-}
-
-Result<std::string> ReadRegularFile(const std::string& path, std::size_t max_bytes) {
-  const ScopedFd file{::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY)};
+// Opens `path` for reading, never blocking (a FIFO without a writer), and checks that it is a
+// regular file; its size, or an error that names the path.
+Result<std::size_t> OpenRegularFile(const std::string& path, ScopedFd& file) {
+  file.fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
   if (file.fd < 0) return MakeError("cannot read " + path + ": " + Reason(errno));
   struct stat status {};
   if (::fstat(file.fd, &status) != 0)
@@ -55,19 +51,18 @@ Result<std::string> ReadRegularFile(const std::string& path, std::size_t max_byt
     return MakeError("cannot read " + path + ": " + KindOf(status.st_mode) +
                      ", not a regular file");
   }
-  const auto too_large = [&] {
-    return MakeError("cannot read " + path + ": larger than " + std::to_string(max_bytes) +
-                     " bytes");
-  };
-  if (static_cast<std::size_t>(status.st_size) > max_bytes) return too_large();
+  return static_cast<std::size_t>(status.st_size);
+}
+
+// Reads until the end of the file or `limit` bytes, whichever comes first; `expected_bytes` sizes
+// the first buffer.
+Result<std::string> ReadAtMost(const ScopedFd& file, const std::string& path, std::size_t limit,
+                               std::size_t expected_bytes) {
   std::string bytes;
-  bytes.resize(static_cast<std::size_t>(status.st_size) + 1);
+  bytes.resize(std::min(limit, expected_bytes));
   std::size_t used = 0;
-  while (true) {
-    if (used == bytes.size()) {
-      if (used > max_bytes) return too_large();
-      bytes.resize(std::min(max_bytes + 1, used * 2 + 4096));
-    }
+  while (used < limit) {
+    if (used == bytes.size()) bytes.resize(std::min(limit, used * 2 + 4096));
     const ssize_t got = ::read(file.fd, bytes.data() + used, bytes.size() - used);
     if (got < 0) {
       if (errno == EINTR) continue;
@@ -76,9 +71,36 @@ Result<std::string> ReadRegularFile(const std::string& path, std::size_t max_byt
     if (got == 0) break;
     used += static_cast<std::size_t>(got);
   }
-  if (used > max_bytes) return too_large();
   bytes.resize(used);
   return bytes;
+}
+
+}  // namespace
+
+Error WriteError(const std::string& path, int error_number) {
+  return MakeError("cannot write " + path + ": " + Reason(error_number));
+}
+
+Result<std::string> ReadRegularFile(const std::string& path, std::size_t max_bytes) {
+  ScopedFd file{-1};
+  const auto size = OpenRegularFile(path, file);
+  if (!size) return size.error();
+  const auto too_large = [&] {
+    return MakeError("cannot read " + path + ": larger than " + std::to_string(max_bytes) +
+                     " bytes");
+  };
+  if (size.value() > max_bytes) return too_large();
+  // One byte past the cap, so that a file that grew since fstat is seen to be too large.
+  auto bytes = ReadAtMost(file, path, max_bytes + 1, size.value() + 1);
+  if (bytes && bytes.value().size() > max_bytes) return too_large();
+  return bytes;
+}
+
+Result<std::string> ReadRegularFileHead(const std::string& path, std::size_t max_bytes) {
+  ScopedFd file{-1};
+  const auto size = OpenRegularFile(path, file);
+  if (!size) return size.error();
+  return ReadAtMost(file, path, max_bytes, std::min(max_bytes, size.value()));
 }
 
 std::string TemporaryNameBeside(const std::string& path) {

@@ -26,6 +26,10 @@ namespace hilrig::rig {
 // The error never quotes the file's content.
 Result<std::string> ReadRegularFile(const std::string& path, std::size_t max_bytes);
 
+// The first `max_bytes` bytes of the regular file at `path` (all of it when shorter), with
+// ReadRegularFile's checks: for telling what a file is by its header without reading it whole.
+Result<std::string> ReadRegularFileHead(const std::string& path, std::size_t max_bytes);
+
 // A random name for a temporary file beside `path`: "<path>.tmp-<16 hex digits>" from the
 // kernel's random source, so another local user cannot guess it and plant a link there first.
 std::string TemporaryNameBeside(const std::string& path);

@@ -62,6 +62,24 @@ TEST(ReadRegularFileTest, NamesAMissingFileAndTheCause) {
             "cannot read /nonexistent/spec.textproto: No such file or directory");
 }
 
+// A header is read without reading the rest, with the same refusals as a whole read.
+TEST(ReadRegularFileHeadTest, ReadsTheFirstBytesOfARegularFileOnly) {
+  const fs::path dir = FreshTestDir("file_io_");
+  Write(dir / "entry", "HRCACHER and the rest");
+  Write(dir / "short", "HR");
+  ASSERT_EQ(::mkfifo((dir / "pipe").c_str(), 0600), 0);
+
+  auto head = ReadRegularFileHead((dir / "entry").string(), 8);
+  ASSERT_TRUE(head) << head.error().message;
+  EXPECT_EQ(head.value(), "HRCACHER");
+  EXPECT_EQ(ReadRegularFileHead((dir / "short").string(), 8).value(), "HR");
+  auto fifo = ReadRegularFileHead((dir / "pipe").string(), 8);
+  ASSERT_FALSE(fifo);
+  EXPECT_NE(fifo.error().message.find("a FIFO"), std::string::npos) << fifo.error().message;
+  EXPECT_FALSE(ReadRegularFileHead(dir.string(), 8));
+  EXPECT_FALSE(ReadRegularFileHead("/dev/zero", 8));
+}
+
 TEST(TemporaryNameBesideTest, IsUnpredictable) {
   std::set<std::string> names;
   for (int i = 0; i < 50; ++i) names.insert(TemporaryNameBeside("/x/report.json"));
