@@ -1,22 +1,21 @@
 #include "host/bench/cache_files.h"
 
+#include <fcntl.h>
 #include <google/protobuf/io/coded_stream.h>
 #include <google/protobuf/io/zero_copy_stream_impl_lite.h>
 #include <google/protobuf/message.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <utility>
 #include <vector>
 
-#include "host/report/report_files.h"
+#include "rig/file_io.h"
 
 namespace hilrig::host {
-
-namespace fs = std::filesystem;
 
 void Fnv1a64::Add(const void* data, std::size_t size) {
   const auto* bytes = static_cast<const unsigned char*>(data);
@@ -48,49 +47,125 @@ std::string DeterministicBytes(const google::protobuf::Message& message) {
   return bytes;
 }
 
-CacheFolder::CacheFolder(std::string directory, std::string extension, std::size_t max_entries)
-    : directory_(std::move(directory)),
-      extension_(std::move(extension)),
-      max_entries_(std::max<std::size_t>(1, max_entries)) {}
+namespace {
 
-std::string CacheFolder::PathOf(const std::string& key) const {
-  return (fs::path(directory_) / (key + extension_)).string();
+namespace fs = std::filesystem;
+
+// The header: magic, format version, content length, FNV-1a 64 of the content (host byte order:
+// the keys carry the executable's identity, so an entry is read only by the build that wrote it).
+constexpr std::size_t kMagicBytes = 8;
+constexpr std::size_t kHeaderBytes = kMagicBytes + 3 * sizeof(std::uint64_t);
+
+void AppendWord(std::string& bytes, std::uint64_t word) {
+  bytes.append(reinterpret_cast<const char*>(&word), sizeof(word));
 }
 
-std::optional<std::string> CacheFolder::Load(const std::string& key) const {
-  const std::string path = PathOf(key);
-  std::ifstream file(path, std::ios::binary);
-  if (!file) return std::nullopt;
-  std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-  // Used now: the modification time is what the trimming orders by (a failure only makes the
-  // entry look older).
-  std::error_code error;
-  fs::last_write_time(path, fs::file_time_type::clock::now(), error);
+std::uint64_t WordAt(std::string_view bytes, std::size_t at) {
+  std::uint64_t word;
+  std::memcpy(&word, bytes.data() + at, sizeof(word));
+  return word;
+}
+
+std::uint64_t Checksum(std::string_view content) {
+  Fnv1a64 hash;
+  hash.Add(content.data(), content.size());
+  return hash.value();
+}
+
+std::string EntryBytes(const CacheFormat& format, std::string_view content) {
+  std::string bytes(format.magic);
+  AppendWord(bytes, format.version);
+  AppendWord(bytes, content.size());
+  AppendWord(bytes, Checksum(content));
+  bytes.append(content);
   return bytes;
 }
 
-void CacheFolder::RemoveLeastRecentlyUsed() const {
+// The content of an entry's bytes, or why they are not a whole entry of `format`.
+rig::Result<std::string> EntryContent(const CacheFormat& format, std::string bytes) {
+  if (bytes.size() < kHeaderBytes ||
+      std::string_view(bytes).substr(0, kMagicBytes) != format.magic) {
+    return rig::MakeError("not an entry of this cache");
+  }
+  if (WordAt(bytes, kMagicBytes) != format.version) {
+    return rig::MakeError("written in another format version");
+  }
+  if (WordAt(bytes, kMagicBytes + 8) != bytes.size() - kHeaderBytes) {
+    return rig::MakeError("the content is not as long as the header says (cut or padded)");
+  }
+  if (WordAt(bytes, kMagicBytes + 16) != Checksum(std::string_view(bytes).substr(kHeaderBytes))) {
+    return rig::MakeError("the checksum does not match the content");
+  }
+  bytes.erase(0, kHeaderBytes);
+  return bytes;
+}
+
+}  // namespace
+
+CacheFolder::CacheFolder(std::string directory, const CacheFormat& format, std::ostream* notes)
+    : directory_(std::move(directory)), format_(format), notes_(notes) {
+  format_.max_entries = std::max<std::size_t>(1, format_.max_entries);
+}
+
+std::string CacheFolder::PathOf(const std::string& key) const {
+  return (fs::path(directory_) / (key + std::string(format_.extension))).string();
+}
+
+rig::Result<std::optional<std::string>> CacheFolder::ReadContent(const std::string& path) const {
+  std::error_code error;
+  if (fs::symlink_status(path, error).type() == fs::file_type::not_found) {
+    return std::optional<std::string>();
+  }
+  auto bytes = rig::ReadRegularFile(path, format_.max_entry_bytes);
+  if (!bytes) return bytes.error();
+  auto content = EntryContent(format_, std::move(bytes).value());
+  if (!content) return rig::MakeError(path + ": " + content.error().message);
+  return std::optional<std::string>(std::move(content).value());
+}
+
+void CacheFolder::SayUnused(const rig::Error& why) const {
+  if (notes_ != nullptr) {
+    *notes_ << "hilrig: " << why.message << "; the cache entry is not used and is made again\n";
+  }
+}
+
+void CacheFolder::MarkUsed(const std::string& path) {
+  // The modification time is what trimming orders by; the kernel stamps it (no clock is read
+  // here), and a failure only makes the entry look older.
+  ::utimensat(AT_FDCWD, path.c_str(), nullptr, 0);
+}
+
+void CacheFolder::Trim() const {
   std::vector<std::pair<fs::file_time_type, fs::path>> entries;
   std::error_code error;
-  for (const auto& entry : fs::directory_iterator(directory_, error)) {
-    if (entry.path().extension() != extension_) continue;
+  fs::directory_iterator next(directory_, error);
+  for (; !error && next != fs::directory_iterator(); next.increment(error)) {
+    if (next->path().extension() != format_.extension) continue;
     std::error_code time_error;
-    const fs::file_time_type used = entry.last_write_time(time_error);
-    if (!time_error) entries.emplace_back(used, entry.path());
+    const fs::file_time_type used = next->last_write_time(time_error);
+    if (!time_error) entries.emplace_back(used, next->path());
   }
-  if (entries.size() <= max_entries_) return;
+  if (entries.size() <= format_.max_entries) return;
   std::sort(entries.begin(), entries.end());
-  for (std::size_t i = 0; i < entries.size() - max_entries_; ++i) {
+  for (std::size_t i = 0; i < entries.size() - format_.max_entries; ++i) {
     fs::remove(entries[i].second, error);  // another process may have removed it first
   }
 }
 
-rig::Result<void> CacheFolder::Store(const std::string& key, const std::string& bytes) const {
+rig::Result<void> CacheFolder::Store(const std::string& key, std::string_view content) const {
+  const std::string path = PathOf(key);
+  if (kHeaderBytes + content.size() > format_.max_entry_bytes) {
+    return rig::MakeError(
+        "cannot write " + path + ": " + std::to_string(kHeaderBytes + content.size()) +
+        " bytes, more than the cache reads back (" + std::to_string(format_.max_entry_bytes) + ")");
+  }
   std::error_code error;
   fs::create_directories(directory_, error);
   if (error) return rig::MakeError("cannot create " + directory_ + ": " + error.message());
-  if (auto written = WriteTextFile(PathOf(key), bytes); !written) return written;
-  RemoveLeastRecentlyUsed();
+  if (auto written = rig::WriteFileAtomically(path, EntryBytes(format_, content)); !written) {
+    return written;
+  }
+  Trim();
   return {};
 }
 

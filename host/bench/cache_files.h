@@ -1,8 +1,19 @@
 // What the on-disk caches (reference traces, tabulated field maps, calibrations) share: the 64-bit
 // FNV-1a hash their keys are made with, protobuf messages as deterministic bytes for those keys,
-// and the folder that holds the entries. An entry is written to a name of this process's own and
-// renamed into place, so a crash or Ctrl-C never leaves half an entry and two runs storing one key
-// at once cannot interleave; a reader sees a whole entry or none.
+// and the folder that holds the entries.
+//
+// An entry is a header and its content. The header holds the cache's magic, the format version,
+// the content's length and the FNV-1a 64 of the content, checked on every read, and each cache
+// checks the content as it would the file it stands for (a calibration has six finite nodes, a
+// table fits its grid). FNV-1a is enough here: it guards against damage and careless edits (a cut
+// file, a changed byte: any change within one byte always changes it), not against someone who can
+// write the cache folder, who could as well write a whole new entry with its checksum. An entry
+// that fails a check is a miss, said on the notes stream, and is made and stored again.
+//
+// An entry is written to a random name beside it and renamed into place, so a crash or Ctrl-C
+// never leaves half an entry and two runs storing one key at once cannot interleave; a reader sees
+// a whole entry or none. Reading never blocks and never throws: a folder, FIFO or device at an
+// entry's path is a miss.
 #pragma once
 
 #include <cstddef>
@@ -10,6 +21,9 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <string_view>
+#include <type_traits>
+#include <utility>
 
 #include "rig/result.h"
 
@@ -24,6 +38,7 @@ class Fnv1a64 {
   void Add(const void* data, std::size_t size);
   // Length first, so that ("ab", "c") and ("a", "bc") differ.
   void Add(const std::string& text);
+  std::uint64_t value() const { return hash_; }
   std::string Hex() const;  // 16 hex digits
 
  private:
@@ -33,30 +48,73 @@ class Fnv1a64 {
 // The message's bytes, the same for equal messages (map order fixed).
 std::string DeterministicBytes(const google::protobuf::Message& message);
 
-// One cache's folder: an entry per key, named <key><extension>, read whole, written atomically,
-// and at most `max_entries` of them. Every key carries the executable's identity, so each rebuild
-// starts a new set and the old ones are never read again: without a bound the folders grew by
-// megabytes per build. A store beyond the bound removes the entries used least recently (a load
-// marks its entry used).
+// What tells one cache's entries from every other file in its folder, and its bounds.
+struct CacheFormat {
+  std::string_view extension;  // of the entry names: <16 hex digits><extension>
+  std::string_view magic;      // 8 bytes, the first of every entry
+  std::uint64_t version = 1;   // of the content's layout
+  std::size_t max_entries = 1;
+  std::size_t max_entry_bytes = 0;  // header included; a larger file is not read
+};
+
+// One cache's folder: an entry per key, named <key><extension>, and at most `max_entries` of them.
+// Every key carries the executable's identity, so each rebuild starts a new set and the old ones
+// are never read again: without a bound the folders grew by megabytes per build. A store beyond
+// the bound removes the entries used least recently (a load marks its entry used).
 class CacheFolder {
  public:
-  CacheFolder(std::string directory, std::string extension, std::size_t max_entries);
+  // `notes` (may be null) hears of entries that were there but could not be used.
+  CacheFolder(std::string directory, const CacheFormat& format, std::ostream* notes);
 
   std::string PathOf(const std::string& key) const;
-  // The entry's bytes, or nothing when it is absent or unreadable.
-  std::optional<std::string> Load(const std::string& key) const;
-  // Creates the folder if needed, puts the entry in place, and trims the folder to max_entries.
-  rig::Result<void> Store(const std::string& key, const std::string& bytes) const;
+
+  // The content of the entry under `key` as `parse` reads it (parse: content -> rig::Result<T>).
+  // Nothing when the entry is absent, or when it is there but cannot be used: not a regular file,
+  // larger than the format's bound, a header or checksum that does not match, or content `parse`
+  // refuses; those are said on the notes stream. A use marks the entry used.
+  template <typename Parse>
+  auto Load(const std::string& key, const Parse& parse) const
+      -> std::optional<std::decay_t<decltype(parse(std::string()).value())>>;
+
+  // Creates the folder if needed, puts the entry in place (header and `content`), and trims the
+  // folder to max_entries.
+  rig::Result<void> Store(const std::string& key, std::string_view content) const;
 
   const std::string& directory() const { return directory_; }
+  std::ostream* notes() const { return notes_; }
 
  private:
-  void RemoveLeastRecentlyUsed() const;
+  // The content of the entry at `path`: nothing when there is none, an error naming the path and
+  // the cause when it cannot be used.
+  rig::Result<std::optional<std::string>> ReadContent(const std::string& path) const;
+  void SayUnused(const rig::Error& why) const;
+  static void MarkUsed(const std::string& path);
+  // Removes the entries past the bound, the least recently used first.
+  void Trim() const;
 
   std::string directory_;
-  std::string extension_;
-  std::size_t max_entries_;
+  CacheFormat format_;
+  std::ostream* notes_;
 };
+
+template <typename Parse>
+auto CacheFolder::Load(const std::string& key, const Parse& parse) const
+    -> std::optional<std::decay_t<decltype(parse(std::string()).value())>> {
+  const std::string path = PathOf(key);
+  auto content = ReadContent(path);
+  if (!content) {
+    SayUnused(content.error());
+    return std::nullopt;
+  }
+  if (!content.value()) return std::nullopt;
+  auto parsed = parse(*content.value());
+  if (!parsed) {
+    SayUnused(rig::MakeError(path + ": " + parsed.error().message));
+    return std::nullopt;
+  }
+  MarkUsed(path);
+  return std::move(parsed).value();
+}
 
 // Tells `notes` (if any) that `what` could not be stored: a later run makes it again.
 void SayIfNotKept(const rig::Result<void>& stored, const std::string& what, std::ostream* notes);

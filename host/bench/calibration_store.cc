@@ -1,16 +1,27 @@
 #include "host/bench/calibration_store.h"
 
-#include <string_view>
 #include <utility>
+
+#include "fixtures/calibration/calibration_file.h"
 
 namespace hilrig::host {
 namespace {
 
-// The folder's bound (CacheFolder): about 1 KB each: a thousand scene and seed variants of one
-// build.
-constexpr std::size_t kMaxCalibrationEntries = 1000;
+// About 1 KB each, so the bound is a thousand scene and seed variants of one build; an entry is
+// read under the cap of the calibration file it stands for.
+constexpr CacheFormat kCalibrationFormat{".calibration", "HRCACHEC", 1, 1000,
+                                         fixtures::kMaxCalibrationFileBytes};
 
-constexpr std::string_view kMagic = "HRCAL001";
+// A stored calibration passes the checks of a calibration file: a message that parses from a cut
+// entry can have fewer than six nodes, and the DUT reads six.
+rig::Result<proto::Calibration> ParseStoredCalibration(const std::string& content) {
+  proto::Calibration calibration;
+  if (!calibration.ParseFromString(content)) return rig::MakeError("not a calibration message");
+  if (auto valid = fixtures::ValidateCalibration(calibration, "calibration"); !valid) {
+    return valid.error();
+  }
+  return calibration;
+}
 
 }  // namespace
 
@@ -25,9 +36,8 @@ std::string CalibrationCacheKey(const proto::Scenario& spec, std::uint64_t seed,
 
 FileCalibrationStore::FileCalibrationStore(std::string directory, std::string code_identity,
                                            std::ostream* notes)
-    : folder_(std::move(directory), ".calibration", kMaxCalibrationEntries),
-      code_identity_(std::move(code_identity)),
-      notes_(notes) {}
+    : folder_(std::move(directory), kCalibrationFormat, notes),
+      code_identity_(std::move(code_identity)) {}
 
 std::string FileCalibrationStore::PathOf(const proto::Scenario& spec, std::uint64_t seed) const {
   return folder_.PathOf(CalibrationCacheKey(spec, seed, code_identity_));
@@ -35,23 +45,14 @@ std::string FileCalibrationStore::PathOf(const proto::Scenario& spec, std::uint6
 
 std::optional<proto::Calibration> FileCalibrationStore::Load(const proto::Scenario& spec,
                                                              std::uint64_t seed) const {
-  const std::optional<std::string> bytes =
-      folder_.Load(CalibrationCacheKey(spec, seed, code_identity_));
-  if (!bytes || !bytes->starts_with(kMagic)) return std::nullopt;
-  proto::Calibration calibration;
-  // An empty message parses from no bytes; a stored calibration always has its sensors.
-  if (!calibration.ParseFromString(bytes->substr(kMagic.size())) ||
-      calibration.sensors_size() == 0) {
-    return std::nullopt;
-  }
-  return calibration;
+  return folder_.Load(CalibrationCacheKey(spec, seed, code_identity_), ParseStoredCalibration);
 }
 
 void FileCalibrationStore::Store(const proto::Scenario& spec, std::uint64_t seed,
                                  const proto::Calibration& calibration) const {
   SayIfNotKept(folder_.Store(CalibrationCacheKey(spec, seed, code_identity_),
-                             std::string(kMagic) + DeterministicBytes(calibration)),
-               spec.name() + " calibration", notes_);
+                             DeterministicBytes(calibration)),
+               spec.name() + " calibration", folder_.notes());
 }
 
 rig::Result<void> CalibrateThroughStore(const proto::Scenario& spec, ScenarioConfig& config,

@@ -3,8 +3,10 @@
 // start (0.7-1 s; a field map's scenes calibrate in milliseconds), and the result depends only on
 // the spec, the seed and the code. The key hashes the spec's deterministic bytes, the seed and the
 // executable's identity: any rebuild, and any edit to the spec (even to a check), is a new key,
-// which is coarse but never stale. A damaged or foreign file reads as a miss and the scene is
-// calibrated again; a store that fails only costs the next run the calibration, and is said.
+// which is coarse but never stale. An entry is checked as a calibration file is (six nodes 1..6,
+// finite gains) besides its checksum (cache_files.h): a damaged, cut or foreign entry is a miss,
+// said, and the scene is calibrated again; a store that fails only costs the next run the
+// calibration, and is said.
 #pragma once
 
 #include <cstdint>
@@ -26,7 +28,7 @@ std::string CalibrationCacheKey(const proto::Scenario& spec, std::uint64_t seed,
 
 class FileCalibrationStore {
  public:
-  // `notes` (may be null) hears of stores that failed.
+  // `notes` (may be null) hears of entries that could not be used and of stores that failed.
   FileCalibrationStore(std::string directory, std::string code_identity, std::ostream* notes);
 
   std::optional<proto::Calibration> Load(const proto::Scenario& spec, std::uint64_t seed) const;
@@ -38,7 +40,6 @@ class FileCalibrationStore {
  private:
   CacheFolder folder_;
   std::string code_identity_;
-  std::ostream* notes_;
 };
 
 // The DUT calibration of `config` (resolved from `spec`): from `store` when it holds one for the

@@ -6,11 +6,11 @@
 namespace hilrig::host {
 namespace {
 
-// The folder's bound (CacheFolder): about 45 KB each, every map level of about a dozen builds.
-constexpr std::size_t kMaxFieldMapEntries = 64;
+// About 45 KB each, so the bound is every map level of about a dozen builds. The finest grid the
+// bench measures (17 x 17 x 13 nodes) makes 130 KB; 16 MiB leaves room for grids 100 times finer.
+constexpr CacheFormat kFieldMapFormat{".map", "HRCACHEM", 1, 64, std::size_t{16} << 20};
 
-constexpr char kMagic[8] = {'H', 'R', 'M', 'A', 'P', '0', '0', '1'};
-constexpr std::size_t kHeaderBytes = sizeof(kMagic) + sizeof(std::uint64_t);
+constexpr std::size_t kCountBytes = sizeof(std::uint64_t);
 constexpr std::size_t kNodeBytes = 3 * sizeof(double);
 
 void AddVector(Fnv1a64& hash, const Eigen::Vector3d& v) { hash.Add(v.data(), 3 * sizeof(double)); }
@@ -30,7 +30,7 @@ std::string FieldMapCacheKey(const FilmFidelity& level, const FieldMapGrid& grid
 }
 
 std::string SerializeFieldMapTable(const std::vector<Eigen::Vector3d>& table) {
-  std::string bytes(kMagic, sizeof(kMagic));
+  std::string bytes;
   const std::uint64_t count = table.size();
   bytes.append(reinterpret_cast<const char*>(&count), sizeof(count));
   for (const Eigen::Vector3d& node : table) {
@@ -39,18 +39,15 @@ std::string SerializeFieldMapTable(const std::vector<Eigen::Vector3d>& table) {
   return bytes;
 }
 
-std::optional<std::vector<Eigen::Vector3d>> ParseFieldMapTable(const std::string& bytes) {
-  if (bytes.size() < kHeaderBytes || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) {
-    return std::nullopt;
-  }
-  std::uint64_t count;
-  std::memcpy(&count, bytes.data() + sizeof(kMagic), sizeof(count));
-  if (count > (bytes.size() - kHeaderBytes) / kNodeBytes ||
-      bytes.size() != kHeaderBytes + count * kNodeBytes) {
-    return std::nullopt;
+rig::Result<std::vector<Eigen::Vector3d>> ParseFieldMapTable(const std::string& bytes) {
+  std::uint64_t count = 0;
+  if (bytes.size() >= kCountBytes) std::memcpy(&count, bytes.data(), sizeof(count));
+  if (bytes.size() < kCountBytes || count > (bytes.size() - kCountBytes) / kNodeBytes ||
+      bytes.size() != kCountBytes + count * kNodeBytes) {
+    return rig::MakeError("not a whole field map table");
   }
   std::vector<Eigen::Vector3d> table(count);
-  const char* at = bytes.data() + kHeaderBytes;
+  const char* at = bytes.data() + kCountBytes;
   for (Eigen::Vector3d& node : table) {
     std::memcpy(node.data(), at, kNodeBytes);
     at += kNodeBytes;
@@ -60,9 +57,8 @@ std::optional<std::vector<Eigen::Vector3d>> ParseFieldMapTable(const std::string
 
 FileFieldMapStore::FileFieldMapStore(std::string directory, std::string code_identity,
                                      std::ostream* notes)
-    : folder_(std::move(directory), ".map", kMaxFieldMapEntries),
-      code_identity_(std::move(code_identity)),
-      notes_(notes) {}
+    : folder_(std::move(directory), kFieldMapFormat, notes),
+      code_identity_(std::move(code_identity)) {}
 
 std::string FileFieldMapStore::PathOf(const FilmFidelity& level, const FieldMapGrid& grid) const {
   return folder_.PathOf(FieldMapCacheKey(level, grid, code_identity_));
@@ -70,17 +66,22 @@ std::string FileFieldMapStore::PathOf(const FilmFidelity& level, const FieldMapG
 
 std::optional<std::vector<Eigen::Vector3d>> FileFieldMapStore::Load(
     const FilmFidelity& level, const FieldMapGrid& grid) const {
-  const std::optional<std::string> bytes =
-      folder_.Load(FieldMapCacheKey(level, grid, code_identity_));
-  if (!bytes) return std::nullopt;
-  return ParseFieldMapTable(*bytes);
+  // The table of another grid, or with a non-finite value, is no map of this level.
+  const auto parse =
+      [&grid](const std::string& content) -> rig::Result<std::vector<Eigen::Vector3d>> {
+    auto table = ParseFieldMapTable(content);
+    if (!table) return table;
+    if (auto fits = FieldMapFilmField::CheckTable(grid, table.value()); !fits) return fits.error();
+    return table;
+  };
+  return folder_.Load(FieldMapCacheKey(level, grid, code_identity_), parse);
 }
 
 void FileFieldMapStore::Store(const FilmFidelity& level, const FieldMapGrid& grid,
                               const std::vector<Eigen::Vector3d>& table) const {
   SayIfNotKept(
       folder_.Store(FieldMapCacheKey(level, grid, code_identity_), SerializeFieldMapTable(table)),
-      FilmFidelityName(level) + " field map", notes_);
+      FilmFidelityName(level) + " field map", folder_.notes());
 }
 
 }  // namespace hilrig::host

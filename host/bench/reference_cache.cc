@@ -11,15 +11,16 @@
 namespace hilrig::host {
 namespace {
 
-// The folder's bound (CacheFolder): up to about 0.4 MB each: every shipped scene over many builds
-// and seeds.
-constexpr std::size_t kMaxReferenceEntries = 200;
+// Up to about 0.4 MB each, so the bound is every shipped scene over many builds and seeds. 48 bytes
+// a sample: 256 MiB is over 15 hours of a 100 Hz trace, and a longer reference is run every time.
+constexpr CacheFormat kReferenceFormat{".ref", "HRCACHER", 1, 200, std::size_t{256} << 20};
 
 namespace fs = std::filesystem;
 
-constexpr char kMagic[8] = {'H', 'R', 'R', 'E', 'F', '0', '0', '1'};
 // Per sample: time, position x/y/z, grasp force, load.
 constexpr std::size_t kDoublesPerSample = 6;
+// The sample count and the run's wall time.
+constexpr std::size_t kHeadBytes = sizeof(std::uint64_t) + sizeof(double);
 
 void AppendDouble(std::string& out, double value) {
   char bytes[sizeof(double)];
@@ -79,7 +80,7 @@ std::string DefaultReferenceCacheDir() {
 
 std::string SerializeReference(const CachedReference& reference) {
   const CapturedTrace& trace = reference.trace;
-  std::string bytes(kMagic, sizeof(kMagic));
+  std::string bytes;
   const std::uint64_t count = trace.size();
   bytes.append(reinterpret_cast<const char*>(&count), sizeof(count));
   AppendDouble(bytes, reference.wall_s);
@@ -92,26 +93,35 @@ std::string SerializeReference(const CachedReference& reference) {
   return bytes;
 }
 
-std::optional<CachedReference> ParseReference(const std::string& bytes) {
-  constexpr std::size_t kHeader = sizeof(kMagic) + sizeof(std::uint64_t) + sizeof(double);
-  if (bytes.size() < kHeader || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) {
-    return std::nullopt;
-  }
-  std::uint64_t count;
-  std::memcpy(&count, bytes.data() + sizeof(kMagic), sizeof(count));
+rig::Result<CachedReference> ParseReference(const std::string& bytes) {
+  std::uint64_t count = 0;
+  if (bytes.size() >= kHeadBytes) std::memcpy(&count, bytes.data(), sizeof(count));
   const std::size_t sample_bytes = kDoublesPerSample * sizeof(double);
-  if (count > (bytes.size() - kHeader) / sample_bytes ||
-      bytes.size() != kHeader + count * sample_bytes) {
-    return std::nullopt;
+  if (bytes.size() < kHeadBytes || count > (bytes.size() - kHeadBytes) / sample_bytes ||
+      bytes.size() != kHeadBytes + count * sample_bytes) {
+    return rig::MakeError("not a whole reference trace");
   }
   CachedReference reference;
-  reference.wall_s = ReadDouble(bytes.data() + sizeof(kMagic) + sizeof(count));
-  const char* at = bytes.data() + kHeader;
+  reference.wall_s = ReadDouble(bytes.data() + sizeof(count));
+  if (!std::isfinite(reference.wall_s) || reference.wall_s < 0) {
+    return rig::MakeError("the run's wall time is not a duration");
+  }
+  const char* at = bytes.data() + kHeadBytes;
   for (std::uint64_t i = 0; i < count; ++i, at += sample_bytes) {
     TraceSample sample;
     sample.time_s = ReadDouble(at);
-    if (!std::isfinite(sample.time_s)) return std::nullopt;
+    // A completed run's plant state is finite at every tick (the runner stops on one that is not),
+    // and the comparison matches samples by time, in order. Forces and loads may be NaN: a signal
+    // the scene does not have.
+    if (!std::isfinite(sample.time_s) ||
+        (i > 0 && !(sample.time_s > reference.trace.time_s.back()))) {
+      return rig::MakeError("sample " + std::to_string(i) +
+                            "'s time does not follow the one before");
+    }
     sample.position_m = {ReadDouble(at + 8), ReadDouble(at + 16), ReadDouble(at + 24)};
+    if (!sample.position_m.allFinite()) {
+      return rig::MakeError("sample " + std::to_string(i) + "'s position is not finite");
+    }
     sample.grasp_force_n = ReadDouble(at + 32);
     sample.load_n = ReadDouble(at + 40);
     reference.trace.Add(sample);
@@ -119,13 +129,21 @@ std::optional<CachedReference> ParseReference(const std::string& bytes) {
   return reference;
 }
 
-ReferenceCache::ReferenceCache(std::string directory)
-    : folder_(std::move(directory), ".ref", kMaxReferenceEntries) {}
+ReferenceCache::ReferenceCache(std::string directory, std::ostream* notes)
+    : folder_(std::move(directory), kReferenceFormat, notes) {}
 
-std::optional<CachedReference> ReferenceCache::Load(const std::string& key) const {
-  const std::optional<std::string> bytes = folder_.Load(key);
-  if (!bytes) return std::nullopt;
-  return ParseReference(*bytes);
+std::optional<CachedReference> ReferenceCache::Load(
+    const std::string& key, std::optional<std::uint64_t> expected_samples) const {
+  const auto parse = [expected_samples](const std::string& content) {
+    auto reference = ParseReference(content);
+    if (reference && expected_samples && reference.value().trace.size() != *expected_samples) {
+      return rig::Result<CachedReference>(
+          rig::MakeError(std::to_string(reference.value().trace.size()) +
+                         " samples, the scene's run records " + std::to_string(*expected_samples)));
+    }
+    return reference;
+  };
+  return folder_.Load(key, parse);
 }
 
 rig::Result<void> ReferenceCache::Store(const std::string& key,

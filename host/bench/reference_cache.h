@@ -5,11 +5,14 @@
 // that ran it, so the key hashes all four: the spec and calibration as deterministic protobuf
 // bytes, and the code as the bytes of the running executable (a rebuild is a new key). Entries
 // are written to a temporary file and renamed, so a crash or Ctrl-C never leaves a half entry
-// that a later run would read; a damaged or foreign file reads as a miss, never as numbers.
+// that a later run would read. An entry is checked against its checksum (cache_files.h) and as a
+// trace a completed run gives (time stamps in order, finite positions, the scene's sample count):
+// a damaged or foreign file is a miss, said, and the reference is run again; never numbers.
 #pragma once
 
 #include <cstdint>
 #include <optional>
+#include <ostream>
 #include <string>
 
 #include "host/bench/cache_files.h"
@@ -40,17 +43,22 @@ std::string ReferenceCacheKey(const proto::Scenario& reference_spec, std::uint64
 // ./hilrig_out/reference_cache.
 std::string DefaultReferenceCacheDir();
 
-// The byte form of an entry, and back; Parse refuses anything that is not exactly one whole entry
-// (wrong magic, a count that does not match the size, non-finite time stamps).
+// The byte form of an entry's content, and back; Parse refuses anything that is not exactly one
+// whole trace (a count that does not match the size), or not one a completed run gives: time
+// stamps that are not finite and increasing, a position that is not finite, a wall time that is
+// not a finite, non-negative duration.
 std::string SerializeReference(const CachedReference& reference);
-std::optional<CachedReference> ParseReference(const std::string& bytes);
+rig::Result<CachedReference> ParseReference(const std::string& bytes);
 
 class ReferenceCache {
  public:
-  explicit ReferenceCache(std::string directory);
+  // `notes` (may be null) hears of entries that were there but could not be used.
+  explicit ReferenceCache(std::string directory, std::ostream* notes = nullptr);
 
-  // The entry under `key`, or nullopt on a miss (absent, unreadable or damaged).
-  std::optional<CachedReference> Load(const std::string& key) const;
+  // The entry under `key`, or nullopt on a miss (absent, unreadable or damaged, or not of
+  // `expected_samples` samples when that is given: CompletedRunTraceSamples of the scene).
+  std::optional<CachedReference> Load(
+      const std::string& key, std::optional<std::uint64_t> expected_samples = std::nullopt) const;
   // Stores atomically (write to a temporary name, then rename).
   rig::Result<void> Store(const std::string& key, const CachedReference& reference) const;
 

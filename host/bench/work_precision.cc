@@ -387,7 +387,8 @@ rig::Result<ReferenceRun> ReferenceFor(const ScenarioConfig& chosen, const proto
           : ReferenceCacheKey(reference_spec, chosen.seed, chosen.hall_sensors.calibration,
                               source.code_identity);
   if (source.cache != nullptr) {
-    if (std::optional<CachedReference> cached = source.cache->Load(key)) {
+    if (std::optional<CachedReference> cached =
+            source.cache->Load(key, CompletedRunTraceSamples(reference_config.value()))) {
       return ReferenceRun{std::move(*cached), true};
     }
   }

@@ -322,7 +322,7 @@ std::unique_ptr<ReferenceSetup> MakeReferenceSetup(const RunOptions& options, co
   setup->source.notes = &io.err;
   auto identity = ExecutableIdentity();
   if (identity) {
-    setup->cache.emplace(options.reference_cache_dir.value_or(DefaultReferenceCacheDir()));
+    setup->cache.emplace(options.reference_cache_dir.value_or(DefaultReferenceCacheDir()), &io.err);
     setup->source.cache = &*setup->cache;
     setup->source.code_identity = identity.value();
   } else {

@@ -206,8 +206,7 @@ LockstepRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
     can_writer_.emplace(*sinks.can_log, "can0", rig::DirectionMark::kRxTx);
   delivered_vio_.reserve(8);
   logged_frames_.reserve(64);
-  total_ticks_ = static_cast<std::uint64_t>(
-      std::llround(config.duration_s * 1e9 / static_cast<double>(config.physics_step_ns)));
+  total_ticks_ = TotalTicks(config);
   wall_start_ns_ = control.wall_clock->NowNs();
   next_progress_wall_ns_ = wall_start_ns_ + kProgressPeriodNs;
   ended_ = ended_ || total_ticks_ == 0;

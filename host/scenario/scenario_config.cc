@@ -273,6 +273,15 @@ ScenarioConfig ResolveScenario(const proto::Scenario& spec,
   return config;
 }
 
+std::uint64_t TotalTicks(const ScenarioConfig& config) {
+  return static_cast<std::uint64_t>(
+      std::llround(config.duration_s * 1e9 / static_cast<double>(config.physics_step_ns)));
+}
+
+std::uint64_t CompletedRunTraceSamples(const ScenarioConfig& config) {
+  return TotalTicks(config) / static_cast<std::uint64_t>(config.trace_every_ticks);
+}
+
 rig::Result<void> BuildFilmField(ScenarioConfig& config, const FieldMapTableStore* field_maps) {
   HallSensorConfig& hall = config.hall_sensors;
   if (!hall.tactile_enabled || hall.film_field != nullptr) return {};

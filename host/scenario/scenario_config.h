@@ -129,6 +129,11 @@ struct ScenarioConfig {
   proto::TimingEnvelopes timing;
 };
 
+// The physics ticks of a run of config.duration_s, and the trace samples a run that completes
+// them records (one every trace_every_ticks).
+std::uint64_t TotalTicks(const ScenarioConfig& config);
+std::uint64_t CompletedRunTraceSamples(const ScenarioConfig& config);
+
 // `seed_override` replaces the spec's seed (the --seed flag); relative file names in the spec are
 // taken from `spec_directory`.
 // The spec must have passed ValidateScenario (unknown fixtures abort here).

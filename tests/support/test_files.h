@@ -1,6 +1,6 @@
 // Files for tests that run commands and read what they wrote: a fresh folder per test (named after
-// the running test, so parallel tests never share one), a whole file read back as text, and a
-// folder that cannot be made.
+// the running test, so parallel tests never share one), a whole file read back as text, a file
+// damaged in one byte, and a folder that cannot be made.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -18,6 +18,16 @@ inline std::string ReadFile(const std::filesystem::path& path) {
   std::stringstream text;
   text << file.rdbuf();
   return text.str();
+}
+
+// Flips bits of the byte at `offset` from the end of the file (1 is the last byte), as damage on a
+// disk or a careless edit would.
+inline void ChangeByteFromEnd(const std::filesystem::path& path, std::size_t offset,
+                              unsigned char flip = 0x40) {
+  std::string bytes = ReadFile(path);
+  ASSERT_GE(bytes.size(), offset) << path;
+  bytes[bytes.size() - offset] = static_cast<char>(bytes[bytes.size() - offset] ^ flip);
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
 }
 
 // An empty folder under the test temp dir: `prefix` followed by the running test's name.

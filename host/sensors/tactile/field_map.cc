@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <string>
 #include <utility>
 
 namespace hilrig::host {
@@ -80,12 +81,22 @@ std::size_t FieldMapFilmField::StoredNodeCount(const FieldMapGrid& grid) {
 std::shared_ptr<const FieldMapFilmField> FieldMapFilmField::FromTable(
     std::shared_ptr<const FilmFieldModel> source, const FieldMapGrid& grid,
     std::vector<Eigen::Vector3d> table) {
-  if (!Usable(source.get(), grid) || table.size() != StoredNodeCount(grid)) return nullptr;
-  for (const Eigen::Vector3d& node : table) {
-    if (!node.allFinite()) return nullptr;
-  }
+  if (!Usable(source.get(), grid) || !CheckTable(grid, table)) return nullptr;
   return std::shared_ptr<const FieldMapFilmField>(
       new FieldMapFilmField(std::move(source), grid, std::move(table)));
+}
+
+rig::Result<void> FieldMapFilmField::CheckTable(const FieldMapGrid& grid,
+                                                const std::vector<Eigen::Vector3d>& table) {
+  if (table.size() != StoredNodeCount(grid)) {
+    return rig::MakeError(std::to_string(table.size()) + " nodes, the grid stores " +
+                          std::to_string(StoredNodeCount(grid)));
+  }
+  for (std::size_t i = 0; i < table.size(); ++i) {
+    if (!table[i].allFinite())
+      return rig::MakeError("node " + std::to_string(i) + " is not finite");
+  }
+  return {};
 }
 
 const Eigen::Vector3d& FieldMapFilmField::Node(int i, int j, int k) const {

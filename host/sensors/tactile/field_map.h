@@ -18,6 +18,7 @@
 
 #include "host/sensors/tactile/film_field.h"
 #include "host/sensors/tactile/silicone_model.h"
+#include "rig/result.h"
 
 namespace hilrig::host {
 
@@ -57,11 +58,14 @@ class FieldMapFilmField final : public FilmFieldModel {
   explicit FieldMapFilmField(std::shared_ptr<const FilmFieldModel> source,
                              const FieldMapGrid& grid = {});
   // A map from a table tabulated before (table() of a map of the same source and grid, kept in a
-  // file), evaluating nothing; null when the table has the wrong size for the grid or a non-finite
-  // value.
+  // file), evaluating nothing; null when CheckTable refuses the table.
   static std::shared_ptr<const FieldMapFilmField> FromTable(
       std::shared_ptr<const FilmFieldModel> source, const FieldMapGrid& grid,
       std::vector<Eigen::Vector3d> table);
+  // Whether `table` can be the table of a map on `grid`: StoredNodeCount(grid) nodes, all finite.
+  // The error says which it is not.
+  static rig::Result<void> CheckTable(const FieldMapGrid& grid,
+                                      const std::vector<Eigen::Vector3d>& table);
   // The nodes the grid stores (grid.nodes + 2 per axis): the size of table().
   static std::size_t StoredNodeCount(const FieldMapGrid& grid);
 

@@ -2,13 +2,20 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <sstream>
+#include <vector>
+
+#include "tests/support/test_files.h"
 
 namespace hilrig::host {
 namespace {
+
+namespace fs = std::filesystem;
 
 CachedReference ThreeSamples() {
   CachedReference reference;
@@ -29,27 +36,28 @@ TEST(ReferenceCacheTest, AnEntryReadsBackBitForBit) {
 
   const auto parsed = ParseReference(SerializeReference(reference));
 
-  ASSERT_TRUE(parsed.has_value());
-  EXPECT_EQ(parsed->wall_s, 12.5);
-  ASSERT_EQ(parsed->trace.size(), 3u);
+  ASSERT_TRUE(parsed);
+  const CachedReference& read = parsed.value();
+  EXPECT_EQ(read.wall_s, 12.5);
+  ASSERT_EQ(read.trace.size(), 3u);
   for (std::size_t i = 0; i < 3; ++i) {
-    EXPECT_EQ(parsed->trace.time_s[i], reference.trace.time_s[i]);
-    EXPECT_EQ(parsed->trace.position_m[i], reference.trace.position_m[i]);
-    EXPECT_EQ(parsed->trace.grasp_force_n[i], reference.trace.grasp_force_n[i]);
+    EXPECT_EQ(read.trace.time_s[i], reference.trace.time_s[i]);
+    EXPECT_EQ(read.trace.position_m[i], reference.trace.position_m[i]);
+    EXPECT_EQ(read.trace.grasp_force_n[i], reference.trace.grasp_force_n[i]);
   }
-  EXPECT_TRUE(std::isnan(parsed->trace.load_n[2]));  // a signal the run did not have stays so
+  EXPECT_TRUE(std::isnan(read.trace.load_n[2]));  // a signal the run did not have stays so
 }
 
 TEST(ReferenceCacheTest, TruncatedForeignOrPaddedBytesAreAMiss) {
   const std::string bytes = SerializeReference(ThreeSamples());
 
-  EXPECT_FALSE(ParseReference(bytes.substr(0, bytes.size() - 1)).has_value());
-  EXPECT_FALSE(ParseReference(bytes + "x").has_value());
-  EXPECT_FALSE(ParseReference("not a reference at all, just text").has_value());
-  EXPECT_FALSE(ParseReference("").has_value());
+  EXPECT_FALSE(ParseReference(bytes.substr(0, bytes.size() - 1)));
+  EXPECT_FALSE(ParseReference(bytes + "x"));
+  EXPECT_FALSE(ParseReference("not a reference at all, just text"));
+  EXPECT_FALSE(ParseReference(""));
   std::string huge_count = bytes;
-  huge_count[8] = '\xff';  // the sample count's low byte
-  EXPECT_FALSE(ParseReference(huge_count).has_value());
+  huge_count[0] = '\xff';  // the sample count's low byte
+  EXPECT_FALSE(ParseReference(huge_count));
 }
 
 TEST(ReferenceCacheTest, StoreThenLoadAndMissesForOtherKeysOrDamagedFiles) {
@@ -65,6 +73,66 @@ TEST(ReferenceCacheTest, StoreThenLoadAndMissesForOtherKeysOrDamagedFiles) {
   std::ofstream(dir + "/nested/abc.ref", std::ios::trunc) << "garbage";
   EXPECT_FALSE(cache.Load("abc").has_value());
   std::filesystem::remove_all(dir);
+}
+
+// One byte changed in a stored value is a miss: it used to be compared against as the reference.
+TEST(ReferenceCacheTest, AChangedByteIsAMiss) {
+  const fs::path dir = FreshTestDir("reference_cache_");
+  const ReferenceCache cache(dir.string());
+  ASSERT_TRUE(cache.Store("0123456789abcdef", ThreeSamples()).ok());
+  ASSERT_TRUE(cache.Load("0123456789abcdef").has_value());
+
+  ChangeByteFromEnd(dir / "0123456789abcdef.ref", 17);  // the last sample's z, in its exponent
+
+  EXPECT_FALSE(cache.Load("0123456789abcdef").has_value());
+}
+
+// Whole bytes that no completed run gives are a miss: time stamps that do not increase, a position
+// or a wall time that is not finite.
+TEST(ReferenceCacheTest, ATraceNoRunGivesIsAMiss) {
+  const fs::path dir = FreshTestDir("reference_cache_");
+  const ReferenceCache cache(dir.string());
+  CachedReference backwards = ThreeSamples();
+  backwards.trace.time_s[2] = backwards.trace.time_s[0];
+  CachedReference lost = ThreeSamples();
+  lost.trace.position_m[1].x() = std::numeric_limits<double>::quiet_NaN();
+  CachedReference timeless = ThreeSamples();
+  timeless.wall_s = -std::numeric_limits<double>::infinity();
+
+  for (const CachedReference& refused : {backwards, lost, timeless}) {
+    ASSERT_TRUE(cache.Store("0123456789abcdef", refused).ok());
+    EXPECT_FALSE(cache.Load("0123456789abcdef").has_value());
+  }
+}
+
+// A miss on an entry that is there is said, with the entry's path and the cause; an absent entry
+// is a plain miss. A reference of another length than the scene's run gives is a miss too.
+TEST(ReferenceCacheTest, AMissOnAnEntryThatIsThereIsSaid) {
+  const fs::path dir = FreshTestDir("reference_cache_");
+  std::ostringstream notes;
+  const ReferenceCache cache(dir.string(), &notes);
+  const std::string path = (dir / "0123456789abcdef.ref").string();
+
+  EXPECT_FALSE(cache.Load("0123456789abcdef").has_value());
+  EXPECT_EQ(notes.str(), "");
+  ASSERT_TRUE(cache.Store("0123456789abcdef", ThreeSamples()).ok());
+  EXPECT_TRUE(cache.Load("0123456789abcdef", 3).has_value());
+  EXPECT_FALSE(cache.Load("0123456789abcdef", 4).has_value());
+  EXPECT_NE(notes.str().find(path + ": 3 samples, the scene's run records 4"), std::string::npos)
+      << notes.str();
+  ChangeByteFromEnd(path, 17);
+  EXPECT_FALSE(cache.Load("0123456789abcdef").has_value());
+  EXPECT_NE(notes.str().find(path + ": the checksum does not match"), std::string::npos)
+      << notes.str();
+  fs::remove(path);
+  fs::create_directory(path);
+  EXPECT_FALSE(cache.Load("0123456789abcdef").has_value());
+  EXPECT_NE(notes.str().find("cannot read " + path + ": a folder, not a regular file"),
+            std::string::npos)
+      << notes.str();
+  auto stored = cache.Store("0123456789abcdef", ThreeSamples());
+  ASSERT_FALSE(stored);
+  EXPECT_NE(stored.error().message.find("cannot write " + path), std::string::npos);
 }
 
 TEST(ReferenceCacheTest, TheKeyChangesWithSpecSeedCalibrationAndCode) {

@@ -102,5 +102,27 @@ TEST_F(CliFieldMapCacheTest, TheCalibrationIsKeptAndADamagedOneIsMadeAgain) {
   EXPECT_EQ(ReadFile(calibration), good) << "the calibration made again replaced the damaged one";
 }
 
+// A folder where the calibration and the map entries should be: both are misses (the run used to
+// abort on an uncaught ios_failure), the stores over them fail and are said, and the run gives the
+// same trace.
+TEST_F(CliFieldMapCacheTest, FoldersAtTheEntryPathsAreMissesAndTheRunGoesOn) {
+  ASSERT_TRUE(Run("first")) << ReadFile(dir_ / "first.log");
+  const fs::path calibration = Cached("calibrations").at(0);
+  const fs::path map = CachedMaps().at(0);
+  for (const fs::path& entry : {calibration, map}) {
+    fs::remove(entry);
+    fs::create_directory(entry);
+  }
+
+  ASSERT_TRUE(Run("second")) << ReadFile(dir_ / "second.log");
+  EXPECT_EQ(Trace("second"), Trace("first"));
+  const std::string log = ReadFile(dir_ / "second.log");
+  for (const fs::path& entry : {calibration, map}) {
+    EXPECT_NE(log.find("cannot read " + entry.string() + ": a folder"), std::string::npos) << log;
+    EXPECT_NE(log.find("cannot write " + entry.string()), std::string::npos) << log;
+    EXPECT_TRUE(fs::is_directory(entry));
+  }
+}
+
 }  // namespace
 }  // namespace hilrig::host

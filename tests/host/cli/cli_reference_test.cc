@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 #include "host/cli/cli.h"
 #include "tests/support/cli_runner.h"
@@ -89,6 +90,34 @@ TEST_F(CliReferenceTest, ADamagedCacheEntryIsRebuiltNotRead) {
   ASSERT_EQ(again.exit_code, kExitPass) << again.err;
   EXPECT_THAT(again.err, HasSubstr("running the reference"));
   EXPECT_THAT(again.out, HasSubstr("fidelity error vs reference DP(1e-10) x8 tiles:64: position"));
+}
+
+// The "fidelity error vs reference ..." line of a run's output.
+std::string FidelityLine(const std::string& out) {
+  const auto start = out.find("fidelity error vs reference");
+  return start == std::string::npos ? "" : out.substr(start, out.find('\n', start) - start);
+}
+
+// One bit of a stored position changed (a reference that reads whole): the entry is not used, the
+// reference is run again, and the run reports the same error as a run without the cache.
+TEST_F(CliReferenceTest, AChangedByteInTheReferenceIsMadeAgainToTheSameError) {
+  const CliResult cold = Run({});
+  ASSERT_EQ(cold.exit_code, kExitPass) << cold.err;
+  ASSERT_NE(FidelityLine(cold.out), "");
+  std::vector<fs::path> entries;
+  for (const auto& entry : fs::directory_iterator(dir_ / "cache")) {
+    if (entry.path().extension() == ".ref") entries.push_back(entry.path());
+  }
+  ASSERT_EQ(entries.size(), 1u);
+  ChangeByteFromEnd(entries[0], 17,
+                    0x01);  // the last sample's z, in its exponent: 1 m becomes 15 um
+
+  const CliResult again = Run({});
+
+  ASSERT_EQ(again.exit_code, kExitPass) << again.err;
+  EXPECT_THAT(again.err, HasSubstr("running the reference"));
+  EXPECT_THAT(again.err, HasSubstr(entries[0].string() + ": the checksum does not match"));
+  EXPECT_EQ(FidelityLine(again.out), FidelityLine(cold.out));
 }
 
 }  // namespace
