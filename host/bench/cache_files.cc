@@ -7,6 +7,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -56,6 +57,9 @@ namespace fs = std::filesystem;
 constexpr std::size_t kMagicBytes = 8;
 constexpr std::size_t kHeaderBytes = kMagicBytes + 3 * sizeof(std::uint64_t);
 
+// A temporary file a crashed writer left is removed once it is this much older than a fresh entry.
+constexpr auto kAbandonedTemporaryAge = std::chrono::hours(1);
+
 void AppendWord(std::string& bytes, std::uint64_t word) {
   bytes.append(reinterpret_cast<const char*>(&word), sizeof(word));
 }
@@ -100,6 +104,31 @@ rig::Result<std::string> EntryContent(const CacheFormat& format, std::string byt
   return bytes;
 }
 
+// Whether a file's first bytes are those of this cache's entries, now or before the header.
+bool OpensAsOwnEntry(const std::string& head, const CacheFormat& format) {
+  return head == format.magic || (!format.legacy_magic.empty() && head == format.legacy_magic);
+}
+
+bool IsHexKey(std::string_view text) {
+  return text.size() == 16 && std::all_of(text.begin(), text.end(), [](char c) {
+           return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f');
+         });
+}
+
+// <16 hex digits><extension>: the names this cache gives its entries.
+bool IsEntryName(std::string_view name, std::string_view extension) {
+  return name.size() == 16 + extension.size() && name.substr(16) == extension &&
+         IsHexKey(name.substr(0, 16));
+}
+
+// <entry name>.tmp-<16 hex digits>: rig::TemporaryNameBeside of an entry's path.
+bool IsTemporaryName(std::string_view name, std::string_view extension) {
+  constexpr std::string_view kTmp = ".tmp-";
+  const std::size_t entry = 16 + extension.size();
+  return name.size() == entry + kTmp.size() + 16 && IsEntryName(name.substr(0, entry), extension) &&
+         name.substr(entry, kTmp.size()) == kTmp && IsHexKey(name.substr(entry + kTmp.size()));
+}
+
 }  // namespace
 
 CacheFolder::CacheFolder(std::string directory, const CacheFormat& format, std::ostream* notes)
@@ -135,15 +164,26 @@ void CacheFolder::MarkUsed(const std::string& path) {
   ::utimensat(AT_FDCWD, path.c_str(), nullptr, 0);
 }
 
-void CacheFolder::Trim() const {
-  std::vector<std::pair<fs::file_time_type, fs::path>> entries;
+void CacheFolder::Trim(const std::string& fresh_path) const {
   std::error_code error;
+  const fs::file_time_type now = fs::last_write_time(fresh_path, error);
+  if (error) return;
+  std::vector<std::pair<fs::file_time_type, fs::path>> entries;
   fs::directory_iterator next(directory_, error);
   for (; !error && next != fs::directory_iterator(); next.increment(error)) {
-    if (next->path().extension() != format_.extension) continue;
-    std::error_code time_error;
-    const fs::file_time_type used = next->last_write_time(time_error);
-    if (!time_error) entries.emplace_back(used, next->path());
+    const fs::path& path = next->path();
+    const std::string name = path.filename().string();
+    std::error_code file_error;
+    if (next->symlink_status(file_error).type() != fs::file_type::regular) continue;
+    const fs::file_time_type used = next->last_write_time(file_error);
+    if (file_error) continue;
+    if (IsTemporaryName(name, format_.extension)) {
+      if (used < now - kAbandonedTemporaryAge) fs::remove(path, file_error);
+      continue;
+    }
+    if (!IsEntryName(name, format_.extension)) continue;
+    const auto head = rig::ReadRegularFileHead(path.string(), kMagicBytes);
+    if (head && OpensAsOwnEntry(head.value(), format_)) entries.emplace_back(used, path);
   }
   if (entries.size() <= format_.max_entries) return;
   std::sort(entries.begin(), entries.end());
@@ -165,7 +205,7 @@ rig::Result<void> CacheFolder::Store(const std::string& key, std::string_view co
   if (auto written = rig::WriteFileAtomically(path, EntryBytes(format_, content)); !written) {
     return written;
   }
-  Trim();
+  Trim(path);
   return {};
 }
 

@@ -53,6 +53,9 @@ struct CacheFormat {
   std::string_view extension;  // of the entry names: <16 hex digits><extension>
   std::string_view magic;      // 8 bytes, the first of every entry
   std::uint64_t version = 1;   // of the content's layout
+  // What opened this cache's entries before they had a header: such files are still the cache's
+  // own to trim, never read.
+  std::string_view legacy_magic;
   std::size_t max_entries = 1;
   std::size_t max_entry_bytes = 0;  // header included; a larger file is not read
 };
@@ -60,7 +63,11 @@ struct CacheFormat {
 // One cache's folder: an entry per key, named <key><extension>, and at most `max_entries` of them.
 // Every key carries the executable's identity, so each rebuild starts a new set and the old ones
 // are never read again: without a bound the folders grew by megabytes per build. A store beyond
-// the bound removes the entries used least recently (a load marks its entry used).
+// the bound removes the entries used least recently (a load marks its entry used). Only the
+// cache's own files are ever removed: names of the entry form whose first bytes are the cache's
+// magic, and temporary files of such names that a writer left an hour before the store (a writer
+// that crashed; a live one writes its few hundred KB in milliseconds). A folder may hold other
+// files of the extension: they are neither removed nor counted.
 class CacheFolder {
  public:
   // `notes` (may be null) hears of entries that were there but could not be used.
@@ -89,8 +96,9 @@ class CacheFolder {
   rig::Result<std::optional<std::string>> ReadContent(const std::string& path) const;
   void SayUnused(const rig::Error& why) const;
   static void MarkUsed(const std::string& path);
-  // Removes the entries past the bound, the least recently used first.
-  void Trim() const;
+  // Removes the cache's own entries past the bound and its writers' old temporary files;
+  // `fresh_path` is the entry just written, whose time stands for now.
+  void Trim(const std::string& fresh_path) const;
 
   std::string directory_;
   CacheFormat format_;

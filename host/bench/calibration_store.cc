@@ -9,8 +9,11 @@ namespace {
 
 // About 1 KB each, so the bound is a thousand scene and seed variants of one build; an entry is
 // read under the cap of the calibration file it stands for.
-constexpr CacheFormat kCalibrationFormat{".calibration", "HRCACHEC", 1, 1000,
-                                         fixtures::kMaxCalibrationFileBytes};
+constexpr CacheFormat kCalibrationFormat{.extension = ".calibration",
+                                         .magic = "HRCACHEC",
+                                         .legacy_magic = "HRCAL001",
+                                         .max_entries = 1000,
+                                         .max_entry_bytes = fixtures::kMaxCalibrationFileBytes};
 
 // A stored calibration passes the checks of a calibration file: a message that parses from a cut
 // entry can have fewer than six nodes, and the DUT reads six.

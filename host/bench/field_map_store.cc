@@ -8,7 +8,11 @@ namespace {
 
 // About 45 KB each, so the bound is every map level of about a dozen builds. The finest grid the
 // bench measures (17 x 17 x 13 nodes) makes 130 KB; 16 MiB leaves room for grids 100 times finer.
-constexpr CacheFormat kFieldMapFormat{".map", "HRCACHEM", 1, 64, std::size_t{16} << 20};
+constexpr CacheFormat kFieldMapFormat{.extension = ".map",
+                                      .magic = "HRCACHEM",
+                                      .legacy_magic = "HRMAP001",
+                                      .max_entries = 64,
+                                      .max_entry_bytes = std::size_t{16} << 20};
 
 constexpr std::size_t kCountBytes = sizeof(std::uint64_t);
 constexpr std::size_t kNodeBytes = 3 * sizeof(double);

@@ -13,7 +13,11 @@ namespace {
 
 // Up to about 0.4 MB each, so the bound is every shipped scene over many builds and seeds. 48 bytes
 // a sample: 256 MiB is over 15 hours of a 100 Hz trace, and a longer reference is run every time.
-constexpr CacheFormat kReferenceFormat{".ref", "HRCACHER", 1, 200, std::size_t{256} << 20};
+constexpr CacheFormat kReferenceFormat{.extension = ".ref",
+                                       .magic = "HRCACHER",
+                                       .legacy_magic = "HRREF001",
+                                       .max_entries = 200,
+                                       .max_entry_bytes = std::size_t{256} << 20};
 
 namespace fs = std::filesystem;
 

@@ -17,7 +17,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr CacheFormat kFormat{".entry", "HRTESTEN", 1, 3, 1 << 16};
+constexpr CacheFormat kFormat{.extension = ".entry",
+                              .magic = "HRTESTEN",
+                              .legacy_magic = "HRTEST01",
+                              .max_entries = 3,
+                              .max_entry_bytes = 1 << 16};
 
 // Any content is an entry's content.
 rig::Result<std::string> AsIs(const std::string& content) { return content; }
@@ -47,6 +51,32 @@ TEST(CacheFolderTest, AStorePastTheBoundRemovesTheLeastRecentlyUsedEntries) {
   EXPECT_FALSE(folder.Load(Key('b'), AsIs).has_value()) << "the least recently used goes first";
   EXPECT_EQ(folder.Load(Key('c'), AsIs), "c");
   EXPECT_EQ(folder.Load(Key('d'), AsIs), "d");
+}
+
+// Only the cache's own files count and go: names of the entry form that open with its magic, or
+// with the magic its entries had before they carried a header.
+TEST(CacheFolderTest, TheBoundCountsAndRemovesOnlyTheCachesOwnEntries) {
+  const fs::path dir = FreshTestDir("cache_folder_");
+  const std::vector<fs::path> users = {dir / "notes.txt", dir / "mine.entry",
+                                       dir / (Key('e') + ".entry"), dir / (Key('A') + ".entry")};
+  for (const fs::path& user : users) {
+    std::ofstream(user) << "the user's";
+    MakeOlder(user, 60);
+  }
+  const fs::path legacy = dir / (Key('f') + ".entry");
+  std::ofstream(legacy) << "HRTEST01 an entry from before the header";
+  MakeOlder(legacy, 50);
+  const CacheFolder folder(dir.string(), kFormat, nullptr);
+
+  int age_minutes = 40;
+  for (char key : {'a', 'b', 'c'}) {
+    ASSERT_TRUE(folder.Store(Key(key), {&key, 1}).ok());
+    MakeOlder(folder.PathOf(Key(key)), age_minutes -= 10);
+  }
+
+  for (const fs::path& user : users) EXPECT_TRUE(fs::exists(user)) << user;
+  EXPECT_FALSE(fs::exists(legacy)) << "the oldest of four entries of the cache's own";
+  for (char key : {'a', 'b', 'c'}) EXPECT_EQ(folder.Load(Key(key), AsIs), std::string(1, key));
 }
 
 // Content the cache would not read back is not written.

@@ -143,5 +143,19 @@ TEST(FieldMapStoreTest, AFolderAtTheEntryPathIsAMissAndAStoreOverItIsSaid) {
   EXPECT_NE(notes.str().find("the map:4 field map is not kept for later runs"), std::string::npos);
 }
 
+// The folder may hold files of the user's: more *.map files than the bound, a file named like an
+// entry that the cache did not write, a temporary name not of an entry. A store removes none of
+// them (it used to remove every *.map file past the 64 most recent).
+TEST(FieldMapStoreTest, AStoreLeavesFilesTheCacheDidNotWrite) {
+  const fs::path dir = FreshTestDir("field_map_store_");
+  const std::vector<fs::path> users = PlantUserFiles(dir, ".map", 100);
+  const FileFieldMapStore store(dir.string(), "code-a", nullptr);
+
+  store.Store({true, 4, false}, SmallGrid(), SmallTable());
+
+  for (const fs::path& user : users) EXPECT_TRUE(fs::exists(user)) << user;
+  EXPECT_TRUE(store.Load({true, 4, false}, SmallGrid()).has_value());
+}
+
 }  // namespace
 }  // namespace hilrig::host

@@ -135,6 +135,43 @@ TEST(ReferenceCacheTest, AMissOnAnEntryThatIsThereIsSaid) {
   EXPECT_NE(stored.error().message.find("cannot write " + path), std::string::npos);
 }
 
+// A folder that holds files of the user's (more *.ref files than the bound, files named like an
+// entry that the cache did not write) loses none of them to a store: it used to remove every
+// *.ref file past the 200 most recent.
+TEST(ReferenceCacheTest, AStoreLeavesFilesTheCacheDidNotWrite) {
+  const fs::path dir = FreshTestDir("reference_cache_");
+  const std::vector<fs::path> users = PlantUserFiles(dir, ".ref", 250);
+  const ReferenceCache cache(dir.string());
+
+  ASSERT_TRUE(cache.Store("0123456789abcdef", ThreeSamples()).ok());
+
+  for (const fs::path& user : users) EXPECT_TRUE(fs::exists(user)) << user;
+}
+
+// A writer that crashed leaves its temporary file beside the entry it was writing. A store
+// removes those that are an hour older than the entry it just wrote, and no other file.
+TEST(ReferenceCacheTest, AStoreRemovesOldTemporaryFilesOfItsOwnEntriesOnly) {
+  const fs::path dir = FreshTestDir("reference_cache_");
+  const fs::path old_temporary = dir / "fedcba9876543210.ref.tmp-00112233445566ff";
+  const fs::path young_temporary = dir / "fedcba9876543210.ref.tmp-00112233445566ee";
+  const fs::path foreign_temporary = dir / "scan.ref.tmp-00112233445566dd";
+  for (const fs::path& file : {old_temporary, young_temporary, foreign_temporary}) {
+    std::ofstream(file) << "half an entry";
+  }
+  for (const fs::path& file : {old_temporary, foreign_temporary}) {
+    fs::last_write_time(file, fs::last_write_time(file) - std::chrono::minutes(61));
+  }
+  fs::last_write_time(young_temporary,
+                      fs::last_write_time(young_temporary) - std::chrono::minutes(59));
+  const ReferenceCache cache(dir.string());
+
+  ASSERT_TRUE(cache.Store("0123456789abcdef", ThreeSamples()).ok());
+
+  EXPECT_FALSE(fs::exists(old_temporary));
+  EXPECT_TRUE(fs::exists(young_temporary)) << "a writer may still be at it";
+  EXPECT_TRUE(fs::exists(foreign_temporary)) << "not the temporary file of an entry";
+}
+
 TEST(ReferenceCacheTest, TheKeyChangesWithSpecSeedCalibrationAndCode) {
   proto::Scenario spec;
   spec.set_name("scene");
