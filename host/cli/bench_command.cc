@@ -13,6 +13,7 @@
 #include "host/report/scatter_plot.h"
 #include "host/scenario/scenario_loader.h"
 #include "rig/clock.h"
+#include "rig/folder_lock.h"
 
 namespace hilrig::host {
 namespace {
@@ -131,11 +132,10 @@ int BenchCommand(const std::vector<std::string>& args, const CliStreams& io) {
     }
     specs.emplace_back(file, std::move(spec).value());
   }
-  std::error_code error;
-  fs::create_directories(options.out_dir, error);
-  if (error) {
-    io.err << "hilrig bench: cannot create " << options.out_dir.string() << ": " << error.message()
-           << "\n";
+  // One sweep at a time writes into the folder.
+  const auto folder = rig::FolderLock::Acquire(options.out_dir.string());
+  if (!folder) {
+    io.err << "hilrig bench: " << folder.error().message << "\n";
     return kExitBadInput;
   }
   const rig::SteadyClock wall_clock;

@@ -11,6 +11,7 @@
 #include "host/report/report_files.h"
 #include "host/sensors/tactile/film_field_factory.h"
 #include "rig/bounded_line.h"
+#include "rig/folder_lock.h"
 
 namespace hilrig::host {
 namespace {
@@ -56,13 +57,6 @@ rig::Result<TactileOptions> ParseTactileOptions(const std::vector<std::string>& 
     options.film = film.value();
   }
   return options;
-}
-
-rig::Result<void> PrepareOutDir(const std::string& out_dir) {
-  std::error_code error;
-  fs::create_directories(out_dir, error);
-  if (error) return rig::MakeError("cannot create " + out_dir + ": " + error.message());
-  return {};
 }
 
 std::string Format(const char* format, double a, double b, double c) {
@@ -133,9 +127,8 @@ int Fail(const CliStreams& io, const std::string& command, const std::string& me
 int CalibrateCommand(const std::vector<std::string>& args, const CliStreams& io) {
   auto options = ParseTactileOptions(args, /*needs_out=*/true, /*needs_calibration=*/false);
   if (!options) return Fail(io, "calibrate", options.error().message);
-  if (auto ready = PrepareOutDir(options.value().out_dir); !ready) {
-    return Fail(io, "calibrate", ready.error().message);
-  }
+  const auto folder = rig::FolderLock::Acquire(options.value().out_dir);
+  if (!folder) return Fail(io, "calibrate", folder.error().message);
   const fixtures::CalibrationBench bench;
   std::optional<proto::Calibration> calibrated = fixtures::CalibrateUnlessStopped(
       bench, *options.value().film, options.value().seed, io.stop_requested);
@@ -159,9 +152,8 @@ int AccuracyCommand(const std::vector<std::string>& args, const CliStreams& io) 
   if (!options) return Fail(io, "accuracy", options.error().message);
   const auto calibration = fixtures::ReadCalibrationFile(options.value().calibration_file);
   if (!calibration) return Fail(io, "accuracy", calibration.error().message);
-  if (auto ready = PrepareOutDir(options.value().out_dir); !ready) {
-    return Fail(io, "accuracy", ready.error().message);
-  }
+  const auto folder = rig::FolderLock::Acquire(options.value().out_dir);
+  if (!folder) return Fail(io, "accuracy", folder.error().message);
   const fixtures::CalibrationBench bench;
   // Held-out means other noise and other loads than calibration's: a seed of its own.
   proto::AccuracyReport report = fixtures::MeasureAccuracy(

@@ -10,6 +10,7 @@
 
 #include "host/report/xml_text.h"
 #include "rig/file_io.h"
+#include "rig/number_text.h"
 
 namespace hilrig::host {
 
@@ -92,7 +93,9 @@ rig::Result<void> WriteJunitXml(const proto::Report& report, const std::string& 
     ++failures;
     cases << "    <testcase classname=\"" << EscapeXmlText(report.scenario())
           << "\" name=\"run completes\">\n      <failure message=\""
-          << EscapeXmlText(report.stop_reason()) << "\"/>\n    </testcase>\n";
+          << EscapeXmlText(report.stop_reason() + " at " + rig::NumberText(report.simulated_s()) +
+                           " s simulated")
+          << "\"/>\n    </testcase>\n";
   }
   const int tests = report.envelopes_size() + report.timing_checks_size() +
                     (report.stop_reason() != "completed" ? 1 : 0);

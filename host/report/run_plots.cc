@@ -63,7 +63,7 @@ rig::Result<std::vector<std::string>> WriteRunPlots(const PlotTrace& trace,
                     Series("DUT estimate", trace.time_s, trace.grasp_force_estimate_n),
                     Series("setpoint f_d", trace.time_s, trace.grasp_force_setpoint_n, true)};
     force.bands = BandsFor(envelopes, {proto::GRASP_FORCE_N, proto::GRASP_FORCE_ESTIMATE_N});
-    plots.emplace_back("force.svg", std::move(force));
+    plots.emplace_back(kForcePlotFile, std::move(force));
 
     TimePlot load;
     load.title = "Vertical load of the grasped object on the vehicle";
@@ -71,7 +71,7 @@ rig::Result<std::vector<std::string>> WriteRunPlots(const PlotTrace& trace,
     load.series = {Series("true (plant)", trace.time_s, trace.load_n),
                    Series("DUT estimate", trace.time_s, trace.load_estimate_n)};
     load.bands = BandsFor(envelopes, {proto::LOAD_N});
-    plots.emplace_back("load.svg", std::move(load));
+    plots.emplace_back(kLoadPlotFile, std::move(load));
   }
   TimePlot position;
   position.title = "Position error";
@@ -80,7 +80,7 @@ rig::Result<std::vector<std::string>> WriteRunPlots(const PlotTrace& trace,
                      Series("horizontal error", trace.time_s, trace.horizontal_error_m)};
   position.bands = BandsFor(
       envelopes, {proto::ALTITUDE_ERROR_M, proto::HORIZONTAL_ERROR_M, proto::POSITION_ERROR_M});
-  plots.emplace_back("position.svg", std::move(position));
+  plots.emplace_back(kPositionPlotFile, std::move(position));
 
   std::vector<std::string> written;
   for (const auto& [file, plot] : plots) {

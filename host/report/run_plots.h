@@ -5,6 +5,7 @@
 // small); WriteRunPlots renders them with svg_plot.h.
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,12 @@ struct PlotTrace {
 
   void Add(const TraceSample& sample);
 };
+
+inline constexpr const char* kForcePlotFile = "force.svg";
+inline constexpr const char* kLoadPlotFile = "load.svg";
+inline constexpr const char* kPositionPlotFile = "position.svg";
+inline constexpr std::array<const char*, 3> kRunPlotFiles = {kForcePlotFile, kLoadPlotFile,
+                                                             kPositionPlotFile};
 
 // Writes force.svg and load.svg (grasp scenes only) and position.svg into `out_dir`; returns the
 // file names written.

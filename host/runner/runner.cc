@@ -380,6 +380,7 @@ void LockstepRunner::Impl::ReportProgress(std::int64_t now_ns) {
   // few wall seconds, so a process that is killed or dies keeps all but its last seconds.
   if (sinks_.trace_csv != nullptr) sinks_.trace_csv->flush();
   if (sinks_.can_log != nullptr) sinks_.can_log->flush();
+  if (sinks_.flushed) sinks_.flushed(Seconds(now_ns));
   if (sinks_.progress == nullptr) return;
   *sinks_.progress << config_.name << ": " << Seconds(now_ns) << " / " << config_.duration_s
                    << " s simulated, real-time factor "

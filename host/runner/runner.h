@@ -29,6 +29,10 @@ struct RunSinks {
   std::ostream* progress = nullptr;   // optional, a line every few wall seconds on long runs
   // Optional: every trace row as it is recorded (the run's plots, a bench's error comparison).
   std::function<void(const TraceSample&)> trace_sample = {};
+  // Optional: called with the simulated time reached each time the trace and CAN log have been
+  // flushed (every few wall seconds), so the run's folder can say how far a run that never
+  // finishes got.
+  std::function<void(double simulated_s)> flushed = {};
 };
 
 // Builds the DUT the runner talks to, given the scene, the DUT's own endpoint on the emulated CAN

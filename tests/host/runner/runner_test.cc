@@ -3,7 +3,9 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <sstream>
+#include <vector>
 
 #include "host/scenario/scenario_config.h"
 #include "host/scenario/scenario_loader.h"
@@ -89,6 +91,32 @@ TEST(RunnerTest, TraceAndCanLogAreFlushedEveryFewWallSeconds) {
   EXPECT_GE(trace_buffer.syncs, 5);
   EXPECT_GE(can_buffer.syncs, 5);
   EXPECT_FALSE(trace_buffer.str().empty());
+}
+
+// The run's folder says how far a run that never finishes got: after each flush the runner hands
+// on the simulated time the flushed trace reaches.
+TEST(RunnerTest, EachFlushReportsTheSimulatedTimeItReached) {
+  ScenarioConfig config = ConfigFrom(kHoverInAir);
+  config.duration_s = 40;
+  SyncCountingBuffer trace_buffer;
+  std::ostream trace(&trace_buffer);
+  const FiveSecondsPerRead wall_clock;
+  std::vector<double> reached_s;
+  std::vector<int> syncs_before;
+  const auto flushed = [&](double simulated_s) {
+    reached_s.push_back(simulated_s);
+    syncs_before.push_back(trace_buffer.syncs);
+  };
+
+  RunScenario(config, {.trace_csv = &trace, .flushed = flushed}, {.wall_clock = &wall_clock});
+
+  ASSERT_GE(reached_s.size(), 5u);
+  EXPECT_GT(reached_s.front(), 0.0);
+  EXPECT_TRUE(std::is_sorted(reached_s.begin(), reached_s.end()));
+  EXPECT_LE(reached_s.back(), 40.0);
+  for (std::size_t i = 0; i < syncs_before.size(); ++i) {
+    EXPECT_GT(syncs_before[i], i == 0 ? 0 : syncs_before[i - 1]) << "the trace is flushed first";
+  }
 }
 
 TEST(RunnerTest, RunsForItsDurationAndCompletes) {

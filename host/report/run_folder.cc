@@ -1,0 +1,62 @@
+#include "host/report/run_folder.h"
+
+#include <filesystem>
+
+#include "host/report/report_files.h"
+#include "host/report/run_plots.h"
+
+namespace hilrig::host {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The plots a previous run left: they would stand beside the new run's report as if it had drawn
+// them.
+rig::Result<void> RemoveOldPlots(const fs::path& out_dir) {
+  for (const char* file : kRunPlotFiles) {
+    std::error_code error;
+    fs::remove(out_dir / file, error);
+    if (error)
+      return rig::MakeError("cannot remove " + (out_dir / file).string() + ": " + error.message());
+  }
+  return {};
+}
+
+}  // namespace
+
+rig::Result<void> WriteReportFiles(const proto::Report& report, const std::string& out_dir) {
+  if (auto written = WriteJunitXml(report, (fs::path(out_dir) / "junit.xml").string()); !written) {
+    return written.error();
+  }
+  return WriteJsonFile(report, (fs::path(out_dir) / "report.json").string());
+}
+
+rig::Result<RunOutputFolder> RunOutputFolder::Claim(const std::string& out_dir,
+                                                    const std::string& scenario,
+                                                    const std::string& spec_file) {
+  auto lock = rig::FolderLock::Acquire(out_dir);
+  if (!lock) return lock.error();
+  proto::Report incomplete;
+  incomplete.set_scenario(scenario);
+  incomplete.set_spec_file(spec_file);
+  incomplete.set_passed(false);
+  incomplete.set_stop_reason(kIncompleteStopReason);
+  if (auto written = WriteReportFiles(incomplete, out_dir); !written) return written.error();
+  if (auto removed = RemoveOldPlots(out_dir); !removed) return removed.error();
+  return RunOutputFolder(std::move(lock).value(), out_dir, std::move(incomplete));
+}
+
+void RunOutputFolder::Reached(double simulated_s, std::ostream& notes) {
+  incomplete_.set_simulated_s(simulated_s);
+  auto written = WriteReportFiles(incomplete_, out_dir_);
+  if (!written && !reached_noted_) {
+    notes << "hilrig: cannot record the run's progress: " << written.error().message << "\n";
+    reached_noted_ = true;
+  }
+}
+
+rig::Result<void> RunOutputFolder::Finish(const proto::Report& report) const {
+  return WriteReportFiles(report, out_dir_);
+}
+
+}  // namespace hilrig::host
