@@ -23,7 +23,9 @@ rig::Result<void> SetUpTactile(const proto::Scenario& spec, ScenarioConfig& conf
                                const FieldMapTableStore* field_maps,
                                const FileCalibrationStore* calibrations,
                                const std::atomic<bool>* stop_requested) {
-  if (auto built = BuildFilmField(config, field_maps); !built) return built.error();
+  if (auto built = BuildFilmField(config, field_maps, stop_requested); !built) {
+    return built.error();
+  }
   if (auto calibrated = CalibrateThroughStore(spec, config, calibrations, stop_requested);
       !calibrated) {
     return rig::MakeError("tactile calibration: " + calibrated.error().message);

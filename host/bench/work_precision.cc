@@ -560,7 +560,8 @@ rig::Result<SceneResult> SweepScene(const proto::Scenario& spec, const std::stri
                                          ref_config.seed, ref_config.hall_sensors.calibration);
     if (!config) return config.error();
     // MakeFilmField shares one model per level, so no run or timing repeat tabulates a map again.
-    if (auto built = BuildFilmField(config.value(), options.field_maps); !built) {
+    if (auto built = BuildFilmField(config.value(), options.field_maps, control.stop_requested);
+        !built) {
       return built.error();
     }
     const CapturedRun run = RunCaptured(config.value(), control);

@@ -30,6 +30,7 @@
 #include "rig/file_io.h"
 #include "rig/folder_lock.h"
 #include "rig/realtime_scheduling.h"
+#include "rig/stop_request.h"
 
 namespace hilrig::host {
 namespace {
@@ -411,6 +412,10 @@ int CheckCommand(const std::vector<std::string>& args, const Streams& io) {
   }
   int exit_code = kExitPass;
   for (std::size_t i = 1; i < args.size(); ++i) {
+    if (rig::StopRequested(io.stop_requested)) {
+      io.err << "hilrig check: interrupted before " << args[i] << "\n";
+      return kExitCheckFailed;
+    }
     std::error_code error;
     if (fs::is_directory(args[i], error)) {
       io.err << args[i] << ": is a folder; check takes scenario files\n";
@@ -443,7 +448,9 @@ int RunCli(const std::vector<std::string>& args, std::ostream& out, std::ostream
   if (args[0] == "bench") return BenchCommand(args, io);
   if (args[0] == "calibrate") return CalibrateCommand(args, io);
   if (args[0] == "accuracy") return AccuracyCommand(args, io);
-  if (args[0] == "decode") return DecodeCommand(args, io, in != nullptr ? *in : std::cin);
+  if (args[0] == "decode") {
+    return in != nullptr ? DecodeCommand(args, io, *in) : DecodeStandardInput(args, io);
+  }
   if (args[0] == "help" || args[0] == "--help" || args[0] == "-h") {
     out << kUsage;
     return kExitPass;

@@ -16,8 +16,9 @@ inline constexpr int kExitPass = 0;
 inline constexpr int kExitCheckFailed = 1;
 inline constexpr int kExitBadInput = 2;
 
-// `args` excludes the program name. `stop_requested` (optional) ends a run early, e.g. on SIGINT;
-// `in` (default std::cin) feeds `decode`.
+// `args` excludes the program name. `stop_requested` (optional) ends a command early, e.g. on
+// SIGINT; `in` (default: the process's standard input, read so that a stop request ends the
+// wait) feeds `decode`.
 int RunCli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err,
            const std::atomic<bool>* stop_requested = nullptr, std::istream* in = nullptr);
 

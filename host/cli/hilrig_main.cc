@@ -1,9 +1,14 @@
 // Entry point of the hilrig CLI: turns SIGINT/SIGTERM into a stop request so that an interrupted
-// run still writes its report and logs, then hands over to RunCli.
+// command still writes out what it finished, then hands over to RunCli. Every command looks at the
+// request between steps of its work, and every wait in hilrig is a poll(2) with a timeout, which
+// a signal interrupts whatever the flags; the handlers restart reads and writes, so a write to a
+// slow pipe on stdout is not cut by the signal and what was finished still gets out. A second
+// signal ends the process at once, for whatever would not stop.
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <csignal>
+#include <atomic>
 #include <cstring>
 #include <iostream>
 
@@ -14,7 +19,21 @@ namespace {
 
 std::atomic<bool> stop_requested{false};
 
-extern "C" void RequestStop(int /*signal*/) { stop_requested.store(true); }
+extern "C" void RequestStop(int signal_number) {
+  if (!stop_requested.exchange(true)) return;
+  // The signal is blocked while its handler runs: raised here, it ends the process on return.
+  ::signal(signal_number, SIG_DFL);
+  ::raise(signal_number);
+}
+
+void InstallStopHandlers() {
+  struct sigaction action {};
+  action.sa_handler = RequestStop;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESTART;
+  ::sigaction(SIGINT, &action, nullptr);
+  ::sigaction(SIGTERM, &action, nullptr);
+}
 
 // std::cout would lose why a write failed; this buffer keeps the errno of the first failure. A
 // terminal gets every line at once (progress lines of a long run), anything else a buffer.
@@ -23,8 +42,8 @@ std::size_t StdoutBufferBytes() { return ::isatty(STDOUT_FILENO) ? 0 : std::size
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::signal(SIGINT, RequestStop);
-  std::signal(SIGTERM, RequestStop);
+  static_assert(std::atomic<bool>::is_always_lock_free);
+  InstallStopHandlers();
   const std::vector<std::string> args(argv + 1, argv + argc);
   hilrig::rig::FdStreamBuf stdout_buffer(STDOUT_FILENO, StdoutBufferBytes());
   std::ostream out(&stdout_buffer);

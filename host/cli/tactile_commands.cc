@@ -1,7 +1,10 @@
 #include "host/cli/tactile_commands.h"
 
+#include <unistd.h>
+
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <optional>
 
@@ -12,6 +15,8 @@
 #include "host/sensors/tactile/film_field_factory.h"
 #include "rig/bounded_line.h"
 #include "rig/folder_lock.h"
+#include "rig/stop_request.h"
+#include "rig/stoppable_input.h"
 
 namespace hilrig::host {
 namespace {
@@ -30,9 +35,10 @@ struct TactileOptions {
 };
 
 // Parses the options the tactile commands share; `needs_out` / `needs_calibration` say which
-// are required.
+// are required. A map level's tabulation ends early on `stop_requested`.
 rig::Result<TactileOptions> ParseTactileOptions(const std::vector<std::string>& args,
-                                                bool needs_out, bool needs_calibration) {
+                                                bool needs_out, bool needs_calibration,
+                                                const std::atomic<bool>* stop_requested) {
   auto parsed = ParseCliArgs(args, {"--out", "--seed", "--field", "--calibration"});
   if (!parsed) return parsed.error();
   const CliArgs& cli = parsed.value();
@@ -52,7 +58,7 @@ rig::Result<TactileOptions> ParseTactileOptions(const std::vector<std::string>& 
   const auto* fidelity = cli.Option("--field");
   options.fidelity = fidelity != nullptr ? *fidelity : std::string(kDefaultFilmFidelity);
   if (needs_out) {  // only the commands that run the forward model need a film
-    auto film = MakeFilmField(options.fidelity);
+    auto film = MakeFilmField(options.fidelity, nullptr, stop_requested);
     if (!film) return film.error();
     options.film = film.value();
   }
@@ -117,15 +123,17 @@ std::optional<Eigen::Vector3d> ParseFieldLine(const std::string& line) {
   return field_t;
 }
 
+// An error once a stop was requested is the stop's doing: the command was cut short.
 int Fail(const CliStreams& io, const std::string& command, const std::string& message) {
   io.err << "hilrig " << command << ": " << message << "\n";
-  return kExitBadInput;
+  return rig::StopRequested(io.stop_requested) ? kExitCheckFailed : kExitBadInput;
 }
 
 }  // namespace
 
 int CalibrateCommand(const std::vector<std::string>& args, const CliStreams& io) {
-  auto options = ParseTactileOptions(args, /*needs_out=*/true, /*needs_calibration=*/false);
+  auto options =
+      ParseTactileOptions(args, /*needs_out=*/true, /*needs_calibration=*/false, io.stop_requested);
   if (!options) return Fail(io, "calibrate", options.error().message);
   const auto folder = rig::FolderLock::Acquire(options.value().out_dir);
   if (!folder) return Fail(io, "calibrate", folder.error().message);
@@ -148,7 +156,8 @@ int CalibrateCommand(const std::vector<std::string>& args, const CliStreams& io)
 }
 
 int AccuracyCommand(const std::vector<std::string>& args, const CliStreams& io) {
-  auto options = ParseTactileOptions(args, /*needs_out=*/true, /*needs_calibration=*/true);
+  auto options =
+      ParseTactileOptions(args, /*needs_out=*/true, /*needs_calibration=*/true, io.stop_requested);
   if (!options) return Fail(io, "accuracy", options.error().message);
   const auto calibration = fixtures::ReadCalibrationFile(options.value().calibration_file);
   if (!calibration) return Fail(io, "accuracy", calibration.error().message);
@@ -156,8 +165,14 @@ int AccuracyCommand(const std::vector<std::string>& args, const CliStreams& io) 
   if (!folder) return Fail(io, "accuracy", folder.error().message);
   const fixtures::CalibrationBench bench;
   // Held-out means other noise and other loads than calibration's: a seed of its own.
-  proto::AccuracyReport report = fixtures::MeasureAccuracy(
-      bench, *options.value().film, calibration.value(), options.value().seed + 1000);
+  std::optional<proto::AccuracyReport> measured =
+      fixtures::MeasureAccuracyUnlessStopped(bench, *options.value().film, calibration.value(),
+                                             options.value().seed + 1000, io.stop_requested);
+  if (!measured) {
+    io.err << "hilrig accuracy: interrupted, nothing written\n";
+    return kExitCheckFailed;
+  }
+  proto::AccuracyReport& report = *measured;
   report.set_field_fidelity(options.value().fidelity);
   const fs::path path = fs::path(options.value().out_dir) / "accuracy.json";
   if (auto written = WriteJsonFile(report, path.string()); !written) {
@@ -169,7 +184,8 @@ int AccuracyCommand(const std::vector<std::string>& args, const CliStreams& io) 
 }
 
 int DecodeCommand(const std::vector<std::string>& args, const CliStreams& io, std::istream& in) {
-  auto options = ParseTactileOptions(args, /*needs_out=*/false, /*needs_calibration=*/true);
+  auto options =
+      ParseTactileOptions(args, /*needs_out=*/false, /*needs_calibration=*/true, io.stop_requested);
   if (!options) return Fail(io, "decode", options.error().message);
   const auto calibration = fixtures::ReadCalibrationFile(options.value().calibration_file);
   if (!calibration) return Fail(io, "decode", calibration.error().message);
@@ -206,6 +222,21 @@ int DecodeCommand(const std::vector<std::string>& args, const CliStreams& io, st
   }
   io.out.flush();
   return io.out ? exit_code : kExitBadInput;
+}
+
+int DecodeStandardInput(const std::vector<std::string>& args, const CliStreams& io) {
+  rig::StoppableLineBuf lines(STDIN_FILENO, io.stop_requested);
+  std::istream in(&lines);
+  const int exit_code = DecodeCommand(args, io, in);
+  if (lines.stopped()) {
+    io.err << "hilrig decode: interrupted; every whole line read before it was decoded\n";
+    return kExitCheckFailed;
+  }
+  if (lines.error_number() != 0) {
+    return Fail(io, "decode",
+                std::string("cannot read standard input: ") + std::strerror(lines.error_number()));
+  }
+  return exit_code;
 }
 
 }  // namespace hilrig::host

@@ -15,5 +15,8 @@ namespace hilrig::host {
 int CalibrateCommand(const std::vector<std::string>& args, const CliStreams& io);
 int AccuracyCommand(const std::vector<std::string>& args, const CliStreams& io);
 int DecodeCommand(const std::vector<std::string>& args, const CliStreams& io, std::istream& in);
+// `decode` on the process's standard input, which a stop request ends (exit 1, "interrupted")
+// even while no line is coming.
+int DecodeStandardInput(const std::vector<std::string>& args, const CliStreams& io);
 
 }  // namespace hilrig::host

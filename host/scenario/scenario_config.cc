@@ -282,10 +282,11 @@ std::uint64_t CompletedRunTraceSamples(const ScenarioConfig& config) {
   return TotalTicks(config) / static_cast<std::uint64_t>(config.trace_every_ticks);
 }
 
-rig::Result<void> BuildFilmField(ScenarioConfig& config, const FieldMapTableStore* field_maps) {
+rig::Result<void> BuildFilmField(ScenarioConfig& config, const FieldMapTableStore* field_maps,
+                                 const std::atomic<bool>* stop_requested) {
   HallSensorConfig& hall = config.hall_sensors;
   if (!hall.tactile_enabled || hall.film_field != nullptr) return {};
-  auto film = MakeFilmField(hall.field_fidelity, field_maps);
+  auto film = MakeFilmField(hall.field_fidelity, field_maps, stop_requested);
   if (!film) return film.error();
   hall.film_field = std::move(film).value();
   return {};
@@ -309,7 +310,7 @@ rig::Result<void> LoadTactileCalibration(ScenarioConfig& config,
     hall.calibration = std::move(calibration).value();
     return {};
   }
-  if (auto built = BuildFilmField(config); !built) return built.error();
+  if (auto built = BuildFilmField(config, nullptr, stop_requested); !built) return built.error();
   fixtures::CalibrationBench bench;
   bench.tactile = hall.tactile;
   bench.reference = hall.reference;

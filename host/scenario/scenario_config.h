@@ -158,8 +158,10 @@ inline constexpr double kDefaultTraceRateHz = 100;
 double TraceRateHz(const proto::Simulation& simulation);
 
 // Builds hall_sensors.film_field for its field_fidelity unless the config already has one; a map
-// level's table comes from `field_maps` when it holds it (MakeFilmField).
+// level's table comes from `field_maps` when it holds it (MakeFilmField, which `stop_requested`,
+// may be null, interrupts).
 rig::Result<void> BuildFilmField(ScenarioConfig& config,
-                                 const FieldMapTableStore* field_maps = nullptr);
+                                 const FieldMapTableStore* field_maps = nullptr,
+                                 const std::atomic<bool>* stop_requested = nullptr);
 
 }  // namespace hilrig::host

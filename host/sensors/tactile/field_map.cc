@@ -7,6 +7,8 @@
 #include <string>
 #include <utility>
 
+#include "rig/stop_request.h"
+
 namespace hilrig::host {
 namespace {
 
@@ -39,18 +41,32 @@ FieldMapFilmField::FieldMapFilmField(std::shared_ptr<const FilmFieldModel> sourc
                                      const FieldMapGrid& grid)
     : source_(std::move(source)), grid_(grid) {
   SetUpGrid();
+  Tabulate(nullptr);
+}
+
+bool FieldMapFilmField::Tabulate(const std::atomic<bool>* stop_requested) {
   table_.resize(static_cast<size_t>(stored_.prod()));
   FilmPose pose;
   for (int k = 0; k < stored_.z(); ++k) {
     for (int j = 0; j < stored_.y(); ++j) {
       for (int i = 0; i < stored_.x(); ++i) {
+        if (rig::StopRequested(stop_requested)) return false;
         pose.centre_m =
-            grid.box.min_m + spacing_m_.cwiseProduct(Eigen::Vector3d(i - 1, j - 1, k - 1));
+            grid_.box.min_m + spacing_m_.cwiseProduct(Eigen::Vector3d(i - 1, j - 1, k - 1));
         table_[(static_cast<size_t>(k) * stored_.y() + j) * stored_.x() + i] =
             source_->FieldAtChip(pose);
       }
     }
   }
+  return true;
+}
+
+std::shared_ptr<const FieldMapFilmField> FieldMapFilmField::TabulateUnlessStopped(
+    std::shared_ptr<const FilmFieldModel> source, const FieldMapGrid& grid,
+    const std::atomic<bool>* stop_requested) {
+  std::shared_ptr<FieldMapFilmField> map(new FieldMapFilmField(std::move(source), grid, {}));
+  if (!map->Tabulate(stop_requested)) return nullptr;
+  return map;
 }
 
 FieldMapFilmField::FieldMapFilmField(std::shared_ptr<const FilmFieldModel> source,

@@ -49,8 +49,9 @@ std::string FilmFidelityName(const FilmFidelity& level) {
   return prefix + std::to_string(level.tiles_per_side);
 }
 
-rig::Result<std::shared_ptr<const FilmFieldModel>> MakeFilmField(std::string_view fidelity,
-                                                                 const FieldMapTableStore* store) {
+rig::Result<std::shared_ptr<const FilmFieldModel>> MakeFilmField(
+    std::string_view fidelity, const FieldMapTableStore* store,
+    const std::atomic<bool>* stop_requested) {
   const auto parsed = ParseFilmFidelity(fidelity);
   if (!parsed) return parsed.error();
   const FilmFidelity& level = parsed.value();
@@ -75,7 +76,11 @@ rig::Result<std::shared_ptr<const FilmFieldModel>> MakeFilmField(std::string_vie
       if (model != nullptr) return model;
     }
   }
-  auto map = std::make_shared<const FieldMapFilmField>(std::move(tiled), grid);
+  auto map = FieldMapFilmField::TabulateUnlessStopped(std::move(tiled), grid, stop_requested);
+  if (map == nullptr) {
+    return rig::MakeError("interrupted while tabulating the " + FilmFidelityName(level) +
+                          " field map");
+  }
   if (store != nullptr) store->Store(level, grid, map->table());
   model = std::move(map);
   return model;

@@ -6,6 +6,7 @@
 // geometry is the default FilmGeometry.
 #pragma once
 
+#include <atomic>
 #include <memory>
 #include <optional>
 #include <string>
@@ -52,8 +53,10 @@ std::string FilmFidelityName(const FilmFidelity& level);
 
 // The model of a level, built the first time the process asks for it and shared from then on
 // (names of one level, "map" and "map:32", share one model). A map level first asks `store`, if
-// given, for its table, and stores the table it had to tabulate.
+// given, for its table, and stores the table it had to tabulate; tabulating (a second or more)
+// ends with an "interrupted" error, nothing kept, once `stop_requested` (may be null) is set.
 rig::Result<std::shared_ptr<const FilmFieldModel>> MakeFilmField(
-    std::string_view fidelity, const FieldMapTableStore* store = nullptr);
+    std::string_view fidelity, const FieldMapTableStore* store = nullptr,
+    const std::atomic<bool>* stop_requested = nullptr);
 
 }  // namespace hilrig::host

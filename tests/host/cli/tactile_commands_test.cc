@@ -13,6 +13,7 @@
 #include "host/cli/cli.h"
 #include "rig/file_io.h"
 #include "tests/support/cli_runner.h"
+#include "tests/support/shared_calibration.h"
 
 namespace hilrig::host {
 namespace {
@@ -20,22 +21,8 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-// One calibration shared by the tests of this file (the field map keeps it to a second).
-const fs::path& CalibrationDir() {
-  static const fs::path dir = [] {
-    // ctest runs each test in its own process, two at a time: one folder per process.
-    const fs::path path =
-        fs::path(::testing::TempDir()) / ("hilrig_tactile_cli_" + std::to_string(::getpid()));
-    fs::remove_all(path);
-    const CliResult result =
-        Cli({"calibrate", "--out", path.string(), "--field", "map:16", "--seed", "3"});
-    EXPECT_EQ(result.exit_code, kExitPass) << result.err;
-    return path;
-  }();
-  return dir;
-}
-
-std::string CalibrationFile() { return (CalibrationDir() / "calibration.textproto").string(); }
+const fs::path& CalibrationDir() { return SharedCalibrationDir(); }
+std::string CalibrationFile() { return SharedCalibrationFile(); }
 
 TEST(TactileCommandsTest, CalibratePrintsConstantsAndResidualsAndWritesTheFile) {
   ASSERT_TRUE(fs::exists(CalibrationFile()));

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <sstream>
 #include <vector>
 
@@ -117,6 +118,22 @@ TEST(RunnerTest, EachFlushReportsTheSimulatedTimeItReached) {
   for (std::size_t i = 0; i < syncs_before.size(); ++i) {
     EXPECT_GT(syncs_before[i], i == 0 ? 0 : syncs_before[i - 1]) << "the trace is flushed first";
   }
+}
+
+// A tick of a reference run takes up to a millisecond: a lockstep run looks at a stop request
+// every few hundred ticks, so Ctrl-C ends it within a fraction of a second.
+TEST(RunnerTest, AStopRequestEndsALockstepRunWithinAFewHundredTicks) {
+  ScenarioConfig config = ConfigFrom(kHoverInAir);
+  config.duration_s = 40;
+  const rig::SimClock wall_clock;
+  const std::atomic<bool> stop_requested{true};
+
+  const proto::Report report =
+      RunScenario(config, {}, {.wall_clock = &wall_clock, .stop_requested = &stop_requested});
+
+  EXPECT_EQ(report.stop_reason(), "interrupted");
+  EXPECT_FALSE(report.passed());
+  EXPECT_LE(report.ticks(), 256u);
 }
 
 TEST(RunnerTest, RunsForItsDurationAndCompletes) {

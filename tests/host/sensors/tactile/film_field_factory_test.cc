@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
+
 #include "host/sensors/tactile/film_magnet.h"
 
 namespace hilrig::host {
@@ -27,6 +29,18 @@ TEST(FilmFidelityTest, RefusesBadNames) {
     EXPECT_FALSE(ParseFilmFidelity(bad).ok()) << bad;
     EXPECT_FALSE(MakeFilmField(bad).ok()) << bad;
   }
+}
+
+// Tabulating a map takes a second or more (24 s for map:128); a stop request ends it, and the
+// unfinished map is not kept for the next caller.
+TEST(MakeFilmFieldTest, AStopRequestEndsATabulationAndKeepsNothing) {
+  const std::atomic<bool> stop_requested{true};
+  const auto stopped = MakeFilmField("map:3", nullptr, &stop_requested);
+  ASSERT_FALSE(stopped.ok());
+  EXPECT_EQ(stopped.error().message, "interrupted while tabulating the map:3 field map");
+  const auto built = MakeFilmField("map:3");
+  ASSERT_TRUE(built.ok());
+  EXPECT_TRUE(built.value()->FieldAtChip(FilmPose{}).allFinite());
 }
 
 TEST(MakeFilmFieldTest, OneLevelIsBuiltOnceAndShared) {
