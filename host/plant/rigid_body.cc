@@ -30,6 +30,21 @@ inline Eigen::Vector3d AngularAcceleration(const Eigen::Vector3d& inertia,
   return inv_inertia.cwiseProduct(torque - w.cross(inertia.cwiseProduct(w)));
 }
 
+// The implicit rate update of semi-implicit Euler stops once the error it leaves is estimated
+// below this fraction of the rate (a few ulp), so a torque-free body keeps its energy however many
+// steps it takes. A fixed-point iteration that contracts less than tenfold per iteration hands over
+// to Newton; the iteration cap only ends the loops on non-finite input.
+constexpr double kRateTolerance = 4e-15;
+constexpr double kRateMaxContraction = 0.1;
+constexpr int kRateIterations = 20;
+
+// [a]x: the matrix of a x (.).
+inline Eigen::Matrix3d Skew(const Eigen::Vector3d& a) {
+  Eigen::Matrix3d m;
+  m << 0.0, -a.z(), a.y(), a.z(), 0.0, -a.x(), -a.y(), a.x(), 0.0;
+  return m;
+}
+
 // Exact rotation for a constant body rate over dt, used by the semi-implicit integrator.
 inline Eigen::Quaterniond DeltaRotation(const Eigen::Vector3d& w, double dt) {
   const Eigen::Vector3d half_angle = 0.5 * dt * w;
@@ -118,6 +133,56 @@ class Dynamics {
     return AngularAcceleration(inertia_, inv_inertia_, torque_, w);
   }
 
+  // The body rate after h by the implicit midpoint rule on Euler's equations,
+  //   I (w1 - w0) = h (tau - wm x I wm),  wm = (w0 + w1) / 2.
+  // Without torque it keeps the rotational energy w.I w / 2 and |I w| (the angular momentum's
+  // magnitude) exactly, up to the solve's tolerance: dotting the rule with wm and with I wm cancels
+  // the gyroscopic term, which is what the explicit update lacks (it gains energy every step).
+  //
+  // Solved from the explicit step by the fixed-point iteration w1 = w0 + h dw/dt(wm): it contracts
+  // by about h |w| |I_i - I_j| / I_k per iteration, 1e-5 in hover at 4 kHz, so one or two
+  // iterations of one derivative each reach rounding. Where the body turns too fast for that (a
+  // correction that shrinks less than tenfold) the solve restarts with Newton on the Jacobian
+  // I + h/2 ([wm]x I - [I wm]x), which converges at any rate the step can resolve.
+  Eigen::Vector3d ImplicitMidpointRate(const Eigen::Vector3d& w0, double h) const {
+    const Eigen::Vector3d guess = w0 + AngularAccel(w0) * h;
+    const double enough = kRateTolerance * guess.cwiseAbs().maxCoeff();
+    double last_correction = (guess - w0).cwiseAbs().maxCoeff();
+    Eigen::Vector3d w1 = guess;
+    for (int iteration = 0; iteration < kRateIterations; ++iteration) {
+      const Eigen::Vector3d next = w0 + AngularAccel(0.5 * (w0 + w1)) * h;
+      const double correction = (next - w1).cwiseAbs().maxCoeff();
+      w1 = next;
+      if (!(correction > enough)) return w1;
+      // The observed contraction theta bounds the error left at theta / (1 - theta) times the
+      // last correction (Hairer and Wanner, Solving ODEs II, IV.8).
+      const double contraction = correction / last_correction;
+      if (!(contraction < kRateMaxContraction)) break;
+      if (!(contraction * correction > (1.0 - contraction) * enough)) return w1;
+      last_correction = correction;
+    }
+    return NewtonRate(w0, guess, h);
+  }
+
+  // The same rule by Newton from `guess`.
+  Eigen::Vector3d NewtonRate(const Eigen::Vector3d& w0, const Eigen::Vector3d& guess,
+                             double h) const {
+    Eigen::Vector3d w1 = guess;
+    for (int iteration = 0; iteration < kRateIterations; ++iteration) {
+      const Eigen::Vector3d wm = 0.5 * (w0 + w1);
+      const Eigen::Vector3d momentum = inertia_.cwiseProduct(wm);
+      const Eigen::Vector3d residual =
+          inertia_.cwiseProduct(w1 - w0) + h * (wm.cross(momentum) - torque_);
+      const Eigen::Matrix3d jacobian =
+          Eigen::Matrix3d(inertia_.asDiagonal()) +
+          (0.5 * h) * (Skew(wm) * inertia_.asDiagonal() - Skew(momentum));
+      const Eigen::Vector3d correction = jacobian.inverse() * residual;
+      w1 -= correction;
+      if (!(correction.cwiseAbs().maxCoeff() > kRateTolerance * w1.cwiseAbs().maxCoeff())) break;
+    }
+    return w1;
+  }
+
   // The attitude's share of Derivative: it never depends on the translation.
   AttitudeVector AttitudeDerivative(const AttitudeVector& y) const {
     AttitudeVector dy;
@@ -162,9 +227,13 @@ RigidBodyState SemiImplicitEulerStep(const Dynamics& dynamics, const RigidBodySt
   next.velocity_m_s =
       state.velocity_m_s + dynamics.LinearAcceleration(state.position_m, state.velocity_m_s) * h;
   next.position_m = state.position_m + next.velocity_m_s * h;
-  next.angular_velocity_rad_s =
-      state.angular_velocity_rad_s + dynamics.AngularAccel(state.angular_velocity_rad_s) * h;
-  next.orientation = state.orientation * DeltaRotation(next.angular_velocity_rad_s, h);
+  // The rotation uses the step's mean rate, the same one the rate update balanced: the world
+  // angular momentum of a torque-free body then errs by O(h^2) instead of O(h), and the rotational
+  // half of the step is symmetric in time.
+  next.angular_velocity_rad_s = dynamics.ImplicitMidpointRate(state.angular_velocity_rad_s, h);
+  const Eigen::Vector3d mean_rate =
+      0.5 * (state.angular_velocity_rad_s + next.angular_velocity_rad_s);
+  next.orientation = state.orientation * DeltaRotation(mean_rate, h);
   next.orientation.normalize();
   return next;
 }

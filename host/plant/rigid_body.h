@@ -43,8 +43,11 @@ struct Wrench {
 };
 
 enum class Integrator {
-  // v += a dt, p += v_new dt, w += dw dt, q *= exp(w_new dt / 2): cheap and symplectic-ish,
-  // first-order accurate.
+  // v += a dt, p += v_new dt (symplectic Euler); the body rate by the implicit midpoint rule on
+  // Euler's equations (a fixed-point iteration, Newton where it contracts too slowly),
+  // q *= exp(w_mean dt / 2) with the step's mean rate. A torque-free body keeps its rotational
+  // energy and |L| to the solve's tolerance at any step (an explicit gyroscopic term would gain
+  // energy every step and tumble to NaN). First-order accurate, from the translation.
   kSemiImplicitEuler,
   // Classic fourth-order Runge-Kutta on (p, v, q, w). With the force held constant over the
   // step the translational part is exact, so it is evaluated in closed form.
