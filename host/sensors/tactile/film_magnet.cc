@@ -28,17 +28,36 @@ TiledFilmField::TiledFilmField(const FilmGeometry& film, int tiles_per_side)
     std::abort();
   }
   const double pitch = film.side_m / tiles_per_side;
-  tile_half_size_m_ = Eigen::Vector3d(pitch / 2.0, pitch / 2.0, film.thickness_m / 2.0);
-  tile_centres_m_.reserve(tiles_per_side * tiles_per_side);
-  tile_polarizations_t_.reserve(tiles_per_side * tiles_per_side);
+  const int centre = tiles_per_side % 2 == 1 ? tiles_per_side / 2 : -1;
+  tile_centres_m_.reserve(tiles_per_side * tiles_per_side + 3);
+  tile_half_sizes_m_.reserve(tiles_per_side * tiles_per_side + 3);
+  tile_polarizations_t_.reserve(tiles_per_side * tiles_per_side + 3);
   for (int i = 0; i < tiles_per_side; ++i) {
     for (int j = 0; j < tiles_per_side; ++j) {
       const double x = -film.side_m / 2.0 + (i + 0.5) * pitch;
       const double y = -film.side_m / 2.0 + (j + 0.5) * pitch;
-      tile_centres_m_.emplace_back(x, y, 0.0);
-      tile_polarizations_t_.push_back(film.polarization_t * FilmPolarizationDirection(film, x, y));
+      if (i != centre || j != centre) {
+        AddTile(x, y, pitch);
+        continue;
+      }
+      // The pattern has no in-plane direction at the film centre, and its mean over a tile
+      // centred there is zero: one uniform tile would leave the middle of the film unpolarized
+      // (tiles:1 a zero field, tiles:3 less accurate than tiles:2). Four quarter tiles, each
+      // polarized at its own centre, keep the error falling with every added tile per side.
+      for (int a = 0; a < 2; ++a) {
+        for (int b = 0; b < 2; ++b) {
+          AddTile(x + (a - 0.5) * pitch / 2.0, y + (b - 0.5) * pitch / 2.0, pitch / 2.0);
+        }
+      }
     }
   }
+}
+
+void TiledFilmField::AddTile(double x_m, double y_m, double side_m) {
+  tile_centres_m_.emplace_back(x_m, y_m, 0.0);
+  tile_half_sizes_m_.emplace_back(side_m / 2.0, side_m / 2.0, film_.thickness_m / 2.0);
+  tile_polarizations_t_.push_back(film_.polarization_t *
+                                  FilmPolarizationDirection(film_, x_m, y_m));
 }
 
 Eigen::Vector3d TiledFilmField::FieldInFilmFrame(const Eigen::Vector3d& point_m) const {
@@ -46,7 +65,7 @@ Eigen::Vector3d TiledFilmField::FieldInFilmFrame(const Eigen::Vector3d& point_m)
   for (size_t i = 0; i < tile_centres_m_.size(); ++i) {
     // A point on a tile edge (only possible inside the film) contributes nothing; the chip never
     // gets there, so the flag is not propagated.
-    b += CuboidField(tile_half_size_m_, tile_polarizations_t_[i], point_m - tile_centres_m_[i])
+    b += CuboidField(tile_half_sizes_m_[i], tile_polarizations_t_[i], point_m - tile_centres_m_[i])
              .field_t;
   }
   return b;

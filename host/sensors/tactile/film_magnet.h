@@ -1,6 +1,7 @@
 // The magnetized film on top of a tactile sensor's silicone block, and its highest-fidelity field
 // model: the film cut into N x N cuboid tiles, each uniformly polarized along the film's pattern at
-// the tile centre, summed with the closed-form cuboid field (cuboid_field.h).
+// the tile centre, summed with the closed-form cuboid field (cuboid_field.h). An odd grid's centre
+// tile, where the pattern has no direction, is cut into four quarter tiles.
 //
 // "Centripetally magnetized" is read here as an in-plane polarization pointing at the film centre
 // from every point, J(x, y) = -J r̂: the magnetic analogue of a radial Halbach ring. Its volume
@@ -43,7 +44,8 @@ Eigen::Vector3d FilmPolarizationDirection(const FilmGeometry& film, double x_m, 
 
 class TiledFilmField final : public FilmFieldModel {
  public:
-  // tiles_per_side >= 1; the film frame has its origin at the centre of the film's volume.
+  // tiles_per_side >= 1; the film frame has its origin at the centre of the film's volume. An odd
+  // count sums N^2 + 3 cuboids (the centre tile in quarters), an even one N^2.
   TiledFilmField(const FilmGeometry& film, int tiles_per_side);
 
   Eigen::Vector3d FieldAtChip(const FilmPose& pose) const override;
@@ -55,10 +57,13 @@ class TiledFilmField final : public FilmFieldModel {
   int tiles_per_side() const { return tiles_per_side_; }
 
  private:
+  // One uniformly polarized cuboid of side side_m, centred at (x, y) in the film's mid-plane.
+  void AddTile(double x_m, double y_m, double side_m);
+
   FilmGeometry film_;
   int tiles_per_side_;
-  Eigen::Vector3d tile_half_size_m_;
   std::vector<Eigen::Vector3d> tile_centres_m_;
+  std::vector<Eigen::Vector3d> tile_half_sizes_m_;
   std::vector<Eigen::Vector3d> tile_polarizations_t_;
 };
 
