@@ -128,18 +128,81 @@ std::array<double, kGripperPadCount> SymmetricNormals(const StepContext& ctx) {
   return normals;
 }
 
-// Normals that also push the object horizontally with `horizontal_body_n` (body x, y): the pads
-// opposite the push press harder, dN_i = -o_i . (A^-1 F_h).
-std::array<double, kGripperPadCount> ImbalancedNormals(const StepContext& ctx,
-                                                       const Eigen::Vector3d& horizontal_body_n) {
-  std::array<double, kGripperPadCount> normals;
+// The pads' normals when they also push the object horizontally with `horizontal_body_n` (body x,
+// y), F_h. Linearised about the symmetric squeeze N0, pad i carries N0 + o_i . u, where u is the
+// object's horizontal shift toward the pads times their series stiffness; the pads push the object
+// with -sum N_i o_i = F_h. With all six in contact u = -F_h / 3 (A = sum o_i o_i^T = 3 I): the pads
+// on the side away from the push press harder, dN_i = -o_i . F_h / 3.
+using PadNormals = std::array<double, kGripperPadCount>;
+
+// Active-set iterations of ReleasePullingPads; each is one 2 x 2 solve.
+constexpr int kReleaseIterations = 8;
+
+// A pad that would have to pull (N0 + o_i . u < 0) loses contact instead: the object shifts
+// further, and the pads still touching it carry the whole push. Solves the balance on the pads in
+// contact, sum_{i in S} (N0 + o_i . u) o_i = -F_h, for u, and the contact set S again from u, until
+// S holds: an active-set (semismooth Newton) search for the minimum of the convex contact energy
+// sum max(0, N0 + o_i . u)^2 / 2 + F_h . u, which exists because the pads ring the object (some
+// pad faces any push). Only a step in which a pad lets go comes here; a contact set that cannot
+// carry the push (one pad, or two opposite ones) ends the search with the shortfall reported in
+// `out`, with the released pads.
+[[gnu::cold]] void ReleasePullingPads(const StepContext& ctx, double fx, double fy,
+                                      PadNormals& normals, GraspForces& out) {
+  const double n0 = ctx.contact.force_n;
+  const auto& ox = ctx.constants.outward_x;
+  const auto& oy = ctx.constants.outward_y;
+  double ux = -kImbalanceGain * fx;
+  double uy = -kImbalanceGain * fy;
+  for (int iteration = 0; iteration < kReleaseIterations; ++iteration) {
+    double a_xx = 0.0, a_xy = 0.0, a_yy = 0.0, b_x = -fx, b_y = -fy;
+    for (int i = 0; i < kGripperPadCount; ++i) {
+      if (!(n0 + ox[i] * ux + oy[i] * uy > 0)) continue;
+      a_xx += ox[i] * ox[i];
+      a_xy += ox[i] * oy[i];
+      a_yy += oy[i] * oy[i];
+      b_x -= n0 * ox[i];
+      b_y -= n0 * oy[i];
+    }
+    // Unit vectors: a contact set of one pad, or of two opposite ones, leaves det at rounding.
+    const double det = a_xx * a_yy - a_xy * a_xy;
+    if (!(det > 1e-9)) break;
+    const double next_ux = (a_yy * b_x - a_xy * b_y) / det;
+    const double next_uy = (a_xx * b_y - a_xy * b_x) / det;
+    bool same_set = true;
+    for (int i = 0; i < kGripperPadCount; ++i) {
+      same_set = same_set && ((n0 + ox[i] * ux + oy[i] * uy > 0) ==
+                              (n0 + ox[i] * next_ux + oy[i] * next_uy > 0));
+    }
+    ux = next_ux;
+    uy = next_uy;
+    if (same_set) break;
+  }
+  double applied_x = 0.0;
+  double applied_y = 0.0;
+  out.released_pads = 0;
+  for (int i = 0; i < kGripperPadCount; ++i) {
+    normals[i] = std::max(0.0, n0 + ox[i] * ux + oy[i] * uy);
+    out.released_pads += normals[i] > 0 ? 0 : 1;
+    applied_x -= normals[i] * ox[i];
+    applied_y -= normals[i] * oy[i];
+  }
+  out.unbalanced_horizontal_n = std::hypot(fx - applied_x, fy - applied_y);
+}
+
+PadNormals ImbalancedNormals(const StepContext& ctx, const Eigen::Vector3d& horizontal_body_n,
+                             GraspForces& out) {
+  PadNormals normals;
   const double vx = kImbalanceGain * horizontal_body_n.x();
   const double vy = kImbalanceGain * horizontal_body_n.y();
   const auto& ox = ctx.constants.outward_x;
   const auto& oy = ctx.constants.outward_y;
+  bool pulls = false;
   for (int i = 0; i < kGripperPadCount; ++i) {
-    normals[i] = std::max(0.0, ctx.contact.force_n - (ox[i] * vx + oy[i] * vy));
+    const double normal = ctx.contact.force_n - (ox[i] * vx + oy[i] * vy);
+    pulls = pulls || normal < 0;
+    normals[i] = std::max(0.0, normal);
   }
+  if (pulls) ReleasePullingPads(ctx, horizontal_body_n.x(), horizontal_body_n.y(), normals, out);
   return normals;
 }
 
@@ -219,7 +282,7 @@ void StepOnStand(const StepContext& ctx, GraspState& s, GraspForces& out) {
 void StepHeld(const StepContext& ctx, GraspState& s, GraspForces& out) {
   const ObjectParams& object = ctx.params.object;
   const Eigen::Vector3d required_n = ctx.mass_kg * ctx.vehicle.specific_force_body_m_s2;
-  const auto normals = ImbalancedNormals(ctx, required_n);
+  const PadNormals normals = ImbalancedNormals(ctx, required_n, out);
   const double shear = required_n.z();
   FillPadForces(normals, shear, out);
   out.payload_mass_kg = ctx.mass_kg;
@@ -243,7 +306,7 @@ void StepSliding(const StepContext& ctx, GraspState& s, GraspForces& out) {
   const Eigen::Vector3d& specific_force = ctx.vehicle.specific_force_body_m_s2;
   const Eigen::Vector3d horizontal_n(ctx.mass_kg * specific_force.x(),
                                      ctx.mass_kg * specific_force.y(), 0.0);
-  const auto normals = ImbalancedNormals(ctx, horizontal_n);
+  const PadNormals normals = ImbalancedNormals(ctx, horizontal_n, out);
   const double grasp = Sum(normals);
 
   double friction = 0.0;

@@ -31,7 +31,10 @@
 //   (body): its z part is shear, shared by the pads in proportion to their normal force; its
 //   horizontal part comes from a normal-force imbalance dN_i = -o_i . (A^-1 F_h), A = sum o_i o_i^T
 //   = 3 I in the plane for six evenly spaced pads (the pads on the side away from the push press
-//   harder), normals clamped at 0. Shear beyond mu_s x grasp force (or no grasp force) starts
+//   harder). A pad that would have to pull loses contact instead: the object shifts further toward
+//   the pads opposite, and the balance is solved again on the pads still touching it (an
+//   active-set solve, only in such steps), so the pads always apply F_h; GraspForces counts the
+//   released pads. Shear beyond mu_s x grasp force (or no grasp force) starts
 //   kSliding; lowering the object until its centre would be below the stand puts it back on the
 //   stand (kOnStand, with the shear carried over so nothing jumps).
 // - kSliding: slip along body z, relative acceleration = friction / m - specific force z, friction
@@ -176,6 +179,12 @@ struct GraspForces {
   // own mass and weight.
   double payload_mass_kg = 0;
   double elastic_energy_j = 0;  // stored in the six pads and the object (for stability checks)
+  // Pads that lost contact this step because holding the object horizontally would have made them
+  // pull; the object shifted toward the pads opposite, which carry the hold alone.
+  int released_pads = 0;
+  // What the pads left of the horizontal hold unapplied (N): 0 whenever two pads not opposite each
+  // other still touch the object, which any grip that holds it has.
+  double unbalanced_horizontal_n = 0;
 };
 
 // Per-pad normal force at frame angle `angle_rad` from the symmetric squeeze (pad and object in

@@ -106,6 +106,11 @@ void GripperScene::Step(double time_s, double servo_command_rad, const Quadrotor
   peak_elastic_energy_j_ = std::isnan(forces_.elastic_energy_j)
                                ? forces_.elastic_energy_j
                                : std::max(peak_elastic_energy_j_, forces_.elastic_energy_j);
+  if (forces_.released_pads > 0) {
+    ++pad_release_ticks_;
+    unbalanced_horizontal_max_n_ =
+        std::max(unbalanced_horizontal_max_n_, forces_.unbalanced_horizontal_n);
+  }
 }
 
 double GripperScene::elastic_energy_bound_j() const {

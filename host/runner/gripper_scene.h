@@ -60,6 +60,11 @@ class GripperScene {
   // servo cannot do more work on the grasp than its stall torque over its whole range.
   double peak_elastic_energy_j() const { return peak_elastic_energy_j_; }
   double elastic_energy_bound_j() const;
+  // Ticks in which holding the object horizontally released a pad (it would have had to pull),
+  // and the largest horizontal force the pads then left unapplied (0 while the pads in contact
+  // balance the hold, as they do for any grip that holds the object).
+  std::uint64_t pad_release_ticks() const { return pad_release_ticks_; }
+  double unbalanced_horizontal_max_n() const { return unbalanced_horizontal_max_n_; }
 
   // One outcome per object presented so far (the current one as it is now).
   std::vector<proto::ObjectOutcome> Outcomes() const;
@@ -96,6 +101,8 @@ class GripperScene {
   bool any_damaged_ = false;
   bool any_dropped_ = false;
   double peak_elastic_energy_j_ = 0;
+  std::uint64_t pad_release_ticks_ = 0;
+  double unbalanced_horizontal_max_n_ = 0;
 };
 
 }  // namespace hilrig::host

@@ -524,6 +524,10 @@ proto::Report LockstepRunner::Impl::Finish() {
       *report.add_objects() = outcome;
     AddMetric(report, "grasp_elastic_energy_peak", gripper_->peak_elastic_energy_j(), "J");
     AddMetric(report, "grasp_elastic_energy_bound", gripper_->elastic_energy_bound_j(), "J");
+    AddMetric(report, "grasp_pad_release_ticks", static_cast<double>(gripper_->pad_release_ticks()),
+              "count");
+    AddMetric(report, "grasp_unbalanced_horizontal_force_max",
+              gripper_->unbalanced_horizontal_max_n(), "N");
   }
   AppendModelList(config_, dut_->description(), report);
   return report;

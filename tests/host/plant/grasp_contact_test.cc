@@ -577,6 +577,58 @@ TEST(GraspContactTest, HeldHorizontalAccelerationIsCarriedByNormalImbalance) {
   EXPECT_GT(forces.normal_force_n[2], forces.normal_force_n[0]);
 }
 
+// Force of the pads on the object in the body frame: each pushes inward (-o_i) with its normal.
+Eigen::Vector3d PadsOnObject(const GraspSceneParams& scene, const GraspForces& forces) {
+  Eigen::Vector3d on_object = Eigen::Vector3d::Zero();
+  for (int i = 0; i < kGripperPadCount; ++i) {
+    on_object -= forces.normal_force_n[i] * PadOutwardBody(scene.frame, i);
+  }
+  return on_object;
+}
+
+TEST(GraspContactTest, PadsThatWouldPullLetGoAndThoseLeftStillCarryTheHold) {
+  // A light squeeze (0.147 N per pad at 0.1 mm) against a hard sideways push: with all six pads in
+  // contact the two on the push side would have to pull.
+  const GraspSceneParams scene = Scene();
+  const double overlap = 1e-4;
+  const double n0 = LinearSeriesForce(2000.0, overlap);
+  struct Push {
+    double accel_m_s2;
+    double azimuth_rad;
+    int released;
+  };
+  // Along pad 0's and pad 5's bisector the two pads on the push side let go; at 37 deg the object's
+  // shift onto the four left also unloads pad 1, which alone would still have pressed; a push 10 g
+  // hard leaves three pads carrying it.
+  for (const Push& push : {Push{20.0, 0.0, 2}, Push{20.0, 0.65, 3}, Push{200.0, 0.3, 3}}) {
+    GraspState state = HeldState(scene);
+    GraspVehicleSample vehicle = HoverAt(1.0);
+    const Eigen::Vector3d accel_m_s2(push.accel_m_s2 * std::cos(push.azimuth_rad),
+                                     push.accel_m_s2 * std::sin(push.azimuth_rad), kG);
+    vehicle.specific_force_body_m_s2 = accel_m_s2;
+    const GraspForces forces =
+        StepGrasp(scene, state, vehicle, AngleForOverlap(scene, overlap), kDt);
+    ASSERT_EQ(state.mode, GraspMode::kHeld);
+    // The pads apply the whole horizontal push, none of them pulling.
+    const Eigen::Vector3d on_object = PadsOnObject(scene, forces);
+    EXPECT_NEAR(on_object.x(), 0.05 * accel_m_s2.x(), 1e-12) << push.azimuth_rad;
+    EXPECT_NEAR(on_object.y(), 0.05 * accel_m_s2.y(), 1e-12) << push.azimuth_rad;
+    int released = 0;
+    for (int i = 0; i < kGripperPadCount; ++i) {
+      EXPECT_GE(forces.normal_force_n[i], 0.0) << i;
+      released += forces.normal_force_n[i] == 0.0 ? 1 : 0;
+      // Every pad whose share of the push exceeds its squeeze has let go.
+      const Eigen::Vector3d outward = PadOutwardBody(scene.frame, i);
+      if (n0 < outward.dot(0.05 * accel_m_s2) / 3.0) {
+        EXPECT_EQ(forces.normal_force_n[i], 0.0) << i;
+      }
+    }
+    EXPECT_EQ(released, push.released) << push.azimuth_rad;
+    EXPECT_EQ(forces.released_pads, push.released) << push.azimuth_rad;
+    EXPECT_LT(forces.unbalanced_horizontal_n, 1e-12);
+  }
+}
+
 TEST(GraspContactTest, LoweringAHeldObjectPutsItBackOnTheStand) {
   const GraspSceneParams scene = Scene();
   GraspState state = InitialGraspState(scene);

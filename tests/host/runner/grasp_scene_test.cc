@@ -121,6 +121,20 @@ INSTANTIATE_TEST_SUITE_P(TenTimesEitherWay, StiffnessSweepTest,
                                            std::make_tuple("glass_cup", 0.1, 0.6),
                                            std::make_tuple("glass_cup", 10.0, 0.6)));
 
+TEST(GraspSceneTest, SidewaysShoveReleasesPadsAndTheReportCountsIt) {
+  // The bottle held at 3.5 N (0.58 N per pad), the vehicle shoved sideways at about 20 m/s^2: the
+  // pads on the far side would have to pull 0.18 kg x 20 m/s^2 / 3 = 1.2 N, so they let go and the
+  // others carry the bottle. Regulated, the grasp never releases a pad.
+  const std::string hand_over = "timeline { at_s: 5 remove_support {} }\n";
+  const proto::Report shoved = RunGrasp(GraspSpec(R"(fixture: "water_bottle")", 3.5, hand_over + R"(
+timeline { at_s: 8 disturbance { force_world_n { x: 15 } duration_s: 0.2 } }
+)"));
+  EXPECT_GT(Metric(shoved, "grasp_pad_release_ticks"), 0);
+  EXPECT_LT(Metric(shoved, "grasp_unbalanced_horizontal_force_max"), 1e-9);
+  const proto::Report calm = RunGrasp(GraspSpec(R"(fixture: "water_bottle")", 3.5, hand_over));
+  EXPECT_EQ(Metric(calm, "grasp_pad_release_ticks"), 0);
+}
+
 TEST(GraspSceneTest, HandOverPutsTheBottlesWeightOnThePadsAndTheDutSeesIt) {
   const proto::Report report = RunGrasp(GraspSpec(R"(fixture: "water_bottle")", 3.5, R"(
 timeline { at_s: 5 remove_support {} }

@@ -88,6 +88,30 @@ TEST(GripperSceneTest, ContactForceOfAHeldObjectIsItsWeight) {
   EXPECT_NEAR(force_n.head<2>().norm(), 0.0, 1e-9);
 }
 
+// A crash-like sideways spike (30 g, as a touch-down gives for a tick): 0.061 kg x 300 m/s^2 / 3 =
+// 6.1 N is more than the pads on the push side press with (0.9 N each where the servo settles), so
+// they let go, the others carry the whole push, and the scene counts the tick.
+TEST(GripperSceneTest, PadsReleasedByASidewaysPushAreCountedAndTheRestCarryIt) {
+  const ScenarioConfig config = ConfigFrom("timeline { at_s: 0.5 remove_support { } }\n");
+  GripperScene scene(config, config.hall_sensors.tactile);
+  StepFor(scene, config, 0.0, 1.0, SqueezeAngle(config));
+  ASSERT_EQ(scene.grasp().mode, GraspMode::kHeld);
+  EXPECT_EQ(scene.pad_release_ticks(), 0u);
+
+  QuadrotorState pushed = MakeHoveringQuadrotor(config.vehicle, Eigen::Vector3d(0, 0, 0.5), 0.0);
+  pushed.specific_force_body_m_s2 = {300.0, 0.0, config.vehicle.gravity_m_s2};
+  scene.Step(1.0, SqueezeAngle(config), pushed, kDt);
+
+  ASSERT_EQ(scene.grasp().mode, GraspMode::kHeld);
+  EXPECT_EQ(scene.forces().released_pads, 2);
+  EXPECT_EQ(scene.pad_release_ticks(), 1u);
+  EXPECT_LT(scene.unbalanced_horizontal_max_n(), 1e-12);
+  // The object pushes back on the vehicle with exactly m a through the pads still touching it.
+  const Eigen::Vector3d force_n = scene.ContactForceWorld(Eigen::Quaterniond::Identity());
+  EXPECT_NEAR(force_n.x(), -0.061 * 300.0, 1e-9);
+  EXPECT_NEAR(force_n.y(), 0.0, 1e-9);
+}
+
 TEST(GripperSceneTest, PresentingTheNextObjectKeepsTheFirstOnesOutcome) {
   const ScenarioConfig config = ConfigFrom(R"(
 timeline { at_s: 1 present_object { fixture: "egg" } }
