@@ -216,11 +216,26 @@ double ShearEnergy(const StepContext& ctx, double shear_n) {
   return shear_n * shear_n / (2.0 * ctx.shear_stiffness_n_per_m);
 }
 
-// Height of the object's centre while the pads carry it with `shear_n` (their shear deflection
-// included), from the no-shear offset and the slip.
+// Where the object's centre sits along body z, below the frame centre by the frame-above-object
+// offset: the no-shear offset less the slip, plus the pads' shear deflection under `shear_n`.
+double CarriedObjectOffset(const StepContext& ctx, const GraspState& s, double shear_n) {
+  return s.stand_anchor_m - s.slip_m + shear_n / ctx.shear_stiffness_n_per_m;
+}
+
+// Height of the object's centre while the pads carry it with `shear_n`.
 double CarriedObjectHeight(const StepContext& ctx, const GraspState& s, double shear_n) {
-  const double offset = s.stand_anchor_m - s.slip_m + shear_n / ctx.shear_stiffness_n_per_m;
-  return ctx.frame_height_m - ctx.body_up_z * offset;
+  return ctx.frame_height_m - ctx.body_up_z * CarriedObjectOffset(ctx, s, shear_n);
+}
+
+// The held object's principal moments about the body origin, in body axes: its own (a multiple of
+// m r^2 about any axis through its centre) plus m d^2 about x and y for its centre d along body z.
+Eigen::Vector3d HeldObjectInertia(const StepContext& ctx, const GraspState& s, double shear_n) {
+  const ObjectParams& object = ctx.params.object;
+  const double own =
+      object.inertia_factor * ctx.mass_kg * object.half_width_m * object.half_width_m;
+  const double centre_z_m = ctx.params.frame.height_m - CarriedObjectOffset(ctx, s, shear_n);
+  const double offset = ctx.mass_kg * centre_z_m * centre_z_m;
+  return Eigen::Vector3d(own + offset, own + offset, own);
 }
 
 void PutBackOnStand(const StepContext& ctx, GraspState& s) {
@@ -286,6 +301,7 @@ void StepHeld(const StepContext& ctx, GraspState& s, GraspForces& out) {
   const double shear = required_n.z();
   FillPadForces(normals, shear, out);
   out.payload_mass_kg = ctx.mass_kg;
+  out.payload_inertia_kg_m2 = HeldObjectInertia(ctx, s, shear);
   out.elastic_energy_j += ShearEnergy(ctx, shear);
 
   const double height = CarriedObjectHeight(ctx, s, shear);

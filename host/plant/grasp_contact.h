@@ -27,16 +27,16 @@
 //   inertia on the stand is neglected (the stand is taken as frictionless horizontally and the
 //   object as light), so the normal forces stay symmetric.
 // - kHeld: the object moves rigidly with the vehicle, whose step adds payload_mass_kg to its own
-//   mass and weight (force_on_vehicle_world_n = 0). The pads must apply F = m x specific force
-//   (body): its z part is shear, shared by the pads in proportion to their normal force; its
-//   horizontal part comes from a normal-force imbalance dN_i = -o_i . (A^-1 F_h), A = sum o_i o_i^T
-//   = 3 I in the plane for six evenly spaced pads (the pads on the side away from the push press
-//   harder). A pad that would have to pull loses contact instead: the object shifts further toward
-//   the pads opposite, and the balance is solved again on the pads still touching it (an
-//   active-set solve, only in such steps), so the pads always apply F_h; GraspForces counts the
-//   released pads. Shear beyond mu_s x grasp force (or no grasp force) starts
-//   kSliding; lowering the object until its centre would be below the stand puts it back on the
-//   stand (kOnStand, with the shear carried over so nothing jumps).
+//   mass and weight and payload_inertia_kg_m2 to its inertia (force_on_vehicle_world_n = 0). The
+//   pads must apply F = m x specific force (body): its z part is shear, shared by the pads in
+//   proportion to their normal force; its horizontal part comes from a normal-force imbalance dN_i
+//   = -o_i . (A^-1 F_h), A = sum o_i o_i^T = 3 I in the plane for six evenly spaced pads (the pads
+//   on the side away from the push press harder). A pad that would have to pull loses contact
+//   instead: the object shifts further toward the pads opposite, and the balance is solved again on
+//   the pads still touching it (an active-set solve, only in such steps), so the pads always apply
+//   F_h; GraspForces counts the released pads. Shear beyond mu_s x grasp force (or no grasp force)
+//   starts kSliding; lowering the object until its centre would be below the stand puts it back on
+//   the stand (kOnStand, with the shear carried over so nothing jumps).
 // - kSliding: slip along body z, relative acceleration = friction / m - specific force z, friction
 //   = -sign(slip rate) mu_k x grasp force, semi-implicit Euler (non-stiff: the friction is
 //   bounded). From rest the object re-sticks (kHeld) if mu_s x grasp force can carry it, otherwise
@@ -178,6 +178,9 @@ struct GraspForces {
   // Object mass moving rigidly with the vehicle this step (held); the vehicle step adds it to its
   // own mass and weight.
   double payload_mass_kg = 0;
+  // Its principal moments about the body origin, body axes (held): its own, inertia_factor m r^2,
+  // plus m d^2 about x and y for its centre d along body z. The vehicle step adds them to its own.
+  Eigen::Vector3d payload_inertia_kg_m2 = Eigen::Vector3d::Zero();
   double elastic_energy_j = 0;  // stored in the six pads and the object (for stability checks)
   // Pads that lost contact this step because holding the object horizontally would have made them
   // pull; the object shifted toward the pads opposite, which carry the hold alone.

@@ -24,6 +24,9 @@ struct ObjectParams {
   std::string name;
   double mass_kg = 0.05;
   double half_width_m = 0.03;  // centre to contact surface along each pad normal
+  // Moment of inertia about any axis through the centre, as a multiple of m half_width^2: 2/5 a
+  // solid ball (the default; near enough for the compact fixtures), 2/3 a thin spherical shell.
+  double inertia_factor = 0.4;
   // Local contact law at each pad, indentation d >= 0 (m):
   //   F = stiffness * d^exponent * (1 + (d / stiffening_length_m)^2)
   double stiffness = 1e3;  // N / m^exponent
@@ -38,8 +41,9 @@ struct ObjectParams {
       std::numeric_limits<double>::infinity();  // per-contact indentation / half_width
 };
 
-// Finite positive mass/size/stiffness, exponent in [1, 3], 0 <= kinetic <= static (finite),
-// stiffening length and damage limits > 0 (inf allowed); the message names the field.
+// Finite positive mass/size/stiffness, finite inertia factor >= 0, exponent in [1, 3],
+// 0 <= kinetic <= static (finite), stiffening length and damage limits > 0 (inf allowed); the
+// message names the field.
 rig::Result<void> ValidateObject(const ObjectParams& object);
 
 // The contact law; 0 for d <= 0 or a NaN indentation.

@@ -39,24 +39,24 @@ QuadrotorStepSize MakeQuadrotorStepSize(const QuadrotorParams& params, double dt
 QuadrotorState StepQuadrotor(const QuadrotorParams& params, const QuadrotorState& state,
                              const std::array<double, kRotorCount>& commanded_thrust_n,
                              const Eigen::Vector3d& external_force_world_n, double dt_s,
-                             double payload_mass_kg) {
+                             const Payload& payload) {
   return StepQuadrotor(params, state, commanded_thrust_n, external_force_world_n,
-                       MakeQuadrotorStepSize(params, dt_s), payload_mass_kg);
+                       MakeQuadrotorStepSize(params, dt_s), payload);
 }
 
 QuadrotorState StepQuadrotor(const QuadrotorParams& params, const QuadrotorState& state,
                              const std::array<double, kRotorCount>& commanded_thrust_n,
                              const Eigen::Vector3d& external_force_world_n,
-                             const QuadrotorStepSize& step, double payload_mass_kg) {
+                             const QuadrotorStepSize& step, const Payload& payload) {
   QuadrotorState next = state;
-  AdvanceQuadrotor(params, next, commanded_thrust_n, external_force_world_n, step, payload_mass_kg);
+  AdvanceQuadrotor(params, next, commanded_thrust_n, external_force_world_n, step, payload);
   return next;
 }
 
 void AdvanceQuadrotor(const QuadrotorParams& params, QuadrotorState& state,
                       const std::array<double, kRotorCount>& commanded_thrust_n,
                       const Eigen::Vector3d& external_force_world_n, const QuadrotorStepSize& step,
-                      double payload_mass_kg) {
+                      const Payload& payload) {
   const double dt_s = step.dt_s;
   state.ground_contact = false;
   state.rotors =
@@ -70,7 +70,12 @@ void AdvanceQuadrotor(const QuadrotorParams& params, QuadrotorState& state,
   RigidBodyState& body_state = state.body;
 
   RigidBodyParams body = params.body;
-  if (payload_mass_kg > 0 && std::isfinite(payload_mass_kg)) body.mass_kg += payload_mass_kg;
+  if (payload.mass_kg > 0 && std::isfinite(payload.mass_kg)) {
+    body.mass_kg += payload.mass_kg;
+    if (payload.inertia_kg_m2.allFinite() && payload.inertia_kg_m2.minCoeff() >= 0) {
+      body.inertia_kg_m2 += payload.inertia_kg_m2;
+    }
+  }
   const double mass = body.mass_kg;
   const double g = params.gravity_m_s2;
   const Eigen::Matrix3d r_wb = body_state.orientation.toRotationMatrix();

@@ -43,6 +43,8 @@ class GripperScene {
   void Step(double time_s, double servo_command_rad, const QuadrotorState& vehicle, double dt_s);
 
   const GraspForces& forces() const { return forces_; }
+  // What the vehicle step carries of the object this tick (nothing unless it is held).
+  Payload payload() const { return {forces_.payload_mass_kg, forces_.payload_inertia_kg_m2}; }
   const GraspState& grasp() const { return grasp_; }
   const ServoState& servo() const { return servo_; }
   const GraspSceneParams& scene() const { return scene_; }

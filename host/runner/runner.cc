@@ -297,15 +297,15 @@ bool LockstepRunner::Impl::TakeNewestCommand() {
 void LockstepRunner::Impl::StepPlant(std::int64_t now_ns) {
   const double dt_s = Seconds(config_.physics_step_ns);
   Eigen::Vector3d force_world_n = disturbance_force_n_.At(Seconds(now_ns));
-  double payload_kg = 0;
+  Payload payload;
   if (gripper_) {
     gripper_->Step(Seconds(now_ns), command_.servo_angle_rad, plant_, dt_s);
     force_world_n += gripper_->forces().force_on_vehicle_world_n;
-    payload_kg = gripper_->forces().payload_mass_kg;
+    payload = gripper_->payload();
   }
   for (int i = 0; i < config_.plant_substeps; ++i) {
     AdvanceQuadrotor(config_.vehicle, plant_, command_.rotor_thrust_n, force_world_n,
-                     plant_substep_, payload_kg);
+                     plant_substep_, payload);
   }
 }
 

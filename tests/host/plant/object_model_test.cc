@@ -58,6 +58,11 @@ TEST(ObjectModelTest, ValidateNamesTheBadField) {
   object = {};
   object.stiffening_length_m = -1.0;
   ExpectInvalid(object, "stiffening_length_m");
+  object = {};
+  object.inertia_factor = -0.1;
+  ExpectInvalid(object, "inertia_factor");
+  object.inertia_factor = kNaN;
+  ExpectInvalid(object, "inertia_factor");
 }
 
 TEST(ObjectModelTest, InfiniteLimitsAreAllowed) {

@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "host/plant/grasp_contact.h"
+
 namespace hilrig::host {
 namespace {
 
@@ -179,6 +181,81 @@ TEST(QuadrotorTest, DifferentialThrustRollsTheVehicle) {
   EXPECT_GT(state.body.angular_velocity_rad_s.x(), 0.0);
   EXPECT_NEAR(state.body.angular_velocity_rad_s.y(), 0.0, 1e-12);
   EXPECT_NEAR(state.body.angular_velocity_rad_s.z(), 0.0, 1e-12);
+}
+
+// The vehicle holding a 0.5 kg ball 60 mm across, its centre about 5 cm below the body origin (a
+// frame mounted under the vehicle), as the grasp contact hands it to the vehicle step.
+struct HeldBall {
+  Payload payload;
+  double centre_below_origin_m = 0;
+};
+
+HeldBall HoldHeavyBall(const Eigen::Vector3d& vehicle_position_m) {
+  GraspSceneParams scene;
+  scene.object.name = "heavy_ball";
+  scene.object.mass_kg = 0.5;
+  scene.object.half_width_m = 0.030;
+  scene.object.stiffness = 5e4;
+  scene.frame.height_m = -0.05;
+  scene.stand_present = false;
+  GraspState grasp = InitialGraspState(scene);
+  grasp.mode = GraspMode::kHeld;
+  grasp.gripped = true;
+  GraspVehicleSample vehicle;
+  vehicle.position_m = vehicle_position_m;
+  const double squeeze_rad = AngleForPadRadius(scene.frame, scene.object.half_width_m - 1e-3);
+  const GraspForces forces = StepGrasp(scene, grasp, vehicle, squeeze_rad, kDt);
+  EXPECT_EQ(grasp.mode, GraspMode::kHeld);
+  return {{forces.payload_mass_kg, forces.payload_inertia_kg_m2},
+          vehicle_position_m.z() - grasp.object_height_m};
+}
+
+// Angular acceleration of a hovering vehicle over one step whose rotors already give `thrust_n`:
+// from rest about one principal axis the gyroscopic term stays zero, so the rate grows linearly.
+Eigen::Vector3d AngularAccelerationFromRest(const std::array<double, 4>& thrust_n,
+                                            const Payload& payload) {
+  QuadrotorParams params;
+  QuadrotorState state = MakeHoveringQuadrotor(params, {0.0, 0.0, 2.0}, 0.0);
+  state.rotors.thrust_n = thrust_n;
+  AdvanceQuadrotor(params, state, thrust_n, kNoForce, MakeQuadrotorStepSize(params, kDt), payload);
+  return state.body.angular_velocity_rad_s / kDt;
+}
+
+TEST(QuadrotorTest, HeldObjectTurnsWithTheVehicleAboutItsOrigin) {
+  const QuadrotorParams params;
+  const HeldBall ball = HoldHeavyBall({0.0, 0.0, 2.0});
+  ASSERT_NEAR(ball.centre_below_origin_m, 0.05, 1e-3);  // and the pads' shear deflection
+  const double own_kg_m2 = 0.4 * 0.5 * 0.030 * 0.030;
+  const double offset_kg_m2 = 0.5 * ball.centre_below_origin_m * ball.centre_below_origin_m;
+  const double hover = HoverThrustPerRotor(params);
+  RotorState rotors;
+
+  // Roll: the ball's own inertia and the parallel-axis term for its 5 cm offset.
+  const std::array<double, 4> roll = {hover - 0.01, hover + 0.01, hover + 0.01, hover - 0.01};
+  rotors.thrust_n = roll;
+  const double roll_torque_nm = RotorTorqueBody(params.rotors, rotors).x();
+  const double roll_inertia_kg_m2 = params.body.inertia_kg_m2.x() + own_kg_m2 + offset_kg_m2;
+  EXPECT_NEAR(AngularAccelerationFromRest(roll, ball.payload).x(),
+              roll_torque_nm / roll_inertia_kg_m2, 1e-9 * roll_torque_nm / roll_inertia_kg_m2);
+
+  // Yaw: the offset lies on the axis, so only the ball's own inertia adds.
+  const std::array<double, 4> yaw = {hover - 0.01, hover - 0.01, hover + 0.01, hover + 0.01};
+  rotors.thrust_n = yaw;
+  const double yaw_torque_nm = RotorTorqueBody(params.rotors, rotors).z();
+  const double yaw_inertia_kg_m2 = params.body.inertia_kg_m2.z() + own_kg_m2;
+  ASSERT_GT(yaw_torque_nm, 0.0);
+  EXPECT_NEAR(AngularAccelerationFromRest(yaw, ball.payload).z(), yaw_torque_nm / yaw_inertia_kg_m2,
+              1e-9 * yaw_torque_nm / yaw_inertia_kg_m2);
+}
+
+TEST(QuadrotorTest, NoPayloadInertiaWithoutAHeldObject) {
+  const QuadrotorParams params;
+  const double hover = HoverThrustPerRotor(params);
+  const std::array<double, 4> roll = {hover - 0.01, hover + 0.01, hover + 0.01, hover - 0.01};
+  RotorState rotors;
+  rotors.thrust_n = roll;
+  EXPECT_NEAR(AngularAccelerationFromRest(roll, {}).x(),
+              RotorTorqueBody(params.rotors, rotors).x() / params.body.inertia_kg_m2.x(), 1e-9);
 }
 
 }  // namespace
