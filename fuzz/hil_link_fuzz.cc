@@ -4,18 +4,14 @@
 // malformed frame it yields nothing more; every message it delivers re-encodes into a frame that
 // decodes to the same message; and its counters agree with the events it yielded.
 //
-// Seeds are the files of fuzz/corpus/hil_link (valid frames of each message type, written by the
-// codec itself), so the replay driver reaches past the length prefix and the parse.
-#include <algorithm>
+// Corpus: fuzz/corpus/hil_link, seeded with valid frames of each message type written by the codec
+// itself, so that mutations reach past the length prefix and the parse.
 #include <cstdint>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <string>
+#include <variant>
 #include <vector>
 
-#include "fuzz/fuzz_seeds.h"
+#include "fuzz/fuzz_target.h"
 #include "host/link/hil_link_codec.h"
 
 namespace {
@@ -58,16 +54,6 @@ std::vector<std::string> Decode(const std::uint8_t* data, std::size_t size, std:
   return events;
 }
 
-std::vector<std::filesystem::path> CorpusFiles() {
-  std::vector<std::filesystem::path> files;
-  std::error_code error;
-  for (const auto& entry : std::filesystem::directory_iterator(HILRIG_HIL_LINK_CORPUS_DIR, error)) {
-    if (entry.is_regular_file()) files.push_back(entry.path());
-  }
-  std::sort(files.begin(), files.end());
-  return files;
-}
-
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -87,15 +73,4 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   Require(counters.bytes == size);
   Require(counters.messages + counters.errors() == at_once.size());
   return 0;
-}
-
-extern "C" std::size_t HilrigFuzzSeed(unsigned index, std::uint8_t* out, std::size_t capacity) {
-  const std::vector<std::filesystem::path> files = CorpusFiles();
-  if (index >= files.size()) return 0;
-  std::ifstream file(files[index], std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-  const std::size_t size = std::min(bytes.size(), capacity);
-  if (size == 0) return 0;
-  std::memcpy(out, bytes.data(), size);
-  return size;
 }

@@ -1,12 +1,13 @@
 // Fuzz target for the rig's tactile frame decoders and link monitor: the input is one CanFrame
 // with arbitrary flags, id, length (including lengths no bus carries) and data. Properties checked
 // beyond "does not crash": a frame that decodes re-encodes to the same frame, and the monitor
-// files every frame in exactly one bucket.
+// files every frame in exactly one bucket. Corpus: fuzz/corpus/tactile_frame.
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <variant>
 
-#include "fuzz/fuzz_seeds.h"
+#include "fuzz/fuzz_target.h"
 #include "rig/tactile_link_monitor.h"
 #include "rig/tactile_protocol.h"
 
@@ -72,34 +73,4 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   Require(monitor.Totals().frames + monitor.bus().unknown_ids + monitor.bus().not_classic_data ==
           2);
   return 0;
-}
-
-extern "C" std::size_t HilrigFuzzSeed(unsigned index, std::uint8_t* out, std::size_t capacity) {
-  using namespace hilrig::rig;
-  CanFrame seed;
-  switch (index) {
-    case 0:
-      seed = EncodeTactileSample({.node_id = 3, .code = {1, 2, 3}, .sequence = 4, .status = 1});
-      break;
-    case 1:
-      seed = EncodeTactileStatus({.node_id = 7, .temperature_centi_c = 2500, .rate_code = 5});
-      break;
-    case 2:
-      seed =
-          EncodeTactileConfig({.node_id = 0, .command = TactileCommand::kSetRate, .rate_hz = 50});
-      break;
-    case 3:
-      seed =
-          EncodeTactileConfig({.node_id = 2, .command = TactileCommand::kSetGain, .gain_sel = 3});
-      break;
-    default:
-      return 0;
-  }
-  if (capacity < 4u + seed.length) return 0;
-  out[0] = 0;
-  out[1] = static_cast<std::uint8_t>(seed.id & 0xFF);
-  out[2] = static_cast<std::uint8_t>(seed.id >> 8);
-  out[3] = seed.length;
-  std::memcpy(out + 4, seed.data.data(), seed.length);
-  return 4u + seed.length;
 }
