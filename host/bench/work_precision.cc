@@ -8,7 +8,7 @@
 #include <memory>
 #include <span>
 
-#include "host/bench/setup_caches.h"
+#include "host/cache/setup_caches.h"
 #include "host/runner/run_statistics.h"
 #include "host/scenario/scenario_validation.h"
 #include "host/sensors/tactile/film_field_factory.h"

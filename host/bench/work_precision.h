@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "host/bench/calibration_store.h"
-#include "host/bench/reference_cache.h"
 #include "host/bench/trace_capture.h"
+#include "host/cache/calibration_store.h"
+#include "host/cache/reference_cache.h"
 #include "host/report/scatter_plot.h"
 #include "host/runner/runner.h"
 #include "host/scenario/scenario_config.h"
@@ -77,7 +77,7 @@ struct CapturedRun {
 CapturedRun RunCaptured(const ScenarioConfig& config, const RunControl& control);
 
 // Where a run's reference comes from: the fidelity it is run at, and optionally a cache that keeps
-// reference traces between runs (keyed with `code_identity`, see host/bench/reference_cache.h).
+// reference traces between runs (keyed with `code_identity`, see host/cache/reference_cache.h).
 struct ReferenceSource {
   FidelityChoice fidelity;
   const ReferenceCache* cache = nullptr;

@@ -6,8 +6,8 @@
 #include <optional>
 #include <sstream>
 
-#include "host/bench/setup_caches.h"
 #include "host/bench/work_precision.h"
+#include "host/cache/setup_caches.h"
 #include "host/cli/cli.h"
 #include "host/report/report_files.h"
 #include "host/report/scatter_plot.h"

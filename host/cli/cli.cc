@@ -10,11 +10,11 @@
 #include <optional>
 #include <vector>
 
-#include "host/bench/calibration_store.h"
-#include "host/bench/field_map_store.h"
-#include "host/bench/reference_cache.h"
-#include "host/bench/setup_caches.h"
 #include "host/bench/work_precision.h"
+#include "host/cache/calibration_store.h"
+#include "host/cache/field_map_store.h"
+#include "host/cache/reference_cache.h"
+#include "host/cache/setup_caches.h"
 #include "host/cli/bench_command.h"
 #include "host/cli/cli_args.h"
 #include "host/cli/tactile_commands.h"

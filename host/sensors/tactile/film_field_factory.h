@@ -35,7 +35,7 @@ FieldMapGrid OperatingVolumeMapGrid();
 // Checks a fidelity name without building anything.
 rig::Result<FilmFidelity> ParseFilmFidelity(std::string_view fidelity);
 
-// Where tabulated field maps are kept between processes (host/bench/field_map_store.h keeps them
+// Where tabulated field maps are kept between processes (host/cache/field_map_store.h keeps them
 // in files; tests use a fake). A map level asks it before tabulating and hands it what it
 // tabulated. Load answers nothing for a table it does not have or cannot read; the table it
 // answers is checked against the grid before use.

@@ -1,8 +1,8 @@
-#include "host/bench/setup_caches.h"
+#include "host/cache/setup_caches.h"
 
 #include <filesystem>
 
-#include "host/bench/reference_cache.h"
+#include "host/cache/reference_cache.h"
 
 namespace hilrig::host {
 

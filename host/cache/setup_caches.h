@@ -10,8 +10,8 @@
 #include <ostream>
 #include <string>
 
-#include "host/bench/calibration_store.h"
-#include "host/bench/field_map_store.h"
+#include "host/cache/calibration_store.h"
+#include "host/cache/field_map_store.h"
 
 namespace hilrig::host {
 

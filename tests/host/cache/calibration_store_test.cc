@@ -1,4 +1,4 @@
-#include "host/bench/calibration_store.h"
+#include "host/cache/calibration_store.h"
 
 #include <gtest/gtest.h>
 #include <sys/stat.h>

@@ -1,4 +1,4 @@
-#include "host/bench/reference_cache.h"
+#include "host/cache/reference_cache.h"
 
 #include <cmath>
 #include <cstdio>

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "host/bench/cache_files.h"
+#include "host/cache/cache_files.h"
 #include "host/sensors/tactile/film_field_factory.h"
 
 namespace hilrig::host {

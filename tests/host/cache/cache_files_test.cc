@@ -1,4 +1,4 @@
-#include "host/bench/cache_files.h"
+#include "host/cache/cache_files.h"
 
 #include <gtest/gtest.h>
 

@@ -14,7 +14,7 @@
 #include <ostream>
 #include <string>
 
-#include "host/bench/cache_files.h"
+#include "host/cache/cache_files.h"
 #include "host/scenario/scenario_config.h"
 #include "proto/calibration.pb.h"
 #include "proto/scenario.pb.h"

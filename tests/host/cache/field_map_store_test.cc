@@ -1,4 +1,4 @@
-#include "host/bench/field_map_store.h"
+#include "host/cache/field_map_store.h"
 
 #include <gtest/gtest.h>
 

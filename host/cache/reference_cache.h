@@ -15,8 +15,8 @@
 #include <ostream>
 #include <string>
 
-#include "host/bench/cache_files.h"
 #include "host/bench/trace_capture.h"
+#include "host/cache/cache_files.h"
 #include "proto/calibration.pb.h"
 #include "proto/scenario.pb.h"
 #include "rig/result.h"
