@@ -10,18 +10,14 @@
 
 #include "host/cache/setup_caches.h"
 #include "host/runner/run_statistics.h"
-#include "host/scenario/scenario_validation.h"
 #include "host/sensors/tactile/film_field_factory.h"
 #include "rig/number_text.h"
 
 namespace hilrig::host {
 namespace {
 
-constexpr double kReferenceTolerance = 1e-10;
 constexpr double kSweepTolerance = 1e-6;
-constexpr int kReferenceSubsteps = 8;
 constexpr double kQuickDurationS = 3;
-constexpr double kTimeMatchS = 1e-6;
 
 std::string CsvField(const std::string& text) {
   if (text.find_first_of(",\"\n") == std::string::npos) return text;
@@ -30,56 +26,12 @@ std::string CsvField(const std::string& text) {
   return quoted + "\"";
 }
 
-rig::Result<ScenarioConfig> ResolveChecked(const proto::Scenario& spec,
-                                           const std::string& spec_directory,
-                                           std::optional<std::uint64_t> seed) {
-  const std::vector<FieldProblem> problems = ValidateScenario(spec);
-  if (!problems.empty()) {
-    return rig::MakeError(spec.name() + ": " + problems.front().field_path + ": " +
-                          problems.front().message);
-  }
-  if (spec.models().tactile().enabled() && spec.models().tactile().has_field_fidelity()) {
-    // Parsed, not built: building a field map here would tabulate it once more per run.
-    if (auto film = ParseFilmFidelity(spec.models().tactile().field_fidelity()); !film) {
-      return rig::MakeError(spec.name() +
-                            ": models.tactile.field_fidelity: " + film.error().message);
-    }
-  }
-  return ResolveScenario(spec, seed, spec_directory);
-}
-
-// A resolved config that shares `calibration` (the DUT is flashed once for every run).
-rig::Result<ScenarioConfig> ResolveWithCalibration(
-    const proto::Scenario& spec, const std::string& spec_directory, std::uint64_t seed,
-    const std::optional<proto::Calibration>& calibration) {
-  auto config = ResolveChecked(spec, spec_directory, seed);
-  if (!config) return config.error();
-  config.value().hall_sensors.calibration = calibration;
-  return config;
-}
-
 double WallPerSimulatedSecond(const proto::Report& report) {
   return report.simulated_s() > 0 ? report.wall_s() / report.simulated_s() : 0.0;
 }
 
 bool Interrupted(const RunControl& control) {
   return control.stop_requested != nullptr && control.stop_requested->load();
-}
-
-struct Accumulator {
-  double sum_squares = 0, max = 0;
-  void Add(double error) {
-    sum_squares += error * error;
-    max = std::max(max, error);
-  }
-  double Rms(std::size_t count) const {
-    return count > 0 ? std::sqrt(sum_squares / static_cast<double>(count)) : 0.0;
-  }
-};
-
-bool FiniteAt(const CapturedTrace& trace, std::size_t i) {
-  return std::isfinite(trace.grasp_force_n[i]) && std::isfinite(trace.load_n[i]) &&
-         trace.position_m[i].allFinite();
 }
 
 bool CheapToRepeat(const RunResult& run, const SweepOptions& options) {
@@ -135,16 +87,6 @@ std::string ParetoField(const RunResult& run) {
   return out.empty() ? "-" : out;
 }
 
-std::string IntegratorField(const FidelityChoice& fidelity) {
-  std::string name = IntegratorName(fidelity.integrator);
-  if (fidelity.integrator == proto::INTEGRATOR_DORMAND_PRINCE) {
-    name.append("(")
-        .append(rig::NumberText(fidelity.integrator_tolerance.value_or(kSweepTolerance)))
-        .append(")");
-  }
-  return name;
-}
-
 std::string MetricUnit(ErrorMetric metric) { return metric == ErrorMetric::kPosition ? "m" : "N"; }
 
 std::string MetricTitle(ErrorMetric metric) {
@@ -163,7 +105,7 @@ std::string MetricTitle(ErrorMetric metric) {
 std::string FamilyOf(const RunResult& run) {
   switch (run.run.kind) {
     case RunKind::kIntegrator:
-      return IntegratorField(run.run.fidelity);
+      return IntegratorLabel(run.run.fidelity);
     case RunKind::kField:
       return "field fidelity";
     case RunKind::kDefault:
@@ -272,168 +214,6 @@ std::string DefaultVerdict(const SceneResult& scene) {
 }
 
 }  // namespace
-
-std::string IntegratorName(proto::Integrator integrator) {
-  switch (integrator) {
-    case proto::INTEGRATOR_SEMI_IMPLICIT_EULER:
-      return "SIE";
-    case proto::INTEGRATOR_MIDPOINT:
-      return "midpoint";
-    case proto::INTEGRATOR_DORMAND_PRINCE:
-      return "DP";
-    case proto::INTEGRATOR_RK4:
-      return "RK4";
-    default:
-      break;
-  }
-  return "integrator" + std::to_string(static_cast<int>(integrator));
-}
-
-std::string FidelityLabel(const FidelityChoice& fidelity) {
-  return IntegratorField(fidelity) + " x" + std::to_string(fidelity.plant_substeps) + " " +
-         fidelity.field_fidelity;
-}
-
-FidelityChoice ReferenceFidelity(bool quick) {
-  return {proto::INTEGRATOR_DORMAND_PRINCE, kReferenceTolerance, kReferenceSubsteps,
-          quick ? "tiles:16" : "tiles:64"};
-}
-
-FidelityChoice SceneFidelity(const proto::Scenario& spec) {
-  FidelityChoice fidelity;
-  fidelity.integrator = spec.models().integrator();
-  if (spec.models().has_integrator_tolerance()) {
-    fidelity.integrator_tolerance = spec.models().integrator_tolerance();
-  }
-  fidelity.plant_substeps = spec.simulation().has_plant_substeps()
-                                ? static_cast<int>(spec.simulation().plant_substeps())
-                                : 1;
-  const proto::Tactile& tactile = spec.models().tactile();
-  fidelity.field_fidelity =
-      tactile.has_field_fidelity() ? tactile.field_fidelity() : std::string(kDefaultFilmFidelity);
-  return fidelity;
-}
-
-proto::Scenario WithFidelity(proto::Scenario spec, const FidelityChoice& fidelity) {
-  proto::Models& models = *spec.mutable_models();
-  models.set_integrator(fidelity.integrator);
-  if (fidelity.integrator_tolerance) {
-    models.set_integrator_tolerance(*fidelity.integrator_tolerance);
-  } else {
-    models.clear_integrator_tolerance();
-  }
-  spec.mutable_simulation()->set_plant_substeps(
-      static_cast<std::uint32_t>(std::max(fidelity.plant_substeps, 0)));
-  if (!fidelity.field_fidelity.empty()) {
-    models.mutable_tactile()->set_field_fidelity(fidelity.field_fidelity);
-  }
-  return spec;
-}
-
-proto::Scenario TruncatedTo(proto::Scenario spec, double duration_s) {
-  spec.mutable_simulation()->set_duration_s(duration_s);
-  auto& timeline = *spec.mutable_timeline();
-  timeline.erase(std::remove_if(timeline.begin(), timeline.end(),
-                                [&](const auto& entry) { return entry.at_s() > duration_s; }),
-                 timeline.end());
-  return spec;
-}
-
-ErrorMetrics CompareTraces(const CapturedTrace& run, const CapturedTrace& reference) {
-  ErrorMetrics metrics;
-  Accumulator force, load, position;
-  std::size_t j = 0;
-  for (std::size_t i = 0; i < reference.size(); ++i) {
-    const double time_s = reference.time_s[i];
-    while (j < run.size() && run.time_s[j] < time_s - kTimeMatchS) ++j;
-    const bool matched = j < run.size() && std::abs(run.time_s[j] - time_s) <= kTimeMatchS;
-    if (!matched || !FiniteAt(run, j) || !FiniteAt(reference, i)) {
-      ++metrics.samples_missing;
-      continue;
-    }
-    ++metrics.samples_compared;
-    force.Add(std::abs(run.grasp_force_n[j] - reference.grasp_force_n[i]));
-    load.Add(std::abs(run.load_n[j] - reference.load_n[i]));
-    position.Add((run.position_m[j] - reference.position_m[i]).norm());
-  }
-  const std::size_t n = metrics.samples_compared;
-  metrics.grasp_force_rms_n = force.Rms(n);
-  metrics.grasp_force_max_n = force.max;
-  metrics.load_rms_n = load.Rms(n);
-  metrics.load_max_n = load.max;
-  metrics.position_rms_m = position.Rms(n);
-  metrics.position_max_m = position.max;
-  return metrics;
-}
-
-CapturedRun RunCaptured(const ScenarioConfig& config, const RunControl& control) {
-  CapturedRun run;
-  RunSinks sinks;
-  sinks.trace_sample = [&run](const TraceSample& sample) { run.trace.Add(sample); };
-  run.report = RunScenario(config, sinks, control);
-  return run;
-}
-
-rig::Result<ReferenceRun> ReferenceFor(const ScenarioConfig& chosen, const proto::Scenario& spec,
-                                       const std::string& spec_directory,
-                                       const ReferenceSource& source, const RunControl& control) {
-  const proto::Scenario reference_spec = WithFidelity(spec, source.fidelity);
-  auto reference_config = ResolveWithCalibration(reference_spec, spec_directory, chosen.seed,
-                                                 chosen.hall_sensors.calibration);
-  if (!reference_config) return reference_config.error();
-  const std::string key =
-      source.cache == nullptr
-          ? std::string()
-          : ReferenceCacheKey(reference_spec, chosen.seed, chosen.hall_sensors.calibration,
-                              source.code_identity);
-  if (source.cache != nullptr) {
-    if (std::optional<CachedReference> cached =
-            source.cache->Load(key, CompletedRunTraceSamples(reference_config.value()))) {
-      return ReferenceRun{std::move(*cached), true};
-    }
-  }
-  if (source.notes != nullptr) {
-    *source.notes << spec.name() << ": running the reference (" << FidelityLabel(source.fidelity)
-                  << ")"
-                  << (source.cache != nullptr ? ", kept in " + source.cache->directory() : "")
-                  << std::endl;
-  }
-  RunControl lockstep_in_process;
-  lockstep_in_process.wall_clock = control.wall_clock;
-  lockstep_in_process.stop_requested = control.stop_requested;
-  CapturedRun reference_run = RunCaptured(reference_config.value(), lockstep_in_process);
-  if (reference_run.report.stop_reason() != "completed") {
-    return rig::MakeError("the reference run stopped short: " + reference_run.report.stop_reason());
-  }
-  ReferenceRun reference{{std::move(reference_run.trace), reference_run.report.wall_s()}, false};
-  if (source.cache != nullptr) {
-    // A cache that cannot be written costs the next run time, not this run its answer.
-    if (auto stored = source.cache->Store(key, reference.run); !stored && source.notes != nullptr) {
-      *source.notes << spec.name() << ": reference not cached: " << stored.error().message << "\n";
-    }
-  }
-  return reference;
-}
-
-rig::Result<proto::FidelityError> FidelityErrorOf(
-    const ScenarioConfig& chosen, const CapturedTrace& chosen_trace, const proto::Scenario& spec,
-    const std::string& spec_directory, const ReferenceSource& source, const RunControl& control) {
-  auto reference = ReferenceFor(chosen, spec, spec_directory, source, control);
-  if (!reference) return reference.error();
-  const ErrorMetrics errors = CompareTraces(chosen_trace, reference.value().run.trace);
-  proto::FidelityError result;
-  result.set_reference_fidelity(FidelityLabel(source.fidelity));
-  result.set_reference_cached(reference.value().from_cache);
-  result.set_reference_wall_s(reference.value().run.wall_s);
-  result.set_samples_compared(errors.samples_compared);
-  result.set_grasp_force_rms_n(errors.grasp_force_rms_n);
-  result.set_grasp_force_max_n(errors.grasp_force_max_n);
-  result.set_load_rms_n(errors.load_rms_n);
-  result.set_load_max_n(errors.load_max_n);
-  result.set_position_rms_m(errors.position_rms_m);
-  result.set_position_max_m(errors.position_max_m);
-  return result;
-}
 
 std::string RunKindName(RunKind kind) {
   switch (kind) {
@@ -682,7 +462,7 @@ std::string WorkPrecisionCsv(const std::vector<SceneResult>& scenes) {
       const ErrorMetrics& e = run.errors;
       const std::vector<std::string> fields = {scene.scene,
                                                RunKindName(run.run.kind),
-                                               IntegratorField(run.run.fidelity),
+                                               IntegratorLabel(run.run.fidelity),
                                                std::to_string(run.run.fidelity.plant_substeps),
                                                rig::NumberText(run.step_s),
                                                run.run.fidelity.field_fidelity,

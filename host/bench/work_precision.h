@@ -1,9 +1,9 @@
 // The work-precision benchmark: what each plant integrator, step size and film field fidelity
 // costs in wall time per simulated second, and how much error it buys against a tight reference
-// run of the same scene. Every run of a scene shares one DUT calibration and runs noise-free, so
-// the differences between runs are the models' and the integrators' only. The sweep (`hilrig
-// bench`) and a single comparison (`hilrig run --reference`) share CompareTraces and the fidelity
-// plumbing here. Nothing here reads a clock: the wall clock comes in with RunControl.
+// run of the same scene (host/fidelity/). Every run of a scene shares one DUT calibration and runs
+// noise-free, so the differences between runs are the models' and the integrators' only. The
+// sweep, its Pareto fronts, CSV and plots are `hilrig bench`'s. Nothing here reads a clock: the
+// wall clock comes in with RunControl.
 #pragma once
 
 #include <optional>
@@ -12,9 +12,10 @@
 #include <string>
 #include <vector>
 
-#include "host/bench/trace_capture.h"
 #include "host/cache/calibration_store.h"
-#include "host/cache/reference_cache.h"
+#include "host/fidelity/fidelity_choice.h"
+#include "host/fidelity/reference_run.h"
+#include "host/fidelity/trace_comparison.h"
 #include "host/report/scatter_plot.h"
 #include "host/runner/runner.h"
 #include "host/scenario/scenario_config.h"
@@ -23,85 +24,6 @@
 #include "rig/result.h"
 
 namespace hilrig::host {
-
-// The model choices a run is made with.
-struct FidelityChoice {
-  proto::Integrator integrator = proto::INTEGRATOR_RK4;
-  std::optional<double> integrator_tolerance;  // Dormand-Prince only; unset: the spec's own
-  int plant_substeps = 1;
-  std::string field_fidelity;  // "tiles:32", "map:16", "opmap:32", ...
-
-  bool operator==(const FidelityChoice&) const = default;
-};
-
-// Short names for tables and plots: "SIE", "midpoint", "RK4", "DP".
-std::string IntegratorName(proto::Integrator integrator);
-
-// "RK4 x1 opmap:32", "DP(1e-10) x8 tiles:64".
-std::string FidelityLabel(const FidelityChoice& fidelity);
-
-// Dormand-Prince at 1e-10, 8 plant steps per tick, tiles:64; --quick uses tiles:16.
-FidelityChoice ReferenceFidelity(bool quick);
-
-// The scene's own choices, with the defaults the resolver fills in (RK4, 1 substep, tiles:32).
-FidelityChoice SceneFidelity(const proto::Scenario& spec);
-
-// `spec` with `fidelity` applied (integrator, tolerance, substeps, field fidelity).
-proto::Scenario WithFidelity(proto::Scenario spec, const FidelityChoice& fidelity);
-
-// `spec` cut to `duration_s`: timeline entries after it are dropped so the spec stays valid.
-proto::Scenario TruncatedTo(proto::Scenario spec, double duration_s);
-
-struct ErrorMetrics {
-  std::size_t samples_compared = 0;
-  // Reference samples with no finite counterpart in the run (it ended early, or a signal was not
-  // finite): the errors below then cover only what could be compared.
-  std::size_t samples_missing = 0;
-  double grasp_force_rms_n = 0, grasp_force_max_n = 0;
-  double load_rms_n = 0, load_max_n = 0;
-  double position_rms_m = 0, position_max_m = 0;
-
-  bool complete() const { return samples_missing == 0 && samples_compared > 0; }
-};
-
-// Sample-by-sample |run - reference| of grasp force, vertical load and position (Euclidean), at
-// the trace times both runs share (samples are matched by time, within 1 us).
-ErrorMetrics CompareTraces(const CapturedTrace& run, const CapturedTrace& reference);
-
-struct CapturedRun {
-  proto::Report report;
-  CapturedTrace trace;
-};
-
-// One run with its trace kept in memory (no files).
-CapturedRun RunCaptured(const ScenarioConfig& config, const RunControl& control);
-
-// Where a run's reference comes from: the fidelity it is run at, and optionally a cache that keeps
-// reference traces between runs (keyed with `code_identity`, see host/cache/reference_cache.h).
-struct ReferenceSource {
-  FidelityChoice fidelity;
-  const ReferenceCache* cache = nullptr;
-  std::string code_identity;      // required with a cache
-  std::ostream* notes = nullptr;  // optional: a line when the reference has to be run
-};
-
-// The reference run of `chosen`'s scene: `spec` at `source.fidelity`, with chosen's seed and
-// chosen's DUT calibration, always with the in-process DUT in lockstep (the reference is a
-// question about models, not about the link). Taken from the cache when there, else run and
-// stored. An error when the reference spec is invalid (e.g. an unknown field fidelity) or the
-// reference run stopped short of its duration.
-struct ReferenceRun {
-  CachedReference run;
-  bool from_cache = false;
-};
-rig::Result<ReferenceRun> ReferenceFor(const ScenarioConfig& chosen, const proto::Scenario& spec,
-                                       const std::string& spec_directory,
-                                       const ReferenceSource& source, const RunControl& control);
-
-// The error of a completed run's trace against the reference of its scene.
-rig::Result<proto::FidelityError> FidelityErrorOf(
-    const ScenarioConfig& chosen, const CapturedTrace& chosen_trace, const proto::Scenario& spec,
-    const std::string& spec_directory, const ReferenceSource& source, const RunControl& control);
 
 // ---------------------------------------------------------------------------------------------
 // The sweep.

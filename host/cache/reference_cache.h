@@ -15,8 +15,8 @@
 #include <ostream>
 #include <string>
 
-#include "host/bench/trace_capture.h"
 #include "host/cache/cache_files.h"
+#include "host/fidelity/trace_capture.h"
 #include "proto/calibration.pb.h"
 #include "proto/scenario.pb.h"
 #include "rig/result.h"

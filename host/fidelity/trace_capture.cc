@@ -1,4 +1,4 @@
-#include "host/bench/trace_capture.h"
+#include "host/fidelity/trace_capture.h"
 
 namespace hilrig::host {
 

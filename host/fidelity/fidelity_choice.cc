@@ -1,0 +1,95 @@
+#include "host/fidelity/fidelity_choice.h"
+
+#include <algorithm>
+#include <cstdint>
+
+#include "host/sensors/tactile/film_field_factory.h"
+#include "rig/number_text.h"
+
+namespace hilrig::host {
+namespace {
+
+constexpr double kReferenceTolerance = 1e-10;
+// Dormand-Prince's tolerance when the spec leaves it to the resolver.
+constexpr double kDefaultTolerance = 1e-6;
+constexpr int kReferenceSubsteps = 8;
+
+}  // namespace
+
+std::string IntegratorName(proto::Integrator integrator) {
+  switch (integrator) {
+    case proto::INTEGRATOR_SEMI_IMPLICIT_EULER:
+      return "SIE";
+    case proto::INTEGRATOR_MIDPOINT:
+      return "midpoint";
+    case proto::INTEGRATOR_DORMAND_PRINCE:
+      return "DP";
+    case proto::INTEGRATOR_RK4:
+      return "RK4";
+    default:
+      break;
+  }
+  return "integrator" + std::to_string(static_cast<int>(integrator));
+}
+
+std::string IntegratorLabel(const FidelityChoice& fidelity) {
+  std::string name = IntegratorName(fidelity.integrator);
+  if (fidelity.integrator == proto::INTEGRATOR_DORMAND_PRINCE) {
+    name.append("(")
+        .append(rig::NumberText(fidelity.integrator_tolerance.value_or(kDefaultTolerance)))
+        .append(")");
+  }
+  return name;
+}
+
+std::string FidelityLabel(const FidelityChoice& fidelity) {
+  return IntegratorLabel(fidelity) + " x" + std::to_string(fidelity.plant_substeps) + " " +
+         fidelity.field_fidelity;
+}
+
+FidelityChoice ReferenceFidelity(bool quick) {
+  return {proto::INTEGRATOR_DORMAND_PRINCE, kReferenceTolerance, kReferenceSubsteps,
+          quick ? "tiles:16" : "tiles:64"};
+}
+
+FidelityChoice SceneFidelity(const proto::Scenario& spec) {
+  FidelityChoice fidelity;
+  fidelity.integrator = spec.models().integrator();
+  if (spec.models().has_integrator_tolerance()) {
+    fidelity.integrator_tolerance = spec.models().integrator_tolerance();
+  }
+  fidelity.plant_substeps = spec.simulation().has_plant_substeps()
+                                ? static_cast<int>(spec.simulation().plant_substeps())
+                                : 1;
+  const proto::Tactile& tactile = spec.models().tactile();
+  fidelity.field_fidelity =
+      tactile.has_field_fidelity() ? tactile.field_fidelity() : std::string(kDefaultFilmFidelity);
+  return fidelity;
+}
+
+proto::Scenario WithFidelity(proto::Scenario spec, const FidelityChoice& fidelity) {
+  proto::Models& models = *spec.mutable_models();
+  models.set_integrator(fidelity.integrator);
+  if (fidelity.integrator_tolerance) {
+    models.set_integrator_tolerance(*fidelity.integrator_tolerance);
+  } else {
+    models.clear_integrator_tolerance();
+  }
+  spec.mutable_simulation()->set_plant_substeps(
+      static_cast<std::uint32_t>(std::max(fidelity.plant_substeps, 0)));
+  if (!fidelity.field_fidelity.empty()) {
+    models.mutable_tactile()->set_field_fidelity(fidelity.field_fidelity);
+  }
+  return spec;
+}
+
+proto::Scenario TruncatedTo(proto::Scenario spec, double duration_s) {
+  spec.mutable_simulation()->set_duration_s(duration_s);
+  auto& timeline = *spec.mutable_timeline();
+  timeline.erase(std::remove_if(timeline.begin(), timeline.end(),
+                                [&](const auto& entry) { return entry.at_s() > duration_s; }),
+                 timeline.end());
+  return spec;
+}
+
+}  // namespace hilrig::host

@@ -1,0 +1,44 @@
+// The model choices a run is made with (integrator, tolerance, plant substeps, film field
+// fidelity), how they are named in tables and plots, the tight reference fidelity a run is
+// compared with, and how they are written into a spec. Shared by `hilrig run`'s comparison with
+// its reference and by the work-precision sweep.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "proto/scenario.pb.h"
+
+namespace hilrig::host {
+
+struct FidelityChoice {
+  proto::Integrator integrator = proto::INTEGRATOR_RK4;
+  std::optional<double> integrator_tolerance;  // Dormand-Prince only; unset: the spec's own
+  int plant_substeps = 1;
+  std::string field_fidelity;  // "tiles:32", "map:16", "opmap:32", ...
+
+  bool operator==(const FidelityChoice&) const = default;
+};
+
+// Short names for tables and plots: "SIE", "midpoint", "RK4", "DP".
+std::string IntegratorName(proto::Integrator integrator);
+
+// The integrator with its tolerance where it has one: "RK4", "DP(1e-06)".
+std::string IntegratorLabel(const FidelityChoice& fidelity);
+
+// "RK4 x1 opmap:32", "DP(1e-10) x8 tiles:64".
+std::string FidelityLabel(const FidelityChoice& fidelity);
+
+// Dormand-Prince at 1e-10, 8 plant steps per tick, tiles:64; --quick uses tiles:16.
+FidelityChoice ReferenceFidelity(bool quick);
+
+// The scene's own choices, with the defaults the resolver fills in (RK4, 1 substep, tiles:32).
+FidelityChoice SceneFidelity(const proto::Scenario& spec);
+
+// `spec` with `fidelity` applied (integrator, tolerance, substeps, field fidelity).
+proto::Scenario WithFidelity(proto::Scenario spec, const FidelityChoice& fidelity);
+
+// `spec` cut to `duration_s`: timeline entries after it are dropped so the spec stays valid.
+proto::Scenario TruncatedTo(proto::Scenario spec, double duration_s);
+
+}  // namespace hilrig::host

@@ -1,0 +1,45 @@
+#include "host/fidelity/fidelity_choice.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "host/scenario/scenario_loader.h"
+
+namespace hilrig::host {
+namespace {
+
+TEST(FidelityTest, WithFidelitySetsEveryChoiceInTheSpec) {
+  proto::Scenario spec;
+  const FidelityChoice reference = ReferenceFidelity(/*quick=*/false);
+
+  const proto::Scenario changed = WithFidelity(spec, reference);
+
+  EXPECT_EQ(changed.models().integrator(), proto::INTEGRATOR_DORMAND_PRINCE);
+  EXPECT_EQ(changed.models().integrator_tolerance(), 1e-10);
+  EXPECT_EQ(changed.simulation().plant_substeps(), 8u);
+  EXPECT_EQ(changed.models().tactile().field_fidelity(), "tiles:64");
+}
+
+TEST(FidelityTest, SceneFidelityFillsTheResolverDefaults) {
+  const FidelityChoice scene = SceneFidelity(proto::Scenario());
+
+  EXPECT_EQ(scene.integrator, proto::INTEGRATOR_RK4);
+  EXPECT_EQ(scene.plant_substeps, 1);
+  EXPECT_EQ(scene.field_fidelity, "tiles:32");
+  EXPECT_FALSE(scene.integrator_tolerance.has_value());
+}
+
+TEST(FidelityTest, TruncatedToDropsTimelineEntriesAfterTheEnd) {
+  auto spec = LoadScenario(std::string(HILRIG_SOURCE_DIR) + "/scenarios/balloon_grasp.textproto");
+  ASSERT_TRUE(spec.ok());
+
+  const proto::Scenario cut = TruncatedTo(spec.value(), 8);
+
+  EXPECT_EQ(cut.simulation().duration_s(), 8);
+  ASSERT_EQ(cut.timeline_size(), 2);  // the grasp at 1.5 s and the setpoint at 7 s
+  EXPECT_EQ(cut.timeline(1).at_s(), 7);
+}
+
+}  // namespace
+}  // namespace hilrig::host

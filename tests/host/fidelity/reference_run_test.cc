@@ -1,0 +1,112 @@
+#include "host/fidelity/reference_run.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "host/scenario/scenario_loader.h"
+#include "rig/clock.h"
+
+namespace hilrig::host {
+namespace {
+
+class FidelityErrorTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    auto loaded = LoadScenario(std::string(HILRIG_SOURCE_DIR) + "/scenarios/hover.textproto");
+    ASSERT_TRUE(loaded.ok());
+    spec_ = TruncatedTo(loaded.value(), 2);
+    spec_.mutable_models()->set_noise(proto::NOISE_OFF);
+  }
+  void TearDown() override { std::filesystem::remove_all(cache_dir_); }
+
+  ScenarioConfig Resolved(const FidelityChoice& fidelity) {
+    ScenarioConfig config = ResolveScenario(WithFidelity(spec_, fidelity), std::nullopt);
+    EXPECT_TRUE(LoadTactileCalibration(config).ok());
+    return config;
+  }
+
+  rig::Result<proto::FidelityError> ErrorOf(const FidelityChoice& chosen_fidelity,
+                                            const ReferenceSource& source) {
+    const ScenarioConfig chosen = Resolved(chosen_fidelity);
+    RunControl control;
+    control.wall_clock = &wall_clock_;
+    const CapturedRun run = RunCaptured(chosen, control);
+    return FidelityErrorOf(chosen, run.trace, spec_, "", source, control);
+  }
+
+  proto::Scenario spec_;
+  static ReferenceSource Source(const FidelityChoice& fidelity,
+                                const ReferenceCache* cache = nullptr, std::string code = "") {
+    ReferenceSource source;
+    source.fidelity = fidelity;
+    source.cache = cache;
+    source.code_identity = std::move(code);
+    return source;
+  }
+
+  rig::SimClock wall_clock_;  // timing is not what these tests check
+  const std::string cache_dir_ = ::testing::TempDir() + "/fidelity_error_cache";
+};
+
+TEST_F(FidelityErrorTest, TheReferenceAgainstItselfHasNoError) {
+  const FidelityChoice reference = {proto::INTEGRATOR_RK4, std::nullopt, 2, "tiles:32"};
+
+  auto error = ErrorOf(reference, Source(reference));
+
+  ASSERT_TRUE(error.ok()) << error.error().message;
+  EXPECT_EQ(error.value().samples_compared(), 200u);  // 2 s at the 100 Hz trace rate
+  EXPECT_EQ(error.value().position_max_m(), 0.0);
+  EXPECT_EQ(error.value().reference_fidelity(), "RK4 x2 tiles:32");
+  EXPECT_FALSE(error.value().reference_cached());
+}
+
+TEST_F(FidelityErrorTest, ACoarserIntegratorHasASmallNonZeroPositionError) {
+  const FidelityChoice reference = {proto::INTEGRATOR_RK4, std::nullopt, 4, "tiles:32"};
+
+  auto error = ErrorOf({proto::INTEGRATOR_SEMI_IMPLICIT_EULER, std::nullopt, 1, "tiles:32"},
+                       Source(reference));
+
+  ASSERT_TRUE(error.ok()) << error.error().message;
+  // First-order steps of 1 ms against a closed loop that holds the vehicle within centimetres:
+  // a difference above rounding, well below the loop's own 5 cm envelope.
+  EXPECT_GT(error.value().position_max_m(), 1e-12);
+  EXPECT_LT(error.value().position_max_m(), 1e-3);
+  EXPECT_LE(error.value().position_rms_m(), error.value().position_max_m());
+}
+
+TEST_F(FidelityErrorTest, AnUnknownReferenceFieldIsAnError) {
+  spec_.mutable_models()->mutable_tactile()->set_enabled(true);
+
+  auto error = ErrorOf({proto::INTEGRATOR_RK4, std::nullopt, 1, "map:16"},
+                       Source({proto::INTEGRATOR_RK4, std::nullopt, 1, "tiles:banana"}));
+
+  ASSERT_FALSE(error.ok());
+  EXPECT_THAT(error.error().message, ::testing::HasSubstr("field_fidelity"));
+}
+
+TEST_F(FidelityErrorTest, TheSecondRunTakesTheReferenceFromTheCacheWithTheSameErrors) {
+  const ReferenceCache cache(cache_dir_);
+  ReferenceSource source =
+      Source({proto::INTEGRATOR_RK4, std::nullopt, 4, "tiles:32"}, &cache, "code-a");
+  const FidelityChoice chosen = {proto::INTEGRATOR_SEMI_IMPLICIT_EULER, std::nullopt, 1,
+                                 "tiles:32"};
+
+  auto first = ErrorOf(chosen, source);
+  auto second = ErrorOf(chosen, source);
+  source.code_identity = "code-b";  // another build: its own reference
+  auto rebuilt = ErrorOf(chosen, source);
+
+  ASSERT_TRUE(first.ok() && second.ok() && rebuilt.ok());
+  EXPECT_FALSE(first.value().reference_cached());
+  EXPECT_TRUE(second.value().reference_cached());
+  EXPECT_FALSE(rebuilt.value().reference_cached());
+  EXPECT_GT(first.value().position_max_m(), 0.0);
+  EXPECT_EQ(second.value().position_max_m(), first.value().position_max_m());
+  EXPECT_EQ(second.value().position_rms_m(), first.value().position_rms_m());
+}
+
+}  // namespace
+}  // namespace hilrig::host
