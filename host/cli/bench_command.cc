@@ -6,12 +6,12 @@
 #include <optional>
 #include <sstream>
 
-#include "host/bench/work_precision.h"
 #include "host/cache/setup_caches.h"
 #include "host/cli/cli.h"
 #include "host/report/report_files.h"
 #include "host/report/scatter_plot.h"
 #include "host/scenario/scenario_loader.h"
+#include "host/work_precision/work_precision.h"
 #include "rig/clock.h"
 #include "rig/folder_lock.h"
 

@@ -10,7 +10,6 @@
 #include <optional>
 #include <vector>
 
-#include "host/bench/work_precision.h"
 #include "host/cache/calibration_store.h"
 #include "host/cache/field_map_store.h"
 #include "host/cache/reference_cache.h"
@@ -26,6 +25,7 @@
 #include "host/runner/runner.h"
 #include "host/scenario/scenario_config.h"
 #include "host/scenario/scenario_loader.h"
+#include "host/work_precision/work_precision.h"
 #include "rig/clock.h"
 #include "rig/file_io.h"
 #include "rig/folder_lock.h"

@@ -1,4 +1,4 @@
-#include "host/bench/work_precision.h"
+#include "host/work_precision/work_precision.h"
 
 #include <algorithm>
 #include <cmath>
