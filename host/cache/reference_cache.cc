@@ -112,23 +112,19 @@ rig::Result<CachedReference> ParseReference(const std::string& bytes) {
   }
   const char* at = bytes.data() + kHeadBytes;
   for (std::uint64_t i = 0; i < count; ++i, at += sample_bytes) {
-    TraceSample sample;
-    sample.time_s = ReadDouble(at);
+    const double time_s = ReadDouble(at);
     // A completed run's plant state is finite at every tick (the runner stops on one that is not),
     // and the comparison matches samples by time, in order. Forces and loads may be NaN: a signal
     // the scene does not have.
-    if (!std::isfinite(sample.time_s) ||
-        (i > 0 && !(sample.time_s > reference.trace.time_s.back()))) {
+    if (!std::isfinite(time_s) || (i > 0 && !(time_s > reference.trace.time_s.back()))) {
       return rig::MakeError("sample " + std::to_string(i) +
                             "'s time does not follow the one before");
     }
-    sample.position_m = {ReadDouble(at + 8), ReadDouble(at + 16), ReadDouble(at + 24)};
-    if (!sample.position_m.allFinite()) {
+    const Eigen::Vector3d position_m(ReadDouble(at + 8), ReadDouble(at + 16), ReadDouble(at + 24));
+    if (!position_m.allFinite()) {
       return rig::MakeError("sample " + std::to_string(i) + "'s position is not finite");
     }
-    sample.grasp_force_n = ReadDouble(at + 32);
-    sample.load_n = ReadDouble(at + 40);
-    reference.trace.Add(sample);
+    reference.trace.AddCompared(time_s, position_m, ReadDouble(at + 32), ReadDouble(at + 40));
   }
   return reference;
 }

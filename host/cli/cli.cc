@@ -203,12 +203,9 @@ rig::Result<proto::Report> RunToDirectory(const proto::Scenario& spec, const std
       !set_up) {
     return rig::MakeError(spec_path + ": " + set_up.error().message);
   }
-  PlotTrace plot_trace;
+  // One capture for the plots and the comparison with the reference.
   CapturedTrace captured;
-  const auto keep_sample = [&](const TraceSample& sample) {
-    plot_trace.Add(sample);
-    if (reference != nullptr) captured.Add(sample);
-  };
+  const auto keep_sample = [&](const TraceSample& sample) { captured.Add(sample); };
   std::optional<rig::ScopedFifoScheduling> scheduling;
   if (options.realtime && options.realtime_priority > 0) {
     // Before the run starts its dut process, which inherits the policy.
@@ -237,8 +234,7 @@ rig::Result<proto::Report> RunToDirectory(const proto::Scenario& spec, const std
   // factor is the stepping loop's, and this is the rest.
   report.set_setup_s(static_cast<double>(wall_clock.NowNs() - setup_start_ns) / 1e9 -
                      report.wall_s());
-  auto plots =
-      WriteRunPlots(plot_trace, config.envelopes, config.gripper.enabled, out_dir.string());
+  auto plots = WriteRunPlots(captured, config.envelopes, config.gripper.enabled, out_dir.string());
   if (!plots) return plots.error();
   for (const std::string& plot : plots.value()) report.add_plots(plot);
   if (reference != nullptr && report.stop_reason() == "completed") {

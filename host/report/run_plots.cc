@@ -40,18 +40,7 @@ std::vector<PlotBand> BandsFor(const std::vector<proto::Envelope>& envelopes,
 
 }  // namespace
 
-void PlotTrace::Add(const TraceSample& sample) {
-  time_s.push_back(sample.time_s);
-  grasp_force_n.push_back(sample.grasp_force_n);
-  grasp_force_estimate_n.push_back(sample.grasp_force_estimate_n);
-  grasp_force_setpoint_n.push_back(sample.grasp_force_setpoint_n);
-  load_n.push_back(sample.load_n);
-  load_estimate_n.push_back(sample.load_estimate_n);
-  altitude_error_m.push_back(SignalValue(sample, proto::ALTITUDE_ERROR_M));
-  horizontal_error_m.push_back(SignalValue(sample, proto::HORIZONTAL_ERROR_M));
-}
-
-rig::Result<std::vector<std::string>> WriteRunPlots(const PlotTrace& trace,
+rig::Result<std::vector<std::string>> WriteRunPlots(const CapturedTrace& trace,
                                                     const std::vector<proto::Envelope>& envelopes,
                                                     bool grasp_scene, const std::string& out_dir) {
   std::vector<std::pair<std::string, TimePlot>> plots;

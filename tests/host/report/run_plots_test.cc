@@ -28,8 +28,8 @@ proto::Envelope Envelope(const std::string& name, proto::Signal signal, double u
   return envelope;
 }
 
-PlotTrace ShortTrace() {
-  PlotTrace trace;
+CapturedTrace ShortTrace() {
+  CapturedTrace trace;
   for (int i = 0; i < 100; ++i) {
     TraceSample sample;
     sample.time_s = i * 0.01;

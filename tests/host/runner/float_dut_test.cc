@@ -9,7 +9,7 @@
 
 #include "host/dut/firmware_config.h"
 #include "host/dut/in_process_dut.h"
-#include "host/report/run_plots.h"
+#include "host/fidelity/trace_capture.h"
 #include "host/runner/runner.h"
 #include "host/scenario/scenario_config.h"
 #include "host/scenario/scenario_loader.h"
@@ -19,7 +19,7 @@ namespace {
 
 struct RunResult {
   proto::Report report;
-  PlotTrace trace;
+  CapturedTrace trace;
 };
 
 RunResult RunWith(const ScenarioConfig& config, DutFactory factory) {
