@@ -8,26 +8,19 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <variant>
 #include <vector>
 
-#include "host/cache/calibration_store.h"
-#include "host/cache/field_map_store.h"
-#include "host/cache/reference_cache.h"
 #include "host/cache/setup_caches.h"
 #include "host/cli/bench_command.h"
 #include "host/cli/cli_args.h"
 #include "host/cli/tactile_commands.h"
 #include "host/dut/firmware_config.h"
 #include "host/dut/process_dut.h"
+#include "host/pipeline/run_pipeline.h"
 #include "host/report/report_files.h"
-#include "host/report/run_folder.h"
-#include "host/report/run_plots.h"
-#include "host/runner/runner.h"
-#include "host/scenario/scenario_config.h"
 #include "host/scenario/scenario_loader.h"
-#include "host/work_precision/work_precision.h"
 #include "rig/clock.h"
-#include "rig/file_io.h"
 #include "rig/folder_lock.h"
 #include "rig/realtime_scheduling.h"
 #include "rig/stop_request.h"
@@ -179,100 +172,32 @@ struct ScenarioOutcome {
   proto::Report report;
 };
 
-rig::Result<proto::Report> RunToDirectory(const proto::Scenario& spec, const std::string& spec_path,
-                                          const fs::path& out_dir, const RunOptions& options,
-                                          const ReferenceSource* reference, const Streams& io) {
-  // Locked, and reading "incomplete" until the final report replaces it.
-  auto folder = RunOutputFolder::Claim(out_dir.string(), spec.name(), spec_path);
-  if (!folder) return folder.error();
-  // The trace and the CAN log are written from inside the stepping loop, whose wall time is the
-  // run's real-time factor: rig::OutputFile buffers 1 MiB of them between write system calls.
-  auto trace_file = rig::OutputFile::Create((out_dir / "trace.csv").string());
-  if (!trace_file) return trace_file.error();
-  auto can_log_file = rig::OutputFile::Create((out_dir / "can.log").string());
-  if (!can_log_file) return can_log_file.error();
-  std::ostream& trace = trace_file.value()->stream();
-  std::ostream& can_log = can_log_file.value()->stream();
-
-  const rig::SteadyClock wall_clock;
-  const std::int64_t setup_start_ns = wall_clock.NowNs();
-  ScenarioConfig config =
-      ResolveScenario(spec, options.seed, fs::path(spec_path).parent_path().string());
-  if (auto set_up =
-          SetUpTactile(spec, config, options.field_maps, options.calibrations, io.stop_requested);
-      !set_up) {
-    return rig::MakeError(spec_path + ": " + set_up.error().message);
-  }
-  // One capture for the plots and the comparison with the reference.
-  CapturedTrace captured;
-  const auto keep_sample = [&](const TraceSample& sample) { captured.Add(sample); };
-  std::optional<rig::ScopedFifoScheduling> scheduling;
-  if (options.realtime && options.realtime_priority > 0) {
-    // Before the run starts its dut process, which inherits the policy.
-    scheduling.emplace(options.realtime_priority);
-    if (!scheduling->granted()) {
-      io.err << spec_path << ": " << scheduling->description()
-             << "; the timing figures are the default scheduler's\n";
-    }
-  }
-  // A real-time loop does not spend its period on rewriting the report (about 0.4 ms, up to 3):
-  // its folder says "incomplete" without how far.
-  std::function<void(double)> reached;
-  if (!options.realtime) {
-    reached = [&](double simulated_s) { folder.value().Reached(simulated_s, io.err); };
-  }
-  proto::Report report = RunScenario(config, {&trace, &can_log, &io.err, keep_sample, reached},
-                                     {&wall_clock, io.stop_requested, options.dut_factory,
-                                      options.realtime ? &wall_clock : nullptr});
-  if (options.realtime) {
-    report.mutable_timing()->set_scheduling(scheduling ? scheduling->description()
-                                                       : "default scheduler (--rt-priority 0)");
-  }
-  scheduling.reset();  // writing files and plots is no real-time work
-  report.set_spec_file(spec_path);
-  // Calibrating at start and tabulating field maps happen before the first tick; the real-time
-  // factor is the stepping loop's, and this is the rest.
-  report.set_setup_s(static_cast<double>(wall_clock.NowNs() - setup_start_ns) / 1e9 -
-                     report.wall_s());
-  auto plots = WriteRunPlots(captured, config.envelopes, config.gripper.enabled, out_dir.string());
-  if (!plots) return plots.error();
-  for (const std::string& plot : plots.value()) report.add_plots(plot);
-  if (reference != nullptr && report.stop_reason() == "completed") {
-    RunControl reference_control;
-    reference_control.wall_clock = &wall_clock;
-    reference_control.stop_requested = io.stop_requested;
-    auto error = FidelityErrorOf(config, captured, spec, fs::path(spec_path).parent_path().string(),
-                                 *reference, reference_control);
-    // Without a reference the run still has its verdict; the report then has no fidelity error.
-    if (error) {
-      *report.mutable_fidelity_error() = std::move(error).value();
-    } else {
-      io.err << spec_path << ": no fidelity error: " << error.error().message << "\n";
-    }
-  }
-  if (auto closed = trace_file.value()->Close(); !closed) return closed.error();
-  if (auto closed = can_log_file.value()->Close(); !closed) return closed.error();
-  if (auto written = folder.value().Finish(report); !written) return written.error();
-  return report;
-}
-
 ScenarioOutcome RunOneFile(const std::string& path, const fs::path& out_dir,
                            const RunOptions& options, const ReferenceSource* reference,
                            const Streams& io) {
   ScenarioOutcome outcome;
   outcome.name = fs::path(path).stem().string();
-  auto spec = LoadScenario(path);
-  if (!spec) {
-    io.err << spec.error().message << "\n";
+  RunRequest request;
+  request.spec_path = path;
+  request.out_dir = out_dir.string();
+  request.seed = options.seed;
+  request.dut_factory = options.dut_factory;
+  request.realtime_priority = options.realtime_priority;
+  request.field_maps = options.field_maps;
+  request.calibrations = options.calibrations;
+  request.reference = reference;
+  const rig::SteadyClock wall_clock;
+  const RunSeams seams{&wall_clock, options.realtime ? &wall_clock : nullptr, io.stop_requested,
+                       &io.err};
+  RunPipelineResult result = RunPipeline(request, seams);
+  if (const RunError* error = std::get_if<RunError>(&result)) {
+    // A spec that cannot be read says so itself; the rest is the run's.
+    io.err << (error->failure == RunFailure::kBadSpec ? "" : "hilrig: ") << error->message << "\n";
     return outcome;
   }
-  auto report = RunToDirectory(spec.value(), path, out_dir, options, reference, io);
-  if (!report) {
-    io.err << "hilrig: " << report.error().message << "\n";
-    return outcome;
-  }
-  outcome.report = std::move(report).value();
-  outcome.exit_code = outcome.report.passed() ? kExitPass : kExitCheckFailed;
+  RunOutcome& run = std::get<RunOutcome>(result);
+  outcome.report = std::move(run.report);
+  outcome.exit_code = run.verdict == RunVerdict::kPass ? kExitPass : kExitCheckFailed;
   return outcome;
 }
 
@@ -310,28 +235,6 @@ std::string SummaryRow(const ScenarioOutcome& outcome) {
   return row;
 }
 
-// The reference every run of one command compares with, and the cache that keeps it.
-struct ReferenceSetup {
-  std::optional<ReferenceCache> cache;
-  ReferenceSource source;
-};
-
-std::unique_ptr<ReferenceSetup> MakeReferenceSetup(const RunOptions& options, const Streams& io) {
-  if (!options.reference) return nullptr;
-  auto setup = std::make_unique<ReferenceSetup>();
-  setup->source.fidelity = ReferenceFidelity(false);
-  setup->source.notes = &io.err;
-  auto identity = ExecutableIdentity();
-  if (identity) {
-    setup->cache.emplace(options.reference_cache_dir.value_or(DefaultReferenceCacheDir()), &io.err);
-    setup->source.cache = &*setup->cache;
-    setup->source.code_identity = identity.value();
-  } else {
-    io.err << "hilrig: reference cache off (" << identity.error().message << ")\n";
-  }
-  return setup;
-}
-
 int RunFolder(const RunOptions& options, const Streams& io) {
   const auto listed = ScenarioFilesIn(options.target);
   if (!listed) {
@@ -350,7 +253,8 @@ int RunFolder(const RunOptions& options, const Streams& io) {
     io.err << "hilrig run: " << root.error().message << "\n";
     return kExitBadInput;
   }
-  const std::unique_ptr<ReferenceSetup> reference = MakeReferenceSetup(options, io);
+  const std::unique_ptr<ReferenceSetup> reference =
+      options.reference ? MakeReferenceSetup(options.reference_cache_dir, io.err) : nullptr;
   std::vector<ScenarioOutcome> outcomes;
   for (const std::string& file : files) {
     if (io.stop_requested != nullptr && io.stop_requested->load()) break;
@@ -394,7 +298,9 @@ int RunCommand(const std::vector<std::string>& args, const Streams& io) {
   }
   const fs::path out_dir =
       options.value().out_dir.value_or((fs::path("hilrig_out") / fs::path(target).stem()).string());
-  const std::unique_ptr<ReferenceSetup> reference = MakeReferenceSetup(options.value(), io);
+  const std::unique_ptr<ReferenceSetup> reference =
+      options.value().reference ? MakeReferenceSetup(options.value().reference_cache_dir, io.err)
+                                : nullptr;
   const ScenarioOutcome outcome =
       RunOneFile(target, out_dir, options.value(), reference ? &reference->source : nullptr, io);
   if (outcome.exit_code != kExitBadInput) PrintRun(outcome, io);

@@ -7,8 +7,10 @@
 #include <limits>
 #include <memory>
 #include <span>
+#include <variant>
 
 #include "host/cache/setup_caches.h"
+#include "host/pipeline/run_pipeline.h"
 #include "host/runner/run_statistics.h"
 #include "host/sensors/tactile/film_field_factory.h"
 #include "rig/number_text.h"
@@ -373,14 +375,16 @@ rig::Result<ShippedVerdict> RunDefaultAsShipped(const proto::Scenario& spec,
                                                 const RunControl& control,
                                                 const FileCalibrationStore* calibrations,
                                                 const FieldMapTableStore* field_maps) {
-  auto config = ResolveChecked(spec, spec_directory, std::nullopt);
-  if (!config) return config.error();
-  if (auto set_up =
-          SetUpTactile(spec, config.value(), field_maps, calibrations, control.stop_requested);
-      !set_up) {
-    return rig::MakeError(spec.name() + ": " + set_up.error().message);
-  }
-  const proto::Report report = RunScenario(config.value(), RunSinks{}, control);
+  RunRequest request;
+  request.spec = &spec;
+  request.spec_directory = spec_directory;
+  request.dut_factory = control.dut_factory;
+  request.field_maps = field_maps;
+  request.calibrations = calibrations;
+  RunPipelineResult run = RunPipeline(
+      request, {control.wall_clock, control.realtime_clock, control.stop_requested, nullptr});
+  if (const RunError* error = std::get_if<RunError>(&run)) return rig::MakeError(error->message);
+  const proto::Report& report = std::get<RunOutcome>(run).report;
   ShippedVerdict verdict;
   verdict.passed = report.passed();
   verdict.stop_reason = report.stop_reason();

@@ -1,0 +1,92 @@
+// One scenario run from its spec to its output folder, as `hilrig run` makes it: load and validate
+// the spec, resolve it, set up its film and DUT calibration (through the setup caches), run it,
+// compare its trace with the scene's reference, and write report.json, junit.xml, trace.csv,
+// can.log and the plots. The command line only parses arguments and prints the outcome; the bench's
+// run of a scene as shipped is the same pipeline without files. Time, the stop request and the
+// notes stream are injected.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "host/cache/calibration_store.h"
+#include "host/cache/field_map_store.h"
+#include "host/cache/reference_cache.h"
+#include "host/fidelity/reference_run.h"
+#include "host/runner/runner.h"
+#include "proto/report.pb.h"
+#include "proto/scenario.pb.h"
+#include "rig/clock.h"
+
+namespace hilrig::host {
+
+struct RunRequest {
+  // Where the spec is read from; it names the run in errors and in the report (empty: the
+  // scene's name does). With `spec` set the spec is not read again.
+  std::string spec_path;
+  const proto::Scenario* spec = nullptr;  // already loaded; validated all the same
+  std::string spec_directory;             // relative paths in the spec; unset: spec_path's folder
+  // The folder the run's files go to; unset: nothing is written, only the report is returned.
+  std::optional<std::string> out_dir;
+  std::optional<std::uint64_t> seed;  // unset: the spec's own
+  DutFactory dut_factory;             // unset: the DUT in this process
+  int realtime_priority = 0;          // SCHED_FIFO priority of a real-time run; 0: default
+  const FieldMapTableStore* field_maps = nullptr;      // tabulated maps kept between runs
+  const FileCalibrationStore* calibrations = nullptr;  // calibrations kept between runs
+  const ReferenceSource* reference = nullptr;          // unset: no comparison with a reference
+};
+
+// What the pipeline does not own: the clocks, the stop request and where its notes go.
+struct RunSeams {
+  const rig::Clock* wall_clock = nullptr;  // required: times the set-up and the run
+  // Set: the run is paced in real time by this clock (usually the same SteadyClock as
+  // wall_clock); null: lockstep.
+  const rig::PacingClock* realtime_clock = nullptr;
+  const std::atomic<bool>* stop_requested = nullptr;
+  // Warnings and progress (a reference being run, a cache that cannot be written, a refused
+  // real-time priority, why a run has no fidelity error); null: none.
+  std::ostream* notes = nullptr;
+};
+
+enum class RunVerdict { kPass, kCheckFailed };
+
+struct RunOutcome {
+  proto::Report report;
+  RunVerdict verdict = RunVerdict::kCheckFailed;
+  // Why a completed run's report has no fidelity error although a reference was asked for (the
+  // reference could not be made); unset otherwise. A run that did not complete is not compared.
+  std::optional<std::string> no_fidelity_error;
+  std::vector<std::string> files_written;  // paths, in the order they were finished
+};
+
+enum class RunFailure {
+  kBadSpec,  // the spec cannot be read or is not valid: nothing is written
+  kSetUp,    // the film or the DUT's calibration could not be made
+  kOutput,   // the output folder or one of its files could not be written
+};
+
+struct RunError {
+  RunFailure failure;
+  std::string message;  // names the path and the cause
+};
+
+using RunPipelineResult = std::variant<RunOutcome, RunError>;
+
+RunPipelineResult RunPipeline(const RunRequest& request, const RunSeams& seams);
+
+// The reference every run of one command compares with, and the cache that keeps it. Without the
+// executable's identity the cache is off (said on `notes`) and every reference is run.
+struct ReferenceSetup {
+  std::optional<ReferenceCache> cache;
+  ReferenceSource source;
+};
+std::unique_ptr<ReferenceSetup> MakeReferenceSetup(const std::optional<std::string>& cache_dir,
+                                                   std::ostream& notes);
+
+}  // namespace hilrig::host
