@@ -16,7 +16,7 @@
 #include <string>
 
 #include "host/cache/cache_files.h"
-#include "host/fidelity/trace_capture.h"
+#include "host/trace/trace_capture.h"
 #include "proto/calibration.pb.h"
 #include "proto/scenario.pb.h"
 #include "rig/result.h"

@@ -12,7 +12,7 @@
 
 #include "host/cache/reference_cache.h"
 #include "host/fidelity/fidelity_choice.h"
-#include "host/fidelity/trace_capture.h"
+#include "host/trace/trace_capture.h"
 #include "host/runner/runner.h"
 #include "host/scenario/scenario_config.h"
 #include "proto/calibration.pb.h"

@@ -6,7 +6,7 @@
 
 #include <cstddef>
 
-#include "host/fidelity/trace_capture.h"
+#include "host/trace/trace_capture.h"
 
 namespace hilrig::host {
 

@@ -5,7 +5,7 @@
 #include <utility>
 
 #include "host/cache/setup_caches.h"
-#include "host/fidelity/trace_capture.h"
+#include "host/trace/trace_capture.h"
 #include "host/report/run_folder.h"
 #include "host/report/run_plots.h"
 #include "host/scenario/scenario_loader.h"

@@ -1,14 +1,14 @@
 // The plots written next to a run's report.json: grasp force (true, the DUT's estimate and the
 // setpoint) and the vertical load (true and estimated) in grasp scenes, and the position errors in
 // every scene, each with the envelopes that watch its signals drawn as bands, rendered with
-// svg_plot.h from the run's CapturedTrace (host/fidelity/trace_capture.h).
+// svg_plot.h from the run's CapturedTrace (host/trace/trace_capture.h).
 #pragma once
 
 #include <array>
 #include <string>
 #include <vector>
 
-#include "host/fidelity/trace_capture.h"
+#include "host/trace/trace_capture.h"
 #include "proto/scenario.pb.h"
 #include "rig/result.h"
 

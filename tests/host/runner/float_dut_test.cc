@@ -9,7 +9,7 @@
 
 #include "host/dut/firmware_config.h"
 #include "host/dut/in_process_dut.h"
-#include "host/fidelity/trace_capture.h"
+#include "host/trace/trace_capture.h"
 #include "host/runner/runner.h"
 #include "host/scenario/scenario_config.h"
 #include "host/scenario/scenario_loader.h"

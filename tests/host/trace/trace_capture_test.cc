@@ -1,4 +1,4 @@
-#include "host/fidelity/trace_capture.h"
+#include "host/trace/trace_capture.h"
 
 #include <gtest/gtest.h>
 
