@@ -101,7 +101,7 @@ void BM_DutStep(benchmark::State& state) {
   const ScenarioConfig config = LongRunOf("balloon_grasp");
   rig::EmulatedBus bus;
   InProcessDut dut(FirmwareFor(config), bus.Connect("dut"), 1e-3);
-  dut.SendVio({{0, 0}, 0, Eigen::Vector3d(0, 0, 1), Eigen::Quaterniond::Identity()});
+  dut.Send(VioMessage{{0, 0}, 0, Eigen::Vector3d(0, 0, 1), Eigen::Quaterniond::Identity()});
   SetpointMessage setpoint;
   setpoint.position_m = Eigen::Vector3d(0, 0, 1);
   setpoint.yaw_rad = 0.3;
@@ -111,9 +111,10 @@ void BM_DutStep(benchmark::State& state) {
   std::uint64_t tick = 0;
   for (auto _ : state) {
     const std::int64_t now_ns = std::int64_t(++tick) * 1'000'000;
-    dut.SendImu({{tick, now_ns}, Eigen::Vector3d(0.01, -0.02, 0.005), Eigen::Vector3d(0, 0, 9.81)});
+    dut.Send(ImuMessage{
+        {tick, now_ns}, Eigen::Vector3d(0.01, -0.02, 0.005), Eigen::Vector3d(0, 0, 9.81)});
     setpoint.stamp = {tick, now_ns};
-    dut.SendSetpoint(setpoint);
+    dut.Send(setpoint);
     benchmark::DoNotOptimize(dut.Step(tick, now_ns));
   }
 }

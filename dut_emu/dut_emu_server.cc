@@ -254,15 +254,15 @@ proto::LinkMessage Session::Answer(const host::ActuatorMessage& command) const {
 std::optional<int> Session::Handle(const proto::LinkMessage& message) {
   switch (message.payload_case()) {
     case proto::LinkMessage::kImu:
-      dut_->SendImu(host::FromLink(message.imu()));
+      dut_->Send(host::FromLink(message.imu()));
       last_imu_.Take(message.imu().header());
       return std::nullopt;
     case proto::LinkMessage::kVio:
-      dut_->SendVio(host::FromLink(message.vio()));
+      dut_->Send(host::FromLink(message.vio()));
       last_vio_.Take(message.vio().header());
       return std::nullopt;
     case proto::LinkMessage::kSetpoint:
-      dut_->SendSetpoint(host::FromLink(message.setpoint()));
+      dut_->Send(host::FromLink(message.setpoint()));
       last_setpoint_.Take(message.setpoint().header());
       return std::nullopt;
     case proto::LinkMessage::kStep:

@@ -41,9 +41,8 @@ class DutPort {
  public:
   virtual ~DutPort() = default;
 
-  virtual void SendImu(const ImuMessage& message) = 0;
-  virtual void SendVio(const VioMessage& message) = 0;
-  virtual void SendSetpoint(const SetpointMessage& message) = 0;
+  // Hands the DUT one sensor message or the setpoint, in the order they happen.
+  virtual void Send(const DutInput& input) = 0;
 
   // Runs the DUT's control step for control tick `tick` at `now_ns` and returns its command; an
   // error means the DUT did not answer properly (timeout, bad message) and ends the run.

@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
+#include <variant>
 
 namespace hilrig::host {
 
@@ -61,5 +62,9 @@ struct ActuatorMessage {
   double grasp_force_estimate_n = 0;
   Eigen::Vector3d external_force_world_n = Eigen::Vector3d::Zero();
 };
+
+// Everything the runner sends to the DUT, one alternative per stream. A new DUT-facing stream is
+// one more alternative here; every DutPort and the link codec then say how they take it.
+using DutInput = std::variant<ImuMessage, VioMessage, SetpointMessage>;
 
 }  // namespace hilrig::host

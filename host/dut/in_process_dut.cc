@@ -28,21 +28,26 @@ std::string BasicInProcessDut<S>::description() const {
 }
 
 template <typename S>
-void BasicInProcessDut<S>::SendImu(const ImuMessage& message) {
+void BasicInProcessDut<S>::Send(const DutInput& input) {
+  std::visit([this](const auto& message) { Take(message); }, input);
+}
+
+template <typename S>
+void BasicInProcessDut<S>::Take(const ImuMessage& message) {
   ++counters_.imu_messages;
   controller_.OnImu(state_, message.gyro_rad_s.cast<S>(), message.accel_m_s2.cast<S>(),
                     message.stamp.time_ns);
 }
 
 template <typename S>
-void BasicInProcessDut<S>::SendVio(const VioMessage& message) {
+void BasicInProcessDut<S>::Take(const VioMessage& message) {
   ++counters_.vio_messages;
   controller_.OnVio(state_, message.position_m.cast<S>(), message.orientation.cast<S>(),
                     message.capture_time_ns);
 }
 
 template <typename S>
-void BasicInProcessDut<S>::SendSetpoint(const SetpointMessage& message) {
+void BasicInProcessDut<S>::Take(const SetpointMessage& message) {
   reference_.position_m = message.position_m.cast<S>();
   reference_.velocity_m_s = message.velocity_m_s.cast<S>();
   reference_.acceleration_m_s2 = message.acceleration_m_s2.cast<S>();

@@ -28,14 +28,15 @@ class BasicInProcessDut final : public DutPort {
   BasicInProcessDut(const BasicDutFirmware<S>& firmware, std::unique_ptr<rig::CanBus> bus,
                     double control_period_s);
 
-  void SendImu(const ImuMessage& message) override;
-  void SendVio(const VioMessage& message) override;
-  void SendSetpoint(const SetpointMessage& message) override;
+  void Send(const DutInput& input) override;
   rig::Result<ActuatorMessage> Step(std::uint64_t tick, std::int64_t now_ns) override;
   DutCounters counters() const override;
   std::string description() const override;
 
  private:
+  void Take(const ImuMessage& message);
+  void Take(const VioMessage& message);
+  void Take(const SetpointMessage& message);
   void DrainBus(std::int64_t now_ns);
   // The tactile front end's sums at `now_ns`, rotated into the world with the estimated attitude;
   // nothing until every pad is zeroed and fresh.

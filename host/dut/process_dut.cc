@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <variant>
 
 #include "host/link/dut_acceptor.h"
 #include "host/link/dut_config_codec.h"
@@ -246,23 +247,29 @@ void ProcessDut::Cover(SendLog& log, std::uint64_t up_to_key, std::int64_t arriv
   }
 }
 
-void ProcessDut::SendImu(const ImuMessage& message) {
+void ProcessDut::Send(const DutInput& input) {
+  std::visit(
+      [this](const auto& message) {
+        Log(message);
+        Forward(ToLink(message));
+      },
+      input);
+}
+
+void ProcessDut::Log(const ImuMessage& message) {
   ++counters_.imu_messages;
   if (latencies_) LogSend(latencies_->imu, message.stamp.sequence, options_.wall_clock->NowNs());
-  Forward(ToLink(message));
 }
 
-void ProcessDut::SendVio(const VioMessage& message) {
+void ProcessDut::Log(const VioMessage& message) {
   ++counters_.vio_messages;
   if (latencies_) LogSend(latencies_->vio, message.stamp.sequence, options_.wall_clock->NowNs());
-  Forward(ToLink(message));
 }
 
-void ProcessDut::SendSetpoint(const SetpointMessage& message) {
+void ProcessDut::Log(const SetpointMessage& message) {
   if (latencies_) {
     LogSend(latencies_->setpoint, message.stamp.sequence, options_.wall_clock->NowNs());
   }
-  Forward(ToLink(message));
 }
 
 rig::Result<void> ProcessDut::SendStepRequest(std::uint64_t tick, std::int64_t now_ns,

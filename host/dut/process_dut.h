@@ -63,9 +63,7 @@ class ProcessDut final : public DutPort {
                                                         const ProcessDutOptions& options);
   ~ProcessDut() override;
 
-  void SendImu(const ImuMessage& message) override;
-  void SendVio(const VioMessage& message) override;
-  void SendSetpoint(const SetpointMessage& message) override;
+  void Send(const DutInput& input) override;
   rig::Result<ActuatorMessage> Step(std::uint64_t tick, std::int64_t now_ns) override;
   // Never block (see the file comment); PollCommand's errors stick like Step's.
   void RequestStep(std::uint64_t tick, std::int64_t now_ns) override;
@@ -106,6 +104,10 @@ class ProcessDut final : public DutPort {
     std::int64_t wall_ns = 0;  // 0 without a wall clock
   };
 
+  // Counts and timestamps one input for the report and the response latencies.
+  void Log(const ImuMessage& message);
+  void Log(const VioMessage& message);
+  void Log(const SetpointMessage& message);
   void Forward(const proto::LinkMessage& message);
   // The first failure sticks: every later Step or poll reports it.
   rig::Error Failed(std::string message);

@@ -198,7 +198,8 @@ LockstepRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
   if (start_m.z() > 0) {
     // A vehicle starting in the air has been flying: its DUT already knows where it is, instead of
     // dropping until the first VIO pose arrives one latency later.
-    dut_->SendVio({{vio_sequence_++, 0}, 0, plant_.body.position_m, plant_.body.orientation});
+    dut_->Send(
+        VioMessage{{vio_sequence_++, 0}, 0, plant_.body.position_m, plant_.body.orientation});
   }
   vio_.rng = RandomStream::FromSeed(config.seed, static_cast<std::uint64_t>(StreamId::kVio));
   for (const proto::Envelope& envelope : config.envelopes) checks_.emplace_back(envelope);
@@ -219,14 +220,14 @@ void LockstepRunner::Impl::SampleSensors(std::int64_t now_ns) {
     next_imu_ns_ += imu_period_ns_;
     const ImuReading reading = SampleImu(config_.imu, imu_, plant_.body.angular_velocity_rad_s,
                                          plant_.specific_force_body_m_s2, now_ns);
-    dut_->SendImu({{imu_sequence_++, now_ns}, reading.gyro_rad_s, reading.accel_m_s2});
+    dut_->Send(ImuMessage{{imu_sequence_++, now_ns}, reading.gyro_rad_s, reading.accel_m_s2});
   }
   CaptureVio(config_.vio, vio_, plant_.body, now_ns);
   delivered_vio_.clear();
   DeliverVio(vio_, now_ns, delivered_vio_);
   for (const VioPose& pose : delivered_vio_) {
-    dut_->SendVio(
-        {{vio_sequence_++, now_ns}, pose.capture_time_ns, pose.position_m, pose.orientation});
+    dut_->Send(VioMessage{
+        {vio_sequence_++, now_ns}, pose.capture_time_ns, pose.position_m, pose.orientation});
   }
   hall_sensors_.Tick(now_ns, plant_.body.orientation,
                      gripper_ ? gripper_->pad_forces() : kNoPadForce);
@@ -241,14 +242,14 @@ bool LockstepRunner::Impl::ControlStep(std::uint64_t control_tick, std::int64_t 
     }
     grasp_command_ = grasp;
   }
-  dut_->SendSetpoint({{setpoint_sequence_++, now_ns},
-                      current_reference_.position_m,
-                      current_reference_.velocity_m_s,
-                      current_reference_.acceleration_m_s2,
-                      current_reference_.yaw_rad,
-                      grasp_command_.regulate,
-                      grasp_command_.force_n,
-                      grasp_command_.reference_angle_rad});
+  dut_->Send(SetpointMessage{{setpoint_sequence_++, now_ns},
+                             current_reference_.position_m,
+                             current_reference_.velocity_m_s,
+                             current_reference_.acceleration_m_s2,
+                             current_reference_.yaw_rad,
+                             grasp_command_.regulate,
+                             grasp_command_.force_n,
+                             grasp_command_.reference_angle_rad});
   if (pacer_) {
     dut_->RequestStep(control_tick, now_ns);
     return true;

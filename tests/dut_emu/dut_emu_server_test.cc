@@ -106,14 +106,14 @@ TEST_F(DutEmuServerTest, AnswersEachStepLikeTheInProcessDut) {
   const host::VioMessage vio{{0, 0}, 0, Eigen::Vector3d(0, 0, 1), Eigen::Quaterniond::Identity()};
   const host::SetpointMessage setpoint{
       {0, 0}, Eigen::Vector3d(0.1, 0, 1.1), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 0};
-  reference.SendVio(vio);
-  reference.SendSetpoint(setpoint);
+  reference.Send(vio);
+  reference.Send(setpoint);
   ASSERT_TRUE(link_->Send(host::ToLink(vio)).ok());
   ASSERT_TRUE(link_->Send(host::ToLink(setpoint)).ok());
   for (std::uint64_t tick = 0; tick < 50; ++tick) {
     const std::int64_t now_ns = static_cast<std::int64_t>(tick) * 1'000'000;
     const host::ImuMessage imu{{tick, now_ns}, {0.01, 0, 0}, {0, 0.2, 9.81}};
-    reference.SendImu(imu);
+    reference.Send(imu);
     ASSERT_TRUE(link_->Send(host::ToLink(imu)).ok());
     ASSERT_TRUE(link_->Send(StepRequest(tick, now_ns)).ok());
     const LinkReceived answer = link_->Receive(kWaitMs);

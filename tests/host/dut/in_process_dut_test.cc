@@ -31,15 +31,15 @@ class InProcessDutTest : public ::testing::Test {
 
   // Feeds a level, still vehicle at 1 m for `ticks` control periods with a hover setpoint.
   ActuatorMessage HoverFor(int ticks) {
-    dut_.SendVio({{0, 0}, 0, Eigen::Vector3d(0, 0, 1), Eigen::Quaterniond::Identity()});
-    dut_.SendSetpoint(
-        {{0, 0}, Eigen::Vector3d(0, 0, 1), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 0.0});
+    dut_.Send(VioMessage{{0, 0}, 0, Eigen::Vector3d(0, 0, 1), Eigen::Quaterniond::Identity()});
+    dut_.Send(SetpointMessage{
+        {0, 0}, Eigen::Vector3d(0, 0, 1), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 0.0});
     ActuatorMessage command;
     for (int i = 1; i <= ticks; ++i) {
       const std::int64_t now_ns = i * 1'000'000;
-      dut_.SendImu({{static_cast<std::uint64_t>(i), now_ns},
-                    Eigen::Vector3d::Zero(),
-                    Eigen::Vector3d(0, 0, vehicle_.gravity_m_s2)});
+      dut_.Send(ImuMessage{{static_cast<std::uint64_t>(i), now_ns},
+                           Eigen::Vector3d::Zero(),
+                           Eigen::Vector3d(0, 0, vehicle_.gravity_m_s2)});
       command = dut_.Step(static_cast<std::uint64_t>(i), now_ns).value();
     }
     return command;
@@ -89,7 +89,7 @@ TEST_F(InProcessDutTest, DecodesSensorFramesAndCountsCorruptOnes) {
 TEST_F(InProcessDutTest, NonFiniteImuSampleDoesNotReachTheMotors) {
   HoverFor(100);
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  dut_.SendImu({{101, 101'000'000}, Eigen::Vector3d(nan, 0, 0), Eigen::Vector3d(0, 0, nan)});
+  dut_.Send(ImuMessage{{101, 101'000'000}, Eigen::Vector3d(nan, 0, 0), Eigen::Vector3d(0, 0, nan)});
   const ActuatorMessage command = dut_.Step(101, 101'000'000).value();
   for (double thrust_n : command.rotor_thrust_n) EXPECT_TRUE(std::isfinite(thrust_n));
   EXPECT_TRUE(command.estimated_position_m.allFinite());
@@ -106,7 +106,7 @@ TEST_F(InProcessDutTest, GraspWithoutAForceEstimateHoldsTheReferenceAngle) {
   HoverFor(1);
   SetpointMessage setpoint = GraspSetpoint();
   setpoint.position_m = Eigen::Vector3d(0, 0, 1);
-  dut_.SendSetpoint(setpoint);
+  dut_.Send(setpoint);
   ActuatorMessage command;
   for (int i = 2; i < 50; ++i) command = dut_.Step(i, i * 1'000'000).value();
   EXPECT_DOUBLE_EQ(command.servo_angle_rad, 0.5);
@@ -119,7 +119,7 @@ TEST(InProcessDutAblationTest, WithoutForceFeedbackTheGraspClosesTheFrameOpenLoo
   firmware.grasp.force_feedback = false;
   firmware.grasp.closed_angle_rad = 1.4;
   InProcessDut dut(firmware, bus.Connect("dut"), kControlPeriodS);
-  dut.SendSetpoint(GraspSetpoint());
+  dut.Send(GraspSetpoint());
   EXPECT_DOUBLE_EQ(dut.Step(0, 0).value().servo_angle_rad, 1.4);
 }
 
@@ -129,7 +129,7 @@ TEST(InProcessDutInvalidParamsTest, InvalidGraspParamsCommandTheOpenAngleEverySt
   firmware.grasp.open_angle_rad = 0.2;
   firmware.grasp.mass = std::numeric_limits<double>::quiet_NaN();
   InProcessDut dut(firmware, bus.Connect("dut"), kControlPeriodS);
-  dut.SendSetpoint(GraspSetpoint());
+  dut.Send(GraspSetpoint());
 
   for (int i = 0; i < 3; ++i) {
     EXPECT_EQ(dut.Step(i, i * 1'000'000).value().servo_angle_rad, 0.2);

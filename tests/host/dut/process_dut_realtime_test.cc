@@ -35,9 +35,9 @@ ImuMessage ImuAt(std::uint64_t sequence, std::int64_t now_ns) {
 }
 
 void SendHoverReference(DutPort& dut) {
-  dut.SendVio({{0, 0}, 0, Eigen::Vector3d(0, 0, 1), Eigen::Quaterniond::Identity()});
-  dut.SendSetpoint(
-      {{0, 0}, Eigen::Vector3d(0, 0, 1.2), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 0.3});
+  dut.Send(VioMessage{{0, 0}, 0, Eigen::Vector3d(0, 0, 1), Eigen::Quaterniond::Identity()});
+  dut.Send(SetpointMessage{
+      {0, 0}, Eigen::Vector3d(0, 0, 1.2), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 0.3});
 }
 
 // Polls until a command or an error arrives, or the steady-clock deadline passes (then nullopt).
@@ -84,7 +84,7 @@ class ProcessDutRealtimeTest : public ::testing::Test {
   // One real-time tick that waits for its own answer: the IMU sample, the request, the answer.
   rig::Result<std::optional<ActuatorMessage>> Tick(ProcessDut& dut, std::uint64_t tick) {
     const std::int64_t now_ns = static_cast<std::int64_t>(tick) * kTickNs;
-    dut.SendImu(ImuAt(tick - 1, now_ns));
+    dut.Send(ImuAt(tick - 1, now_ns));
     dut.RequestStep(tick, now_ns);
     return PollUntilAnswer(dut);
   }
@@ -100,7 +100,7 @@ TEST_F(ProcessDutRealtimeTest, AnswerEqualsTheLockstepAnswerForTheSameInputs) {
   ActuatorMessage expected;
   for (std::uint64_t tick = 1; tick <= 200; ++tick) {
     const std::int64_t now_ns = static_cast<std::int64_t>(tick) * kTickNs;
-    reference.SendImu(ImuAt(tick - 1, now_ns));
+    reference.Send(ImuAt(tick - 1, now_ns));
     expected = reference.Step(tick, now_ns).value();
   }
   auto dut = Start();
@@ -136,7 +136,7 @@ TEST_F(ProcessDutRealtimeTest, LatencyPerStreamFromTheSendTimesTheCommandCovers)
     const std::int64_t now_ns = static_cast<std::int64_t>(tick) * kTickNs;
     ASSERT_TRUE(sensor_node->Send(rig::CanFrame::Classic(0x42, payload), now_ns - 500'000).ok());
     wall_clock_.AdvanceNs(100'000);
-    dut->SendImu(ImuAt(tick - 1, now_ns));
+    dut->Send(ImuAt(tick - 1, now_ns));
     wall_clock_.AdvanceNs(200'000);
     dut->RequestStep(tick, now_ns);
     wall_clock_.AdvanceNs(300'000);
@@ -167,7 +167,7 @@ TEST_F(ProcessDutRealtimeTest, NewestCommandWinsAndTheOlderOnesAreCounted) {
   ASSERT_NE(dut, nullptr);
   SendHoverReference(*dut);
   for (std::uint64_t tick = 1; tick <= 3; ++tick) {
-    dut->SendImu(ImuAt(tick - 1, static_cast<std::int64_t>(tick) * kTickNs));
+    dut->Send(ImuAt(tick - 1, static_cast<std::int64_t>(tick) * kTickNs));
     dut->RequestStep(tick, static_cast<std::int64_t>(tick) * kTickNs);
   }
   int polled_commands = 0;
@@ -191,7 +191,7 @@ TEST_F(ProcessDutRealtimeTest, KilledProcessIsNamedWithinASecond) {
   SendHoverReference(*dut);
   for (std::uint64_t tick = 1; tick <= 5; ++tick) ASSERT_TRUE(Tick(*dut, tick).ok());
   ASSERT_EQ(::kill(dut->pid(), SIGKILL), 0);
-  dut->SendImu(ImuAt(5, 6 * kTickNs));
+  dut->Send(ImuAt(5, 6 * kTickNs));
   dut->RequestStep(6, 6 * kTickNs);
   // The fake wall clock stands still: the watchdog cannot fire, the death itself must be seen.
   const auto answer = PollUntilAnswer(*dut, 1'000'000'000);

@@ -36,15 +36,15 @@ DutFirmware HoverFirmware() {
 // The same hover inputs into any DUT; returns the command of the last tick.
 rig::Result<ActuatorMessage> Hover(DutPort& dut, int ticks) {
   const QuadrotorParams vehicle;
-  dut.SendVio({{0, 0}, 0, Eigen::Vector3d(0, 0, 1), Eigen::Quaterniond::Identity()});
-  dut.SendSetpoint(
-      {{0, 0}, Eigen::Vector3d(0, 0, 1.2), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 0.3});
+  dut.Send(VioMessage{{0, 0}, 0, Eigen::Vector3d(0, 0, 1), Eigen::Quaterniond::Identity()});
+  dut.Send(SetpointMessage{
+      {0, 0}, Eigen::Vector3d(0, 0, 1.2), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 0.3});
   rig::Result<ActuatorMessage> command = rig::MakeError("no tick");
   for (int i = 1; i <= ticks; ++i) {
     const std::int64_t now_ns = i * 1'000'000;
-    dut.SendImu({{static_cast<std::uint64_t>(i - 1), now_ns},
-                 Eigen::Vector3d(0.01, -0.02, 0.003),
-                 Eigen::Vector3d(0.1, 0, vehicle.gravity_m_s2)});
+    dut.Send(ImuMessage{{static_cast<std::uint64_t>(i - 1), now_ns},
+                        Eigen::Vector3d(0.01, -0.02, 0.003),
+                        Eigen::Vector3d(0.1, 0, vehicle.gravity_m_s2)});
     command = dut.Step(static_cast<std::uint64_t>(i), now_ns);
     if (!command) return command;
   }

@@ -53,9 +53,7 @@ class ScriptedDut final : public DutPort {
  public:
   explicit ScriptedDut(ScriptedDutScript script) : script_(std::move(script)) {}
 
-  void SendImu(const ImuMessage&) override {}
-  void SendVio(const VioMessage&) override {}
-  void SendSetpoint(const SetpointMessage&) override {}
+  void Send(const DutInput&) override {}
   rig::Result<ActuatorMessage> Step(std::uint64_t, std::int64_t) override {
     return rig::MakeError("a real-time run must not call Step");
   }
