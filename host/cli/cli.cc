@@ -104,13 +104,12 @@ rig::Result<DutFactory> ParseDutOptions(const CliArgs& cli, bool realtime) {
     dut_clock = std::make_shared<const rig::SteadyClock>();
     options.wall_clock = dut_clock.get();
   }
-  return DutFactory([options, dut_clock](
-                        const ScenarioConfig& config, std::unique_ptr<rig::CanBus> bus,
-                        double control_period_s) -> rig::Result<std::unique_ptr<DutPort>> {
-    auto dut = ProcessDut::Start(FirmwareFor(config), std::move(bus), control_period_s, options);
-    if (!dut) return dut.error();
-    return std::unique_ptr<DutPort>(std::move(dut).value());
-  });
+  return DutFactory(
+      [options, dut_clock](const ScenarioConfig& config, std::unique_ptr<rig::CanBus> bus,
+                           double control_period_s) -> rig::Result<std::unique_ptr<DutPort>> {
+        return std::unique_ptr<DutPort>(std::make_unique<ProcessDut>(
+            FirmwareFor(config), std::move(bus), control_period_s, options));
+      });
 }
 
 // Removes every `flag` from args; true if there was one.

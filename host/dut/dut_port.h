@@ -37,9 +37,18 @@ struct StreamLatency {
   rig::DurationSummary latency;
 };
 
+// Lifecycle: the runner calls Start once before anything else; a DUT that fails to start is
+// never sent a message nor stepped. Stop comes once at the end of every run, a failed start
+// included, so a DUT can release what a half-done start left behind.
 class DutPort {
  public:
   virtual ~DutPort() = default;
+
+  // Brings the DUT up (an in-process DUT has nothing to do; a DUT process is spawned and shakes
+  // hands on its link); an error says why it cannot run.
+  virtual rig::Result<void> Start() { return {}; }
+  // Ends the DUT's run; after it the DUT is only asked for its counters and metrics.
+  virtual void Stop() {}
 
   // Hands the DUT one sensor message or the setpoint, in the order they happen.
   virtual void Send(const DutInput& input) = 0;

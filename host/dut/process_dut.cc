@@ -95,14 +95,32 @@ rig::Result<void> ValidateProcessDutOptions(const ProcessDutOptions& options) {
   return {};
 }
 
-rig::Result<std::unique_ptr<ProcessDut>> ProcessDut::Start(const DutFirmware& firmware,
-                                                           std::unique_ptr<rig::CanBus> runner_bus,
-                                                           double control_period_s,
-                                                           const ProcessDutOptions& options) {
-  if (auto valid = ValidateProcessDutOptions(options); !valid) return valid.error();
-  auto path = DutEmuPath(options);
+ProcessDut::ProcessDut(const DutFirmware& firmware, std::unique_ptr<rig::CanBus> runner_bus,
+                       double control_period_s, const ProcessDutOptions& options)
+    : firmware_(firmware),
+      control_period_s_(control_period_s),
+      runner_bus_(std::move(runner_bus)),
+      options_(options) {
+  frames_.reserve(64);
+  if (options_.wall_clock != nullptr) latencies_ = std::make_unique<Latencies>();
+}
+
+rig::Result<std::unique_ptr<ProcessDut>> ProcessDut::Launch(const DutFirmware& firmware,
+                                                            std::unique_ptr<rig::CanBus> runner_bus,
+                                                            double control_period_s,
+                                                            const ProcessDutOptions& options) {
+  auto dut =
+      std::make_unique<ProcessDut>(firmware, std::move(runner_bus), control_period_s, options);
+  if (auto started = dut->Start(); !started) return started.error();
+  return dut;
+}
+
+rig::Result<void> ProcessDut::Start() {
+  if (child_) return rig::MakeError("the dut process was started already");
+  if (auto valid = ValidateProcessDutOptions(options_); !valid) return valid.error();
+  auto path = DutEmuPath(options_);
   if (!path) return path.error();
-  auto listener = LinkListener::Listen(options.listen_address, 0);
+  auto listener = LinkListener::Listen(options_.listen_address, 0);
   if (!listener) return listener.error();
   // Node 0 of the UDP bus is the runner's forwarder; node 1's port is freed for the child.
   auto udp = rig::OpenUdpBusGroup(2);
@@ -113,67 +131,59 @@ rig::Result<std::unique_ptr<ProcessDut>> ProcessDut::Start(const DutFirmware& fi
   if (!token) return token.error();
   std::vector<std::string> argv = {
       path.value(), "--link",
-      DialAddress(options.listen_address) + ":" + std::to_string(listener.value()->port()), "--can",
-      "udp:" + std::to_string(forward_bus->local_port()) + ":1:2"};
-  argv.insert(argv.end(), options.extra_args.begin(), options.extra_args.end());
+      DialAddress(options_.listen_address) + ":" + std::to_string(listener.value()->port()),
+      "--can", "udp:" + std::to_string(forward_bus->local_port()) + ":1:2"};
+  argv.insert(argv.end(), options_.extra_args.begin(), options_.extra_args.end());
   auto child =
       ChildProcess::Spawn(argv, {std::string(kLinkTokenEnvironment) + "=" + token.value().Hex()});
   if (!child) return child.error();
   DutAcceptor acceptor(*listener.value(), token.value());
-  auto accepted = AcceptDut(acceptor, child.value(), Milliseconds(options.start_timeout_s));
+  auto accepted = AcceptDut(acceptor, child.value(), Milliseconds(options_.start_timeout_s));
   if (!accepted) return accepted.error();
   std::unique_ptr<LinkConnection>& link = accepted.value().link;
 
   // Only the proven DUT hears from the runner, the firmware included.
-  LinkSequencer sequencer;
   proto::LinkMessage hello;
   hello.mutable_hello()->set_role(proto::Hello::RUNNER);
   hello.mutable_hello()->set_name("hilrig " + std::to_string(::getpid()));
-  sequencer.Stamp(hello, 0);
+  sequencer_.Stamp(hello, 0);
   proto::LinkMessage config;
-  *config.mutable_config() = ToDutConfig(firmware, control_period_s);
-  sequencer.Stamp(config, 0);
+  *config.mutable_config() = ToDutConfig(firmware_, control_period_s_);
+  sequencer_.Stamp(config, 0);
   for (const proto::LinkMessage* message : {&hello, &config}) {
     if (auto sent = link->Send(*message); !sent) return sent.error();
   }
-  auto dut = std::unique_ptr<ProcessDut>(new ProcessDut(std::move(child).value(), std::move(link),
-                                                        std::move(runner_bus),
-                                                        std::move(forward_bus), options));
-  dut->sequencer_ = sequencer;
-  dut->peers_refused_ = acceptor.rejected_count();
-  dut->peers_refused_summary_ = acceptor.RejectedSummary();
-  return dut;
+  child_ = std::move(child).value();
+  link_ = std::move(link);
+  forward_bus_ = std::move(forward_bus);
+  peers_refused_ = acceptor.rejected_count();
+  peers_refused_summary_ = acceptor.RejectedSummary();
+  return {};
 }
 
-ProcessDut::ProcessDut(ChildProcess child, std::unique_ptr<LinkConnection> link,
-                       std::unique_ptr<rig::CanBus> runner_bus,
-                       std::unique_ptr<rig::UdpBus> forward_bus, const ProcessDutOptions& options)
-    : child_(std::move(child)),
-      link_(std::move(link)),
-      runner_bus_(std::move(runner_bus)),
-      forward_bus_(std::move(forward_bus)),
-      options_(options) {
-  frames_.reserve(64);
-  if (options_.wall_clock != nullptr) latencies_ = std::make_unique<Latencies>();
-}
-
-ProcessDut::~ProcessDut() {
+void ProcessDut::Stop() {
+  if (stopped_ || !child_) return;
+  stopped_ = true;
   if (!failure_) {
     proto::LinkMessage bye;
     bye.mutable_bye()->set_reason("run ended");
     sequencer_.Stamp(bye, 0);
     (void)link_->Send(bye, 100);
   }
-  child_.Terminate(1000);
+  child_->Terminate(1000);
 }
 
+ProcessDut::~ProcessDut() { Stop(); }
+
 std::string ProcessDut::description() const {
-  return "dut_fw in a dut_emu process (pid " + std::to_string(child_.pid()) +
+  if (!child_) return "dut_fw in a dut_emu process (not started)";
+  return "dut_fw in a dut_emu process (pid " + std::to_string(child_->pid()) +
          ") over the HIL link, " + (latencies_ ? "real time" : "lockstep") +
          (peers_refused_summary_.empty() ? "" : "; " + peers_refused_summary_);
 }
 
 std::vector<std::pair<std::string, double>> ProcessDut::link_metrics() const {
+  if (!link_) return {};
   std::vector<std::pair<std::string, double>> metrics =
       LinkCounterMetrics(link_->counters(), "link_rx_");
   metrics.emplace_back("link_tx_messages", static_cast<double>(link_->frames_sent()));
@@ -211,24 +221,30 @@ std::string ProcessDut::ProcessGone() {
   // The link closes as the process dies; its exit status follows within moments.
   const timespec nap{0, 5'000'000};
   for (int waited_ms = 0; waited_ms < 200; waited_ms += 5) {
-    if (auto exit = child_.PollExit()) return "dut process " + *exit;
+    if (auto exit = child_->PollExit()) return "dut process " + *exit;
     ::nanosleep(&nap, nullptr);
   }
   return "dut closed the link (process still running)";
 }
 
+rig::Result<void> ProcessDut::CheckRunning() {
+  if (failure_) return rig::MakeError(*failure_);
+  if (!link_ || stopped_) return Failed("the dut process is not running (not started, or stopped)");
+  return {};
+}
+
 void ProcessDut::Forward(const proto::LinkMessage& message) {
-  if (failure_) return;
+  if (!CheckRunning()) return;
   // A real-time plant never waits for the socket: a DUT that stops reading fails the run instead.
   const int timeout_ms = latencies_ ? 0 : kLockstepSendTimeoutMs;
   if (auto sent = link_->Send(message, timeout_ms); !sent) {
-    if (latencies_ && link_->closed() && !child_.PollExit()) {
+    if (latencies_ && link_->closed() && !child_->PollExit()) {
       // Most likely a process still dying: the next polls name it, or the closed link.
       if (!link_closed_wall_ns_) link_closed_wall_ns_ = options_.wall_clock->NowNs();
       return;
     }
-    (void)Failed(child_.PollExit() ? "dut process " + *child_.PollExit()
-                                   : "link send failed: " + sent.error().message);
+    (void)Failed(child_->PollExit() ? "dut process " + *child_->PollExit()
+                                    : "link send failed: " + sent.error().message);
   }
 }
 
@@ -274,7 +290,7 @@ void ProcessDut::Log(const SetpointMessage& message) {
 
 rig::Result<void> ProcessDut::SendStepRequest(std::uint64_t tick, std::int64_t now_ns,
                                               bool realtime) {
-  if (failure_) return rig::MakeError(*failure_);
+  if (auto running = CheckRunning(); !running) return running.error();
   if (last_requested_ && tick <= *last_requested_) {
     return Failed("tick " + std::to_string(tick) + " requested after tick " +
                   std::to_string(*last_requested_));
@@ -325,7 +341,7 @@ void ProcessDut::RequestStep(std::uint64_t tick, std::int64_t now_ns) {
 }
 
 rig::Result<std::optional<ActuatorMessage>> ProcessDut::PollCommand() {
-  if (failure_) return rig::MakeError(*failure_);
+  if (auto running = CheckRunning(); !running) return running.error();
   if (!latencies_) {
     return Failed("a real-time poll without a wall clock (set ProcessDutOptions::wall_clock)");
   }
@@ -348,7 +364,7 @@ rig::Result<std::optional<ActuatorMessage>> ProcessDut::PollCommand() {
 }
 
 rig::Result<void> ProcessDut::CheckAlive(std::int64_t now_wall_ns) {
-  if (auto exit = child_.PollExit()) return Failed("dut process " + *exit);
+  if (auto exit = child_->PollExit()) return Failed("dut process " + *exit);
   if (link_closed_wall_ns_) {
     // Nothing can answer any more; name the closed link unless the exit status turns up in time.
     if (now_wall_ns - *link_closed_wall_ns_ < kLinkClosedGraceNs) return {};
@@ -374,7 +390,7 @@ rig::Result<ActuatorMessage> ProcessDut::AwaitCommand(std::uint64_t tick) {
         link_->Receive(static_cast<int>(std::min<std::int64_t>(left.count(), kPollSliceMs)));
     switch (received.status) {
       case LinkReceiveStatus::kTimeout:
-        if (auto exit = child_.PollExit()) return Failed("dut process " + *exit);
+        if (auto exit = child_->PollExit()) return Failed("dut process " + *exit);
         continue;
       case LinkReceiveStatus::kClosed:
         return Failed(ProcessGone());
@@ -383,7 +399,7 @@ rig::Result<ActuatorMessage> ProcessDut::AwaitCommand(std::uint64_t tick) {
     }
   }
   ++watchdog_timeouts_;
-  if (auto exit = child_.PollExit()) return Failed("dut process " + *exit);
+  if (auto exit = child_->PollExit()) return Failed("dut process " + *exit);
   return Failed("dut did not answer tick " + std::to_string(tick) + " within " +
                 Seconds(options_.answer_timeout_s));
 }

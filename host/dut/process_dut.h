@@ -4,7 +4,7 @@
 // the tick's command (saying how many frames it forwarded and their arrival times, so the DUT
 // process sees exactly what the in-process DUT would) and waits for the answer under a watchdog:
 // no answer in time, a dead process, a closed link or a bad message end the run with an error that
-// says which. The destructor ends and reaps the process.
+// says which. Stop (or the destructor) ends and reaps the process.
 //
 // Real-time runs (RequestStep / PollCommand, with ProcessDutOptions::wall_clock set) share that
 // path: a request goes out the same way without waiting, and each poll drains what the link holds
@@ -53,16 +53,23 @@ rig::Result<void> ValidateProcessDutOptions(const ProcessDutOptions& options);
 
 class ProcessDut final : public DutPort {
  public:
+  // `runner_bus` is the DUT's endpoint on the runner's emulated bus. Nothing runs until Start.
+  ProcessDut(const DutFirmware& firmware, std::unique_ptr<rig::CanBus> runner_bus,
+             double control_period_s, const ProcessDutOptions& options);
+  // Constructs and starts one (tests, tools).
+  static rig::Result<std::unique_ptr<ProcessDut>> Launch(const DutFirmware& firmware,
+                                                         std::unique_ptr<rig::CanBus> runner_bus,
+                                                         double control_period_s,
+                                                         const ProcessDutOptions& options);
+  ~ProcessDut() override;
+
   // Starts dut_emu with a fresh link token in its environment and completes the handshake: the
   // first connection whose hello proves the token is the DUT (others are refused and counted in
   // link_peers_refused, and named in the description), which then gets the runner's hello and the
-  // firmware configuration. `runner_bus` is the DUT's endpoint on the runner's emulated bus.
-  static rig::Result<std::unique_ptr<ProcessDut>> Start(const DutFirmware& firmware,
-                                                        std::unique_ptr<rig::CanBus> runner_bus,
-                                                        double control_period_s,
-                                                        const ProcessDutOptions& options);
-  ~ProcessDut() override;
-
+  // firmware configuration.
+  rig::Result<void> Start() override;
+  // Says goodbye on the link (unless it failed) and ends and reaps the process.
+  void Stop() override;
   void Send(const DutInput& input) override;
   rig::Result<ActuatorMessage> Step(std::uint64_t tick, std::int64_t now_ns) override;
   // Never block (see the file comment); PollCommand's errors stick like Step's.
@@ -74,13 +81,10 @@ class ProcessDut final : public DutPort {
   std::string description() const override;
   std::vector<std::pair<std::string, double>> link_metrics() const override;
 
-  pid_t pid() const { return child_.pid(); }
+  // -1 before Start.
+  pid_t pid() const { return child_ ? child_->pid() : -1; }
 
  private:
-  ProcessDut(ChildProcess child, std::unique_ptr<LinkConnection> link,
-             std::unique_ptr<rig::CanBus> runner_bus, std::unique_ptr<rig::UdpBus> forward_bus,
-             const ProcessDutOptions& options);
-
   // Wall send times of one stream's messages, keyed by sequence (CAN: frame count), until a
   // command covers them. Bounded: past kMaxPending the oldest is dropped, unmeasured.
   struct SendLog {
@@ -108,6 +112,8 @@ class ProcessDut final : public DutPort {
   void Log(const ImuMessage& message);
   void Log(const VioMessage& message);
   void Log(const SetpointMessage& message);
+  // The sticky failure, or one for a DUT not started or stopped.
+  rig::Result<void> CheckRunning();
   void Forward(const proto::LinkMessage& message);
   // The first failure sticks: every later Step or poll reports it.
   rig::Error Failed(std::string message);
@@ -126,8 +132,11 @@ class ProcessDut final : public DutPort {
   // After draining a poll: the process, the closed link and the watchdog, in that order.
   rig::Result<void> CheckAlive(std::int64_t now_wall_ns);
 
-  ChildProcess child_;
-  std::unique_ptr<LinkConnection> link_;
+  DutFirmware firmware_;
+  double control_period_s_;
+  std::optional<ChildProcess> child_;     // set by Start
+  std::unique_ptr<LinkConnection> link_;  // set by Start
+  bool stopped_ = false;
   std::unique_ptr<rig::CanBus> runner_bus_;
   std::unique_ptr<rig::UdpBus> forward_bus_;
   ProcessDutOptions options_;

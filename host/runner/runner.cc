@@ -82,11 +82,14 @@ double Seconds(std::int64_t time_ns) { return static_cast<double>(time_ns) / 1e9
 class LockstepRunner::Impl {
  public:
   Impl(const ScenarioConfig& config, const RunSinks& sinks, const RunControl& control);
+  ~Impl() { StopDut(); }
   bool Tick();
   proto::Report Finish();
   std::uint64_t TimelineEntriesStepped() const;
 
  private:
+  void StartDut(double control_period_s);
+  void StopDut();
   bool Step();
   void SampleSensors(std::int64_t now_ns);
   void PollWhileWaiting();
@@ -108,7 +111,9 @@ class LockstepRunner::Impl {
   rig::SimClock clock_;
   rig::EmulatedBus bus_;
   std::unique_ptr<rig::CanBus> can_logger_;
-  std::unique_ptr<DutPort> dut_;
+  std::unique_ptr<DutPort> dut_;  // null when the factory failed
+  bool dut_started_ = false;
+  bool dut_stopped_ = false;
   ReferenceTrajectory reference_;
   IntervalSumSchedule<Eigen::Vector3d> disturbance_force_n_;
 
@@ -173,20 +178,7 @@ LockstepRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
   }
   const double control_period_s =
       Seconds(config.physics_step_ns) * static_cast<double>(config.control_every_ticks);
-  if (control.dut_factory) {
-    auto dut = control.dut_factory(config, bus_.Connect("dut"), control_period_s);
-    if (dut) {
-      dut_ = std::move(dut).value();
-    } else {
-      stop_reason_ = "dut failed to start: " + dut.error().message;
-      ended_ = true;
-      dut_ = std::make_unique<InProcessDut>(FirmwareFor(config), bus_.Connect("dut-unused"),
-                                            control_period_s);
-    }
-  } else {
-    dut_ =
-        std::make_unique<InProcessDut>(FirmwareFor(config), bus_.Connect("dut"), control_period_s);
-  }
+  StartDut(control_period_s);
   if (config.gripper.enabled) gripper_.emplace(config, config.hall_sensors.tactile);
   // A scenario starting in the air starts hovering, rotors spun up; on the ground it starts at
   // rest.
@@ -195,7 +187,7 @@ LockstepRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
                ? MakeHoveringQuadrotor(config.vehicle, start_m, config.initial_reference.yaw_rad)
                : MakeRestingQuadrotor(config.vehicle, start_m.x(), start_m.y(),
                                       config.initial_reference.yaw_rad);
-  if (start_m.z() > 0) {
+  if (dut_started_ && start_m.z() > 0) {
     // A vehicle starting in the air has been flying: its DUT already knows where it is, instead of
     // dropping until the first VIO pose arrives one latency later.
     dut_->Send(
@@ -213,6 +205,33 @@ LockstepRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
   wall_start_ns_ = control.wall_clock->NowNs();
   next_progress_wall_ns_ = wall_start_ns_ + kProgressPeriodNs;
   ended_ = ended_ || total_ticks_ == 0;
+}
+
+// A DUT that does not start ends the run before its first tick; it is never sent a message or
+// stepped, and is stopped like any other.
+void LockstepRunner::Impl::StartDut(double control_period_s) {
+  rig::Result<void> started;
+  if (!control_.dut_factory) {
+    dut_ =
+        std::make_unique<InProcessDut>(FirmwareFor(config_), bus_.Connect("dut"), control_period_s);
+  } else if (auto made = control_.dut_factory(config_, bus_.Connect("dut"), control_period_s)) {
+    dut_ = std::move(made).value();
+  } else {
+    started = made.error();
+  }
+  if (dut_) started = dut_->Start();
+  if (started) {
+    dut_started_ = true;
+    return;
+  }
+  stop_reason_ = "dut failed to start: " + started.error().message;
+  ended_ = true;
+}
+
+void LockstepRunner::Impl::StopDut() {
+  if (dut_ == nullptr || dut_stopped_) return;
+  dut_stopped_ = true;
+  dut_->Stop();
 }
 
 void LockstepRunner::Impl::SampleSensors(std::int64_t now_ns) {
@@ -468,7 +487,7 @@ void LockstepRunner::Impl::AppendBusMetrics(std::int64_t now_ns, proto::Report& 
 void LockstepRunner::Impl::AppendTiming(proto::Report& report, bool& passed) const {
   proto::Timing timing;
   if (pacer_) {
-    timing = pacer_->Figures(dut_->response_latencies());
+    timing = pacer_->Figures(dut_ ? dut_->response_latencies() : std::vector<StreamLatency>());
   } else {
     timing.set_mode("lockstep");
     timing.set_ticks(tick_);
@@ -483,6 +502,7 @@ void LockstepRunner::Impl::AppendTiming(proto::Report& report, bool& passed) con
 
 proto::Report LockstepRunner::Impl::Finish() {
   ended_ = true;
+  StopDut();
   DrainCanLog(clock_.NowNs());
   const std::int64_t now_ns = clock_.NowNs();
   const std::int64_t wall_ns = control_.wall_clock->NowNs() - wall_start_ns_;
@@ -504,7 +524,7 @@ proto::Report LockstepRunner::Impl::Finish() {
   AppendTiming(report, passed);
   report.set_passed(passed);
   statistics_.AppendMetrics(report);
-  const DutCounters counters = dut_->counters();
+  const DutCounters counters = dut_ ? dut_->counters() : DutCounters();
   AddMetric(report, "dut_imu_messages", static_cast<double>(counters.imu_messages), "count");
   AddMetric(report, "dut_vio_messages", static_cast<double>(counters.vio_messages), "count");
   AddMetric(report, "dut_can_frames_received", static_cast<double>(counters.can_frames_received),
@@ -516,7 +536,9 @@ proto::Report LockstepRunner::Impl::Finish() {
             "count");
   AddMetric(report, "dut_tactile_samples_flagged",
             static_cast<double>(counters.tactile_samples_flagged), "count");
-  for (const auto& [name, value] : dut_->link_metrics()) AddMetric(report, name, value, "count");
+  if (dut_) {
+    for (const auto& [name, value] : dut_->link_metrics()) AddMetric(report, name, value, "count");
+  }
   AppendBusMetrics(now_ns, report);
   AddMetric(report, "ground_impacts", plant_.ground_impacts, "count");
   AddMetric(report, "non_finite_trace_samples", static_cast<double>(non_finite_samples_), "count");
@@ -530,7 +552,7 @@ proto::Report LockstepRunner::Impl::Finish() {
     AddMetric(report, "grasp_unbalanced_horizontal_force_max",
               gripper_->unbalanced_horizontal_max_n(), "N");
   }
-  AppendModelList(config_, dut_->description(), report);
+  AppendModelList(config_, dut_ ? dut_->description() : "none (failed to start)", report);
   return report;
 }
 

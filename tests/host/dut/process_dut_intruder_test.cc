@@ -53,9 +53,8 @@ DutFactory IntrudedProcessDut(const std::string& mode) {
     options.dut_emu_path = HILRIG_BIN_DIR "/link_intruder";
     options.extra_args = {"--intrude", mode};
     options.start_timeout_s = 3;
-    auto dut = ProcessDut::Start(FirmwareFor(config), std::move(bus), control_period_s, options);
-    if (!dut) return dut.error();
-    return std::unique_ptr<DutPort>(std::move(dut).value());
+    return std::unique_ptr<DutPort>(std::make_unique<ProcessDut>(
+        FirmwareFor(config), std::move(bus), control_period_s, options));
   };
 }
 

@@ -76,7 +76,7 @@ class ProcessDutRealtimeTest : public ::testing::Test {
     options.dut_emu_path = HILRIG_BIN_DIR "/dut_emu";
     options.extra_args = std::move(extra_args);
     options.wall_clock = &wall_clock_;
-    auto dut = ProcessDut::Start(HoverFirmware(), bus_.Connect("dut"), control_period_s, options);
+    auto dut = ProcessDut::Launch(HoverFirmware(), bus_.Connect("dut"), control_period_s, options);
     EXPECT_TRUE(dut.ok()) << (dut.ok() ? "" : dut.error().message);
     return dut.ok() ? std::move(dut).value() : nullptr;
   }
@@ -269,7 +269,7 @@ TEST(ProcessDutWithoutClockTest, RealTimeNeedsAWallClockAndLockstepMeasuresNothi
   rig::EmulatedBus bus;
   ProcessDutOptions options;
   options.dut_emu_path = HILRIG_BIN_DIR "/dut_emu";
-  auto dut = ProcessDut::Start(HoverFirmware(), bus.Connect("dut"), kControlPeriodS, options);
+  auto dut = ProcessDut::Launch(HoverFirmware(), bus.Connect("dut"), kControlPeriodS, options);
   ASSERT_TRUE(dut.ok()) << dut.error().message;
   ASSERT_TRUE(dut.value()->Step(1, kTickNs).ok());
   EXPECT_TRUE(dut.value()->response_latencies().empty());

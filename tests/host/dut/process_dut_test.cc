@@ -57,7 +57,7 @@ class ProcessDutTest : public ::testing::Test {
                                     double answer_timeout_s = 1.0) {
     ProcessDutOptions options = TestOptions(std::move(extra_args));
     options.answer_timeout_s = answer_timeout_s;
-    auto dut = ProcessDut::Start(HoverFirmware(), bus_.Connect("dut"), kControlPeriodS, options);
+    auto dut = ProcessDut::Launch(HoverFirmware(), bus_.Connect("dut"), kControlPeriodS, options);
     EXPECT_TRUE(dut.ok()) << (dut.ok() ? "" : dut.error().message);
     return dut.ok() ? std::move(dut).value() : nullptr;
   }
@@ -164,7 +164,7 @@ TEST_F(ProcessDutTest, MissingExecutableIsAClearStartError) {
   ProcessDutOptions options = TestOptions();
   options.dut_emu_path = "/nonexistent/dut_emu";
   const auto dut =
-      ProcessDut::Start(HoverFirmware(), bus_.Connect("dut"), kControlPeriodS, options);
+      ProcessDut::Launch(HoverFirmware(), bus_.Connect("dut"), kControlPeriodS, options);
   ASSERT_FALSE(dut.ok());
   EXPECT_NE(dut.error().message.find("no dut_emu executable at /nonexistent/dut_emu"),
             std::string::npos);
@@ -195,10 +195,10 @@ TEST(ProcessDutRunTest, KilledDutEndsTheRunWithACompleteReport) {
                             double control_period_s) -> rig::Result<std::unique_ptr<DutPort>> {
     ProcessDutOptions options = TestOptions();
     options.answer_timeout_s = 30;  // the kill must be noticed without the watchdog
-    auto dut = ProcessDut::Start(FirmwareFor(scene), std::move(bus), control_period_s, options);
-    if (!dut) return dut.error();
-    process = dut.value().get();
-    return std::unique_ptr<DutPort>(std::move(dut).value());
+    auto dut =
+        std::make_unique<ProcessDut>(FirmwareFor(scene), std::move(bus), control_period_s, options);
+    process = dut.get();
+    return std::unique_ptr<DutPort>(std::move(dut));
   };
   LockstepRunner runner(config, {}, control);
   ASSERT_NE(process, nullptr);

@@ -1,0 +1,128 @@
+// The runner's side of the DUT lifecycle: Start before anything else, no message nor step for a
+// DUT that did not start, and Stop once at the end of every run.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "host/runner/runner.h"
+#include "host/scenario/scenario_loader.h"
+
+namespace hilrig::host {
+namespace {
+
+// What the runner did to a DUT, in order ("start", "send", "step", "stop").
+struct DutCalls {
+  std::vector<std::string> calls;
+  int Count(const std::string& call) const {
+    return static_cast<int>(std::count(calls.begin(), calls.end(), call));
+  }
+};
+
+class RecordingDut final : public DutPort {
+ public:
+  RecordingDut(DutCalls& log, std::string start_error)
+      : log_(log), start_error_(std::move(start_error)) {}
+
+  rig::Result<void> Start() override {
+    log_.calls.push_back("start");
+    if (!start_error_.empty()) return rig::MakeError(start_error_);
+    return {};
+  }
+  void Stop() override { log_.calls.push_back("stop"); }
+  void Send(const DutInput&) override { log_.calls.push_back("send"); }
+  rig::Result<ActuatorMessage> Step(std::uint64_t, std::int64_t) override {
+    log_.calls.push_back("step");
+    return ActuatorMessage();
+  }
+  DutCounters counters() const override { return {}; }
+  std::string description() const override { return "recording"; }
+
+ private:
+  DutCalls& log_;
+  std::string start_error_;
+};
+
+ScenarioConfig ShortHover() {
+  const auto spec = ParseScenario(R"(name: "air"
+vehicle { initial_position_m { z: 1 } }
+simulation { duration_s: 0.01 }
+)",
+                                  "test.textproto");
+  EXPECT_TRUE(spec.ok()) << spec.error().message;
+  return ResolveScenario(spec.value(), 1);
+}
+
+proto::Report RunWith(const ScenarioConfig& config, DutFactory factory) {
+  const rig::SimClock wall_clock;
+  RunControl control;
+  control.wall_clock = &wall_clock;
+  control.dut_factory = std::move(factory);
+  return RunScenario(config, {}, control);
+}
+
+DutFactory Recording(DutCalls& log, const std::string& start_error) {
+  return [&log, start_error](const ScenarioConfig&, std::unique_ptr<rig::CanBus>,
+                             double) -> rig::Result<std::unique_ptr<DutPort>> {
+    return std::unique_ptr<DutPort>(std::make_unique<RecordingDut>(log, start_error));
+  };
+}
+
+std::string ModelFidelity(const proto::Report& report, const std::string& name) {
+  for (const proto::ModelInfo& model : report.models()) {
+    if (model.name() == name) return model.fidelity();
+  }
+  ADD_FAILURE() << "no model " << name;
+  return "";
+}
+
+TEST(DutLifecycleTest, ADutThatFailsToStartIsNeverSentNorSteppedAndIsStoppedOnce) {
+  DutCalls log;
+  const proto::Report report = RunWith(ShortHover(), Recording(log, "bench supply is off"));
+  EXPECT_EQ(report.stop_reason(), "dut failed to start: bench supply is off");
+  EXPECT_FALSE(report.passed());
+  EXPECT_EQ(report.ticks(), 0u);
+  EXPECT_EQ(log.calls, (std::vector<std::string>{"start", "stop"}));
+}
+
+TEST(DutLifecycleTest, AStartedDutIsStartedFirstAndStoppedOnceAfterItsLastStep) {
+  DutCalls log;
+  const ScenarioConfig config = ShortHover();
+  const proto::Report report = RunWith(config, Recording(log, ""));
+  EXPECT_EQ(report.stop_reason(), "completed");
+  ASSERT_GE(log.calls.size(), 3u);
+  EXPECT_EQ(log.calls.front(), "start");
+  EXPECT_EQ(log.calls.back(), "stop");
+  EXPECT_EQ(log.Count("start"), 1);
+  EXPECT_EQ(log.Count("stop"), 1);
+  EXPECT_EQ(log.Count("step"), static_cast<int>(report.ticks() / config.control_every_ticks));
+}
+
+TEST(DutLifecycleTest, ARunnerDestroyedWithoutFinishStillStopsItsDut) {
+  DutCalls log;
+  const ScenarioConfig config = ShortHover();
+  const rig::SimClock wall_clock;
+  RunControl control;
+  control.wall_clock = &wall_clock;
+  control.dut_factory = Recording(log, "");
+  {
+    LockstepRunner runner(config, {}, control);
+    ASSERT_TRUE(runner.Tick());
+  }
+  EXPECT_EQ(log.Count("stop"), 1);
+}
+
+// A factory that cannot even build its DUT leaves no stand-in DUT behind: the report names none.
+TEST(DutLifecycleTest, AFailedFactoryReportsNoDut) {
+  const proto::Report report = RunWith(
+      ShortHover(),
+      [](const ScenarioConfig&, std::unique_ptr<rig::CanBus>,
+         double) -> rig::Result<std::unique_ptr<DutPort>> { return rig::MakeError("no dut_emu"); });
+  EXPECT_EQ(report.stop_reason(), "dut failed to start: no dut_emu");
+  EXPECT_EQ(ModelFidelity(report, "dut"), "none (failed to start)");
+}
+
+}  // namespace
+}  // namespace hilrig::host
