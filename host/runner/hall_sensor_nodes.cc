@@ -101,4 +101,14 @@ void HallSensorNodes::Tick(std::int64_t now_ns, const Eigen::Quaterniond& attitu
   next_event_ns_ = next_event_ns;
 }
 
+std::int64_t HallSensorNodes::Tick(std::int64_t now_ns, const PlantView& plant, DutPort&) {
+  Tick(now_ns, plant.vehicle.body.orientation, plant.pad_force_n);
+  return next_event_ns_;
+}
+
+std::vector<std::pair<std::string, double>> HallSensorNodes::metrics() const {
+  return {{"hall_node_frames_sent", static_cast<double>(frames_sent_)},
+          {"hall_node_frames_dropped", static_cast<double>(frames_dropped_)}};
+}
+
 }  // namespace hilrig::host

@@ -2,7 +2,8 @@
 // (dut_fw/sensor_node.h: sampling schedule, frame packing, sequence, status frames) on top of its
 // forward model (pad force -> silicone -> film field, plus Earth's field rotated by the vehicle's
 // attitude, through the MLX90393 model): the chip model answers the firmware's conversions, and
-// the firmware's frames go on the bus (proto/TACTILE_PROTOCOL.md). The DUT sees only these frames.
+// the firmware's frames go on the bus (proto/TACTILE_PROTOCOL.md). The DUT sees only these frames:
+// as a device they send on the bus endpoint they were built with, never through the DUT port.
 #pragma once
 
 #include <array>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "dut_fw/sensor_node.h"
+#include "host/runner/device_emulator.h"
 #include "host/scenario/scenario_config.h"
 #include "host/scenario/timeline_schedule.h"
 #include "host/sensors/tactile/film_field.h"
@@ -19,7 +21,7 @@
 
 namespace hilrig::host {
 
-class HallSensorNodes {
+class HallSensorNodes final : public DeviceEmulator {
  public:
   // `film` may be null when the tactile nodes are off (the reference node needs no film).
   HallSensorNodes(const HallSensorConfig& config, const EarthField& earth_field, std::uint64_t seed,
@@ -29,6 +31,11 @@ class HallSensorNodes {
   // fields of the timeline (config.stray_fields) are added at their nodes while they last.
   void Tick(std::int64_t now_ns, const Eigen::Quaterniond& attitude_world_body,
             const std::array<Eigen::Vector3d, kTactileSensorCount>& pad_force_n);
+  // The same, as a device: the vehicle's attitude and the pad forces from the plant's view.
+  std::int64_t Tick(std::int64_t now_ns, const PlantView& plant, DutPort& dut) override;
+  // "hall_node_frames_sent", "hall_node_frames_dropped".
+  std::vector<std::pair<std::string, double>> metrics() const override;
+  std::uint64_t timeline_entries_stepped() const override { return stray_field_pieces_stepped(); }
 
   std::uint64_t frames_sent() const { return frames_sent_; }
   // Frames the bus refused (full TX queue, bus-off); the DUT sees them as sequence gaps.

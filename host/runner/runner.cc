@@ -12,14 +12,12 @@
 #include "host/dut/firmware_config.h"
 #include "host/dut/in_process_dut.h"
 #include "host/runner/gripper_scene.h"
-#include "host/runner/hall_sensor_nodes.h"
 #include "host/runner/model_list.h"
 #include "host/runner/realtime_pacer.h"
 #include "host/runner/run_statistics.h"
+#include "host/runner/scene_devices.h"
 #include "host/runner/timing_checks.h"
 #include "host/scenario/timeline_schedule.h"
-#include "host/sensors/random_stream.h"
-#include "host/sensors/tactile/film_field_factory.h"
 #include "host/trace/trace_csv.h"
 #include "rig/candump_log.h"
 #include "rig/check.h"
@@ -53,17 +51,8 @@ double TiltDeg(const Eigen::Quaterniond& q) {
   return std::acos(std::clamp(body_z_up, -1.0, 1.0)) * kRadToDeg;
 }
 
-// The Hall sensor nodes' pads are the gripper's pads.
-static_assert(kTactileSensorCount == kGripperPadCount);
-const std::array<Eigen::Vector3d, kTactileSensorCount> kNoPadForce = ZeroPadVectors();
-
-std::shared_ptr<const FilmFieldModel> FilmFieldFor(const ScenarioConfig& config) {
-  if (!config.hall_sensors.tactile_enabled) return nullptr;
-  if (config.hall_sensors.film_field != nullptr) return config.hall_sensors.film_field;
-  auto film = MakeFilmField(config.hall_sensors.field_fidelity);
-  HILRIG_CHECK(film.ok(), "the spec's field fidelity was validated before the run");
-  return film.value();
-}
+// The pads' forces the devices see without a gripper.
+const std::array<Eigen::Vector3d, kGripperPadCount> kNoPadForce = ZeroPadVectors();
 
 rig::EmulatedBusConfig BusConfigFor(const ScenarioConfig& config) {
   rig::EmulatedBusConfig bus;
@@ -91,7 +80,6 @@ class LockstepRunner::Impl {
   void StartDut(double control_period_s);
   void StopDut();
   bool Step();
-  void SampleSensors(std::int64_t now_ns);
   void PollWhileWaiting();
   bool TakeNewestCommand();
   void ApplyCommand(ActuatorMessage&& command);
@@ -117,23 +105,19 @@ class LockstepRunner::Impl {
   ReferenceTrajectory reference_;
   IntervalSumSchedule<Eigen::Vector3d> disturbance_force_n_;
 
+  // The scene's devices, then RunControl::added_devices, in tick order.
+  std::vector<std::unique_ptr<DeviceEmulator>> devices_;
+  DeviceSchedule device_schedule_;
   QuadrotorState plant_;
-  ImuState imu_;
-  VioState vio_;
-  HallSensorNodes hall_sensors_;
   std::optional<GripperScene> gripper_;
+  std::optional<PlantView> plant_view_;  // of plant_ and the gripper's pads, for the devices
   GripperCommand grasp_command_;
   double grasp_command_since_s_ = 0;
-  std::int64_t imu_period_ns_;
   QuadrotorStepSize plant_substep_;  // the step and its rotor-lag blend, computed once
-  std::int64_t next_imu_ns_ = 0;
-  std::uint64_t imu_sequence_ = 0;
-  std::uint64_t vio_sequence_ = 0;
   std::uint64_t setpoint_sequence_ = 0;
   ActuatorMessage command_;
   ReferenceSample current_reference_;
 
-  std::vector<VioPose> delivered_vio_;
   std::vector<rig::TimedCanFrame> logged_frames_;
   std::vector<EnvelopeCheck> checks_;
   std::vector<EnvelopeProgress> check_progress_;
@@ -164,11 +148,7 @@ LockstepRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
       reference_(config.initial_reference, config.setpoints),
       disturbance_force_n_(EventSchedule(
           config.disturbances, [](const DisturbanceCommand& d) { return d.force_world_n; })),
-      imu_(MakeImuState(config.imu, RandomStream::FromSeed(
-                                        config.seed, static_cast<std::uint64_t>(StreamId::kImu)))),
-      hall_sensors_(config.hall_sensors, config.earth_field, config.seed, FilmFieldFor(config),
-                    bus_.Connect("hall-sensor-nodes")),
-      imu_period_ns_(std::llround(1e9 / config.imu.rate_hz)),
+      devices_(MakeSceneDevices(config, bus_)),
       plant_substep_(MakeQuadrotorStepSize(
           config.vehicle, Seconds(config.physics_step_ns) / config.plant_substeps)),
       statistics_(config.gripper.enabled) {
@@ -187,19 +167,15 @@ LockstepRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
                ? MakeHoveringQuadrotor(config.vehicle, start_m, config.initial_reference.yaw_rad)
                : MakeRestingQuadrotor(config.vehicle, start_m.x(), start_m.y(),
                                       config.initial_reference.yaw_rad);
-  if (dut_started_ && start_m.z() > 0) {
-    // A vehicle starting in the air has been flying: its DUT already knows where it is, instead of
-    // dropping until the first VIO pose arrives one latency later.
-    dut_->Send(
-        VioMessage{{vio_sequence_++, 0}, 0, plant_.body.position_m, plant_.body.orientation});
-  }
-  vio_.rng = RandomStream::FromSeed(config.seed, static_cast<std::uint64_t>(StreamId::kVio));
+  plant_view_.emplace(PlantView{plant_, gripper_ ? gripper_->pad_forces() : kNoPadForce});
+  for (const std::unique_ptr<DeviceEmulator>& device : devices_) device_schedule_.Add(*device);
+  for (DeviceEmulator* device : control.added_devices) device_schedule_.Add(*device);
+  if (dut_started_) device_schedule_.Initialize(*plant_view_, *dut_);
   for (const proto::Envelope& envelope : config.envelopes) checks_.emplace_back(envelope);
   check_progress_.resize(checks_.size());
   if (sinks.trace_csv != nullptr) trace_writer_.emplace(*sinks.trace_csv);
   if (sinks.can_log != nullptr)
     can_writer_.emplace(*sinks.can_log, "can0", rig::DirectionMark::kRxTx);
-  delivered_vio_.reserve(8);
   logged_frames_.reserve(64);
   total_ticks_ = TotalTicks(config);
   wall_start_ns_ = control.wall_clock->NowNs();
@@ -232,24 +208,6 @@ void LockstepRunner::Impl::StopDut() {
   if (dut_ == nullptr || dut_stopped_) return;
   dut_stopped_ = true;
   dut_->Stop();
-}
-
-void LockstepRunner::Impl::SampleSensors(std::int64_t now_ns) {
-  if (now_ns >= next_imu_ns_) {
-    next_imu_ns_ += imu_period_ns_;
-    const ImuReading reading = SampleImu(config_.imu, imu_, plant_.body.angular_velocity_rad_s,
-                                         plant_.specific_force_body_m_s2, now_ns);
-    dut_->Send(ImuMessage{{imu_sequence_++, now_ns}, reading.gyro_rad_s, reading.accel_m_s2});
-  }
-  CaptureVio(config_.vio, vio_, plant_.body, now_ns);
-  delivered_vio_.clear();
-  DeliverVio(vio_, now_ns, delivered_vio_);
-  for (const VioPose& pose : delivered_vio_) {
-    dut_->Send(VioMessage{
-        {vio_sequence_++, now_ns}, pose.capture_time_ns, pose.position_m, pose.orientation});
-  }
-  hall_sensors_.Tick(now_ns, plant_.body.orientation,
-                     gripper_ ? gripper_->pad_forces() : kNoPadForce);
 }
 
 bool LockstepRunner::Impl::ControlStep(std::uint64_t control_tick, std::int64_t now_ns) {
@@ -431,7 +389,7 @@ bool LockstepRunner::Impl::Step() {
     ended_ = true;
     return false;
   }
-  SampleSensors(now_ns);
+  device_schedule_.Tick(now_ns, *plant_view_, *dut_);
   if (control_tick && !ControlStep(tick_ / control_every, now_ns)) {
     ended_ = true;
     return false;
@@ -542,6 +500,9 @@ proto::Report LockstepRunner::Impl::Finish() {
   AppendBusMetrics(now_ns, report);
   AddMetric(report, "ground_impacts", plant_.ground_impacts, "count");
   AddMetric(report, "non_finite_trace_samples", static_cast<double>(non_finite_samples_), "count");
+  for (const DeviceEmulator* device : device_schedule_.devices()) {
+    for (const auto& [name, value] : device->metrics()) AddMetric(report, name, value, "count");
+  }
   if (gripper_) {
     for (const proto::ObjectOutcome& outcome : gripper_->Outcomes())
       *report.add_objects() = outcome;
@@ -557,8 +518,12 @@ proto::Report LockstepRunner::Impl::Finish() {
 }
 
 std::uint64_t LockstepRunner::Impl::TimelineEntriesStepped() const {
-  return disturbance_force_n_.pieces_stepped() + hall_sensors_.stray_field_pieces_stepped() +
-         (gripper_ ? gripper_->timeline_entries_stepped() : 0);
+  std::uint64_t stepped =
+      disturbance_force_n_.pieces_stepped() + (gripper_ ? gripper_->timeline_entries_stepped() : 0);
+  for (const DeviceEmulator* device : device_schedule_.devices()) {
+    stepped += device->timeline_entries_stepped();
+  }
+  return stepped;
 }
 
 LockstepRunner::LockstepRunner(const ScenarioConfig& config, const RunSinks& sinks,

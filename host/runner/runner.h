@@ -13,8 +13,10 @@
 #include <functional>
 #include <memory>
 #include <ostream>
+#include <vector>
 
 #include "host/dut/dut_port.h"
+#include "host/runner/device_emulator.h"
 #include "host/scenario/scenario_config.h"
 #include "host/trace/trace_sample.h"
 #include "proto/report.pb.h"
@@ -47,6 +49,9 @@ struct RunControl {
   // Set: pace the run in real time on this clock (usually the same SteadyClock as wall_clock);
   // null: lockstep.
   const rig::PacingClock* realtime_clock = nullptr;
+  // Devices ticked after the scene's own (host/runner/scene_devices.h), in this order; not owned,
+  // they must outlive the run.
+  std::vector<DeviceEmulator*> added_devices = {};
 };
 
 // A run that can be stepped tick by tick (benchmarks, tests); RunScenario() drives one to its end.

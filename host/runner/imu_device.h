@@ -1,0 +1,27 @@
+// The IMU as a device: one gyro and accelerometer reading per IMU period (host/sensors/
+// imu_emulator.h), sent to the DUT as an ImuMessage stamped with the tick it was taken at.
+#pragma once
+
+#include <cstdint>
+
+#include "host/runner/device_emulator.h"
+#include "host/sensors/imu_emulator.h"
+
+namespace hilrig::host {
+
+class ImuDevice final : public DeviceEmulator {
+ public:
+  // `params` must outlive the device; its noise draws from the scene seed's IMU stream.
+  ImuDevice(const ImuParams& params, std::uint64_t seed);
+
+  std::int64_t Tick(std::int64_t now_ns, const PlantView& plant, DutPort& dut) override;
+
+ private:
+  const ImuParams& params_;
+  ImuState state_;
+  std::int64_t period_ns_;
+  std::int64_t next_sample_ns_ = 0;
+  std::uint64_t sequence_ = 0;
+};
+
+}  // namespace hilrig::host
