@@ -6,7 +6,9 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
+#include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <variant>
 
 namespace hilrig::host {
@@ -66,5 +68,16 @@ struct ActuatorMessage {
 // Everything the runner sends to the DUT, one alternative per stream. A new DUT-facing stream is
 // one more alternative here; every DutPort and the link codec then say how they take it.
 using DutInput = std::variant<ImuMessage, VioMessage, SetpointMessage>;
+
+// Calls `take` with the message `input` holds. Like std::visit, but a chain of index compares the
+// compiler inlines: the runner sends two messages every tick, and std::visit's dispatch table is
+// an indirect call each time.
+template <typename Take>
+void VisitDutInput(const DutInput& input, Take&& take) {
+  [&]<std::size_t... kIndex>(std::index_sequence<kIndex...>) {
+    (void)((input.index() == kIndex ? (take(*std::get_if<kIndex>(&input)), true) : false) || ...);
+  }
+  (std::make_index_sequence<std::variant_size_v<DutInput>>());
+}
 
 }  // namespace hilrig::host

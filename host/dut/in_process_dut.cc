@@ -1,7 +1,6 @@
 #include "host/dut/in_process_dut.h"
 
 #include <type_traits>
-#include <variant>
 
 namespace hilrig::host {
 
@@ -29,7 +28,7 @@ std::string BasicInProcessDut<S>::description() const {
 
 template <typename S>
 void BasicInProcessDut<S>::Send(const DutInput& input) {
-  std::visit([this](const auto& message) { Take(message); }, input);
+  VisitDutInput(input, [this](const auto& message) { Take(message); });
 }
 
 template <typename S>

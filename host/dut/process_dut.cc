@@ -7,7 +7,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <variant>
 
 #include "host/link/dut_acceptor.h"
 #include "host/link/dut_config_codec.h"
@@ -264,12 +263,10 @@ void ProcessDut::Cover(SendLog& log, std::uint64_t up_to_key, std::int64_t arriv
 }
 
 void ProcessDut::Send(const DutInput& input) {
-  std::visit(
-      [this](const auto& message) {
-        Log(message);
-        Forward(ToLink(message));
-      },
-      input);
+  VisitDutInput(input, [this](const auto& message) {
+    Log(message);
+    Forward(ToLink(message));
+  });
 }
 
 void ProcessDut::Log(const ImuMessage& message) {

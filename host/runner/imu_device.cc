@@ -17,7 +17,8 @@ std::int64_t ImuDevice::Tick(std::int64_t now_ns, const PlantView& plant, DutPor
   next_sample_ns_ += period_ns_;
   const ImuReading reading = SampleImu(params_, state_, plant.vehicle.body.angular_velocity_rad_s,
                                        plant.vehicle.specific_force_body_m_s2, now_ns);
-  dut.Send(ImuMessage{{sequence_++, now_ns}, reading.gyro_rad_s, reading.accel_m_s2});
+  dut.Send(DutInput(std::in_place_type<ImuMessage>, LinkStamp{sequence_++, now_ns},
+                    reading.gyro_rad_s, reading.accel_m_s2));
   return next_sample_ns_;
 }
 

@@ -219,14 +219,12 @@ bool LockstepRunner::Impl::ControlStep(std::uint64_t control_tick, std::int64_t 
     }
     grasp_command_ = grasp;
   }
-  dut_->Send(SetpointMessage{{setpoint_sequence_++, now_ns},
-                             current_reference_.position_m,
-                             current_reference_.velocity_m_s,
-                             current_reference_.acceleration_m_s2,
-                             current_reference_.yaw_rad,
-                             grasp_command_.regulate,
-                             grasp_command_.force_n,
-                             grasp_command_.reference_angle_rad});
+  // Built in place: the message is not copied into the variant on every control tick.
+  dut_->Send(DutInput(std::in_place_type<SetpointMessage>, LinkStamp{setpoint_sequence_++, now_ns},
+                      current_reference_.position_m, current_reference_.velocity_m_s,
+                      current_reference_.acceleration_m_s2, current_reference_.yaw_rad,
+                      grasp_command_.regulate, grasp_command_.force_n,
+                      grasp_command_.reference_angle_rad));
   if (pacer_) {
     dut_->RequestStep(control_tick, now_ns);
     return true;
