@@ -1,8 +1,9 @@
 // The IMU emulator: turns the plant's body rates and specific force into gyro and accelerometer
 // readings with the usual discrete-time noise model: white noise of standard deviation
 // density * sqrt(rate) per sample, plus a bias drawn once at power-up (turn-on bias) that then
-// random-walks by walk_density / sqrt(rate) per sample. The runner calls SampleImu once per IMU
-// period (the IMU has no schedule of its own); time_ns is stamped on the reading unchanged.
+// random-walks by walk_density / sqrt(rate) per sample. The IMU device (host/runner/imu_device.h)
+// keeps the schedule and calls SampleImu once per IMU period; time_ns is stamped on the reading
+// unchanged.
 #ifndef HILRIG_HOST_SENSORS_IMU_EMULATOR_H_
 #define HILRIG_HOST_SENSORS_IMU_EMULATOR_H_
 
