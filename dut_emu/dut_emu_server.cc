@@ -134,8 +134,8 @@ rig::Result<proto::LinkMessage> Session::ReceiveWithin(int timeout_ms, const cha
     if (received.status == LinkReceiveStatus::kClosed) {
       return rig::MakeError("the runner closed the link before the " + std::string(waiting_for));
     }
-    return rig::MakeError("link error while waiting for the " + std::string(waiting_for) + ": " +
-                          received.error);
+    return host::LinkReceiveError(received, "link error while waiting for the " +
+                                                std::string(waiting_for) + ": " + received.error);
   }
   return rig::MakeError("no " + std::string(waiting_for) + " from the runner within " +
                         std::to_string(timeout_ms) + " ms");

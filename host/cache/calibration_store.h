@@ -47,7 +47,8 @@ class FileCalibrationStore {
 // store calibrates every time; a spec that names a calibration file reads that instead. Through
 // SetUpTactile (setup_caches.h) `hilrig run` and `hilrig bench` both use it, so a sweep that
 // calibrates at the reference field (tiles:64, about 47 s) does it once per build, not per sweep.
-// `stop_requested` (may be null) ends a calibration early, as an "interrupted" error.
+// `stop_requested` (may be null) ends a calibration early, as an "interrupted" error (code
+// kInterrupted).
 rig::Result<void> CalibrateThroughStore(const proto::Scenario& spec, ScenarioConfig& config,
                                         const FileCalibrationStore* store,
                                         const std::atomic<bool>* stop_requested = nullptr);

@@ -28,7 +28,7 @@ rig::Result<void> SetUpTactile(const proto::Scenario& spec, ScenarioConfig& conf
   }
   if (auto calibrated = CalibrateThroughStore(spec, config, calibrations, stop_requested);
       !calibrated) {
-    return rig::MakeError("tactile calibration: " + calibrated.error().message);
+    return rig::InContext("tactile calibration: ", calibrated.error());
   }
   return {};
 }

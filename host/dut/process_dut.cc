@@ -212,8 +212,12 @@ std::vector<StreamLatency> ProcessDut::response_latencies() const {
 }
 
 rig::Error ProcessDut::Failed(std::string message) {
-  if (!failure_) failure_ = std::move(message);
-  return rig::MakeError(*failure_);
+  return Failed(rig::MakeError(std::move(message)));
+}
+
+rig::Error ProcessDut::Failed(rig::Error error) {
+  if (!failure_) failure_ = std::move(error);
+  return *failure_;
 }
 
 std::string ProcessDut::ProcessGone() {
@@ -227,7 +231,7 @@ std::string ProcessDut::ProcessGone() {
 }
 
 rig::Result<void> ProcessDut::CheckRunning() {
-  if (failure_) return rig::MakeError(*failure_);
+  if (failure_) return *failure_;
   if (!link_ || stopped_) return Failed("the dut process is not running (not started, or stopped)");
   return {};
 }
@@ -316,7 +320,7 @@ rig::Result<void> ProcessDut::SendStepRequest(std::uint64_t tick, std::int64_t n
   counters_.can_frames_received += frames_.size();
   sequencer_.Stamp(request, now_ns);
   Forward(request);
-  if (failure_) return rig::MakeError(*failure_);
+  if (failure_) return *failure_;
   outstanding_.push_back({tick, wall_ns});
   last_requested_ = tick;
   return {};
@@ -372,8 +376,9 @@ rig::Result<void> ProcessDut::CheckAlive(std::int64_t now_wall_ns) {
   const auto timeout_ns = static_cast<std::int64_t>(options_.answer_timeout_s * 1e9);
   if (now_wall_ns - oldest.wall_ns <= timeout_ns) return {};
   ++watchdog_timeouts_;
-  return Failed("dut did not answer for " + Seconds(options_.answer_timeout_s) + " (tick " +
-                std::to_string(oldest.tick) + ")");
+  return Failed(rig::MakeError(rig::ErrorCode::kTimeout,
+                               "dut did not answer for " + Seconds(options_.answer_timeout_s) +
+                                   " (tick " + std::to_string(oldest.tick) + ")"));
 }
 
 rig::Result<ActuatorMessage> ProcessDut::AwaitCommand(std::uint64_t tick) {
@@ -397,17 +402,18 @@ rig::Result<ActuatorMessage> ProcessDut::AwaitCommand(std::uint64_t tick) {
   }
   ++watchdog_timeouts_;
   if (auto exit = child_->PollExit()) return Failed("dut process " + *exit);
-  return Failed("dut did not answer tick " + std::to_string(tick) + " within " +
-                Seconds(options_.answer_timeout_s));
+  return Failed(rig::MakeError(rig::ErrorCode::kTimeout, "dut did not answer tick " +
+                                                             std::to_string(tick) + " within " +
+                                                             Seconds(options_.answer_timeout_s)));
 }
 
 rig::Result<ActuatorMessage> ProcessDut::TakeCommand(const LinkReceived& received,
                                                      std::int64_t arrival_wall_ns) {
   if (received.status == LinkReceiveStatus::kLinkError) {
-    return Failed("dut sent a bad message (" + received.error + ")");
+    return Failed(LinkReceiveError(received, "dut sent a bad message (" + received.error + ")"));
   }
   if (received.status != LinkReceiveStatus::kMessage) {
-    return Failed("link to the dut failed: " + received.error);
+    return Failed(LinkReceiveError(received, "link to the dut failed: " + received.error));
   }
   const proto::LinkMessage& message = received.message;
   if (message.has_bye()) {

@@ -117,6 +117,7 @@ class ProcessDut final : public DutPort {
   void Forward(const proto::LinkMessage& message);
   // The first failure sticks: every later Step or poll reports it.
   rig::Error Failed(std::string message);
+  rig::Error Failed(rig::Error error);
   std::string ProcessGone();
   // Forwards the frames that reached the runner's endpoint and sends the request for `tick`.
   rig::Result<void> SendStepRequest(std::uint64_t tick, std::int64_t now_ns, bool realtime);
@@ -146,7 +147,7 @@ class ProcessDut final : public DutPort {
   std::uint64_t can_frames_forwarded_ = 0;
   std::uint64_t commands_received_ = 0;
   std::uint64_t watchdog_timeouts_ = 0;
-  std::optional<std::string> failure_;
+  std::optional<rig::Error> failure_;
   // Requests not answered yet, oldest first; bounded like the send logs.
   rig::RingBuffer<Request> outstanding_;
   std::optional<std::uint64_t> last_requested_;

@@ -51,6 +51,19 @@ const char* LinkErrorName(LinkErrorKind kind) {
 
 std::string LinkError::Message() const { return std::string(LinkErrorName(kind)) + ": " + detail; }
 
+rig::Error LinkProtocolError(LinkErrorKind kind, std::string message) {
+  rig::Error error = rig::MakeError(rig::ErrorCode::kLinkProtocol, std::move(message));
+  error.subcode = static_cast<int>(kind);
+  return error;
+}
+
+std::optional<LinkErrorKind> LinkErrorKindOf(const rig::Error& error) {
+  constexpr int kLastKind = static_cast<int>(LinkErrorKind::kOutOfOrder);
+  if (error.code != rig::ErrorCode::kLinkProtocol) return std::nullopt;
+  if (error.subcode < 0 || error.subcode > kLastKind) return std::nullopt;
+  return static_cast<LinkErrorKind>(error.subcode);
+}
+
 std::vector<std::pair<std::string, double>> LinkCounterMetrics(const LinkCounters& counters,
                                                                const std::string& prefix) {
   const auto d = [](std::uint64_t value) { return static_cast<double>(value); };

@@ -44,6 +44,12 @@ struct LinkError {
   std::string Message() const;  // "<name>: <detail>"
 };
 
+// A link error as a rig::Error with `message`: code kLinkProtocol, the kind in its subcode, so
+// that layers passing the error on keep what the peer did wrong.
+rig::Error LinkProtocolError(LinkErrorKind kind, std::string message);
+// The kind a kLinkProtocol error carries; nullopt for any other error.
+std::optional<LinkErrorKind> LinkErrorKindOf(const rig::Error& error);
+
 struct LinkCounters {
   std::uint64_t messages = 0;  // delivered to the caller
   std::uint64_t bytes = 0;     // fed to the decoder

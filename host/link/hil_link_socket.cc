@@ -76,7 +76,7 @@ rig::Result<std::unique_ptr<LinkConnection>> LinkConnection::Connect(const std::
   socket->socket.connect(peer, error);
   if (error == asio::error::in_progress || error == asio::error::would_block) {
     if (WaitFor(fd, POLLOUT, DeadlineIn(timeout_ms)) <= 0) {
-      return rig::MakeError("link connect to " + where + " timed out");
+      return rig::MakeError(rig::ErrorCode::kTimeout, "link connect to " + where + " timed out");
     }
     int status = 0;
     socklen_t length = sizeof(status);
@@ -107,7 +107,7 @@ rig::Result<void> LinkConnection::Send(const proto::LinkMessage& message, int ti
 }
 
 rig::Result<void> LinkConnection::SendBytes(const std::string& bytes, int timeout_ms) {
-  if (closed_) return rig::MakeError("link closed by the peer");
+  if (closed_) return rig::MakeError(rig::ErrorCode::kLinkClosed, "link closed by the peer");
   const int fd = socket_->socket.native_handle();
   const Deadline deadline = DeadlineIn(timeout_ms);
   std::size_t done = 0;
@@ -121,15 +121,34 @@ rig::Result<void> LinkConnection::SendBytes(const std::string& bytes, int timeou
     if (wrote < 0 && errno == EINTR) continue;
     if (wrote < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
       if (WaitFor(fd, POLLOUT, deadline) <= 0) {
-        return rig::MakeError("link send timed out after " + std::to_string(timeout_ms) +
-                              " ms (the peer does not read)");
+        return rig::MakeError(rig::ErrorCode::kTimeout, "link send timed out after " +
+                                                            std::to_string(timeout_ms) +
+                                                            " ms (the peer does not read)");
       }
       continue;
     }
     if (errno == EPIPE || errno == ECONNRESET) closed_ = true;
-    return rig::MakeError(ErrnoText("link send"));
+    return rig::MakeError(closed_ ? rig::ErrorCode::kLinkClosed : rig::ErrorCode::kIo,
+                          ErrnoText("link send"));
   }
   return {};
+}
+
+rig::Error LinkReceiveError(const LinkReceived& received, std::string message) {
+  switch (received.status) {
+    case LinkReceiveStatus::kLinkError:
+      return LinkProtocolError(received.link_error.value_or(LinkErrorKind::kMalformed),
+                               std::move(message));
+    case LinkReceiveStatus::kClosed:
+      return rig::MakeError(rig::ErrorCode::kLinkClosed, std::move(message));
+    case LinkReceiveStatus::kTimeout:
+      return rig::MakeError(rig::ErrorCode::kTimeout, std::move(message));
+    case LinkReceiveStatus::kSocketError:
+      return rig::MakeError(rig::ErrorCode::kIo, std::move(message));
+    case LinkReceiveStatus::kMessage:
+      break;
+  }
+  return rig::MakeError(std::move(message));
 }
 
 LinkReceived LinkConnection::FromDecoder() {
@@ -220,8 +239,8 @@ rig::Result<std::unique_ptr<LinkConnection>> LinkListener::Accept(int timeout_ms
     }
     const int ready = WaitFor(fd, POLLIN, deadline);
     if (ready == 0) {
-      return rig::MakeError("no connection on the link within " + std::to_string(timeout_ms) +
-                            " ms");
+      return rig::MakeError(rig::ErrorCode::kTimeout, "no connection on the link within " +
+                                                          std::to_string(timeout_ms) + " ms");
     }
     if (ready < 0) return rig::MakeError(ErrnoText("link accept poll"));
   }

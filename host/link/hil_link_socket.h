@@ -33,6 +33,10 @@ struct LinkReceived {
   std::optional<LinkErrorKind> link_error;
 };
 
+// A receive that did not deliver a message, as a rig::Error with `message`: kTimeout,
+// kLinkClosed, kLinkProtocol (with the LinkErrorKind, see LinkErrorKindOf) or kIo.
+rig::Error LinkReceiveError(const LinkReceived& received, std::string message);
+
 class LinkConnection {
  public:
   // Connects to host:port, waiting at most timeout_ms for the peer to accept.

@@ -318,7 +318,7 @@ rig::Result<void> LoadTactileCalibration(ScenarioConfig& config,
   bench.temperature_c = hall.temperature_c;
   hall.calibration =
       fixtures::CalibrateUnlessStopped(bench, *hall.film_field, config.seed, stop_requested);
-  if (!hall.calibration) return rig::MakeError("interrupted");
+  if (!hall.calibration) return rig::MakeError(rig::ErrorCode::kInterrupted, "interrupted");
   hall.calibration->set_field_fidelity(hall.field_fidelity);
   return {};
 }

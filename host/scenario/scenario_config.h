@@ -144,7 +144,8 @@ ScenarioConfig ResolveScenario(const proto::Scenario& spec,
 // The DUT's tactile calibration, as the firmware would be flashed with it: read from the spec's
 // calibration file, or found by running the calibration jigs on the scene's own sensor models.
 // Does nothing when the tactile nodes are off.
-// `stop_requested` (may be null) ends a calibration early, as an "interrupted" error.
+// `stop_requested` (may be null) ends a calibration early, as an "interrupted" error (code
+// kInterrupted).
 rig::Result<void> LoadTactileCalibration(ScenarioConfig& config,
                                          const std::atomic<bool>* stop_requested = nullptr);
 

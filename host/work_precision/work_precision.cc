@@ -319,7 +319,7 @@ rig::Result<SceneResult> SweepScene(const proto::Scenario& spec, const std::stri
   if (auto set_up = SetUpTactile(reference_spec, reference_config.value(), options.field_maps,
                                  options.calibrations, control.stop_requested);
       !set_up) {
-    return rig::MakeError(spec.name() + ": " + set_up.error().message);
+    return rig::InContext(spec.name() + ": ", set_up.error());
   }
   const ScenarioConfig& ref_config = reference_config.value();
   const CapturedRun reference_run = RunCaptured(ref_config, control);
@@ -337,7 +337,7 @@ rig::Result<SceneResult> SweepScene(const proto::Scenario& spec, const std::stri
   std::vector<ScenarioConfig> configs{ref_config};
   const bool has_film = spec.models().tactile().enabled();
   for (const PlannedRun& planned : PlanSweep(SceneFidelity(spec), has_film, options.quick)) {
-    if (Interrupted(control)) return rig::MakeError("interrupted");
+    if (Interrupted(control)) return rig::MakeError(rig::ErrorCode::kInterrupted, "interrupted");
     auto config = ResolveWithCalibration(WithFidelity(base, planned.fidelity), spec_directory,
                                          ref_config.seed, ref_config.hall_sensors.calibration);
     if (!config) return config.error();

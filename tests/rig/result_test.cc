@@ -45,6 +45,32 @@ TEST(ResultTest, VoidHoldsError) {
   EXPECT_EQ(result.error().message, "bus off");
 }
 
+TEST(ResultTest, AnErrorWithoutACodeIsUnspecified) {
+  const Error error = MakeError("no sensor");
+
+  EXPECT_EQ(error.code, ErrorCode::kUnspecified);
+  EXPECT_EQ(error.subcode, 0);
+}
+
+TEST(ResultTest, AnErrorKeepsItsCodeBesideItsMessage) {
+  const Result<int> result(MakeError(ErrorCode::kInterrupted, "interrupted"));
+
+  EXPECT_EQ(result.error().code, ErrorCode::kInterrupted);
+  EXPECT_EQ(result.error().message, "interrupted");
+}
+
+// Context added on the way up (a path, a step) must not lose what a caller decides on.
+TEST(ResultTest, ContextGoesBeforeTheMessageAndKeepsTheCodes) {
+  Error inner = MakeError(ErrorCode::kLinkProtocol, "malformed: bad bytes");
+  inner.subcode = 3;
+
+  const Error outer = InContext("scenes/hover.textproto: ", inner);
+
+  EXPECT_EQ(outer.message, "scenes/hover.textproto: malformed: bad bytes");
+  EXPECT_EQ(outer.code, ErrorCode::kLinkProtocol);
+  EXPECT_EQ(outer.subcode, 3);
+}
+
 TEST(ResultDeathTest, ValueOfErrorAbortsWithItsMessage) {
   const Result<int> result(MakeError("decoder gave up"));
 

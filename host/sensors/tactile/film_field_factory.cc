@@ -78,8 +78,8 @@ rig::Result<std::shared_ptr<const FilmFieldModel>> MakeFilmField(
   }
   auto map = FieldMapFilmField::TabulateUnlessStopped(std::move(tiled), grid, stop_requested);
   if (map == nullptr) {
-    return rig::MakeError("interrupted while tabulating the " + FilmFidelityName(level) +
-                          " field map");
+    return rig::MakeError(rig::ErrorCode::kInterrupted, "interrupted while tabulating the " +
+                                                            FilmFidelityName(level) + " field map");
   }
   if (store != nullptr) store->Store(level, grid, map->table());
   model = std::move(map);

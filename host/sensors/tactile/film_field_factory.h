@@ -54,7 +54,8 @@ std::string FilmFidelityName(const FilmFidelity& level);
 // The model of a level, built the first time the process asks for it and shared from then on
 // (names of one level, "map" and "map:32", share one model). A map level first asks `store`, if
 // given, for its table, and stores the table it had to tabulate; tabulating (a second or more)
-// ends with an "interrupted" error, nothing kept, once `stop_requested` (may be null) is set.
+// ends with an "interrupted" error (code kInterrupted), nothing kept, once `stop_requested` (may
+// be null) is set.
 rig::Result<std::shared_ptr<const FilmFieldModel>> MakeFilmField(
     std::string_view fidelity, const FieldMapTableStore* store = nullptr,
     const std::atomic<bool>* stop_requested = nullptr);

@@ -3,12 +3,14 @@
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
+#include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <sstream>
 
 #include "fixtures/calibration/calibration_file.h"
+#include "host/cache/setup_caches.h"
 #include "host/scenario/scenario_config.h"
 #include "host/scenario/scenario_loader.h"
 #include "tests/support/test_files.h"
@@ -128,6 +130,30 @@ simulation { duration_s: 1 }
   ASSERT_TRUE(CalibrateThroughStore(spec.value(), without_store, nullptr).ok());
   EXPECT_EQ(without_store.hall_sensors.calibration->SerializeAsString(),
             first.hall_sensors.calibration->SerializeAsString());
+  std::filesystem::remove_all(dir);
+}
+
+// A stop request ends a calibration with an error that says so in its code, which every layer
+// keeps: callers decide on the code, not on the words.
+TEST(CalibrationStoreTest, AStopRequestEndsTheCalibrationWithTheInterruptedCode) {
+  const std::string dir = ::testing::TempDir() + "/calibration_interrupted_test";
+  std::filesystem::remove_all(dir);
+  const FileCalibrationStore store(dir, "code-a", nullptr);
+  const proto::Scenario spec = Pads();
+  const std::atomic<bool> stop_requested{true};
+
+  ScenarioConfig config = ResolveScenario(spec, 1);
+  const auto calibrated = LoadTactileCalibration(config, &stop_requested);
+  ASSERT_FALSE(calibrated.ok());
+  EXPECT_EQ(calibrated.error().code, rig::ErrorCode::kInterrupted);
+  EXPECT_EQ(calibrated.error().message, "interrupted");
+
+  ScenarioConfig through_store = ResolveScenario(spec, 1);
+  const auto set_up = SetUpTactile(spec, through_store, nullptr, &store, &stop_requested);
+  ASSERT_FALSE(set_up.ok());
+  EXPECT_EQ(set_up.error().code, rig::ErrorCode::kInterrupted);
+  EXPECT_EQ(set_up.error().message, "tactile calibration: interrupted");
+  EXPECT_FALSE(store.Load(spec, 1).has_value());
   std::filesystem::remove_all(dir);
 }
 

@@ -252,6 +252,10 @@ TEST_F(ProcessDutRealtimeTest, GarbageAnswerIsANamedCountedError) {
   EXPECT_EQ(answer.error().message.rfind("dut sent a bad message (malformed", 0), 0u)
       << answer.error().message;
   EXPECT_EQ(Metric(*dut, "link_rx_malformed"), 1.0);
+  // The failure sticks with its kind: every later poll reports the same malformed message.
+  const auto again = dut->PollCommand();
+  ASSERT_FALSE(again.ok());
+  EXPECT_EQ(LinkErrorKindOf(again.error()), LinkErrorKind::kMalformed);
 }
 
 TEST_F(ProcessDutRealtimeTest, RequestingAnOldTickAgainIsRefused) {

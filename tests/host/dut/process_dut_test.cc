@@ -104,6 +104,7 @@ TEST_F(ProcessDutTest, SilentDutTripsTheWatchdog) {
   const auto command = Hover(*dut, 10);
   ASSERT_FALSE(command.ok());
   EXPECT_EQ(command.error().message, "dut did not answer tick 3 within 0.2 s");
+  EXPECT_EQ(command.error().code, rig::ErrorCode::kTimeout);
   bool counted = false;
   for (const auto& [name, value] : dut->link_metrics()) {
     if (name == "link_watchdog_timeouts") counted = value == 1.0;
@@ -118,6 +119,8 @@ TEST_F(ProcessDutTest, GarbageAnswerIsRejectedAndCounted) {
   ASSERT_FALSE(command.ok());
   EXPECT_NE(command.error().message.find("dut sent a bad message (malformed"), std::string::npos)
       << command.error().message;
+  EXPECT_EQ(command.error().code, rig::ErrorCode::kLinkProtocol);
+  EXPECT_EQ(LinkErrorKindOf(command.error()), LinkErrorKind::kMalformed);
   double malformed = -1;
   for (const auto& [name, value] : dut->link_metrics()) {
     if (name == "link_rx_malformed") malformed = value;

@@ -321,5 +321,25 @@ TEST(HilLinkCodecTest, ErrorNamesAreTheDocumentedOnes) {
   EXPECT_STREQ(LinkErrorName(LinkErrorKind::kOutOfOrder), "out_of_order");
 }
 
+// What the peer did wrong survives as a code of the rig::Error that carries it up the layers.
+TEST(HilLinkCodecTest, EveryErrorKindSurvivesARigError) {
+  for (const LinkErrorKind kind :
+       {LinkErrorKind::kOversized, LinkErrorKind::kMalformed, LinkErrorKind::kBadVersion,
+        LinkErrorKind::kSequenceGap, LinkErrorKind::kDuplicate, LinkErrorKind::kOutOfOrder}) {
+    const rig::Error error = LinkProtocolError(kind, "dut sent a bad message");
+    EXPECT_EQ(error.code, rig::ErrorCode::kLinkProtocol);
+    EXPECT_EQ(error.message, "dut sent a bad message");
+    EXPECT_EQ(LinkErrorKindOf(error), kind) << LinkErrorName(kind);
+    EXPECT_EQ(LinkErrorKindOf(rig::InContext("run: ", error)), kind) << LinkErrorName(kind);
+  }
+}
+
+TEST(HilLinkCodecTest, AnErrorOfAnotherCodeHasNoLinkKind) {
+  EXPECT_EQ(LinkErrorKindOf(rig::MakeError("malformed: bytes")), std::nullopt);
+  rig::Error timeout = rig::MakeError(rig::ErrorCode::kTimeout, "no answer");
+  timeout.subcode = static_cast<int>(LinkErrorKind::kDuplicate);
+  EXPECT_EQ(LinkErrorKindOf(timeout), std::nullopt);
+}
+
 }  // namespace
 }  // namespace hilrig::host

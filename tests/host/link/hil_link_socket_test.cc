@@ -83,7 +83,9 @@ TEST(HilLinkSocketTest, SendingToAVanishedPeerIsAnErrorNotASignal) {
   // The first send may still be accepted by the kernel; a reset follows, and then a send fails.
   bool failed = false;
   for (int i = 0; i < 50 && !failed; ++i) {
-    failed = !pair.runner->Send(Bye(static_cast<std::uint64_t>(i), "anyone?")).ok();
+    const rig::Result<void> sent = pair.runner->Send(Bye(static_cast<std::uint64_t>(i), "anyone?"));
+    failed = !sent.ok();
+    if (failed) EXPECT_EQ(sent.error().code, rig::ErrorCode::kLinkClosed) << sent.error().message;
     if (!failed) (void)pair.runner->Receive(10);
   }
   EXPECT_TRUE(failed);
@@ -98,6 +100,21 @@ TEST(HilLinkSocketTest, GarbageFromThePeerIsANamedLinkError) {
   EXPECT_EQ(*received.link_error, LinkErrorKind::kMalformed);
   EXPECT_EQ(received.error.rfind("malformed", 0), 0u);
   EXPECT_EQ(pair.runner->counters().malformed, 1u);
+  const rig::Error error = LinkReceiveError(received, "bad message (" + received.error + ")");
+  EXPECT_EQ(error.code, rig::ErrorCode::kLinkProtocol);
+  EXPECT_EQ(LinkErrorKindOf(error), LinkErrorKind::kMalformed);
+  EXPECT_EQ(error.message, "bad message (" + received.error + ")");
+}
+
+TEST(HilLinkSocketTest, AReceiveThatDeliveredNothingIsAnErrorOfItsCode) {
+  Pair pair = Connected();
+  const LinkReceived silent = pair.runner->Receive(0);
+  ASSERT_EQ(silent.status, LinkReceiveStatus::kTimeout);
+  EXPECT_EQ(LinkReceiveError(silent, "no answer").code, rig::ErrorCode::kTimeout);
+  pair.dut.reset();
+  const LinkReceived closed = pair.runner->Receive(kWaitMs);
+  ASSERT_EQ(closed.status, LinkReceiveStatus::kClosed);
+  EXPECT_EQ(LinkReceiveError(closed, "gone").code, rig::ErrorCode::kLinkClosed);
 }
 
 TEST(HilLinkSocketTest, AcceptTimesOutWithoutAPeer) {
@@ -105,6 +122,7 @@ TEST(HilLinkSocketTest, AcceptTimesOutWithoutAPeer) {
   const auto accepted = listener->Accept(20);
   ASSERT_FALSE(accepted.ok());
   EXPECT_NE(accepted.error().message.find("no connection"), std::string::npos);
+  EXPECT_EQ(accepted.error().code, rig::ErrorCode::kTimeout);
 }
 
 TEST(HilLinkSocketTest, ConnectToAClosedPortFails) {

@@ -38,6 +38,7 @@ TEST(MakeFilmFieldTest, AStopRequestEndsATabulationAndKeepsNothing) {
   const auto stopped = MakeFilmField("map:3", nullptr, &stop_requested);
   ASSERT_FALSE(stopped.ok());
   EXPECT_EQ(stopped.error().message, "interrupted while tabulating the map:3 field map");
+  EXPECT_EQ(stopped.error().code, rig::ErrorCode::kInterrupted);
   const auto built = MakeFilmField("map:3");
   ASSERT_TRUE(built.ok());
   EXPECT_TRUE(built.value()->FieldAtChip(FilmPose{}).allFinite());
