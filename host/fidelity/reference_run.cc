@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "host/fidelity/trace_comparison.h"
+#include "host/report/stop_reason.h"
 #include "host/scenario/scenario_validation.h"
 #include "host/sensors/tactile/film_field_factory.h"
 
@@ -72,8 +73,8 @@ rig::Result<ReferenceRun> ReferenceFor(const ScenarioConfig& chosen, const proto
   lockstep_in_process.wall_clock = control.wall_clock;
   lockstep_in_process.stop_requested = control.stop_requested;
   CapturedRun reference_run = RunCaptured(reference_config.value(), lockstep_in_process);
-  if (reference_run.report.stop_reason() != "completed") {
-    return rig::MakeError("the reference run stopped short: " + reference_run.report.stop_reason());
+  if (!RunCompleted(reference_run.report)) {
+    return StoppedShortError("the reference run stopped short: ", reference_run.report);
   }
   ReferenceRun reference{{std::move(reference_run.trace), reference_run.report.wall_s()}, false};
   if (source.cache != nullptr) {

@@ -5,10 +5,11 @@
 #include <utility>
 
 #include "host/cache/setup_caches.h"
-#include "host/trace/trace_capture.h"
 #include "host/report/run_folder.h"
 #include "host/report/run_plots.h"
+#include "host/report/stop_reason.h"
 #include "host/scenario/scenario_loader.h"
+#include "host/trace/trace_capture.h"
 #include "rig/file_io.h"
 #include "rig/realtime_scheduling.h"
 
@@ -164,7 +165,7 @@ RunPipelineResult RunPipeline(const RunRequest& request, const RunSeams& seams) 
       outcome.files_written.push_back((fs::path(*request.out_dir) / plot).string());
     }
   }
-  if (request.reference != nullptr && outcome.report.stop_reason() == "completed") {
+  if (request.reference != nullptr && RunCompleted(outcome.report)) {
     CompareWithReference(request, seams, run, spec_directory, run_name, captured, outcome);
   }
   if (files) {

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "host/report/stop_reason.h"
 #include "host/report/xml_text.h"
 #include "rig/file_io.h"
 #include "rig/number_text.h"
@@ -89,7 +90,7 @@ rig::Result<void> WriteJunitXml(const proto::Report& report, const std::string& 
     cases << "    </testcase>\n";
   }
   AppendTimingCases(report, cases, failures);
-  if (report.stop_reason() != "completed") {
+  if (!RunCompleted(report)) {
     ++failures;
     cases << "    <testcase classname=\"" << EscapeXmlText(report.scenario())
           << "\" name=\"run completes\">\n      <failure message=\""
@@ -97,8 +98,8 @@ rig::Result<void> WriteJunitXml(const proto::Report& report, const std::string& 
                            " s simulated")
           << "\"/>\n    </testcase>\n";
   }
-  const int tests = report.envelopes_size() + report.timing_checks_size() +
-                    (report.stop_reason() != "completed" ? 1 : 0);
+  const int tests =
+      report.envelopes_size() + report.timing_checks_size() + (!RunCompleted(report) ? 1 : 0);
   std::ostringstream xml;
   xml << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
       << "<testsuites>\n  <testsuite name=\"" << EscapeXmlText(report.scenario()) << "\" tests=\""

@@ -4,6 +4,7 @@
 
 #include "host/report/report_files.h"
 #include "host/report/run_plots.h"
+#include "host/report/stop_reason.h"
 
 namespace hilrig::host {
 namespace {
@@ -40,7 +41,7 @@ rig::Result<RunOutputFolder> RunOutputFolder::Claim(const std::string& out_dir,
   incomplete.set_scenario(scenario);
   incomplete.set_spec_file(spec_file);
   incomplete.set_passed(false);
-  incomplete.set_stop_reason(kIncompleteStopReason);
+  SetStop({StopReason::kIncomplete, {}}, incomplete);
   if (auto written = WriteReportFiles(incomplete, out_dir); !written) return written.error();
   if (auto removed = RemoveOldPlots(out_dir); !removed) return removed.error();
   return RunOutputFolder(std::move(lock).value(), out_dir, std::move(incomplete));

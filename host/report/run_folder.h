@@ -16,9 +16,6 @@
 
 namespace hilrig::host {
 
-// The stop reason of a report written while its run was still going.
-inline constexpr const char* kIncompleteStopReason = "incomplete";
-
 // Writes junit.xml, then report.json (CI reads the verdict from junit.xml, so it goes first).
 rig::Result<void> WriteReportFiles(const proto::Report& report, const std::string& out_dir);
 

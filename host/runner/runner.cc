@@ -11,6 +11,7 @@
 #include "host/checks/envelope_check.h"
 #include "host/dut/firmware_config.h"
 #include "host/dut/in_process_dut.h"
+#include "host/report/stop_reason.h"
 #include "host/runner/gripper_scene.h"
 #include "host/runner/model_list.h"
 #include "host/runner/realtime_pacer.h"
@@ -127,8 +128,8 @@ class LockstepRunner::Impl {
   std::optional<RealtimePacer> pacer_;  // set in real-time runs
   // Real time: what polling the DUT between ticks found, for the next control tick to apply.
   std::optional<ActuatorMessage> arrived_command_;
-  std::optional<std::string> dut_failure_;
-  std::string stop_reason_ = "completed";
+  std::optional<rig::Error> dut_failure_;
+  RunStop stop_;
   std::uint64_t can_frames_logged_ = 0;
   std::uint64_t non_finite_samples_ = 0;
   std::int64_t next_progress_wall_ns_ = kProgressPeriodNs;
@@ -200,7 +201,7 @@ void LockstepRunner::Impl::StartDut(double control_period_s) {
     dut_started_ = true;
     return;
   }
-  stop_reason_ = "dut failed to start: " + started.error().message;
+  stop_ = StopForDutError(started.error(), StopReason::kDutFailedToStart);
   ended_ = true;
 }
 
@@ -231,7 +232,7 @@ bool LockstepRunner::Impl::ControlStep(std::uint64_t control_tick, std::int64_t 
   }
   auto command = dut_->Step(control_tick, now_ns);
   if (!command) {
-    stop_reason_ = "dut failed: " + command.error().message;
+    stop_ = StopForDutError(command.error(), StopReason::kDutFailed);
     return false;
   }
   ApplyCommand(std::move(command).value());
@@ -249,7 +250,7 @@ void LockstepRunner::Impl::PollWhileWaiting() {
   if (dut_failure_) return;
   auto polled = dut_->PollCommand();
   if (!polled) {
-    dut_failure_ = polled.error().message;
+    dut_failure_ = polled.error();
   } else if (polled.value()) {
     arrived_command_ = std::move(*polled.value());
   }
@@ -259,7 +260,7 @@ void LockstepRunner::Impl::PollWhileWaiting() {
 bool LockstepRunner::Impl::TakeNewestCommand() {
   PollWhileWaiting();
   if (dut_failure_) {
-    stop_reason_ = "dut failed: " + *dut_failure_;
+    stop_ = StopForDutError(*dut_failure_, StopReason::kDutFailed);
     return false;
   }
   pacer_->CountControlTick(arrived_command_.has_value());
@@ -332,7 +333,7 @@ bool LockstepRunner::Impl::RecordTrace(std::int64_t now_ns) {
   bool abort = false;
   for (std::size_t i = 0; i < checks_.size(); ++i) {
     if (checks_[i].Observe(sample, check_progress_[i]) && checks_[i].spec().abort_on_violation()) {
-      stop_reason_ = "aborted by envelope " + checks_[i].spec().name();
+      stop_ = {StopReason::kAborted, checks_[i].spec().name()};
       abort = true;
     }
   }
@@ -396,8 +397,8 @@ bool LockstepRunner::Impl::Step() {
   if (!PlantFinite()) {
     // A step size or model the integrator cannot hold: say so and stop, instead of carrying NaN
     // through the trace.
-    stop_reason_ = "numerical instability: the plant state is not finite after " +
-                   rig::NumberText(Seconds(now_ns)) + " s";
+    stop_ = {StopReason::kNumericalInstability,
+             "the plant state is not finite after " + rig::NumberText(Seconds(now_ns)) + " s"};
     ended_ = true;
     return false;
   }
@@ -414,7 +415,7 @@ bool LockstepRunner::Impl::Step() {
   if (pacer_ || tick_ % kStopPollTicks == 0) {
     if (control_.stop_requested != nullptr &&
         control_.stop_requested->load(std::memory_order_relaxed)) {
-      stop_reason_ = "interrupted";
+      stop_ = {StopReason::kInterrupted, {}};
       ended_ = true;
     }
     if (pacer_ || tick_ % kWallClockPollTicks == 0) ReportProgress(clock_.NowNs());
@@ -466,13 +467,13 @@ proto::Report LockstepRunner::Impl::Finish() {
   proto::Report report;
   report.set_scenario(config_.name);
   report.set_seed(config_.seed);
-  report.set_stop_reason(stop_reason_);
+  SetStop(stop_, report);
   report.set_simulated_s(Seconds(now_ns));
   report.set_wall_s(Seconds(wall_ns));
   report.set_real_time_factor(wall_ns > 0 ? Seconds(now_ns) / Seconds(wall_ns) : 0.0);
   report.set_ticks(ticks);
   report.set_can_frames_logged(can_frames_logged_);
-  bool passed = stop_reason_ == "completed";
+  bool passed = stop_.reason == StopReason::kCompleted;
   for (std::size_t i = 0; i < checks_.size(); ++i) {
     *report.add_envelopes() = checks_[i].Result(check_progress_[i]);
     passed = passed && report.envelopes().rbegin()->meets_expectation();

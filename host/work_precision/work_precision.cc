@@ -11,6 +11,7 @@
 
 #include "host/cache/setup_caches.h"
 #include "host/pipeline/run_pipeline.h"
+#include "host/report/stop_reason.h"
 #include "host/runner/run_statistics.h"
 #include "host/sensors/tactile/film_field_factory.h"
 #include "rig/number_text.h"
@@ -323,9 +324,9 @@ rig::Result<SceneResult> SweepScene(const proto::Scenario& spec, const std::stri
   }
   const ScenarioConfig& ref_config = reference_config.value();
   const CapturedRun reference_run = RunCaptured(ref_config, control);
-  if (reference_run.report.stop_reason() != "completed") {
-    return rig::MakeError(
-        spec.name() + ": the reference run stopped short: " + reference_run.report.stop_reason());
+  if (!RunCompleted(reference_run.report)) {
+    return StoppedShortError(spec.name() + ": the reference run stopped short: ",
+                             reference_run.report);
   }
   SceneResult scene;
   scene.scene = spec.name();

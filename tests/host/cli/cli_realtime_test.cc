@@ -11,6 +11,7 @@
 
 #include "host/cli/cli.h"
 #include "host/report/report_files.h"
+#include "host/report/stop_reason.h"
 #include "tests/support/cli_runner.h"
 #include "tests/support/test_files.h"
 
@@ -201,7 +202,7 @@ TEST(TimingLinesTest, LockstepHasNoTimingBlock) {
 TEST(TimingLinesTest, JunitCountsAFailedTimingCheck) {
   proto::Report report;
   report.set_scenario("rt");
-  report.set_stop_reason("completed");
+  SetStop({StopReason::kCompleted, {}}, report);
   auto* check = report.add_timing_checks();
   check->set_name("loop_period_max_s");
   check->set_evaluated(true);

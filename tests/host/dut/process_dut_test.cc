@@ -212,6 +212,7 @@ TEST(ProcessDutRunTest, KilledDutEndsTheRunWithACompleteReport) {
   const proto::Report report = runner.Finish();
   EXPECT_LT(more_ticks, 10);  // the next control tick notices (control runs every tick or so)
   EXPECT_EQ(report.stop_reason(), "dut failed: dut process killed by signal 9");
+  EXPECT_EQ(report.stop_kind(), proto::STOP_DUT_FAILED);
   EXPECT_FALSE(report.passed());
   EXPECT_GE(report.ticks(), 200u);
   bool has_link_metrics = false;

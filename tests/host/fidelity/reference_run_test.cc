@@ -3,6 +3,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <filesystem>
 #include <string>
 
@@ -85,6 +86,23 @@ TEST_F(FidelityErrorTest, AnUnknownReferenceFieldIsAnError) {
 
   ASSERT_FALSE(error.ok());
   EXPECT_THAT(error.error().message, ::testing::HasSubstr("field_fidelity"));
+}
+
+// A stop request that cuts the reference run short is an interruption, not a failed reference.
+TEST_F(FidelityErrorTest, AReferenceRunAStopRequestEndedIsInterrupted) {
+  const FidelityChoice reference = {proto::INTEGRATOR_RK4, std::nullopt, 2, "tiles:32"};
+  const ScenarioConfig chosen = Resolved(reference);
+  RunControl control;
+  control.wall_clock = &wall_clock_;
+  const CapturedRun run = RunCaptured(chosen, control);
+  const std::atomic<bool> stop_requested{true};
+  control.stop_requested = &stop_requested;
+
+  auto error = FidelityErrorOf(chosen, run.trace, spec_, "", Source(reference), control);
+
+  ASSERT_FALSE(error.ok());
+  EXPECT_EQ(error.error().code, rig::ErrorCode::kInterrupted);
+  EXPECT_EQ(error.error().message, "the reference run stopped short: interrupted");
 }
 
 TEST_F(FidelityErrorTest, TheSecondRunTakesTheReferenceFromTheCacheWithTheSameErrors) {

@@ -8,6 +8,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "host/report/stop_reason.h"
+
 namespace hilrig::host {
 namespace {
 
@@ -17,7 +19,7 @@ namespace fs = std::filesystem;
 proto::Report TwoEnvelopeReport() {
   proto::Report report;
   report.set_scenario("hover <&>");
-  report.set_stop_reason("completed");
+  SetStop({StopReason::kCompleted, {}}, report);
   report.set_real_time_factor(1234.5);
   proto::EnvelopeResult* good = report.add_envelopes();
   good->set_name("altitude");
@@ -67,7 +69,7 @@ TEST(ReportFilesTest, JunitHasOneEscapedCasePerEnvelopeAndFailsTheUnmetOne) {
 
 TEST(ReportFilesTest, IncompleteRunIsAFailedCase) {
   proto::Report report = TwoEnvelopeReport();
-  report.set_stop_reason("interrupted");
+  SetStop({StopReason::kInterrupted, {}}, report);
   ASSERT_TRUE(WriteJunitXml(report, TempFile("junit2.xml").string()).ok());
   EXPECT_THAT(ReadFile(TempFile("junit2.xml")), HasSubstr("tests=\"3\" failures=\"2\""));
 }

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "host/report/report_files.h"
+#include "host/report/stop_reason.h"
 #include "tests/support/test_files.h"
 
 namespace hilrig::host {
@@ -27,7 +28,7 @@ proto::Report ReadReport(const fs::path& path) {
 void LeaveAPassingRun(const fs::path& dir) {
   proto::Report passed;
   passed.set_scenario("hover");
-  passed.set_stop_reason("completed");
+  SetStop({StopReason::kCompleted, {}}, passed);
   passed.set_passed(true);
   passed.set_simulated_s(40);
   ASSERT_TRUE(WriteReportFiles(passed, dir.string()));
@@ -45,6 +46,7 @@ TEST(RunOutputFolderTest, ClaimingAUsedFolderMarksItIncompleteBeforeTheRunWrites
 
   const proto::Report report = ReadReport(dir / "report.json");
   EXPECT_EQ(report.stop_reason(), "incomplete");
+  EXPECT_EQ(report.stop_kind(), proto::STOP_INCOMPLETE);
   EXPECT_FALSE(report.passed());
   EXPECT_EQ(report.scenario(), "hover");
   EXPECT_EQ(report.spec_file(), "hover.textproto");
@@ -76,7 +78,7 @@ TEST(RunOutputFolderTest, TheFinalReportReplacesTheIncompleteOne) {
   auto folder = RunOutputFolder::Claim(dir.string(), "hover", "hover.textproto");
   ASSERT_TRUE(folder) << folder.error().message;
   proto::Report final_report;
-  final_report.set_stop_reason("completed");
+  SetStop({StopReason::kCompleted, {}}, final_report);
   final_report.set_passed(true);
 
   ASSERT_TRUE(folder.value().Finish(final_report));

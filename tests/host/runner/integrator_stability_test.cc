@@ -105,6 +105,7 @@ TEST(IntegratorStabilityRunTest, UnstableStepStopsTheRunWithNumericalInstability
   const RunOutput output = RunToEnd(ConfigFrom(kUnstable));
   RecordProperty("stop_reason", output.report.stop_reason());
   EXPECT_THAT(output.report.stop_reason(), StartsWith("numerical instability"));
+  EXPECT_EQ(output.report.stop_kind(), proto::STOP_NUMERICAL_INSTABILITY);
   EXPECT_LT(output.report.simulated_s(), 30.0) << output.report.stop_reason();
   EXPECT_FALSE(output.report.passed());
 }

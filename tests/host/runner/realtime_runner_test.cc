@@ -266,6 +266,7 @@ TEST(RealtimeRunnerTest, DutFailureEndsTheRunWithACompleteReport) {
   const proto::Report report = RunRealtime(config, clock, Scripted(script)).report;
 
   EXPECT_EQ(report.stop_reason(), "dut failed: link closed by the DUT");
+  EXPECT_EQ(report.stop_kind(), proto::STOP_DUT_FAILED);
   EXPECT_FALSE(report.passed());
   EXPECT_EQ(report.ticks(), 40u);
   EXPECT_EQ(report.timing().ticks(), 41u);  // the tick that found the failure began
@@ -281,6 +282,7 @@ TEST(RealtimeRunnerTest, StopRequestEndsTheRunAfterOneTick) {
   const proto::Report report = RunRealtime(config, clock, Scripted({}), 0, &stop).report;
 
   EXPECT_EQ(report.stop_reason(), "interrupted");
+  EXPECT_EQ(report.stop_kind(), proto::STOP_INTERRUPTED);
   EXPECT_EQ(report.ticks(), 1u);
 }
 

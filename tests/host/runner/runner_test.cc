@@ -132,6 +132,7 @@ TEST(RunnerTest, AStopRequestEndsALockstepRunWithinAFewHundredTicks) {
       RunScenario(config, {}, {.wall_clock = &wall_clock, .stop_requested = &stop_requested});
 
   EXPECT_EQ(report.stop_reason(), "interrupted");
+  EXPECT_EQ(report.stop_kind(), proto::STOP_INTERRUPTED);
   EXPECT_FALSE(report.passed());
   EXPECT_LE(report.ticks(), 256u);
 }
@@ -139,9 +140,37 @@ TEST(RunnerTest, AStopRequestEndsALockstepRunWithinAFewHundredTicks) {
 TEST(RunnerTest, RunsForItsDurationAndCompletes) {
   const RunOutput output = RunToEnd(ConfigFrom(kHoverInAir));
   EXPECT_EQ(output.report.stop_reason(), "completed");
+  EXPECT_EQ(output.report.stop_kind(), proto::STOP_COMPLETED);
   EXPECT_EQ(output.report.ticks(), 3000u);
   EXPECT_DOUBLE_EQ(output.report.simulated_s(), 3.0);
   EXPECT_TRUE(output.report.passed());
+}
+
+proto::Report RunWithDutThatFailsToStart(const rig::Error& error) {
+  const rig::SimClock wall_clock;
+  RunControl control{.wall_clock = &wall_clock};
+  control.dut_factory = [&error](const ScenarioConfig&, std::unique_ptr<rig::CanBus>,
+                                 double) -> rig::Result<std::unique_ptr<DutPort>> { return error; };
+  return RunScenario(ConfigFrom(kHoverInAir), {}, control);
+}
+
+TEST(RunnerTest, ADutThatFailsToStartEndsTheRunBeforeItsFirstTick) {
+  const proto::Report report =
+      RunWithDutThatFailsToStart(rig::MakeError("no dut_emu executable at /nowhere"));
+  EXPECT_EQ(report.stop_kind(), proto::STOP_DUT_FAILED_TO_START);
+  EXPECT_EQ(report.stop_detail(), "no dut_emu executable at /nowhere");
+  EXPECT_EQ(report.stop_reason(), "dut failed to start: no dut_emu executable at /nowhere");
+  EXPECT_EQ(report.ticks(), 0u);
+  EXPECT_FALSE(report.passed());
+}
+
+// A DUT start that a stop request cut short is the user's doing, not the DUT's failure.
+TEST(RunnerTest, ADutStartAStopRequestEndedIsAnInterruptedRun) {
+  const proto::Report report = RunWithDutThatFailsToStart(
+      rig::MakeError(rig::ErrorCode::kInterrupted, "stopped while waiting for the dut"));
+  EXPECT_EQ(report.stop_kind(), proto::STOP_INTERRUPTED);
+  EXPECT_EQ(report.stop_reason(), "interrupted");
+  EXPECT_FALSE(report.passed());
 }
 
 TEST(RunnerTest, TraceHasOneRowPerTraceTick) {
@@ -167,6 +196,8 @@ timeline { at_s: 0 setpoint { position_m { z: 1 } transition_s: 2 } }
 envelopes { name: "low" signal: ALTITUDE_M upper: 0.2 abort_on_violation: true }
 )"));
   EXPECT_THAT(output.report.stop_reason(), HasSubstr("aborted by envelope low"));
+  EXPECT_EQ(output.report.stop_kind(), proto::STOP_ABORTED);
+  EXPECT_EQ(output.report.stop_detail(), "low");
   EXPECT_LT(output.report.simulated_s(), 3.0);
   EXPECT_FALSE(output.report.passed());
 }
