@@ -9,6 +9,7 @@
 #include "dut_fw/flight_controller.h"
 #include "dut_fw/grasp_controller.h"
 #include "dut_fw/tactile_processor.h"
+#include "host/link/dut_firmware.h"
 #include "host/plant/quadrotor.h"
 #include "host/scenario/scenario_config.h"
 
@@ -30,16 +31,6 @@ template <typename S = double>
 dut_fw::GraspAdmittanceParams<S> FirmwareGraspParamsFor(const ScenarioConfig& config);
 
 // Everything the DUT is flashed with.
-template <typename S>
-struct BasicDutFirmware {
-  dut_fw::FlightControllerParams<S> flight;
-  std::optional<dut_fw::TactileProcessorParams<S>> tactile;
-  dut_fw::GraspAdmittanceParams<S> grasp;
-  // false: the ablation that keeps the tactile force out of the admittance and the thrust.
-  bool external_force_in_position_loop = true;
-};
-using DutFirmware = BasicDutFirmware<double>;
-
 template <typename S = double>
 BasicDutFirmware<S> FirmwareFor(const ScenarioConfig& config);
 

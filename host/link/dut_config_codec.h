@@ -6,7 +6,7 @@
 // anything else with an error that names the field.
 #pragma once
 
-#include "host/dut/firmware_config.h"
+#include "host/link/dut_firmware.h"
 #include "proto/hil_link.pb.h"
 #include "rig/result.h"
 

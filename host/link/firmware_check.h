@@ -7,7 +7,7 @@
 // scenario the rig accepts passes.
 #pragma once
 
-#include "host/dut/firmware_config.h"
+#include "host/link/dut_firmware.h"
 #include "rig/result.h"
 
 namespace hilrig::host {
