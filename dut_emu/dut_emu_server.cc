@@ -11,11 +11,11 @@
 #include <span>
 
 #include "dut_emu/staged_can_bus.h"
-#include "host/cli/cli_args.h"
 #include "host/dut/in_process_dut.h"
 #include "host/link/dut_config_codec.h"
 #include "host/link/hil_link_codec.h"
 #include "host/link/hil_link_socket.h"
+#include "rig/command_args.h"
 #include "rig/socketcan_bus.h"
 
 namespace hilrig::dut_emu {
@@ -25,16 +25,6 @@ using host::LinkReceiveStatus;
 
 constexpr int kHandshakeTimeoutMs = 5000;
 constexpr int kStopCheckMs = 100;  // how often a waiting DUT looks at stop_requested
-
-template <typename T>
-rig::Result<T> ParseNumber(const std::string& text, const std::string& what) {
-  T value{};
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (error != std::errc() || end != text.data() + text.size()) {
-    return rig::MakeError(what + " \"" + text + "\" is not a valid number");
-  }
-  return value;
-}
 
 std::vector<std::string> Split(const std::string& text, char separator) {
   std::vector<std::string> parts;
@@ -335,17 +325,17 @@ rig::Result<CanSpec> ParseCanSpec(const std::string& text) {
     return rig::MakeError("--can \"" + text +
                           "\": expected udp:BASE_PORT[:INDEX[:COUNT]] or socketcan:IFACE");
   }
-  auto port = ParseNumber<std::uint16_t>(parts[1], "UDP base port");
+  auto port = rig::ParseNumber<std::uint16_t>(parts[1], "UDP base port");
   if (!port) return port.error();
   spec.udp.base_port = port.value();
   spec.udp.node_index = 1;
   if (parts.size() >= 3) {
-    auto index = ParseNumber<std::size_t>(parts[2], "UDP node index");
+    auto index = rig::ParseNumber<std::size_t>(parts[2], "UDP node index");
     if (!index) return index.error();
     spec.udp.node_index = index.value();
   }
   if (parts.size() == 4) {
-    auto count = ParseNumber<std::size_t>(parts[3], "UDP node count");
+    auto count = rig::ParseNumber<std::size_t>(parts[3], "UDP node count");
     if (!count) return count.error();
     spec.udp.node_count = count.value();
   }
@@ -360,9 +350,9 @@ rig::Result<DutEmuOptions> ParseDutEmuArgs(const std::vector<std::string>& args)
                                         "--test-silent-at-tick", "--test-wrong-tick-at-tick"};
   std::set<std::string> allowed{"--link", "--can", "--frame-timeout-ms", "--token-file"};
   allowed.insert(std::begin(kTestHooks), std::end(kTestHooks));
-  auto parsed = host::ParseCliArgs(args, allowed);
+  auto parsed = rig::ParseCliArgs(args, allowed);
   if (!parsed) return parsed.error();
-  const host::CliArgs& cli = parsed.value();
+  const rig::CliArgs& cli = parsed.value();
   if (!cli.positional.empty()) return rig::MakeError("unexpected argument " + cli.positional[0]);
   const std::string* link = cli.Option("--link");
   const std::string* can = cli.Option("--can");
@@ -373,7 +363,7 @@ rig::Result<DutEmuOptions> ParseDutEmuArgs(const std::vector<std::string>& args)
   if (colon == std::string::npos || colon == 0) {
     return rig::MakeError("--link \"" + *link + "\": expected HOST:PORT");
   }
-  auto port = ParseNumber<std::uint16_t>(link->substr(colon + 1), "link port");
+  auto port = rig::ParseNumber<std::uint16_t>(link->substr(colon + 1), "link port");
   if (!port || port.value() == 0) return rig::MakeError("--link \"" + *link + "\": bad port");
   options.link_host = link->substr(0, colon);
   options.link_port = port.value();
@@ -382,7 +372,7 @@ rig::Result<DutEmuOptions> ParseDutEmuArgs(const std::vector<std::string>& args)
   options.can = spec.value();
   if (const std::string* token_file = cli.Option("--token-file")) options.token_file = *token_file;
   if (const std::string* timeout = cli.Option("--frame-timeout-ms")) {
-    auto ms = ParseNumber<int>(*timeout, "--frame-timeout-ms");
+    auto ms = rig::ParseNumber<int>(*timeout, "--frame-timeout-ms");
     if (!ms || ms.value() <= 0) return rig::MakeError("--frame-timeout-ms must be positive");
     options.frame_wait_timeout_ms = ms.value();
   }
@@ -391,7 +381,7 @@ rig::Result<DutEmuOptions> ParseDutEmuArgs(const std::vector<std::string>& args)
   for (std::size_t i = 0; i < std::size(kTestHooks); ++i) {
     const std::string* value = cli.Option(kTestHooks[i]);
     if (value == nullptr) continue;
-    auto tick = ParseNumber<std::uint64_t>(*value, kTestHooks[i]);
+    auto tick = rig::ParseNumber<std::uint64_t>(*value, kTestHooks[i]);
     if (!tick) return tick.error();
     *hooks[i] = tick.value();
   }

@@ -4,27 +4,6 @@
 
 namespace hilrig::host {
 
-const std::string* CliArgs::Option(const std::string& name) const {
-  const auto found = options.find(name);
-  return found == options.end() ? nullptr : &found->second;
-}
-
-rig::Result<CliArgs> ParseCliArgs(const std::vector<std::string>& args,
-                                  const std::set<std::string>& allowed_options) {
-  CliArgs parsed;
-  for (std::size_t i = 1; i < args.size(); ++i) {
-    const std::string& arg = args[i];
-    if (!arg.starts_with("--")) {
-      parsed.positional.push_back(arg);
-      continue;
-    }
-    if (!allowed_options.contains(arg)) return rig::MakeError("unknown option " + arg);
-    if (i + 1 >= args.size()) return rig::MakeError(arg + " needs a value");
-    parsed.options[arg] = args[++i];
-  }
-  return parsed;
-}
-
 rig::Result<std::uint64_t> ParseSeed(const std::string& text) {
   std::uint64_t seed = 0;
   const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), seed);

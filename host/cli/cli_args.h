@@ -1,15 +1,13 @@
-// Argument parsing shared by the hilrig subcommands: positional arguments and "--flag value"
-// options from a fixed list, with an error that names the offending argument.
+// Argument parsing shared by the hilrig subcommands: the rig's option parser (rig/command_args.h),
+// the streams a subcommand writes to, and the options every subcommand reads alike.
 #pragma once
 
 #include <atomic>
 #include <cstdint>
-#include <map>
 #include <ostream>
-#include <set>
 #include <string>
-#include <vector>
 
+#include "rig/command_args.h"
 #include "rig/result.h"
 
 namespace hilrig::host {
@@ -20,16 +18,9 @@ struct CliStreams {
   const std::atomic<bool>* stop_requested;
 };
 
-struct CliArgs {
-  std::vector<std::string> positional;
-  std::map<std::string, std::string> options;  // "--out" -> "DIR"
-
-  const std::string* Option(const std::string& name) const;
-};
-
-// Parses args[1..] (args[0] is the subcommand); every option takes one value.
-rig::Result<CliArgs> ParseCliArgs(const std::vector<std::string>& args,
-                                  const std::set<std::string>& allowed_options);
+// The parser itself is the rig's, shared with dut_emu.
+using rig::CliArgs;
+using rig::ParseCliArgs;
 
 rig::Result<std::uint64_t> ParseSeed(const std::string& text);
 

@@ -9,35 +9,59 @@ cd "$1"
 failures=0
 checked=0
 
-# check FOLDER ALLOWED_PREFIX...: every quoted include in FOLDER/*.{h,cc} (not its subfolders)
-# starts with FOLDER/ or one of the prefixes.
-check() {
-  local folder=$1
-  shift
-  local file line target allowed ok
-  for file in "$folder"/*.h "$folder"/*.cc; do
+# includes FOLDER: "FILE TARGET" for every quoted include in FOLDER/*.{h,cc} (not its subfolders).
+includes() {
+  local file line target
+  for file in "$1"/*.h "$1"/*.cc; do
     [[ -f $file ]] || continue
     while IFS= read -r line; do
       target=${line#*\"}
-      target=${target%%\"*}
-      checked=$((checked + 1))
-      ok=0
-      for allowed in "$folder/" "$@"; do
-        [[ $target == "$allowed"* ]] && ok=1 && break
-      done
-      if ((!ok)); then
-        echo "FAIL: $file includes $target; $folder/ may include only: $*"
-        failures=$((failures + 1))
-      fi
+      echo "$file ${target%%\"*}"
     done < <(grep -E '^#include "' "$file" || true)
   done
 }
 
+# check FOLDER ALLOWED_PREFIX...: every quoted include starts with FOLDER/ or one of the prefixes.
+check() {
+  local folder=$1
+  shift
+  local file target allowed ok
+  while read -r file target; do
+    checked=$((checked + 1))
+    ok=0
+    for allowed in "$folder/" "$@"; do
+      [[ $target == "$allowed"* ]] && ok=1 && break
+    done
+    if ((!ok)); then
+      echo "FAIL: $file includes $target; $folder/ may include only: $*"
+      failures=$((failures + 1))
+    fi
+  done < <(includes "$folder")
+}
+
+# forbid FOLDER PREFIX...: no quoted include starts with one of the prefixes.
+forbid() {
+  local folder=$1
+  shift
+  local file target prefix
+  while read -r file target; do
+    checked=$((checked + 1))
+    for prefix in "$@"; do
+      if [[ $target == "$prefix"* ]]; then
+        echo "FAIL: $file includes $target; $folder/ must not include $prefix"
+        failures=$((failures + 1))
+      fi
+    done
+  done < <(includes "$folder")
+}
+
 # The link speaks the firmware's types and the rig's transports, never a scenario's.
 check host/link rig/ proto/ dut_fw/ host/dut/hil_messages.h
+# The DUT process is the firmware behind the link on a bus: none of the harness's command line.
+forbid dut_emu host/cli/ host/runner/ host/scenario/
 
 # Fewer includes than a floor means the folders moved and the rules check nothing.
-readonly min_checked=20
+readonly min_checked=40
 ((checked >= min_checked)) || {
   echo "FAIL: only $checked includes checked (at least $min_checked expected)"
   failures=$((failures + 1))
