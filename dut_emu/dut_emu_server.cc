@@ -4,7 +4,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <charconv>
 #include <chrono>
 #include <iterator>
 #include <set>
@@ -16,7 +15,6 @@
 #include "host/link/hil_link_codec.h"
 #include "host/link/hil_link_socket.h"
 #include "rig/command_args.h"
-#include "rig/socketcan_bus.h"
 
 namespace hilrig::dut_emu {
 namespace {
@@ -25,17 +23,6 @@ using host::LinkReceiveStatus;
 
 constexpr int kHandshakeTimeoutMs = 5000;
 constexpr int kStopCheckMs = 100;  // how often a waiting DUT looks at stop_requested
-
-std::vector<std::string> Split(const std::string& text, char separator) {
-  std::vector<std::string> parts;
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t at = text.find(separator, start);
-    parts.push_back(text.substr(start, at - start));
-    if (at == std::string::npos) return parts;
-    start = at + 1;
-  }
-}
 
 // The wait for a real-time step's frames: one control period (the answer is late after that
 // anyway), within sane bounds, and never longer than the lockstep wait.
@@ -56,17 +43,6 @@ struct LastSequence {
     sequence = header.sequence();
   }
 };
-
-rig::Result<std::unique_ptr<rig::CanBus>> OpenBus(const CanSpec& spec) {
-  if (spec.kind == CanSpec::Kind::kSocketCan) {
-    auto bus = rig::OpenSocketCan(spec.interface);
-    if (!bus) return bus.error();
-    return std::unique_ptr<rig::CanBus>(std::move(bus).value());
-  }
-  auto bus = rig::UdpBus::Open(spec.udp);
-  if (!bus) return bus.error();
-  return std::unique_ptr<rig::CanBus>(std::move(bus).value());
-}
 
 // One session: the handshake, then message after message until the end.
 class Session {
@@ -157,9 +133,9 @@ rig::Result<void> Session::Handshake(std::unique_ptr<rig::CanBus> bus) {
   auto setup = host::FromDutConfig(config.value().config());
   if (!setup) return rig::MakeError("bad firmware configuration: " + setup.error().message);
   // The runner announces every frame it forwards over UDP; nobody announces a real bus's frames.
-  const UnannouncedFrames unannounced = options_.can.kind == CanSpec::Kind::kSocketCan
-                                            ? UnannouncedFrames::kPassThrough
-                                            : UnannouncedFrames::kEarly;
+  const UnannouncedFrames unannounced = options_.can.scheme == rig::CanBusUri::Scheme::kUdp
+                                            ? UnannouncedFrames::kEarly
+                                            : UnannouncedFrames::kPassThrough;
   auto staged = std::make_unique<StagedCanBus>(std::move(bus), unannounced);
   bus_ = staged.get();
   dut_ = std::make_unique<host::InProcessDut>(setup.value().firmware, std::move(staged),
@@ -305,45 +281,13 @@ int Session::Run(std::unique_ptr<rig::CanBus> bus) {
 }  // namespace
 
 const char* const kDutEmuUsage =
-    "usage: dut_emu --link HOST:PORT --can udp:BASE_PORT[:INDEX[:COUNT]]|socketcan:IFACE\n"
+    "usage: dut_emu --link HOST:PORT --can URI\n"
     "               [--token-file PATH] [--frame-timeout-ms N]\n"
     "Connects to the runner's HIL link and runs the dut_fw controller behind it. It proves to\n"
     "the runner that it is the DUT with the runner's link token (32 hex digits), read from\n"
     "--token-file or else from the HILRIG_LINK_TOKEN environment variable.\n"
     "Exit codes: 0 the runner said bye or a signal stopped it, 1 the link, the bus or the\n"
     "runner failed, 2 bad usage.\n";
-
-rig::Result<CanSpec> ParseCanSpec(const std::string& text) {
-  const std::vector<std::string> parts = Split(text, ':');
-  CanSpec spec;
-  if (parts[0] == "socketcan" && parts.size() == 2 && !parts[1].empty()) {
-    spec.kind = CanSpec::Kind::kSocketCan;
-    spec.interface = parts[1];
-    return spec;
-  }
-  if (parts[0] != "udp" || parts.size() < 2 || parts.size() > 4) {
-    return rig::MakeError("--can \"" + text +
-                          "\": expected udp:BASE_PORT[:INDEX[:COUNT]] or socketcan:IFACE");
-  }
-  auto port = rig::ParseNumber<std::uint16_t>(parts[1], "UDP base port");
-  if (!port) return port.error();
-  spec.udp.base_port = port.value();
-  spec.udp.node_index = 1;
-  if (parts.size() >= 3) {
-    auto index = rig::ParseNumber<std::size_t>(parts[2], "UDP node index");
-    if (!index) return index.error();
-    spec.udp.node_index = index.value();
-  }
-  if (parts.size() == 4) {
-    auto count = rig::ParseNumber<std::size_t>(parts[3], "UDP node count");
-    if (!count) return count.error();
-    spec.udp.node_count = count.value();
-  }
-  if (spec.udp.base_port == 0 || spec.udp.node_index >= spec.udp.node_count) {
-    return rig::MakeError("--can \"" + text + "\": port 0, or node index not below node count");
-  }
-  return spec;
-}
 
 rig::Result<DutEmuOptions> ParseDutEmuArgs(const std::vector<std::string>& args) {
   constexpr const char* kTestHooks[] = {"--test-garbage-at-tick", "--test-exit-at-tick",
@@ -367,7 +311,7 @@ rig::Result<DutEmuOptions> ParseDutEmuArgs(const std::vector<std::string>& args)
   if (!port || port.value() == 0) return rig::MakeError("--link \"" + *link + "\": bad port");
   options.link_host = link->substr(0, colon);
   options.link_port = port.value();
-  auto spec = ParseCanSpec(*can);
+  auto spec = rig::ParseCanBusUri(*can);
   if (!spec) return spec.error();
   options.can = spec.value();
   if (const std::string* token_file = cli.Option("--token-file")) options.token_file = *token_file;
@@ -404,7 +348,7 @@ rig::Result<host::LinkToken> LoadLinkToken(const DutEmuOptions& options,
 int RunDutEmu(const DutEmuOptions& options, const std::atomic<bool>* stop_requested,
               std::ostream& log, std::unique_ptr<rig::CanBus> bus) {
   if (!bus) {
-    auto opened = OpenBus(options.can);
+    auto opened = rig::OpenCanBus(options.can);
     if (!opened) {
       log << "dut_emu: CAN bus: " << opened.error().message << "\n";
       return kExitFailed;

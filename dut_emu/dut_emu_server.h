@@ -3,15 +3,15 @@
 // the firmware configuration the runner sends (refused if any number is bad), and from then on
 // forwards each link message to an InProcessDut -- the very code the in-process run uses, not a
 // copy -- which reads the tactile sensors from a CAN bus of its own (the loopback UDP bus, or
-// SocketCAN on a bench). A StepRequest is answered with the ActuatorCommand of that tick. In
-// lockstep the request says how many CAN frames the runner put on the bus for this step and when
-// each finished arriving on the emulated bus; the server waits for exactly those frames (the bus
-// and the link are separate channels) and hands them to the DUT with those times, so both runs see
-// the same inputs. In a real-time run the runner does not wait for the answer, so the server waits
-// for the frames at most one control period and then steps with what arrived (counted); frames a
-// DUT that fell behind finds ahead of their request wait for it (staged_can_bus.h). Each command
-// says what the DUT had consumed (last IMU / VIO / setpoint sequence, CAN frames), from which the
-// runner measures response latency per stream.
+// a real bus on a bench, any rig::OpenCanBus opens). A StepRequest is answered with the
+// ActuatorCommand of that tick. In lockstep the request says how many CAN frames the runner put on
+// the bus for this step and when each finished arriving on the emulated bus; the server waits for
+// exactly those frames (the bus and the link are separate channels) and hands them to the DUT with
+// those times, so both runs see the same inputs. In a real-time run the runner does not wait for
+// the answer, so the server waits for the frames at most one control period and then steps with
+// what arrived (counted); frames a DUT that fell behind finds ahead of their request wait for it
+// (staged_can_bus.h). Each command says what the DUT had consumed (last IMU / VIO / setpoint
+// sequence, CAN frames), from which the runner measures response latency per stream.
 //
 // The library part lets tests run the server in a thread; dut_emu/main.cc is the executable.
 #pragma once
@@ -26,8 +26,8 @@
 
 #include "host/link/link_token.h"
 #include "rig/can_bus.h"
+#include "rig/can_open.h"
 #include "rig/result.h"
-#include "rig/udp_bus.h"
 
 namespace hilrig::dut_emu {
 
@@ -37,24 +37,15 @@ inline constexpr int kExitFailed = 1;    // the link or the bus failed, or the r
 inline constexpr int kExitUsage = 2;     // bad command line
 inline constexpr int kExitTestHook = 3;  // --test-exit-at-tick fired
 
-struct CanSpec {
-  enum class Kind { kUdp, kSocketCan };
-  Kind kind = Kind::kUdp;
-  rig::UdpBusConfig udp;  // kUdp
-  std::string interface;  // kSocketCan
-};
-
-// "udp:BASE_PORT[:NODE_INDEX[:NODE_COUNT]]" (index 1 of 2 by default: the runner's forwarder is
-// node 0) or "socketcan:IFACE".
-rig::Result<CanSpec> ParseCanSpec(const std::string& text);
-
 struct DutEmuOptions {
   std::string link_host = "127.0.0.1";
   std::uint16_t link_port = 0;
   // What the hello proves to the runner (LoadLinkToken); without one the runner refuses the DUT.
   std::optional<host::LinkToken> link_token;
   std::string token_file;  // --token-file: where a DUT started by hand finds its token
-  CanSpec can;
+  // --can, as rig::OpenCanBus reads it; the runner's UDP bus, whose frames it announces, unless
+  // told otherwise.
+  rig::CanBusUri can{rig::CanBusUri::Scheme::kUdp, {}, {}, {}};
   int connect_timeout_ms = 5000;
   // How long a StepRequest waits for the CAN frames it announces before the DUT gives up.
   int frame_wait_timeout_ms = 1000;
@@ -69,7 +60,7 @@ struct DutEmuOptions {
 
 inline constexpr std::uint64_t kWrongTickOffset = 1'000'000;
 
-// argv[1..] of dut_emu: --link HOST:PORT --can SPEC [--token-file PATH] [--frame-timeout-ms N]
+// argv[1..] of dut_emu: --link HOST:PORT --can URI [--token-file PATH] [--frame-timeout-ms N]
 // [--test-garbage-at-tick T] [--test-exit-at-tick T] [--test-silent-at-tick T]
 // [--test-wrong-tick-at-tick T].
 rig::Result<DutEmuOptions> ParseDutEmuArgs(const std::vector<std::string>& args);

@@ -226,9 +226,20 @@ class LibusbGsUsbTransport final : public GsUsbTransport {
   bool unplugged_ = false;
 };
 
-// The first matching device, opened; nullptr if none matched.
+// Whether an opened device reports `serial` as its serial number string.
+bool HasSerial(libusb_device_handle* handle, const libusb_device_descriptor& descriptor,
+               const std::string& serial) {
+  unsigned char text[256] = {};
+  const int length =
+      libusb_get_string_descriptor_ascii(handle, descriptor.iSerialNumber, text, sizeof(text));
+  return length >= 0 && serial == std::string(reinterpret_cast<const char*>(text),
+                                              static_cast<std::size_t>(length));
+}
+
+// The first matching device (with `serial`, unless empty), opened.
 Result<libusb_device_handle*> OpenFirstMatching(libusb_context* context,
-                                                std::span<const UsbDeviceId> ids) {
+                                                std::span<const UsbDeviceId> ids,
+                                                const std::string& serial) {
   libusb_device** list = nullptr;
   const ssize_t count = libusb_get_device_list(context, &list);
   if (count < 0) {
@@ -244,12 +255,16 @@ Result<libusb_device_handle*> OpenFirstMatching(libusb_context* context,
     if (int rc = libusb_open(list[i], &handle); rc != 0) {
       last_error = LibusbMessage("opening a matching device", rc);
       handle = nullptr;
+    } else if (!serial.empty() && !HasSerial(handle, descriptor, serial)) {
+      libusb_close(handle);
+      handle = nullptr;
     }
   }
   libusb_free_device_list(list, 1);
   if (handle == nullptr) {
+    const std::string wanted = serial.empty() ? "" : " with serial " + serial;
     return MakeError(last_error.empty()
-                         ? std::string("no gs_usb device found")
+                         ? "no gs_usb device found" + wanted
                          : "no gs_usb device found that could be opened: " + last_error);
   }
   return handle;
@@ -257,13 +272,14 @@ Result<libusb_device_handle*> OpenFirstMatching(libusb_context* context,
 
 }  // namespace
 
-Result<std::unique_ptr<GsUsbTransport>> OpenLibusbGsUsbTransport(std::span<const UsbDeviceId> ids) {
+Result<std::unique_ptr<GsUsbTransport>> OpenLibusbGsUsbTransport(std::span<const UsbDeviceId> ids,
+                                                                 const std::string& serial) {
   libusb_context* context = nullptr;
   if (int rc = libusb_init(&context); rc != 0) {
     return MakeError(std::string("no gs_usb device found (libusb_init: ") + libusb_error_name(rc) +
                      ")");
   }
-  Result<libusb_device_handle*> handle = OpenFirstMatching(context, ids);
+  Result<libusb_device_handle*> handle = OpenFirstMatching(context, ids, serial);
   if (!handle) {
     libusb_exit(context);
     return handle.error();

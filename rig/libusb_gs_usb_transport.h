@@ -32,9 +32,10 @@ inline constexpr std::array<UsbDeviceId, 4> kKnownGsUsbDevices = {
     UsbDeviceId{0x1d50, 0x606f}, UsbDeviceId{0x1209, 0x2323}, UsbDeviceId{0x1cd2, 0x606f},
     UsbDeviceId{0x16d0, 0x10b8}};
 
-// The first attached device with one of `ids`. Fails with a message starting "no gs_usb device
-// found" when there is none or libusb cannot enumerate at all (no /dev/bus/usb in a container).
+// The first attached device with one of `ids` and, unless `serial` is empty, that USB serial
+// number. Fails with a message starting "no gs_usb device found" when there is none or libusb
+// cannot enumerate at all (no /dev/bus/usb in a container).
 Result<std::unique_ptr<GsUsbTransport>> OpenLibusbGsUsbTransport(
-    std::span<const UsbDeviceId> ids = kKnownGsUsbDevices);
+    std::span<const UsbDeviceId> ids = kKnownGsUsbDevices, const std::string& serial = "");
 
 }  // namespace hilrig::rig

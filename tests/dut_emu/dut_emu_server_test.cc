@@ -360,7 +360,7 @@ TEST(DutEmuArgsTest, ParsesLinkAndUdpBus) {
       ParseDutEmuArgs({"dut_emu", "--link", "127.0.0.1:4000", "--can", "udp:30000"}).value();
   EXPECT_EQ(options.link_host, "127.0.0.1");
   EXPECT_EQ(options.link_port, 4000);
-  EXPECT_EQ(options.can.kind, CanSpec::Kind::kUdp);
+  EXPECT_EQ(options.can.scheme, rig::CanBusUri::Scheme::kUdp);
   EXPECT_EQ(options.can.udp.base_port, 30000);
   EXPECT_EQ(options.can.udp.node_index, 1u);
   EXPECT_EQ(options.can.udp.node_count, 2u);
@@ -373,10 +373,11 @@ TEST(DutEmuArgsTest, ParsesATokenFile) {
   EXPECT_EQ(options.token_file, "/run/dut/token");
 }
 
-TEST(DutEmuArgsTest, ParsesSocketCan) {
-  const CanSpec spec = ParseCanSpec("socketcan:can0").value();
-  EXPECT_EQ(spec.kind, CanSpec::Kind::kSocketCan);
-  EXPECT_EQ(spec.interface, "can0");
+TEST(DutEmuArgsTest, ParsesEveryCanBusUri) {
+  const auto options =
+      ParseDutEmuArgs({"dut_emu", "--link", "127.0.0.1:4000", "--can", "gs_usb:ABC"}).value();
+  EXPECT_EQ(options.can.scheme, rig::CanBusUri::Scheme::kGsUsb);
+  EXPECT_EQ(options.can.usb_serial, "ABC");
 }
 
 TEST(DutEmuArgsTest, RefusesBadArguments) {
@@ -387,9 +388,11 @@ TEST(DutEmuArgsTest, RefusesBadArguments) {
   // Named for what it is, with or without a value after it.
   EXPECT_EQ(ParseDutEmuArgs({"dut_emu", "--bogus"}).error().message, "unknown option --bogus");
   EXPECT_EQ(ParseDutEmuArgs({"dut_emu", "--link"}).error().message, "--link needs a value");
-  EXPECT_FALSE(ParseCanSpec("udp:70000").ok());
-  EXPECT_FALSE(ParseCanSpec("udp:3000:2:2").ok());
-  EXPECT_FALSE(ParseCanSpec("serial:/dev/ttyUSB0").ok());
+  EXPECT_EQ(ParseDutEmuArgs({"dut_emu", "--link", "127.0.0.1:4000", "--can", "serial:/dev/ttyUSB0"})
+                .error()
+                .message,
+            "CAN bus \"serial:/dev/ttyUSB0\": unknown scheme \"serial\"; expected emulated, "
+            "udp:BASE_PORT[:INDEX[:COUNT]], socketcan:IFACE or gs_usb[:SERIAL]");
 }
 
 }  // namespace
