@@ -13,6 +13,7 @@
 
 #include "host/cache/setup_caches.h"
 #include "host/cli/bench_command.h"
+#include "host/cli/can_commands.h"
 #include "host/cli/cli_args.h"
 #include "host/cli/tactile_commands.h"
 #include "host/dut/firmware_config.h"
@@ -48,6 +49,8 @@ constexpr const char* kUsage =
     "  hilrig accuracy --calibration FILE --out DIR [--seed N] [--field F]\n"
     "                                                     held-out force error\n"
     "  hilrig decode --calibration FILE                   stdin 'bx by bz' (T) -> S\n"
+    "  hilrig listen --can URI [--frames N]               print a CAN bus's frames (candump)\n"
+    "      URI: emulated, udp:BASE_PORT[:INDEX[:COUNT]], socketcan:IFACE, gs_usb[:SERIAL]\n"
     "  hilrig help                                        this text\n"
     "run writes report.json, junit.xml, trace.csv and can.log into --out (default\n"
     "hilrig_out/<scenario>) and compares the trace with the scene's reference run (tight\n"
@@ -349,6 +352,7 @@ int RunCli(const std::vector<std::string>& args, std::ostream& out, std::ostream
   if (args[0] == "bench") return BenchCommand(args, io);
   if (args[0] == "calibrate") return CalibrateCommand(args, io);
   if (args[0] == "accuracy") return AccuracyCommand(args, io);
+  if (args[0] == "listen") return ListenCommand(args, io);
   if (args[0] == "decode") {
     return in != nullptr ? DecodeCommand(args, io, *in) : DecodeStandardInput(args, io);
   }
