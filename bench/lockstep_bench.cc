@@ -14,6 +14,7 @@
 #include "host/scenario/scenario_config.h"
 #include "host/scenario/scenario_loader.h"
 #include "host/sensors/imu_emulator.h"
+#include "host/setup/scene_setup.h"
 #include "rig/clock.h"
 #include "rig/emulated_bus.h"
 

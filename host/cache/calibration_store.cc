@@ -3,6 +3,7 @@
 #include <utility>
 
 #include "fixtures/calibration/calibration_file.h"
+#include "host/setup/scene_setup.h"
 
 namespace hilrig::host {
 namespace {

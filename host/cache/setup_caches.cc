@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "host/cache/reference_cache.h"
+#include "host/setup/scene_setup.h"
 
 namespace hilrig::host {
 

@@ -5,8 +5,6 @@
 #include <filesystem>
 #include <numbers>
 
-#include "fixtures/calibration/calibration_file.h"
-#include "fixtures/calibration/calibration_procedure.h"
 #include "fixtures/objects/object_fixtures.h"
 #include "host/sensors/tactile/film_field_factory.h"
 #include "rig/check.h"
@@ -282,45 +280,12 @@ std::uint64_t CompletedRunTraceSamples(const ScenarioConfig& config) {
   return TotalTicks(config) / static_cast<std::uint64_t>(config.trace_every_ticks);
 }
 
-rig::Result<void> BuildFilmField(ScenarioConfig& config, const FieldMapTableStore* field_maps,
-                                 const std::atomic<bool>* stop_requested) {
-  HallSensorConfig& hall = config.hall_sensors;
-  if (!hall.tactile_enabled || hall.film_field != nullptr) return {};
-  auto film = MakeFilmField(hall.field_fidelity, field_maps, stop_requested);
-  if (!film) return film.error();
-  hall.film_field = std::move(film).value();
-  return {};
-}
-
 double PhysicsRateHz(const proto::Simulation& simulation) {
   return Or(simulation.has_physics_rate_hz(), simulation.physics_rate_hz(), kDefaultPhysicsRateHz);
 }
 
 double TraceRateHz(const proto::Simulation& simulation) {
   return Or(simulation.has_trace_rate_hz(), simulation.trace_rate_hz(), kDefaultTraceRateHz);
-}
-
-rig::Result<void> LoadTactileCalibration(ScenarioConfig& config,
-                                         const std::atomic<bool>* stop_requested) {
-  HallSensorConfig& hall = config.hall_sensors;
-  if (!hall.tactile_enabled) return {};
-  if (!hall.calibration_file.empty()) {
-    auto calibration = fixtures::ReadCalibrationFile(hall.calibration_file);
-    if (!calibration) return calibration.error();
-    hall.calibration = std::move(calibration).value();
-    return {};
-  }
-  if (auto built = BuildFilmField(config, nullptr, stop_requested); !built) return built.error();
-  fixtures::CalibrationBench bench;
-  bench.tactile = hall.tactile;
-  bench.reference = hall.reference;
-  bench.earth_field_world_t = config.earth_field.field_world_t;
-  bench.temperature_c = hall.temperature_c;
-  hall.calibration =
-      fixtures::CalibrateUnlessStopped(bench, *hall.film_field, config.seed, stop_requested);
-  if (!hall.calibration) return rig::MakeError(rig::ErrorCode::kInterrupted, "interrupted");
-  hall.calibration->set_field_fidelity(hall.field_fidelity);
-  return {};
 }
 
 }  // namespace hilrig::host

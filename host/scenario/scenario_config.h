@@ -27,8 +27,6 @@
 
 namespace hilrig::host {
 
-class FieldMapTableStore;  // host/sensors/tactile/film_field_factory.h
-
 struct DisturbanceCommand {
   double at_s = 0;
   double duration_s = 0;
@@ -53,7 +51,7 @@ struct HallSensorConfig {
   bool compensation = true;
   double zeroing_s = 1;
   std::string calibration_file;  // resolved against the spec's folder; empty: calibrate at start
-  std::optional<proto::Calibration> calibration;  // filled by LoadTactileCalibration
+  std::optional<proto::Calibration> calibration;  // filled by LoadTactileCalibration (host/setup)
   // The film's field at field_fidelity, built once (a field map takes a second or more to
   // tabulate) and shared by the calibration jigs, the run and a sweep's runs at the same level;
   // const, so sharing it cannot couple them. Empty: built by LoadTactileCalibration or the runner.
@@ -141,14 +139,6 @@ ScenarioConfig ResolveScenario(const proto::Scenario& spec,
                                std::optional<std::uint64_t> seed_override,
                                const std::string& spec_directory = "");
 
-// The DUT's tactile calibration, as the firmware would be flashed with it: read from the spec's
-// calibration file, or found by running the calibration jigs on the scene's own sensor models.
-// Does nothing when the tactile nodes are off.
-// `stop_requested` (may be null) ends a calibration early, as an "interrupted" error (code
-// kInterrupted).
-rig::Result<void> LoadTactileCalibration(ScenarioConfig& config,
-                                         const std::atomic<bool>* stop_requested = nullptr);
-
 // The spec's physics (tick) rate, or the default.
 inline constexpr double kDefaultPhysicsRateHz = 1000;
 // The design's sensor rate: every Hall node samples at it unless the spec sets node_rate_hz.
@@ -157,12 +147,5 @@ double PhysicsRateHz(const proto::Simulation& simulation);
 // The spec's trace rate, or the default.
 inline constexpr double kDefaultTraceRateHz = 100;
 double TraceRateHz(const proto::Simulation& simulation);
-
-// Builds hall_sensors.film_field for its field_fidelity unless the config already has one; a map
-// level's table comes from `field_maps` when it holds it (MakeFilmField, which `stop_requested`,
-// may be null, interrupts).
-rig::Result<void> BuildFilmField(ScenarioConfig& config,
-                                 const FieldMapTableStore* field_maps = nullptr,
-                                 const std::atomic<bool>* stop_requested = nullptr);
 
 }  // namespace hilrig::host

@@ -14,6 +14,7 @@
 #include "host/report/stop_reason.h"
 #include "host/runner/run_statistics.h"
 #include "host/sensors/tactile/film_field_factory.h"
+#include "host/setup/scene_setup.h"
 #include "rig/number_text.h"
 
 namespace hilrig::host {

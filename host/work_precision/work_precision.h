@@ -19,6 +19,7 @@
 #include "host/report/scatter_plot.h"
 #include "host/runner/runner.h"
 #include "host/scenario/scenario_config.h"
+#include "host/sensors/tactile/film_field_factory.h"
 #include "proto/report.pb.h"
 #include "proto/scenario.pb.h"
 #include "rig/result.h"

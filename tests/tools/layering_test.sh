@@ -57,6 +57,8 @@ forbid() {
 
 # The link speaks the firmware's types and the rig's transports, never a scenario's.
 check host/link rig/ proto/ dut_fw/ host/dut/hil_messages.h
+# Resolving a spec is quick: the calibration jigs and field-map tabulation belong to host/setup.
+forbid host/scenario fixtures/calibration/ host/setup/
 # The DUT process is the firmware behind the link on a bus: none of the harness's command line.
 forbid dut_emu host/cli/ host/runner/ host/scenario/
 

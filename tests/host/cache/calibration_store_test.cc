@@ -13,6 +13,7 @@
 #include "host/cache/setup_caches.h"
 #include "host/scenario/scenario_config.h"
 #include "host/scenario/scenario_loader.h"
+#include "host/setup/scene_setup.h"
 #include "tests/support/test_files.h"
 
 namespace hilrig::host {

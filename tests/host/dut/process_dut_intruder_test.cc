@@ -14,6 +14,7 @@
 #include "host/runner/runner.h"
 #include "host/scenario/scenario_config.h"
 #include "host/scenario/scenario_loader.h"
+#include "host/setup/scene_setup.h"
 #include "rig/clock.h"
 
 namespace hilrig::host {

@@ -13,6 +13,7 @@
 #include "host/runner/runner.h"
 #include "host/scenario/scenario_config.h"
 #include "host/scenario/scenario_loader.h"
+#include "host/setup/scene_setup.h"
 #include "rig/clock.h"
 #include "rig/emulated_bus.h"
 #include "tests/support/test_files.h"

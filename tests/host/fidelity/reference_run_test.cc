@@ -8,6 +8,7 @@
 #include <string>
 
 #include "host/scenario/scenario_loader.h"
+#include "host/setup/scene_setup.h"
 #include "rig/clock.h"
 
 namespace hilrig::host {

@@ -10,6 +10,7 @@
 
 #include "host/scenario/scenario_config.h"
 #include "host/scenario/scenario_loader.h"
+#include "host/setup/scene_setup.h"
 
 namespace hilrig::host {
 namespace {

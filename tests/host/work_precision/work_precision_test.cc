@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "host/scenario/scenario_loader.h"
+#include "host/setup/scene_setup.h"
 #include "rig/clock.h"
 
 namespace hilrig::host {
