@@ -89,30 +89,25 @@ Measured MissedCommandFraction(const proto::Timing& timing) {
   return {Fraction(timing.dut_commands_missed(), timing.control_ticks()), ""};
 }
 
-struct TimingLimit {
+struct GradedLimit {
   const char* name;
   const char* unit;
-  bool (proto::TimingEnvelopes::*is_set)() const;
-  double (proto::TimingEnvelopes::*limit)() const;
+  std::optional<double> TimingLimits::*limit;
   Measured (*measure)(const proto::Timing&);
 };
 
 // In the order of proto::TimingEnvelopes' fields.
-constexpr TimingLimit kTimingLimits[] = {
-    {"loop_period_p99_max_s", "s", &proto::TimingEnvelopes::has_loop_period_p99_max_s,
-     &proto::TimingEnvelopes::loop_period_p99_max_s, &LoopPeriodP99},
-    {"loop_period_max_s", "s", &proto::TimingEnvelopes::has_loop_period_max_s,
-     &proto::TimingEnvelopes::loop_period_max_s, &LoopPeriodMax},
-    {"late_tick_fraction_max", "fraction", &proto::TimingEnvelopes::has_late_tick_fraction_max,
-     &proto::TimingEnvelopes::late_tick_fraction_max, &LateTickFraction},
-    {"dut_latency_p99_max_s", "s", &proto::TimingEnvelopes::has_dut_latency_p99_max_s,
-     &proto::TimingEnvelopes::dut_latency_p99_max_s, &DutLatencyP99},
+constexpr GradedLimit kTimingLimits[] = {
+    {"loop_period_p99_max_s", "s", &TimingLimits::loop_period_p99_max_s, &LoopPeriodP99},
+    {"loop_period_max_s", "s", &TimingLimits::loop_period_max_s, &LoopPeriodMax},
+    {"late_tick_fraction_max", "fraction", &TimingLimits::late_tick_fraction_max,
+     &LateTickFraction},
+    {"dut_latency_p99_max_s", "s", &TimingLimits::dut_latency_p99_max_s, &DutLatencyP99},
     {"dut_commands_missed_fraction_max", "fraction",
-     &proto::TimingEnvelopes::has_dut_commands_missed_fraction_max,
-     &proto::TimingEnvelopes::dut_commands_missed_fraction_max, &MissedCommandFraction},
+     &TimingLimits::dut_commands_missed_fraction_max, &MissedCommandFraction},
 };
 
-proto::TimingCheckResult GradeRealtime(const TimingLimit& check, double limit,
+proto::TimingCheckResult GradeRealtime(const GradedLimit& check, double limit,
                                        const proto::Timing& timing) {
   Measured measured = check.measure(timing);
   if (measured.not_applicable) return NotEvaluated(check.name, limit, check.unit, measured.note);
@@ -122,13 +117,14 @@ proto::TimingCheckResult GradeRealtime(const TimingLimit& check, double limit,
 
 }  // namespace
 
-std::vector<proto::TimingCheckResult> GradeTiming(const proto::TimingEnvelopes& limits,
+std::vector<proto::TimingCheckResult> GradeTiming(const TimingLimits& limits,
                                                   const proto::Timing& timing) {
   const bool realtime = timing.mode() == "realtime";
   std::vector<proto::TimingCheckResult> results;
-  for (const TimingLimit& check : kTimingLimits) {
-    if (!(limits.*check.is_set)()) continue;
-    const double limit = (limits.*check.limit)();
+  for (const GradedLimit& check : kTimingLimits) {
+    const std::optional<double>& limit_or_none = limits.*check.limit;
+    if (!limit_or_none) continue;
+    const double limit = *limit_or_none;
     results.push_back(realtime ? GradeRealtime(check, limit, timing)
                                : NotEvaluated(check.name, limit, check.unit, "lockstep"));
   }

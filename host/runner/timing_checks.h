@@ -7,13 +7,13 @@
 
 #include <vector>
 
+#include "host/scenario/scenario_config.h"
 #include "proto/report.pb.h"
-#include "proto/scenario.pb.h"
 
 namespace hilrig::host {
 
 // One result per limit the spec sets, in the order of proto::TimingEnvelopes' fields.
-std::vector<proto::TimingCheckResult> GradeTiming(const proto::TimingEnvelopes& limits,
+std::vector<proto::TimingCheckResult> GradeTiming(const TimingLimits& limits,
                                                   const proto::Timing& timing);
 
 }  // namespace hilrig::host

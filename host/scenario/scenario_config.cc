@@ -166,8 +166,21 @@ void ResolveSimulation(const proto::Simulation& simulation, ScenarioConfig& conf
       Or(simulation.has_plant_substeps(), simulation.plant_substeps(), std::uint32_t{1}));
 }
 
+std::optional<double> OptionalOf(bool has, double value) {
+  return has ? std::optional<double>(value) : std::nullopt;
+}
+
 void ResolveTiming(const proto::TimingEnvelopes& timing, ScenarioConfig& config) {
-  config.timing = timing;
+  TimingLimits& limits = config.timing;
+  limits.loop_period_p99_max_s =
+      OptionalOf(timing.has_loop_period_p99_max_s(), timing.loop_period_p99_max_s());
+  limits.loop_period_max_s = OptionalOf(timing.has_loop_period_max_s(), timing.loop_period_max_s());
+  limits.late_tick_fraction_max =
+      OptionalOf(timing.has_late_tick_fraction_max(), timing.late_tick_fraction_max());
+  limits.dut_latency_p99_max_s =
+      OptionalOf(timing.has_dut_latency_p99_max_s(), timing.dut_latency_p99_max_s());
+  limits.dut_commands_missed_fraction_max = OptionalOf(
+      timing.has_dut_commands_missed_fraction_max(), timing.dut_commands_missed_fraction_max());
   config.late_threshold_ns = timing.has_late_threshold_s()
                                  ? std::llround(timing.late_threshold_s() * 1e9)
                                  : config.physics_step_ns;
@@ -267,7 +280,6 @@ ScenarioConfig ResolveScenario(const proto::Scenario& spec,
   std::stable_sort(config.gripper.grasps.begin(), config.gripper.grasps.end(), by_time);
   std::sort(config.gripper.support_removals_s.begin(), config.gripper.support_removals_s.end());
   config.envelopes.assign(spec.envelopes().begin(), spec.envelopes().end());
-  config.models = spec.models();
   return config;
 }
 

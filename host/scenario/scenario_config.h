@@ -98,6 +98,16 @@ struct GripperConfig {
   bool external_force_in_position_loop = true;
 };
 
+// The timing envelopes of a real-time run, resolved from the spec: each limit the run is graded
+// against, unset when the spec sets none.
+struct TimingLimits {
+  std::optional<double> loop_period_p99_max_s;
+  std::optional<double> loop_period_max_s;
+  std::optional<double> late_tick_fraction_max;
+  std::optional<double> dut_latency_p99_max_s;
+  std::optional<double> dut_commands_missed_fraction_max;
+};
+
 struct ScenarioConfig {
   std::string name;
   std::uint64_t seed = 1;
@@ -119,12 +129,11 @@ struct ScenarioConfig {
   std::vector<SetpointCommand> setpoints;
   std::vector<DisturbanceCommand> disturbances;
   std::vector<proto::Envelope> envelopes;
-  proto::Models models;  // the fidelity choices, for the report
 
   // Real-time runs: a tick starting later than this after its due time is late (default one
   // physics period), and the timing envelopes graded at the end.
   std::int64_t late_threshold_ns = 1'000'000;
-  proto::TimingEnvelopes timing;
+  TimingLimits timing;
 };
 
 // The physics ticks of a run of config.duration_s, and the trace samples a run that completes

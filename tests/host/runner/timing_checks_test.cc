@@ -31,9 +31,8 @@ proto::StreamLatency Stream(const std::string& name, double p99_s, std::uint64_t
 }
 
 TEST(TimingChecksTest, OnlyTheLimitsTheSpecSetsAreGraded) {
-  proto::TimingEnvelopes limits;
-  limits.set_late_threshold_s(0.002);  // a setting, not a check
-  limits.set_loop_period_max_s(0.05);
+  TimingLimits limits;
+  limits.loop_period_max_s = 0.05;
 
   const auto results = GradeTiming(limits, RealtimeFigures());
 
@@ -46,8 +45,8 @@ TEST(TimingChecksTest, OnlyTheLimitsTheSpecSetsAreGraded) {
 }
 
 TEST(TimingChecksTest, AFigureOverItsLimitFails) {
-  proto::TimingEnvelopes limits;
-  limits.set_loop_period_p99_max_s(0.001);
+  TimingLimits limits;
+  limits.loop_period_p99_max_s = 0.001;
 
   const auto results = GradeTiming(limits, RealtimeFigures());
 
@@ -57,9 +56,9 @@ TEST(TimingChecksTest, AFigureOverItsLimitFails) {
 }
 
 TEST(TimingChecksTest, FractionsAreCountsOverTicks) {
-  proto::TimingEnvelopes limits;
-  limits.set_late_tick_fraction_max(0.05);
-  limits.set_dut_commands_missed_fraction_max(0.05);
+  TimingLimits limits;
+  limits.late_tick_fraction_max = 0.05;
+  limits.dut_commands_missed_fraction_max = 0.05;
 
   const auto results = GradeTiming(limits, RealtimeFigures());
 
@@ -71,8 +70,8 @@ TEST(TimingChecksTest, FractionsAreCountsOverTicks) {
 }
 
 TEST(TimingChecksTest, DutLatencyIsTheSlowestStreamsP99) {
-  proto::TimingEnvelopes limits;
-  limits.set_dut_latency_p99_max_s(0.005);
+  TimingLimits limits;
+  limits.dut_latency_p99_max_s = 0.005;
   proto::Timing timing = RealtimeFigures();
   *timing.add_dut_latency() = Stream("imu", 0.0004);
   *timing.add_dut_latency() = Stream("vio", 0.0061);
@@ -88,8 +87,8 @@ TEST(TimingChecksTest, DutLatencyIsTheSlowestStreamsP99) {
 }
 
 TEST(TimingChecksTest, DutLatencyIsNotEvaluatedWhenTheDutMeasuresNone) {
-  proto::TimingEnvelopes limits;
-  limits.set_dut_latency_p99_max_s(0.005);
+  TimingLimits limits;
+  limits.dut_latency_p99_max_s = 0.005;
 
   const auto results = GradeTiming(limits, RealtimeFigures());
 
@@ -100,9 +99,9 @@ TEST(TimingChecksTest, DutLatencyIsNotEvaluatedWhenTheDutMeasuresNone) {
 }
 
 TEST(TimingChecksTest, LockstepRunsAreNotEvaluatedAndPass) {
-  proto::TimingEnvelopes limits;
-  limits.set_loop_period_p99_max_s(0.001);
-  limits.set_late_tick_fraction_max(0);
+  TimingLimits limits;
+  limits.loop_period_p99_max_s = 0.001;
+  limits.late_tick_fraction_max = 0;
   proto::Timing timing;
   timing.set_mode("lockstep");
   timing.set_ticks(1000);
@@ -118,9 +117,9 @@ TEST(TimingChecksTest, LockstepRunsAreNotEvaluatedAndPass) {
 }
 
 TEST(TimingChecksTest, ARealtimeRunWithoutTicksFailsItsChecks) {
-  proto::TimingEnvelopes limits;
-  limits.set_loop_period_p99_max_s(0.002);
-  limits.set_late_tick_fraction_max(0.05);
+  TimingLimits limits;
+  limits.loop_period_p99_max_s = 0.002;
+  limits.late_tick_fraction_max = 0.05;
   proto::Timing timing;
   timing.set_mode("realtime");
 

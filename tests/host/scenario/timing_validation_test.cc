@@ -82,7 +82,21 @@ TEST(TimingValidationTest, LateThresholdFromTheSpec) {
   const ScenarioConfig config = ResolveScenario(spec.value(), std::nullopt);
 
   EXPECT_EQ(config.late_threshold_ns, 500'000);
-  EXPECT_TRUE(config.timing.has_late_threshold_s());
+}
+
+TEST(TimingValidationTest, LimitsResolveToWhatTheSpecSets) {
+  const auto spec = ParseScenario(
+      SceneWithTiming("loop_period_max_s: 0.05 dut_commands_missed_fraction_max: 0.1"),
+      "spec.textproto");
+  ASSERT_TRUE(spec.ok()) << spec.error().message;
+
+  const TimingLimits limits = ResolveScenario(spec.value(), std::nullopt).timing;
+
+  EXPECT_EQ(limits.loop_period_max_s, 0.05);
+  EXPECT_EQ(limits.dut_commands_missed_fraction_max, 0.1);
+  EXPECT_FALSE(limits.loop_period_p99_max_s.has_value());
+  EXPECT_FALSE(limits.late_tick_fraction_max.has_value());
+  EXPECT_FALSE(limits.dut_latency_p99_max_s.has_value());
 }
 
 TEST(TimingValidationTest, TheBenchScenarioIsValid) {
