@@ -12,6 +12,7 @@
 #include "host/link/dut_config_codec.h"
 #include "host/link/link_token.h"
 #include "rig/number_text.h"
+#include "rig/udp_bus.h"
 
 namespace hilrig::host {
 namespace {
@@ -76,7 +77,53 @@ rig::Result<AcceptedDut> AcceptDut(DutAcceptor& acceptor, ChildProcess& child, i
   }
 }
 
+// The forwarder's end of the DUT's CAN bus, and the --can URI that gives dut_emu the other end.
+struct ForwardBus {
+  std::unique_ptr<rig::CanBus> bus;
+  std::string dut_uri;
+};
+
+rig::Result<ForwardBus> OpenForwardBus(const ProcessDutOptions& options) {
+  if (!options.can_uri.empty()) {
+    auto bus = options.open_can_bus ? options.open_can_bus(options.can_uri)
+                                    : rig::OpenCanBus(options.can_uri);
+    if (!bus) return bus.error();
+    return ForwardBus{std::move(bus).value(), options.can_uri};
+  }
+  // Node 0 of the UDP bus is the runner's forwarder; node 1's port is freed for the child.
+  auto udp = rig::OpenUdpBusGroup(2);
+  if (!udp) return rig::MakeError("UDP CAN bus for the dut: " + udp.error().message);
+  const std::uint16_t base_port = udp.value()[0]->local_port();
+  udp.value()[1].reset();
+  return ForwardBus{std::move(udp.value()[0]), "udp:" + std::to_string(base_port) + ":1:2"};
+}
+
 }  // namespace
+
+rig::Result<rig::CanBusUri> ParseDutCanBusUri(const std::string& uri) {
+  auto parsed = rig::ParseCanBusUri(uri);
+  if (!parsed) return parsed.error();
+  const auto refused = [&uri](const std::string& why) {
+    return rig::MakeError("CAN bus \"" + uri + "\": " + why);
+  };
+  switch (parsed.value().scheme) {
+    case rig::CanBusUri::Scheme::kSocketCan:
+      return parsed;
+    case rig::CanBusUri::Scheme::kEmulated:
+      return refused(
+          "an emulated bus lives inside one process, the dut process cannot reach it; "
+          "a run's dut bus is socketcan:IFACE");
+    case rig::CanBusUri::Scheme::kUdp:
+      return refused(
+          "the rig chooses the run's own UDP bus to the dut process itself; "
+          "a run's dut bus is socketcan:IFACE");
+    case rig::CanBusUri::Scheme::kGsUsb:
+      return refused(
+          "one process claims a gs_usb adapter over libusb, so the runner and the dut process "
+          "cannot share it; bring it up under the kernel's gs_usb driver and use socketcan:IFACE");
+  }
+  return refused("unknown scheme");
+}
 
 rig::Result<void> ValidateProcessDutOptions(const ProcessDutOptions& options) {
   const auto bad_timeout = [](double seconds) {
@@ -91,6 +138,9 @@ rig::Result<void> ValidateProcessDutOptions(const ProcessDutOptions& options) {
                           " s: must be positive, finite and at most an hour");
   }
   if (options.listen_address.empty()) return rig::MakeError("empty link listen address");
+  if (!options.can_uri.empty()) {
+    if (auto uri = ParseDutCanBusUri(options.can_uri); !uri) return uri.error();
+  }
   return {};
 }
 
@@ -121,17 +171,14 @@ rig::Result<void> ProcessDut::Start() {
   if (!path) return path.error();
   auto listener = LinkListener::Listen(options_.listen_address, 0);
   if (!listener) return listener.error();
-  // Node 0 of the UDP bus is the runner's forwarder; node 1's port is freed for the child.
-  auto udp = rig::OpenUdpBusGroup(2);
-  if (!udp) return rig::MakeError("UDP CAN bus for the dut: " + udp.error().message);
-  std::unique_ptr<rig::UdpBus> forward_bus = std::move(udp.value()[0]);
-  udp.value()[1].reset();
+  auto forward_bus = OpenForwardBus(options_);
+  if (!forward_bus) return forward_bus.error();
   auto token = NewLinkToken();
   if (!token) return token.error();
   std::vector<std::string> argv = {
       path.value(), "--link",
       DialAddress(options_.listen_address) + ":" + std::to_string(listener.value()->port()),
-      "--can", "udp:" + std::to_string(forward_bus->local_port()) + ":1:2"};
+      "--can", forward_bus.value().dut_uri};
   argv.insert(argv.end(), options_.extra_args.begin(), options_.extra_args.end());
   auto child =
       ChildProcess::Spawn(argv, {std::string(kLinkTokenEnvironment) + "=" + token.value().Hex()});
@@ -154,7 +201,7 @@ rig::Result<void> ProcessDut::Start() {
   }
   child_ = std::move(child).value();
   link_ = std::move(link);
-  forward_bus_ = std::move(forward_bus);
+  forward_bus_ = std::move(forward_bus.value().bus);
   peers_refused_ = acceptor.rejected_count();
   peers_refused_summary_ = acceptor.RejectedSummary();
   return {};
@@ -178,6 +225,7 @@ std::string ProcessDut::description() const {
   if (!child_) return "dut_fw in a dut_emu process (not started)";
   return "dut_fw in a dut_emu process (pid " + std::to_string(child_->pid()) +
          ") over the HIL link, " + (latencies_ ? "real time" : "lockstep") +
+         (options_.can_uri.empty() ? "" : ", CAN frames over " + options_.can_uri) +
          (peers_refused_summary_.empty() ? "" : "; " + peers_refused_summary_);
 }
 

@@ -16,6 +16,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -27,10 +28,10 @@
 #include "host/link/hil_link_codec.h"
 #include "host/link/hil_link_socket.h"
 #include "rig/can_bus.h"
+#include "rig/can_open.h"
 #include "rig/clock.h"
 #include "rig/duration_histogram.h"
 #include "rig/ring_buffer.h"
-#include "rig/udp_bus.h"
 
 namespace hilrig::host {
 
@@ -46,9 +47,20 @@ struct ProcessDutOptions {
   // the response latencies read it, and sends never wait for the socket. Null: lockstep only; no
   // clock is read and RequestStep fails.
   const rig::Clock* wall_clock = nullptr;
+  // The bus the runner's CAN frames cross to the DUT: empty for a loopback UDP bus of the run's
+  // own, or a socketcan:IFACE URI that the forwarder and dut_emu both open, as a bench is wired.
+  // Nobody announces a real bus's frames to the DUT: they reach it when the bus delivers them, so
+  // such a run's CAN timing follows the wall clock and real time is its meaningful mode.
+  std::string can_uri;
+  // Opens can_uri for the forwarder; unset: rig::OpenCanBus (tests hand in a bus of their own).
+  std::function<rig::Result<std::unique_ptr<rig::CanBus>>(const std::string& uri)> open_can_bus;
 };
 
-// Checks the options: a positive finite timeout, an address.
+// ProcessDutOptions::can_uri read by rig::ParseCanBusUri, refused unless two processes can share
+// the bus it names: the errors name the URI and why.
+rig::Result<rig::CanBusUri> ParseDutCanBusUri(const std::string& uri);
+
+// Checks the options: a positive finite timeout, an address, a bus the DUT process can share.
 rig::Result<void> ValidateProcessDutOptions(const ProcessDutOptions& options);
 
 class ProcessDut final : public DutPort {
@@ -139,7 +151,7 @@ class ProcessDut final : public DutPort {
   std::unique_ptr<LinkConnection> link_;  // set by Start
   bool stopped_ = false;
   std::unique_ptr<rig::CanBus> runner_bus_;
-  std::unique_ptr<rig::UdpBus> forward_bus_;
+  std::unique_ptr<rig::CanBus> forward_bus_;
   ProcessDutOptions options_;
   LinkSequencer sequencer_;
   std::vector<rig::TimedCanFrame> frames_;
