@@ -42,6 +42,9 @@ constexpr const char* kUsage =
     "      period, late ticks and DUT latency and grades the spec's timing envelopes)\n"
     "      [--rt-priority N] (the real-time loop and its dut process run under SCHED_FIFO\n"
     "      at N, 1-99, default 50; 0 keeps the default scheduler; refused: a warning)\n"
+    "      [--can socketcan:IFACE] (with --dut process: the sensors' CAN frames cross that\n"
+    "      interface to the dut process, as on a bench; their timing then follows the wall\n"
+    "      clock, so such a run means something with --realtime)\n"
     "  hilrig check FILE.textproto...                     validate scenario specs\n"
     "  hilrig bench --out DIR [--scenes a,b|all] [--duration-s S] [--quick]\n"
     "                                                     work-precision sweep\n"
@@ -79,19 +82,28 @@ struct RunOptions {
 
 using Streams = CliStreams;
 
-// --dut inproc|process and --dut-timeout-s; an unset factory is the in-process DUT. In real time
-// the process DUT reads a wall clock of its own for its watchdog and latencies (differences only,
-// so its epoch does not matter); the factory keeps it alive for every DUT it starts.
+// --dut inproc|process, --dut-timeout-s and --can; an unset factory is the in-process DUT. In real
+// time the process DUT reads a wall clock of its own for its watchdog and latencies (differences
+// only, so its epoch does not matter); the factory keeps it alive for every DUT it starts.
 rig::Result<DutFactory> ParseDutOptions(const CliArgs& cli, bool realtime) {
   const std::string* mode = cli.Option("--dut");
   const std::string* timeout = cli.Option("--dut-timeout-s");
+  const std::string* can = cli.Option("--can");
   if (mode != nullptr && *mode != "inproc" && *mode != "process") {
     return rig::MakeError("--dut \"" + *mode + "\": expected inproc or process");
   }
   const bool process = mode != nullptr && *mode == "process";
   if (timeout != nullptr && !process) return rig::MakeError("--dut-timeout-s needs --dut process");
+  // The in-process DUT sits on the runner's emulated bus; only a DUT process reaches another one.
+  if (can != nullptr && !process) return rig::MakeError("--can " + *can + " needs --dut process");
   if (!process) return DutFactory();
   ProcessDutOptions options;
+  if (can != nullptr) {
+    if (auto uri = ParseDutCanBusUri(*can); !uri) {
+      return rig::MakeError("--can: " + uri.error().message);
+    }
+    options.can_uri = *can;
+  }
   if (timeout != nullptr) {
     char* end = nullptr;
     options.answer_timeout_s = std::strtod(timeout->c_str(), &end);
@@ -136,8 +148,8 @@ rig::Result<RunOptions> ParseRunOptions(std::vector<std::string> args) {
   if (with_reference && without_reference) {
     return rig::MakeError("--reference and --no-reference contradict each other");
   }
-  auto parsed = ParseCliArgs(
-      args, {"--out", "--seed", "--dut", "--dut-timeout-s", "--reference-cache", "--rt-priority"});
+  auto parsed = ParseCliArgs(args, {"--out", "--seed", "--dut", "--dut-timeout-s", "--can",
+                                    "--reference-cache", "--rt-priority"});
   if (!parsed) return parsed.error();
   const CliArgs& cli = parsed.value();
   if (cli.positional.size() != 1) {

@@ -1,5 +1,6 @@
-// `hilrig run --dut inproc|process [--dut-timeout-s S]`: the option's parsing and its errors. The
-// full process run is covered by tests/host/dut/process_dut_acceptance_test.cc.
+// `hilrig run --dut inproc|process [--dut-timeout-s S] [--can URI]`: the options' parsing and their
+// errors. The full process run is covered by tests/host/dut/process_dut_acceptance_test.cc, a bus
+// named by --can by tests/host/dut/process_dut_can_test.cc.
 #include <gtest/gtest.h>
 
 #include <sstream>
@@ -31,6 +32,45 @@ TEST(CliDutOptionTest, BadTimeoutsExitTwo) {
     EXPECT_EQ(run.exit_code, kExitBadInput) << timeout;
     EXPECT_NE(run.err.find("--dut-timeout-s"), std::string::npos) << run.err;
   }
+}
+
+TEST(CliDutOptionTest, CanWithoutProcessModeExitsTwo) {
+  for (const char* mode : {"", "inproc"}) {
+    std::vector<std::string> args = {"run", kScenario, "--can", "socketcan:vcan0"};
+    if (*mode != '\0') args.insert(args.end(), {"--dut", mode});
+    const CliResult run = Cli(args);
+    EXPECT_EQ(run.exit_code, kExitBadInput) << mode;
+    EXPECT_NE(run.err.find("--can socketcan:vcan0 needs --dut process"), std::string::npos)
+        << run.err;
+  }
+}
+
+// Errors name the URI and the cause: rig::ParseCanBusUri's for a URI it cannot read, and for the
+// buses it reads why a run's DUT process cannot share them.
+TEST(CliDutOptionTest, UnusableCanBusExitsTwoNamingItAndWhy) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"serial:/dev/ttyUSB0", "unknown scheme \"serial\"; expected emulated"},
+      {"socketcan", "expected socketcan:IFACE with one interface name"},
+      {"udp:30000:1:2", "the rig chooses the run's own UDP bus to the dut process itself"},
+      {"emulated", "an emulated bus lives inside one process"},
+      {"gs_usb", "one process claims a gs_usb adapter over libusb"},
+  };
+  for (const auto& [uri, why] : cases) {
+    const CliResult run = Cli({"run", kScenario, "--dut", "process", "--can", uri});
+    EXPECT_EQ(run.exit_code, kExitBadInput) << uri;
+    EXPECT_NE(run.err.find("--can: CAN bus \"" + uri + "\": " + why), std::string::npos) << run.err;
+  }
+}
+
+// The interface is opened when the run starts its DUT: one that cannot be opened is a DUT that
+// failed to start, which cuts the run short (exit 1) with the URI and the cause in its stop reason.
+TEST(CliDutOptionTest, AnInterfaceThatCannotOpenStopsTheRunNamingIt) {
+  const CliResult run = Cli({"run", kScenario, "--dut", "process", "--can", "socketcan:hilrignone0",
+                             "--no-reference", "--out", ::testing::TempDir() + "/cli_can_none"});
+  EXPECT_EQ(run.exit_code, kExitCheckFailed);
+  EXPECT_NE(run.out.find("dut failed to start: CAN bus \"socketcan:hilrignone0\": "),
+            std::string::npos)
+      << run.out;
 }
 
 }  // namespace
