@@ -8,6 +8,7 @@ StagedCanBus::StagedCanBus(std::unique_ptr<rig::CanBus> inner, UnannouncedFrames
     : inner_(std::move(inner)), unannounced_(unannounced) {}
 
 void StagedCanBus::Announce(std::span<const std::int64_t> times_ns) {
+  if (unannounced_ == UnannouncedFrames::kPassThrough) return;
   unmatched_times_ns_.insert(unmatched_times_ns_.end(), times_ns.begin(), times_ns.end());
   MatchEarlyFrames();
 }

@@ -10,8 +10,12 @@
 // every node look stale once the DUT had caught up); one that comes late reaches the first step
 // after it arrives, still with the runner's time.
 //
-// Frames nobody announces (SocketCAN with real sensor nodes on a bench) pass straight through with
-// the inner bus's own stamps when the bus is built with UnannouncedFrames::kPassThrough.
+// A real bus (SocketCAN with sensor nodes on a bench, or the frames of `hilrig run --can`) is built
+// with UnannouncedFrames::kPassThrough: every frame passes straight through with the inner bus's
+// own stamp, and announcements are ignored. Frames on a real bus reach the DUT when the bus
+// delivers them, not at a step; pairing them with announcements would, once the DUT fell a step
+// behind, hand a later step's frames over unannounced and leave their announcements waiting for
+// frames that never come, so that every step after it waits out its frame timeout.
 #pragma once
 
 #include <cstddef>
@@ -28,7 +32,7 @@ namespace hilrig::dut_emu {
 // What a frame that arrives with no announcement waiting for it is.
 enum class UnannouncedFrames {
   kEarly,        // every frame is announced (the runner's UDP forwarder): it waits for its step
-  kPassThrough,  // real nodes nobody announces: it goes to the DUT with the bus's stamp
+  kPassThrough,  // a real bus: every frame goes to the DUT with the bus's stamp, none waits
 };
 
 class StagedCanBus final : public rig::CanBus {
@@ -36,6 +40,7 @@ class StagedCanBus final : public rig::CanBus {
   StagedCanBus(std::unique_ptr<rig::CanBus> inner, UnannouncedFrames unannounced);
 
   // A step's announcement: the runner's arrival times of the frames it forwarded, in order.
+  // Ignored on a kPassThrough bus.
   void Announce(std::span<const std::int64_t> times_ns);
   // Reads what the inner bus holds and matches it with the announcements.
   void Pump(std::int64_t now_ns);

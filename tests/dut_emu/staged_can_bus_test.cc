@@ -97,5 +97,22 @@ TEST_F(PassThroughStagedCanBusTest, UnannouncedFramesKeepTheBusStamp) {
   EXPECT_EQ(staged_.early(), 0u);
 }
 
+// hilrig run --can announces the frames it puts on a real bus; a DUT a step behind has taken them
+// already when the announcement comes, so it must not wait for them again.
+TEST_F(PassThroughStagedCanBusTest, AnnouncementsNeitherWaitNorRestamp) {
+  SendFrame(4);
+  const Taken taken_early = Take();
+  ASSERT_EQ(taken_early.size(), 1u);
+  const std::array<std::int64_t, 1> times_ns = {500};
+  staged_.Announce(times_ns);
+  EXPECT_EQ(staged_.missing(), 0u) << "the announced frame was handed over already";
+  SendFrame(5);
+  const Taken taken_late = Take(2 * kAfterTheWireNs);
+  ASSERT_EQ(taken_late.size(), 1u);
+  EXPECT_EQ(taken_late[0].first, 5);
+  EXPECT_NE(taken_late[0].second, 500) << "keeps the bus stamp";
+  EXPECT_EQ(staged_.missing(), 0u);
+}
+
 }  // namespace
 }  // namespace hilrig::dut_emu
