@@ -5,7 +5,9 @@
 #   1. socketcan_vm_tests: tests/rig/socketcan_bus_test.cc (SocketCAN tests and the shared CanBus
 #      conformance suite) on vcan0;
 #   2. vcan_exchange: seven emulated sensor nodes and a DUT exchanging frames over vcan0, printed
-#      in candump form, with can-utils' candump listening alongside when it is installed.
+#      in candump form, with can-utils' candump listening alongside when it is installed;
+#   3. hilrig run SCENARIO --dut process --can socketcan:vcan0 --realtime: the emulated sensor
+#      nodes' frames cross vcan0 to the dut_emu process, which must consume some of them.
 # The guest prints HILRIG_VM_RESULT=PASS or =FAIL and powers off; this script greps the console.
 #
 # Where the kernel comes from: `apt-get download` of the package linux-image-amd64 depends on, and
@@ -18,12 +20,15 @@
 # which ctest reports as skipped. A hard timeout ($HILRIG_VM_TIMEOUT_S, default 240 s) kills QEMU,
 # so the test can never hang CI.
 #
-# Usage: run_vm_test.sh WORK_DIR SOCKETCAN_TESTS_BINARY VCAN_EXCHANGE_BINARY
+# Usage: run_vm_test.sh WORK_DIR SOCKETCAN_TESTS_BINARY VCAN_EXCHANGE_BINARY HILRIG DUT_EMU SCENARIO
 set -euo pipefail
 
 work_dir=$1
 tests_binary=$2
 vcan_exchange=$3
+hilrig=$4
+dut_emu=$5
+scenario=$6
 timeout_s=${HILRIG_VM_TIMEOUT_S:-240}
 cache_dir=${HILRIG_VM_CACHE:-${XDG_CACHE_HOME:-${HOME:-/tmp}/.cache}/hilrig-vm}
 
@@ -44,7 +49,9 @@ busybox=$(command -v busybox || true)
 [[ -n $busybox ]] || skip "busybox not found (Debian package busybox-static)"
 ip_tool=$(PATH=$PATH:/usr/sbin:/sbin command -v ip || true)
 [[ -n $ip_tool ]] || skip "ip not found (Debian package iproute2: it creates the vcan interfaces)"
-[[ -x $tests_binary && -x $vcan_exchange ]] || fail "test binaries missing: $tests_binary $vcan_exchange"
+for binary in "$tests_binary" "$vcan_exchange" "$hilrig" "$dut_emu"; do
+  [[ -x $binary ]] || fail "binary missing: $binary"
+done
 
 # ---- (a) the kernel and its CAN modules ----
 can_modules=(
@@ -129,6 +136,10 @@ mkdir -p "$root/usr/sbin"
 copy_with_libs "$ip_tool" usr/sbin/ip
 copy_with_libs "$tests_binary" bin/socketcan_vm_tests
 copy_with_libs "$vcan_exchange" bin/vcan_exchange
+copy_with_libs "$hilrig" bin/hilrig
+copy_with_libs "$dut_emu" bin/dut_emu  # next to hilrig, where it looks for it
+mkdir -p "$root/scenarios"
+cp "$scenario" "$root/scenarios/bench.textproto"
 candump=$(command -v candump || true)
 [[ -n $candump ]] && copy_with_libs "$candump" bin/candump
 for module in "${can_modules[@]}"; do
@@ -185,6 +196,18 @@ if [ -n "${candump_pid:-}" ]; then
   head -n 9 /tmp/candump.log
   echo "..."
 fi
+
+# The HIL link is TCP on loopback. Under TCG the real-time loop runs late, so its verdicts are not
+# graded here: only that the frames crossed vcan0 and the DUT process consumed them.
+echo "hilrig-vm: ---- hilrig run --dut process --can socketcan:vcan0 ----"
+$ip link set up lo
+/bin/hilrig run /scenarios/bench.textproto --dut process --can socketcan:vcan0 --realtime \
+  --rt-priority 0 --out /tmp/run --reference-cache /tmp/cache
+echo "hilrig-vm: hilrig run exited $?"
+grep '"fidelity": "dut_fw' /tmp/run/report.json
+consumed=$(sed -n '/"stream": "can"/{n;s/[^0-9]//g;p}' /tmp/run/report.json)
+echo "hilrig-vm: the dut process consumed ${consumed:-0} CAN frames over vcan0"
+[ "${consumed:-0}" -gt 0 ] || status=FAIL
 finish $status
 INIT
 chmod +x "$root/init"
@@ -219,6 +242,9 @@ if grep -q '^HILRIG_VM_RESULT=PASS' "$console"; then
     fail "SocketCAN tests skipped inside the VM"
   fi
   grep -q '^vcan_exchange: .* 0 mismatches' "$console" || fail "no vcan_exchange summary"
+  grep -q 'CAN frames over socketcan:vcan0' "$console" || fail "the run's report names no vcan0"
+  grep -q '^hilrig-vm: the dut process consumed [1-9][0-9]* CAN frames' "$console" ||
+    fail "no CAN frame crossed vcan0 to the dut process"
   echo "PASS: SocketCAN backend on kernel $kernel_version (vcan) in $((SECONDS - start_s)) s"
   exit 0
 fi
