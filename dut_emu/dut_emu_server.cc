@@ -132,7 +132,7 @@ rig::Result<void> Session::Handshake(std::unique_ptr<rig::CanBus> bus) {
   }
   auto setup = host::FromDutConfig(config.value().config());
   if (!setup) return rig::MakeError("bad firmware configuration: " + setup.error().message);
-  // The runner announces every frame it forwards over UDP; nobody announces a real bus's frames.
+  // Every frame on the runner's UDP bus is announced; a real bus's frames go through as they come.
   const UnannouncedFrames unannounced = options_.can.scheme == rig::CanBusUri::Scheme::kUdp
                                             ? UnannouncedFrames::kEarly
                                             : UnannouncedFrames::kPassThrough;
