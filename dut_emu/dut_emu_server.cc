@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <iterator>
 #include <set>
@@ -32,17 +33,6 @@ std::chrono::nanoseconds RealtimeFrameWait(double control_period_s, int frame_wa
       std::chrono::nanoseconds(static_cast<std::int64_t>(wait_s * 1e9)),
       std::chrono::milliseconds(frame_wait_timeout_ms));
 }
-
-// The sequence of the last message the DUT took on one stream; none before the first.
-struct LastSequence {
-  bool seen = false;
-  std::uint64_t sequence = 0;
-
-  void Take(const proto::LinkHeader& header) {
-    seen = true;
-    sequence = header.sequence();
-  }
-};
 
 // One session: the handshake, then message after message until the end.
 class Session {
@@ -74,9 +64,8 @@ class Session {
   StagedCanBus* bus_ = nullptr;  // owned by dut_
   std::unique_ptr<host::InProcessDut> dut_;
   std::chrono::nanoseconds realtime_frame_wait_{0};
-  LastSequence last_imu_;
-  LastSequence last_vio_;
-  LastSequence last_setpoint_;
+  // The sequence of the last message the DUT took on each stream (by DutInput alternative).
+  std::array<std::optional<std::uint64_t>, host::kDutInputStreams> last_taken_;
   std::uint64_t frame_waits_expired_ = 0;
 };
 
@@ -208,9 +197,9 @@ std::optional<int> Session::HandleStep(const proto::StepRequest& step) {
 proto::LinkMessage Session::Answer(const host::ActuatorMessage& command) const {
   proto::LinkMessage answer = host::ToLink(command);
   proto::ActuatorCommand* fields = answer.mutable_command();
-  if (last_imu_.seen) fields->set_last_imu_sequence(last_imu_.sequence);
-  if (last_vio_.seen) fields->set_last_vio_sequence(last_vio_.sequence);
-  if (last_setpoint_.seen) fields->set_last_setpoint_sequence(last_setpoint_.sequence);
+  for (std::size_t index = 0; index < last_taken_.size(); ++index) {
+    if (last_taken_[index]) host::SetLastTakenSequence(*fields, index, *last_taken_[index]);
+  }
   fields->set_can_frames_consumed(bus_->handed_over());
   fields->set_can_frame_waits_expired(frame_waits_expired_);
   fields->set_can_frames_dropped_foreign(bus_->counters().frames_dropped_foreign);
@@ -218,19 +207,12 @@ proto::LinkMessage Session::Answer(const host::ActuatorMessage& command) const {
 }
 
 std::optional<int> Session::Handle(const proto::LinkMessage& message) {
+  if (std::optional<host::DutInput> input = host::DutInputFromLink(message)) {
+    dut_->Send(*input);
+    last_taken_[input->index()] = host::StampOf(*input).sequence;
+    return std::nullopt;
+  }
   switch (message.payload_case()) {
-    case proto::LinkMessage::kImu:
-      dut_->Send(host::FromLink(message.imu()));
-      last_imu_.Take(message.imu().header());
-      return std::nullopt;
-    case proto::LinkMessage::kVio:
-      dut_->Send(host::FromLink(message.vio()));
-      last_vio_.Take(message.vio().header());
-      return std::nullopt;
-    case proto::LinkMessage::kSetpoint:
-      dut_->Send(host::FromLink(message.setpoint()));
-      last_setpoint_.Take(message.setpoint().header());
-      return std::nullopt;
     case proto::LinkMessage::kStep:
       return HandleStep(message.step());
     case proto::LinkMessage::kBye:

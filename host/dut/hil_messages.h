@@ -20,13 +20,17 @@ struct LinkStamp {
   std::int64_t time_ns = 0;    // simulated time the message was sent
 };
 
+// Each message the runner sends to the DUT names its stream (kStream): the name of its
+// response latency in real-time reports, and of its payload in proto/hil_link.proto.
 struct ImuMessage {
+  static constexpr const char* kStream = "imu";
   LinkStamp stamp;
   Eigen::Vector3d gyro_rad_s = Eigen::Vector3d::Zero();
   Eigen::Vector3d accel_m_s2 = Eigen::Vector3d::Zero();
 };
 
 struct VioMessage {
+  static constexpr const char* kStream = "vio";
   LinkStamp stamp;  // stamp.time_ns is the delivery time
   std::int64_t capture_time_ns = 0;
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
@@ -34,6 +38,7 @@ struct VioMessage {
 };
 
 struct SetpointMessage {
+  static constexpr const char* kStream = "setpoint";
   LinkStamp stamp;
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d velocity_m_s = Eigen::Vector3d::Zero();
@@ -66,8 +71,9 @@ struct ActuatorMessage {
 };
 
 // Everything the runner sends to the DUT, one alternative per stream. A new DUT-facing stream is
-// one more alternative here; every DutPort and the link codec then say how they take it.
+// one more alternative here; the in-process DUT and the link codec then say how they take it.
 using DutInput = std::variant<ImuMessage, VioMessage, SetpointMessage>;
+inline constexpr std::size_t kDutInputStreams = std::variant_size_v<DutInput>;
 
 // Calls `take` with the message `input` holds. Like std::visit, but a chain of index compares the
 // compiler inlines: the runner sends two messages every tick, and std::visit's dispatch table is
@@ -77,7 +83,25 @@ void VisitDutInput(const DutInput& input, Take&& take) {
   [&]<std::size_t... kIndex>(std::index_sequence<kIndex...>) {
     (void)((input.index() == kIndex ? (take(*std::get_if<kIndex>(&input)), true) : false) || ...);
   }
-  (std::make_index_sequence<std::variant_size_v<DutInput>>());
+  (std::make_index_sequence<kDutInputStreams>());
+}
+
+inline const LinkStamp& StampOf(const DutInput& input) {
+  const LinkStamp* stamp = nullptr;
+  VisitDutInput(input, [&stamp](const auto& message) { stamp = &message.stamp; });
+  return *stamp;
+}
+
+// The kStream of alternative `index` of DutInput ("imu", "vio", ...).
+inline const char* DutInputStream(std::size_t index) {
+  const char* name = nullptr;
+  [&]<std::size_t... kIndex>(std::index_sequence<kIndex...>) {
+    (void)((index == kIndex ? (name = std::variant_alternative_t<kIndex, DutInput>::kStream, true)
+                            : false) ||
+           ...);
+  }
+  (std::make_index_sequence<kDutInputStreams>());
+  return name;
 }
 
 }  // namespace hilrig::host

@@ -29,6 +29,116 @@ std::size_t PayloadIndex(const proto::LinkMessage& message) {
   return static_cast<std::size_t>(message.payload_case());
 }
 
+// The DutInput alternatives, one by one.
+proto::LinkMessage ToLink(const ImuMessage& message) {
+  proto::LinkMessage link;
+  proto::ImuSample* imu = link.mutable_imu();
+  PutStamp(message.stamp, imu->mutable_header());
+  PutVector(message.gyro_rad_s, imu->mutable_gyro_rad_s());
+  PutVector(message.accel_m_s2, imu->mutable_accel_m_s2());
+  return link;
+}
+
+proto::LinkMessage ToLink(const VioMessage& message) {
+  proto::LinkMessage link;
+  proto::VioPose* vio = link.mutable_vio();
+  PutStamp(message.stamp, vio->mutable_header());
+  vio->set_capture_time_ns(message.capture_time_ns);
+  PutVector(message.position_m, vio->mutable_position_m());
+  proto::Quaternion* q = vio->mutable_orientation();
+  q->set_w(message.orientation.w());
+  q->set_x(message.orientation.x());
+  q->set_y(message.orientation.y());
+  q->set_z(message.orientation.z());
+  return link;
+}
+
+proto::LinkMessage ToLink(const SetpointMessage& message) {
+  proto::LinkMessage link;
+  proto::PositionSetpoint* setpoint = link.mutable_setpoint();
+  PutStamp(message.stamp, setpoint->mutable_header());
+  PutVector(message.position_m, setpoint->mutable_position_m());
+  PutVector(message.velocity_m_s, setpoint->mutable_velocity_m_s());
+  PutVector(message.acceleration_m_s2, setpoint->mutable_acceleration_m_s2());
+  setpoint->set_yaw_rad(message.yaw_rad);
+  setpoint->set_grasp_regulate(message.grasp_regulate);
+  setpoint->set_grasp_force_n(message.grasp_force_n);
+  setpoint->set_grasp_reference_angle_rad(message.grasp_reference_angle_rad);
+  return link;
+}
+
+ImuMessage FromLink(const proto::ImuSample& message) {
+  return {GetStamp(message.header()), GetVector(message.gyro_rad_s()),
+          GetVector(message.accel_m_s2())};
+}
+
+VioMessage FromLink(const proto::VioPose& message) {
+  const proto::Quaternion& q = message.orientation();
+  // An absent orientation reads as all zeros; the estimator rejects a zero quaternion itself.
+  return {GetStamp(message.header()), message.capture_time_ns(), GetVector(message.position_m()),
+          Eigen::Quaterniond(q.w(), q.x(), q.y(), q.z())};
+}
+
+SetpointMessage FromLink(const proto::PositionSetpoint& message) {
+  return {GetStamp(message.header()),
+          GetVector(message.position_m()),
+          GetVector(message.velocity_m_s()),
+          GetVector(message.acceleration_m_s2()),
+          message.yaw_rad(),
+          message.grasp_regulate(),
+          message.grasp_force_n(),
+          message.grasp_reference_angle_rad()};
+}
+
+// Where each DutInput alternative sits on the link: its payload in a LinkMessage, and the field
+// of ActuatorCommand that says how far the DUT had taken its stream. One specialisation per
+// alternative; a DutInput alternative without one does not compile.
+template <typename Message>
+struct LinkStream;
+
+template <>
+struct LinkStream<ImuMessage> {
+  static constexpr auto kPayload = proto::LinkMessage::kImu;
+  static const proto::ImuSample& Payload(const proto::LinkMessage& link) { return link.imu(); }
+  static bool HasTaken(const proto::ActuatorCommand& c) { return c.has_last_imu_sequence(); }
+  static std::uint64_t Taken(const proto::ActuatorCommand& c) { return c.last_imu_sequence(); }
+  static void SetTaken(proto::ActuatorCommand& c, std::uint64_t s) { c.set_last_imu_sequence(s); }
+};
+
+template <>
+struct LinkStream<VioMessage> {
+  static constexpr auto kPayload = proto::LinkMessage::kVio;
+  static const proto::VioPose& Payload(const proto::LinkMessage& link) { return link.vio(); }
+  static bool HasTaken(const proto::ActuatorCommand& c) { return c.has_last_vio_sequence(); }
+  static std::uint64_t Taken(const proto::ActuatorCommand& c) { return c.last_vio_sequence(); }
+  static void SetTaken(proto::ActuatorCommand& c, std::uint64_t s) { c.set_last_vio_sequence(s); }
+};
+
+template <>
+struct LinkStream<SetpointMessage> {
+  static constexpr auto kPayload = proto::LinkMessage::kSetpoint;
+  static const proto::PositionSetpoint& Payload(const proto::LinkMessage& link) {
+    return link.setpoint();
+  }
+  static bool HasTaken(const proto::ActuatorCommand& c) { return c.has_last_setpoint_sequence(); }
+  static std::uint64_t Taken(const proto::ActuatorCommand& c) { return c.last_setpoint_sequence(); }
+  static void SetTaken(proto::ActuatorCommand& c, std::uint64_t s) {
+    c.set_last_setpoint_sequence(s);
+  }
+};
+
+template <std::size_t kIndex>
+using StreamAt = LinkStream<std::variant_alternative_t<kIndex, DutInput>>;
+
+// Calls `use` with StreamAt<index> (an empty tag).
+template <typename Use>
+void WithLinkStream(std::size_t index, Use&& use) {
+  [&]<std::size_t... kIndex>(std::index_sequence<kIndex...>) {
+    (void)((index == kIndex ? (use(StreamAt<kIndex>{}), true) : false) || ...);
+  }
+  (std::make_index_sequence<kDutInputStreams>());
+}
+
 }  // namespace
 
 const char* LinkErrorName(LinkErrorKind kind) {
@@ -264,43 +374,6 @@ std::optional<LinkEvent> LinkDecoder::Check(proto::LinkMessage message) {
   return LinkEvent(std::move(message));
 }
 
-proto::LinkMessage ToLink(const ImuMessage& message) {
-  proto::LinkMessage link;
-  proto::ImuSample* imu = link.mutable_imu();
-  PutStamp(message.stamp, imu->mutable_header());
-  PutVector(message.gyro_rad_s, imu->mutable_gyro_rad_s());
-  PutVector(message.accel_m_s2, imu->mutable_accel_m_s2());
-  return link;
-}
-
-proto::LinkMessage ToLink(const VioMessage& message) {
-  proto::LinkMessage link;
-  proto::VioPose* vio = link.mutable_vio();
-  PutStamp(message.stamp, vio->mutable_header());
-  vio->set_capture_time_ns(message.capture_time_ns);
-  PutVector(message.position_m, vio->mutable_position_m());
-  proto::Quaternion* q = vio->mutable_orientation();
-  q->set_w(message.orientation.w());
-  q->set_x(message.orientation.x());
-  q->set_y(message.orientation.y());
-  q->set_z(message.orientation.z());
-  return link;
-}
-
-proto::LinkMessage ToLink(const SetpointMessage& message) {
-  proto::LinkMessage link;
-  proto::PositionSetpoint* setpoint = link.mutable_setpoint();
-  PutStamp(message.stamp, setpoint->mutable_header());
-  PutVector(message.position_m, setpoint->mutable_position_m());
-  PutVector(message.velocity_m_s, setpoint->mutable_velocity_m_s());
-  PutVector(message.acceleration_m_s2, setpoint->mutable_acceleration_m_s2());
-  setpoint->set_yaw_rad(message.yaw_rad);
-  setpoint->set_grasp_regulate(message.grasp_regulate);
-  setpoint->set_grasp_force_n(message.grasp_force_n);
-  setpoint->set_grasp_reference_angle_rad(message.grasp_reference_angle_rad);
-  return link;
-}
-
 proto::LinkMessage ToLink(const ActuatorMessage& message) {
   proto::LinkMessage link;
   proto::ActuatorCommand* command = link.mutable_command();
@@ -317,29 +390,6 @@ proto::LinkMessage ToLink(const ActuatorMessage& message) {
   command->set_grasp_force_estimate_n(message.grasp_force_estimate_n);
   PutVector(message.external_force_world_n, command->mutable_external_force_world_n());
   return link;
-}
-
-ImuMessage FromLink(const proto::ImuSample& message) {
-  return {GetStamp(message.header()), GetVector(message.gyro_rad_s()),
-          GetVector(message.accel_m_s2())};
-}
-
-VioMessage FromLink(const proto::VioPose& message) {
-  const proto::Quaternion& q = message.orientation();
-  // An absent orientation reads as all zeros; the estimator rejects a zero quaternion itself.
-  return {GetStamp(message.header()), message.capture_time_ns(), GetVector(message.position_m()),
-          Eigen::Quaterniond(q.w(), q.x(), q.y(), q.z())};
-}
-
-SetpointMessage FromLink(const proto::PositionSetpoint& message) {
-  return {GetStamp(message.header()),
-          GetVector(message.position_m()),
-          GetVector(message.velocity_m_s()),
-          GetVector(message.acceleration_m_s2()),
-          message.yaw_rad(),
-          message.grasp_regulate(),
-          message.grasp_force_n(),
-          message.grasp_reference_angle_rad()};
 }
 
 rig::Result<ActuatorMessage> FromLink(const proto::ActuatorCommand& message) {
@@ -369,6 +419,40 @@ rig::Result<ActuatorMessage> FromLink(const proto::ActuatorCommand& message) {
   command.grasp_force_estimate_n = message.grasp_force_estimate_n();
   command.external_force_world_n = GetVector(message.external_force_world_n());
   return command;
+}
+
+proto::LinkMessage ToLink(const DutInput& input) {
+  proto::LinkMessage link;
+  VisitDutInput(input, [&link](const auto& message) { link = ToLink(message); });
+  return link;
+}
+
+std::optional<DutInput> DutInputFromLink(const proto::LinkMessage& message) {
+  std::optional<DutInput> input;
+  [&]<std::size_t... kIndex>(std::index_sequence<kIndex...>) {
+    (void)((message.payload_case() == StreamAt<kIndex>::kPayload
+                ? (input.emplace(std::in_place_index<kIndex>,
+                                 FromLink(StreamAt<kIndex>::Payload(message))),
+                   true)
+                : false) ||
+           ...);
+  }
+  (std::make_index_sequence<kDutInputStreams>());
+  return input;
+}
+
+std::optional<std::uint64_t> LastTakenSequence(const proto::ActuatorCommand& command,
+                                               std::size_t input_index) {
+  std::optional<std::uint64_t> sequence;
+  WithLinkStream(input_index, [&](auto stream) {
+    if (decltype(stream)::HasTaken(command)) sequence = decltype(stream)::Taken(command);
+  });
+  return sequence;
+}
+
+void SetLastTakenSequence(proto::ActuatorCommand& command, std::size_t input_index,
+                          std::uint64_t sequence) {
+  WithLinkStream(input_index, [&](auto stream) { decltype(stream)::SetTaken(command, sequence); });
 }
 
 }  // namespace hilrig::host

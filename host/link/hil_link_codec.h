@@ -125,15 +125,23 @@ class LinkDecoder {
 };
 
 // Plain structs <-> protobuf. Every field; doubles as doubles.
-proto::LinkMessage ToLink(const ImuMessage& message);
-proto::LinkMessage ToLink(const VioMessage& message);
-proto::LinkMessage ToLink(const SetpointMessage& message);
 proto::LinkMessage ToLink(const ActuatorMessage& message);
-ImuMessage FromLink(const proto::ImuSample& message);
-VioMessage FromLink(const proto::VioPose& message);
-SetpointMessage FromLink(const proto::PositionSetpoint& message);
 // Fails when the command does not carry exactly 4 rotor thrusts and 6 tactile forces (a missing
 // vector field is zero, as proto3 reads it).
 rig::Result<ActuatorMessage> FromLink(const proto::ActuatorCommand& message);
+
+// Any input of the runner to the DUT, and back: the DutInput a link message carries, or nullopt
+// when it carries another payload (hello, config, step, command, bye), so that a DUT behind the
+// link takes every stream without naming it.
+proto::LinkMessage ToLink(const DutInput& input);
+std::optional<DutInput> DutInputFromLink(const proto::LinkMessage& message);
+
+// The sequence of the last message of DutInput alternative `input_index` the DUT had taken when
+// it computed `command` (ActuatorCommand.last_<stream>_sequence); nullopt when it had taken none.
+// The runner turns these into per-stream response latencies.
+std::optional<std::uint64_t> LastTakenSequence(const proto::ActuatorCommand& command,
+                                               std::size_t input_index);
+void SetLastTakenSequence(proto::ActuatorCommand& command, std::size_t input_index,
+                          std::uint64_t sequence);
 
 }  // namespace hilrig::host

@@ -192,7 +192,7 @@ TEST_F(DutEmuServerTest, CommandSaysWhatTheDutHadConsumed) {
       host::VioMessage{{0, 0}, 0, Eigen::Vector3d(0, 0, 1), Eigen::Quaterniond::Identity()});
   ASSERT_TRUE(link_->Send(vio).ok());
   for (std::uint64_t sequence = 0; sequence < 3; ++sequence) {
-    ASSERT_TRUE(link_->Send(host::ToLink(host::ImuMessage{{sequence, 1'500'000}, {}, {}})).ok());
+    ASSERT_TRUE(link_->Send(host::ToLink(host::ImuMessage{{sequence, 1'500'000}})).ok());
   }
   const std::array<std::uint8_t, 2> payload = {4, 5};
   ASSERT_TRUE(can_->Send(rig::CanFrame::Classic(0x321, payload), 1'600'000).ok());
