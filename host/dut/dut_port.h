@@ -28,6 +28,12 @@ struct DutCounters {
   // Tactile samples the front end could not turn into force (saturated, singular S(B), stale
   // reference, ...), summed over the six pads.
   std::uint64_t tactile_samples_flagged = 0;
+
+  // Counts one input sent to the DUT; the report counts the IMU and VIO streams only.
+  void Count(const DutInput& input) {
+    imu_messages += std::holds_alternative<ImuMessage>(input) ? 1 : 0;
+    vio_messages += std::holds_alternative<VioMessage>(input) ? 1 : 0;
+  }
 };
 
 // How long the DUT took to respond to one input stream ("imu", "vio", "setpoint", "can"): from the

@@ -28,19 +28,18 @@ std::string BasicInProcessDut<S>::description() const {
 
 template <typename S>
 void BasicInProcessDut<S>::Send(const DutInput& input) {
+  counters_.Count(input);
   VisitDutInput(input, [this](const auto& message) { Take(message); });
 }
 
 template <typename S>
 void BasicInProcessDut<S>::Take(const ImuMessage& message) {
-  ++counters_.imu_messages;
   controller_.OnImu(state_, message.gyro_rad_s.cast<S>(), message.accel_m_s2.cast<S>(),
                     message.stamp.time_ns);
 }
 
 template <typename S>
 void BasicInProcessDut<S>::Take(const VioMessage& message) {
-  ++counters_.vio_messages;
   controller_.OnVio(state_, message.position_m.cast<S>(), message.orientation.cast<S>(),
                     message.capture_time_ns);
 }

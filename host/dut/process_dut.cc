@@ -252,11 +252,13 @@ std::vector<std::pair<std::string, double>> ProcessDut::link_metrics() const {
 
 std::vector<StreamLatency> ProcessDut::response_latencies() const {
   if (!latencies_) return {};
-  return {{"imu", latencies_->imu.latency.Summary()},
-          {"vio", latencies_->vio.latency.Summary()},
-          {"setpoint", latencies_->setpoint.latency.Summary()},
-          {"can", latencies_->can.latency.Summary()},
-          {"command", latencies_->command.Summary()}};
+  std::vector<StreamLatency> latencies;
+  for (std::size_t index = 0; index < kDutInputStreams; ++index) {
+    latencies.push_back({DutInputStream(index), latencies_->inputs[index].latency.Summary()});
+  }
+  latencies.push_back({"can", latencies_->can.latency.Summary()});
+  latencies.push_back({"command", latencies_->command.Summary()});
+  return latencies;
 }
 
 rig::Error ProcessDut::Failed(std::string message) {
@@ -315,26 +317,12 @@ void ProcessDut::Cover(SendLog& log, std::uint64_t up_to_key, std::int64_t arriv
 }
 
 void ProcessDut::Send(const DutInput& input) {
-  VisitDutInput(input, [this](const auto& message) {
-    Log(message);
-    Forward(ToLink(message));
-  });
-}
-
-void ProcessDut::Log(const ImuMessage& message) {
-  ++counters_.imu_messages;
-  if (latencies_) LogSend(latencies_->imu, message.stamp.sequence, options_.wall_clock->NowNs());
-}
-
-void ProcessDut::Log(const VioMessage& message) {
-  ++counters_.vio_messages;
-  if (latencies_) LogSend(latencies_->vio, message.stamp.sequence, options_.wall_clock->NowNs());
-}
-
-void ProcessDut::Log(const SetpointMessage& message) {
+  counters_.Count(input);
   if (latencies_) {
-    LogSend(latencies_->setpoint, message.stamp.sequence, options_.wall_clock->NowNs());
+    LogSend(latencies_->inputs[input.index()], StampOf(input).sequence,
+            options_.wall_clock->NowNs());
   }
+  Forward(ToLink(input));
 }
 
 rig::Result<void> ProcessDut::SendStepRequest(std::uint64_t tick, std::int64_t now_ns,
@@ -513,14 +501,10 @@ void ProcessDut::RecordCoverage(const proto::ActuatorCommand& command,
   dut_frame_waits_expired_ = command.can_frame_waits_expired();
   dut_frames_dropped_foreign_ = command.can_frames_dropped_foreign();
   if (!latencies_) return;
-  if (command.has_last_imu_sequence()) {
-    Cover(latencies_->imu, command.last_imu_sequence(), arrival_wall_ns);
-  }
-  if (command.has_last_vio_sequence()) {
-    Cover(latencies_->vio, command.last_vio_sequence(), arrival_wall_ns);
-  }
-  if (command.has_last_setpoint_sequence()) {
-    Cover(latencies_->setpoint, command.last_setpoint_sequence(), arrival_wall_ns);
+  for (std::size_t index = 0; index < kDutInputStreams; ++index) {
+    if (auto taken = LastTakenSequence(command, index)) {
+      Cover(latencies_->inputs[index], *taken, arrival_wall_ns);
+    }
   }
   Cover(latencies_->can, command.can_frames_consumed(), arrival_wall_ns);
 }

@@ -15,6 +15,7 @@
 // when the command is polled, so it includes the wait for the poll.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -87,7 +88,8 @@ class ProcessDut final : public DutPort {
   // Never block (see the file comment); PollCommand's errors stick like Step's.
   void RequestStep(std::uint64_t tick, std::int64_t now_ns) override;
   rig::Result<std::optional<ActuatorMessage>> PollCommand() override;
-  // "imu", "vio", "setpoint", "can", "command" (request to answer); none without a wall clock.
+  // Each input stream by its kStream ("imu", "vio", "setpoint"), then "can" and "command"
+  // (request to answer); none without a wall clock.
   std::vector<StreamLatency> response_latencies() const override;
   DutCounters counters() const override { return counters_; }
   std::string description() const override;
@@ -109,10 +111,8 @@ class ProcessDut final : public DutPort {
   };
   // Everything measured on the wall clock; only with one (real time).
   struct Latencies {
-    SendLog imu;
-    SendLog vio;
-    SendLog setpoint;
-    SendLog can;  // keyed by the running count of frames forwarded
+    std::array<SendLog, kDutInputStreams> inputs;  // by DutInput alternative
+    SendLog can;                                   // keyed by the running count of frames forwarded
     rig::DurationHistogram command;
   };
   struct Request {
@@ -120,10 +120,6 @@ class ProcessDut final : public DutPort {
     std::int64_t wall_ns = 0;  // 0 without a wall clock
   };
 
-  // Counts and timestamps one input for the report and the response latencies.
-  void Log(const ImuMessage& message);
-  void Log(const VioMessage& message);
-  void Log(const SetpointMessage& message);
   // The sticky failure, or one for a DUT not started or stopped.
   rig::Result<void> CheckRunning();
   void Forward(const proto::LinkMessage& message);

@@ -16,6 +16,7 @@
 #include "host/dut/process_dut.h"
 #include "rig/clock.h"
 #include "rig/emulated_bus.h"
+#include "tests/support/dut_inputs.h"
 
 namespace hilrig::host {
 namespace {
@@ -160,6 +161,31 @@ TEST_F(ProcessDutRealtimeTest, LatencyPerStreamFromTheSendTimesTheCommandCovers)
   EXPECT_DOUBLE_EQ(vio.max_s, 600e-6);
   EXPECT_EQ(LatencyOf(*dut, "setpoint").count, 1u);
   EXPECT_EQ(Metric(*dut, "dut_can_frame_waits_expired"), 0.0);
+}
+
+// Every stream the runner sends the DUT has its latency, named as the report names it, then the
+// CAN frames and the command; each input stream is covered by the DUT's answer.
+TEST_F(ProcessDutRealtimeTest, EveryDutInputStreamHasItsLatency) {
+  auto dut = Start({}, 50e-3);
+  ASSERT_NE(dut, nullptr);
+  for (std::size_t index = 0; index < kDutInputStreams; ++index) {
+    dut->Send(test::DutInputAt(index));
+  }
+  wall_clock_.AdvanceNs(100'000);
+  dut->RequestStep(1, kTickNs);
+  wall_clock_.AdvanceNs(400'000);
+  auto answer = PollUntilAnswer(*dut);
+  ASSERT_TRUE(answer.ok()) << answer.error().message;
+  ASSERT_TRUE(answer.value().has_value());
+  const std::vector<StreamLatency> latencies = dut->response_latencies();
+  ASSERT_EQ(latencies.size(), kDutInputStreams + 2);
+  for (std::size_t index = 0; index < kDutInputStreams; ++index) {
+    EXPECT_EQ(latencies[index].stream, DutInputStream(index));
+    EXPECT_EQ(latencies[index].latency.count, 1u) << latencies[index].stream;
+    EXPECT_DOUBLE_EQ(latencies[index].latency.max_s, 500e-6) << latencies[index].stream;
+  }
+  EXPECT_EQ(latencies[kDutInputStreams].stream, "can");
+  EXPECT_EQ(latencies[kDutInputStreams + 1].stream, "command");
 }
 
 TEST_F(ProcessDutRealtimeTest, NewestCommandWinsAndTheOlderOnesAreCounted) {
