@@ -5,15 +5,15 @@
 
 namespace hilrig::host {
 
-EnvelopeCheck::EnvelopeCheck(proto::Envelope spec)
+EnvelopeCheck::EnvelopeCheck(EnvelopeSpec spec)
     : spec_(std::move(spec)),
-      read_signal_(SignalReaderFor(spec_.signal())),
-      lower_(spec_.has_lower() ? spec_.lower() : -std::numeric_limits<double>::infinity()),
-      upper_(spec_.has_upper() ? spec_.upper() : std::numeric_limits<double>::infinity()),
-      from_s_(spec_.has_from_s() ? spec_.from_s() : 0.0),
-      until_s_(spec_.has_until_s() ? spec_.until_s() : std::numeric_limits<double>::infinity()),
-      has_mean_(spec_.has_mean_over_s()),
-      mean_over_s_(spec_.mean_over_s()) {}
+      read_signal_(SignalReaderFor(spec_.signal)),
+      lower_(spec_.lower.value_or(-std::numeric_limits<double>::infinity())),
+      upper_(spec_.upper.value_or(std::numeric_limits<double>::infinity())),
+      from_s_(spec_.from_s),
+      until_s_(spec_.until_s.value_or(std::numeric_limits<double>::infinity())),
+      has_mean_(spec_.mean_over_s.has_value()),
+      mean_over_s_(spec_.mean_over_s.value_or(0.0)) {}
 
 double EnvelopeCheck::Margin(double value) const {
   if (!std::isfinite(value)) return -std::numeric_limits<double>::infinity();
@@ -59,16 +59,16 @@ bool EnvelopeCheck::Observe(const TraceSample& sample, EnvelopeProgress& progres
 
 proto::EnvelopeResult EnvelopeCheck::Result(const EnvelopeProgress& progress) const {
   proto::EnvelopeResult result;
-  result.set_name(spec_.name());
-  result.set_signal(spec_.signal());
+  result.set_name(spec_.name);
+  result.set_signal(spec_.signal);
   const bool failed = progress.violated || progress.samples_checked == 0;
   result.set_verdict(failed ? proto::FAIL : proto::PASS);
-  result.set_expected(spec_.expect());
-  result.set_meets_expectation(result.verdict() == spec_.expect());
+  result.set_expected(spec_.expect == EnvelopeVerdict::kFail ? proto::FAIL : proto::PASS);
+  result.set_meets_expectation(result.verdict() == result.expected());
   result.set_worst_value(progress.worst_value);
   result.set_worst_at_s(progress.worst_at_s);
-  if (spec_.has_lower()) result.set_lower(spec_.lower());
-  if (spec_.has_upper()) result.set_upper(spec_.upper());
+  if (spec_.lower) result.set_lower(*spec_.lower);
+  if (spec_.upper) result.set_upper(*spec_.upper);
   result.set_margin(progress.samples_checked == 0 ? 0.0 : progress.worst_margin);
   result.set_samples_checked(progress.samples_checked);
   if (progress.violated) result.set_first_violation_at_s(progress.first_violation_at_s);

@@ -9,10 +9,10 @@
 #include <limits>
 #include <optional>
 
+#include "host/checks/envelope_spec.h"
 #include "host/checks/trailing_mean.h"
 #include "host/trace/trace_sample.h"
 #include "proto/report.pb.h"
-#include "proto/scenario.pb.h"
 
 namespace hilrig::host {
 
@@ -28,7 +28,7 @@ struct EnvelopeProgress {
 
 class EnvelopeCheck {
  public:
-  explicit EnvelopeCheck(proto::Envelope spec);
+  explicit EnvelopeCheck(EnvelopeSpec spec);
 
   // Folds one trace sample into `progress`; returns true when this sample is a violation.
   bool Observe(const TraceSample& sample, EnvelopeProgress& progress) const;
@@ -36,7 +36,7 @@ class EnvelopeCheck {
   // The verdict so far. A check that saw no sample in its window fails: it proved nothing.
   proto::EnvelopeResult Result(const EnvelopeProgress& progress) const;
 
-  const proto::Envelope& spec() const { return spec_; }
+  const EnvelopeSpec& spec() const { return spec_; }
 
  private:
   // Distance inside the bounds: positive inside, negative outside, -inf for a non-finite value.
@@ -44,9 +44,9 @@ class EnvelopeCheck {
   // The value to check at this sample, or nothing while the mean's window is still filling.
   std::optional<double> CheckedValue(const TraceSample& sample, EnvelopeProgress& progress) const;
 
-  // The spec resolved once, so that a sample costs no dispatch on the signal and no look-ups in
-  // the message; a missing bound is an infinite one.
-  proto::Envelope spec_;
+  // The spec resolved once, so that a sample costs no dispatch on the signal and no test for a
+  // missing bound (an infinite one).
+  EnvelopeSpec spec_;
   SignalReader read_signal_;
   double lower_;
   double upper_;

@@ -21,18 +21,18 @@ PlotSeries Series(std::string name, const std::vector<double>& time_s,
 }
 
 // Every envelope on one of `signals`, as a band.
-std::vector<PlotBand> BandsFor(const std::vector<proto::Envelope>& envelopes,
+std::vector<PlotBand> BandsFor(const std::vector<EnvelopeSpec>& envelopes,
                                std::initializer_list<proto::Signal> signals) {
   std::vector<PlotBand> bands;
-  for (const proto::Envelope& envelope : envelopes) {
-    if (std::find(signals.begin(), signals.end(), envelope.signal()) == signals.end()) continue;
+  for (const EnvelopeSpec& envelope : envelopes) {
+    if (std::find(signals.begin(), signals.end(), envelope.signal) == signals.end()) continue;
     PlotBand band;
-    band.name = "envelope " + envelope.name();
-    if (envelope.has_lower()) band.lower = envelope.lower();
-    if (envelope.has_upper()) band.upper = envelope.upper();
-    if (envelope.has_from_s()) band.from_s = envelope.from_s();
-    if (envelope.has_until_s()) band.until_s = envelope.until_s();
-    band.expect_fail = envelope.expect() == proto::FAIL;
+    band.name = "envelope " + envelope.name;
+    band.lower = envelope.lower;
+    band.upper = envelope.upper;
+    band.from_s = envelope.from_s;
+    if (envelope.until_s) band.until_s = *envelope.until_s;
+    band.expect_fail = envelope.expect == EnvelopeVerdict::kFail;
     bands.push_back(std::move(band));
   }
   return bands;
@@ -41,7 +41,7 @@ std::vector<PlotBand> BandsFor(const std::vector<proto::Envelope>& envelopes,
 }  // namespace
 
 rig::Result<std::vector<std::string>> WriteRunPlots(const CapturedTrace& trace,
-                                                    const std::vector<proto::Envelope>& envelopes,
+                                                    const std::vector<EnvelopeSpec>& envelopes,
                                                     bool grasp_scene, const std::string& out_dir) {
   std::vector<std::pair<std::string, TimePlot>> plots;
   if (grasp_scene) {

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "host/checks/envelope_spec.h"
 #include "host/trace/trace_capture.h"
-#include "proto/scenario.pb.h"
 #include "rig/result.h"
 
 namespace hilrig::host {
@@ -23,7 +23,7 @@ inline constexpr std::array<const char*, 3> kRunPlotFiles = {kForcePlotFile, kLo
 // Writes force.svg and load.svg (grasp scenes only) and position.svg into `out_dir`; returns the
 // file names written.
 rig::Result<std::vector<std::string>> WriteRunPlots(const CapturedTrace& trace,
-                                                    const std::vector<proto::Envelope>& envelopes,
+                                                    const std::vector<EnvelopeSpec>& envelopes,
                                                     bool grasp_scene, const std::string& out_dir);
 
 }  // namespace hilrig::host

@@ -172,7 +172,7 @@ LockstepRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
   for (const std::unique_ptr<DeviceEmulator>& device : devices_) device_schedule_.Add(*device);
   for (DeviceEmulator* device : control.added_devices) device_schedule_.Add(*device);
   if (dut_started_) device_schedule_.Initialize(*plant_view_, *dut_);
-  for (const proto::Envelope& envelope : config.envelopes) checks_.emplace_back(envelope);
+  for (const EnvelopeSpec& envelope : config.envelopes) checks_.emplace_back(envelope);
   check_progress_.resize(checks_.size());
   if (sinks.trace_csv != nullptr) trace_writer_.emplace(*sinks.trace_csv);
   if (sinks.can_log != nullptr)
@@ -332,8 +332,8 @@ bool LockstepRunner::Impl::RecordTrace(std::int64_t now_ns) {
   if (sinks_.trace_sample) sinks_.trace_sample(sample);
   bool abort = false;
   for (std::size_t i = 0; i < checks_.size(); ++i) {
-    if (checks_[i].Observe(sample, check_progress_[i]) && checks_[i].spec().abort_on_violation()) {
-      stop_ = {StopReason::kAborted, checks_[i].spec().name()};
+    if (checks_[i].Observe(sample, check_progress_[i]) && checks_[i].spec().abort_on_violation) {
+      stop_ = {StopReason::kAborted, checks_[i].spec().name};
       abort = true;
     }
   }

@@ -186,6 +186,21 @@ void ResolveTiming(const proto::TimingEnvelopes& timing, ScenarioConfig& config)
                                  : config.physics_step_ns;
 }
 
+EnvelopeSpec ResolveEnvelope(const proto::Envelope& envelope) {
+  EnvelopeSpec resolved;
+  resolved.name = envelope.name();
+  resolved.signal = envelope.signal();
+  resolved.lower = OptionalOf(envelope.has_lower(), envelope.lower());
+  resolved.upper = OptionalOf(envelope.has_upper(), envelope.upper());
+  resolved.from_s = Or(envelope.has_from_s(), envelope.from_s(), 0.0);
+  resolved.until_s = OptionalOf(envelope.has_until_s(), envelope.until_s());
+  resolved.expect =
+      envelope.expect() == proto::FAIL ? EnvelopeVerdict::kFail : EnvelopeVerdict::kPass;
+  resolved.abort_on_violation = envelope.abort_on_violation();
+  resolved.mean_over_s = OptionalOf(envelope.has_mean_over_s(), envelope.mean_over_s());
+  return resolved;
+}
+
 ObjectPlacement ResolveObject(const proto::GraspObject& spec, double at_s,
                               double default_stand_height_m) {
   auto fixture = fixtures::ObjectFixture(spec.fixture());
@@ -279,7 +294,8 @@ ScenarioConfig ResolveScenario(const proto::Scenario& spec,
   std::stable_sort(config.gripper.objects.begin(), config.gripper.objects.end(), by_time);
   std::stable_sort(config.gripper.grasps.begin(), config.gripper.grasps.end(), by_time);
   std::sort(config.gripper.support_removals_s.begin(), config.gripper.support_removals_s.end());
-  config.envelopes.assign(spec.envelopes().begin(), spec.envelopes().end());
+  for (const proto::Envelope& envelope : spec.envelopes())
+    config.envelopes.push_back(ResolveEnvelope(envelope));
   return config;
 }
 

@@ -1,6 +1,9 @@
 // A validated scenario spec resolved into the plain parameter structs the runner and the models
 // take, with every default filled in. The spec (protobuf, optional fields) stays at the edge; the
-// runner only sees this.
+// runner only sees this. Two protobuf types remain in it: the enum proto::Signal, the key of a
+// trace signal that the report names as well, and the DUT's calibration (proto::Calibration),
+// which travels as its file format (proto/calibration.proto) from the calibration jigs and the
+// calibration store to the firmware's configuration.
 #pragma once
 
 #include <array>
@@ -11,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "host/checks/envelope_spec.h"
 #include "host/plant/gripper_frame.h"
 #include "host/plant/object_model.h"
 #include "host/plant/quadrotor.h"
@@ -128,7 +132,7 @@ struct ScenarioConfig {
   ReferenceSample initial_reference;  // also where the vehicle starts, at rest
   std::vector<SetpointCommand> setpoints;
   std::vector<DisturbanceCommand> disturbances;
-  std::vector<proto::Envelope> envelopes;
+  std::vector<EnvelopeSpec> envelopes;
 
   // Real-time runs: a tick starting later than this after its due time is late (default one
   // physics period), and the timing envelopes graded at the end.

@@ -63,6 +63,8 @@ forbid host/scenario fixtures/calibration/ host/setup/
 forbid host/runner host/cli/ host/cache/ host/fidelity/ host/pipeline/ host/work_precision/ \
   host/setup/ host/link/ host/dut/process_dut.h \
   rig/udp_bus.h rig/socketcan_bus.h rig/gs_usb rig/libusb rig/can_open.h
+# The checks read envelopes resolved from the spec, never the spec's messages.
+forbid host/checks proto/scenario.pb.h
 # A report is written from a run's results; it runs nothing.
 forbid host/report host/runner/ host/fidelity/ host/pipeline/ host/cli/
 # The run pipeline is a library under the command line, never the other way round.

@@ -7,12 +7,12 @@
 namespace hilrig::host {
 namespace {
 
-proto::Envelope AltitudeEnvelope(double lower, double upper) {
-  proto::Envelope envelope;
-  envelope.set_name("altitude");
-  envelope.set_signal(proto::ALTITUDE_M);
-  envelope.set_lower(lower);
-  envelope.set_upper(upper);
+EnvelopeSpec AltitudeEnvelope(double lower, double upper) {
+  EnvelopeSpec envelope;
+  envelope.name = "altitude";
+  envelope.signal = proto::ALTITUDE_M;
+  envelope.lower = lower;
+  envelope.upper = upper;
   return envelope;
 }
 
@@ -56,9 +56,9 @@ TEST(EnvelopeCheckTest, NaNSampleIsAViolation) {
 }
 
 TEST(EnvelopeCheckTest, IgnoresSamplesOutsideItsWindow) {
-  proto::Envelope envelope = AltitudeEnvelope(0.5, 1.5);
-  envelope.set_from_s(5);
-  envelope.set_until_s(10);
+  EnvelopeSpec envelope = AltitudeEnvelope(0.5, 1.5);
+  envelope.from_s = 5;
+  envelope.until_s = 10;
   const EnvelopeCheck check(envelope);
   EnvelopeProgress progress;
   EXPECT_FALSE(check.Observe(AtAltitude(1, 0.0), progress));
@@ -75,8 +75,8 @@ TEST(EnvelopeCheckTest, NoSampleInWindowFails) {
 }
 
 TEST(EnvelopeCheckTest, ExpectedFailureIsMetByAViolation) {
-  proto::Envelope envelope = AltitudeEnvelope(0.5, 1.5);
-  envelope.set_expect(proto::FAIL);
+  EnvelopeSpec envelope = AltitudeEnvelope(0.5, 1.5);
+  envelope.expect = EnvelopeVerdict::kFail;
   const EnvelopeCheck check(envelope);
   EnvelopeProgress progress;
   check.Observe(AtAltitude(1, 0.0), progress);
@@ -86,10 +86,10 @@ TEST(EnvelopeCheckTest, ExpectedFailureIsMetByAViolation) {
 }
 
 TEST(EnvelopeCheckTest, OneSidedBoundUsesOnlyThatSide) {
-  proto::Envelope envelope;
-  envelope.set_name("speed");
-  envelope.set_signal(proto::SPEED_M_S);
-  envelope.set_upper(2.0);
+  EnvelopeSpec envelope;
+  envelope.name = "speed";
+  envelope.signal = proto::SPEED_M_S;
+  envelope.upper = 2.0;
   const EnvelopeCheck check(envelope);
   EnvelopeProgress progress;
   TraceSample sample;
@@ -102,8 +102,8 @@ TEST(EnvelopeCheckTest, OneSidedBoundUsesOnlyThatSide) {
 // Noise of +-0.3 around 1.0 stays outside [0.9, 1.1] sample by sample, but its mean over a
 // window of whole periods is exactly 1.0.
 TEST(EnvelopeCheckTest, MeanOverAWindowPassesNoiseThatSamplesFail) {
-  proto::Envelope envelope = AltitudeEnvelope(0.9, 1.1);
-  envelope.set_mean_over_s(0.04);
+  EnvelopeSpec envelope = AltitudeEnvelope(0.9, 1.1);
+  envelope.mean_over_s = 0.04;
   const EnvelopeCheck mean_check(envelope);
   const EnvelopeCheck sample_check(AltitudeEnvelope(0.9, 1.1));
   EnvelopeProgress mean_progress, sample_progress;
@@ -122,8 +122,8 @@ TEST(EnvelopeCheckTest, MeanOverAWindowPassesNoiseThatSamplesFail) {
 }
 
 TEST(EnvelopeCheckTest, MeanOverAWindowStillCatchesADrift) {
-  proto::Envelope envelope = AltitudeEnvelope(0.9, 1.1);
-  envelope.set_mean_over_s(0.1);
+  EnvelopeSpec envelope = AltitudeEnvelope(0.9, 1.1);
+  envelope.mean_over_s = 0.1;
   const EnvelopeCheck check(envelope);
   EnvelopeProgress progress;
   for (int i = 0; i < 100; ++i) check.Observe(AtAltitude(i * 0.01, 1.0 + i * 0.005), progress);
@@ -134,8 +134,8 @@ TEST(EnvelopeCheckTest, MeanOverAWindowStillCatchesADrift) {
 }
 
 TEST(EnvelopeCheckTest, NaNInTheMeansWindowIsAViolation) {
-  proto::Envelope envelope = AltitudeEnvelope(0.9, 1.1);
-  envelope.set_mean_over_s(0.05);
+  EnvelopeSpec envelope = AltitudeEnvelope(0.9, 1.1);
+  envelope.mean_over_s = 0.05;
   const EnvelopeCheck check(envelope);
   EnvelopeProgress progress;
   for (int i = 0; i < 20; ++i) {
@@ -150,8 +150,8 @@ TEST(EnvelopeCheckTest, NaNInTheMeansWindowIsAViolation) {
 // A thousand samples through a ten-sample window: the window's storage is compacted many times
 // on the way, and the last mean is still that of the last ten values, 990 .. 999.
 TEST(EnvelopeCheckTest, MeanOverALongRunIsThatOfTheLatestWindow) {
-  proto::Envelope envelope = AltitudeEnvelope(-2000, 2000);
-  envelope.set_mean_over_s(0.1);
+  EnvelopeSpec envelope = AltitudeEnvelope(-2000, 2000);
+  envelope.mean_over_s = 0.1;
   const EnvelopeCheck check(envelope);
   EnvelopeProgress progress;
   for (int i = 0; i < 1000; ++i) check.Observe(AtAltitude(i * 0.01, i), progress);
@@ -164,8 +164,8 @@ TEST(EnvelopeCheckTest, MeanOverALongRunIsThatOfTheLatestWindow) {
 // A window shorter than the half-microsecond slack holds no sample at all: its mean is NaN, a
 // violation, and nothing reads outside the window.
 TEST(EnvelopeCheckTest, AWindowShorterThanTheSlackIsAViolation) {
-  proto::Envelope envelope = AltitudeEnvelope(0.5, 1.5);
-  envelope.set_mean_over_s(1e-7);
+  EnvelopeSpec envelope = AltitudeEnvelope(0.5, 1.5);
+  envelope.mean_over_s = 1e-7;
   const EnvelopeCheck check(envelope);
   EnvelopeProgress progress;
   EXPECT_TRUE(check.Observe(AtAltitude(0.01, 1.0), progress));

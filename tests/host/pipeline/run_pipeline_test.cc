@@ -13,6 +13,7 @@
 
 #include "host/fidelity/fidelity_choice.h"
 #include "host/report/run_plots.h"
+#include "host/scenario/scenario_config.h"
 #include "host/scenario/scenario_loader.h"
 #include "rig/clock.h"
 #include "tests/support/test_files.h"
@@ -157,7 +158,7 @@ TEST_F(RunPipelineTest, OneCaptureFeedsThePlotsAndTheComparison) {
   // The plot drew the run's samples: it is not the plot of an empty capture with the same bands.
   const fs::path empty_dir = dir_ / "empty";
   fs::create_directories(empty_dir);
-  const std::vector<proto::Envelope> envelopes(spec_.envelopes().begin(), spec_.envelopes().end());
+  const std::vector<EnvelopeSpec> envelopes = ResolveScenario(spec_, std::nullopt).envelopes;
   ASSERT_TRUE(WriteRunPlots(CapturedTrace{}, envelopes, false, empty_dir.string()).ok());
   EXPECT_NE(ReadFile(dir_ / "out" / kPositionPlotFile), ReadFile(empty_dir / kPositionPlotFile));
   EXPECT_THAT(notes_.str(), HasSubstr("running the reference"));

@@ -20,11 +20,11 @@ std::string ReadFile(const fs::path& path) {
   return text.str();
 }
 
-proto::Envelope Envelope(const std::string& name, proto::Signal signal, double upper) {
-  proto::Envelope envelope;
-  envelope.set_name(name);
-  envelope.set_signal(signal);
-  envelope.set_upper(upper);
+EnvelopeSpec Envelope(const std::string& name, proto::Signal signal, double upper) {
+  EnvelopeSpec envelope;
+  envelope.name = name;
+  envelope.signal = signal;
+  envelope.upper = upper;
   return envelope;
 }
 
@@ -55,9 +55,8 @@ class RunPlotsTest : public ::testing::Test {
 };
 
 TEST_F(RunPlotsTest, GraspSceneGetsForceLoadAndPositionPlotsWithTheirEnvelopes) {
-  const std::vector<proto::Envelope> envelopes = {
-      Envelope("grasp_force", proto::GRASP_FORCE_N, 0.65),
-      Envelope("altitude", proto::ALTITUDE_ERROR_M, 0.05)};
+  const std::vector<EnvelopeSpec> envelopes = {Envelope("grasp_force", proto::GRASP_FORCE_N, 0.65),
+                                               Envelope("altitude", proto::ALTITUDE_ERROR_M, 0.05)};
   const auto written = WriteRunPlots(ShortTrace(), envelopes, true, dir_.string());
   ASSERT_TRUE(written.ok()) << written.error().message;
   EXPECT_EQ(written.value(), (std::vector<std::string>{"force.svg", "load.svg", "position.svg"}));

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <memory>
+#include <vector>
 
 namespace hilrig::host {
 namespace {
@@ -30,6 +31,51 @@ TEST(ResolveSensorsTest, DefaultSensorRatesAreCappedAtTheTickRate) {
   spec.mutable_simulation()->set_physics_rate_hz(500);
   spec.mutable_models()->mutable_imu()->set_rate_hz(250);
   EXPECT_EQ(ResolveScenario(spec, std::nullopt).imu.rate_hz, 250);
+}
+
+// Each envelope of the spec resolves into the plain struct the checks read, field by field; a bound
+// or window the spec leaves out stays unset (an open side), from_s defaults to the start.
+TEST(ResolveEnvelopesTest, EveryFieldOfTheSpecsEnvelopesIsResolved) {
+  proto::Scenario spec;
+  spec.set_name("envelopes");
+  spec.mutable_simulation()->set_duration_s(1);
+  proto::Envelope& full = *spec.add_envelopes();
+  full.set_name("steady load");
+  full.set_signal(proto::LOAD_N);
+  full.set_lower(-0.5);
+  full.set_upper(2.5);
+  full.set_from_s(0.25);
+  full.set_until_s(0.75);
+  full.set_expect(proto::FAIL);
+  full.set_abort_on_violation(true);
+  full.set_mean_over_s(0.1);
+  proto::Envelope& open = *spec.add_envelopes();
+  open.set_name("tilt");
+  open.set_signal(proto::TILT_DEG);
+  open.set_upper(30);
+
+  const std::vector<EnvelopeSpec> envelopes = ResolveScenario(spec, std::nullopt).envelopes;
+  ASSERT_EQ(envelopes.size(), 2u);
+  const EnvelopeSpec& resolved = envelopes[0];
+  EXPECT_EQ(resolved.name, "steady load");
+  EXPECT_EQ(resolved.signal, proto::LOAD_N);
+  EXPECT_EQ(resolved.lower, -0.5);
+  EXPECT_EQ(resolved.upper, 2.5);
+  EXPECT_EQ(resolved.from_s, 0.25);
+  EXPECT_EQ(resolved.until_s, 0.75);
+  EXPECT_EQ(resolved.expect, EnvelopeVerdict::kFail);
+  EXPECT_TRUE(resolved.abort_on_violation);
+  EXPECT_EQ(resolved.mean_over_s, 0.1);
+  const EnvelopeSpec& defaults = envelopes[1];
+  EXPECT_EQ(defaults.name, "tilt");
+  EXPECT_EQ(defaults.signal, proto::TILT_DEG);
+  EXPECT_FALSE(defaults.lower.has_value());
+  EXPECT_EQ(defaults.upper, 30.0);
+  EXPECT_EQ(defaults.from_s, 0.0);
+  EXPECT_FALSE(defaults.until_s.has_value());
+  EXPECT_EQ(defaults.expect, EnvelopeVerdict::kPass);
+  EXPECT_FALSE(defaults.abort_on_violation);
+  EXPECT_FALSE(defaults.mean_over_s.has_value());
 }
 
 }  // namespace
