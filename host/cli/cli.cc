@@ -20,6 +20,7 @@
 #include "host/dut/process_dut.h"
 #include "host/pipeline/run_pipeline.h"
 #include "host/report/report_files.h"
+#include "host/report/stop_reason.h"
 #include "host/scenario/scenario_loader.h"
 #include "rig/clock.h"
 #include "rig/folder_lock.h"
@@ -183,6 +184,7 @@ rig::Result<RunOptions> ParseRunOptions(std::vector<std::string> args) {
 struct ScenarioOutcome {
   std::string name;
   int exit_code = kExitBadInput;
+  bool ran = false;  // false: the run never started, its report is empty
   proto::Report report;
 };
 
@@ -207,8 +209,14 @@ ScenarioOutcome RunOneFile(const std::string& path, const fs::path& out_dir,
   if (const RunError* error = std::get_if<RunError>(&result)) {
     // A spec that cannot be read says so itself; the rest is the run's.
     io.err << (error->failure == RunFailure::kBadSpec ? "" : "hilrig: ") << error->message << "\n";
+    // Stopped in its set-up, the run fails as an interrupted run does; its input is not at fault.
+    if (error->failure == RunFailure::kInterrupted) {
+      outcome.exit_code = kExitCheckFailed;
+      SetStop({StopReason::kInterrupted, ""}, outcome.report);
+    }
     return outcome;
   }
+  outcome.ran = true;
   RunOutcome& run = std::get<RunOutcome>(result);
   outcome.report = std::move(run.report);
   outcome.exit_code = run.verdict == RunVerdict::kPass ? kExitPass : kExitCheckFailed;
@@ -276,7 +284,7 @@ int RunFolder(const RunOptions& options, const Streams& io) {
     const fs::path out_dir = out_root / fs::path(file).stem();
     outcomes.push_back(
         RunOneFile(file, out_dir, options, reference ? &reference->source : nullptr, io));
-    if (outcomes.back().exit_code != kExitBadInput) PrintRun(outcomes.back(), io);
+    if (outcomes.back().ran) PrintRun(outcomes.back(), io);
   }
   int exit_code = kExitPass;
   io.out << "\n"
@@ -317,7 +325,7 @@ int RunCommand(const std::vector<std::string>& args, const Streams& io) {
                                 : nullptr;
   const ScenarioOutcome outcome =
       RunOneFile(target, out_dir, options.value(), reference ? &reference->source : nullptr, io);
-  if (outcome.exit_code != kExitBadInput) PrintRun(outcome, io);
+  if (outcome.ran) PrintRun(outcome, io);
   return outcome.exit_code;
 }
 

@@ -115,7 +115,10 @@ RunPipelineResult RunPipeline(const RunRequest& request, const RunSeams& seams) 
   if (auto set_up = SetUpTactile(run.spec, run.config, request.field_maps, request.calibrations,
                                  seams.stop_requested);
       !set_up) {
-    return RunError{RunFailure::kSetUp, run_name + ": " + set_up.error().message};
+    const RunFailure failure = set_up.error().code == rig::ErrorCode::kInterrupted
+                                   ? RunFailure::kInterrupted
+                                   : RunFailure::kSetUp;
+    return RunError{failure, run_name + ": " + set_up.error().message};
   }
   // One capture for the plots and the comparison with the reference.
   CapturedTrace captured;

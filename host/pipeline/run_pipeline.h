@@ -68,7 +68,10 @@ struct RunOutcome {
 enum class RunFailure {
   kBadSpec,  // the spec cannot be read or is not valid: nothing is written
   kSetUp,    // the film or the DUT's calibration could not be made
-  kOutput,   // the output folder or one of its files could not be written
+  // A stop request ended the set-up (a calibration, a field map's tabulation) before the run's
+  // first tick: the run was interrupted, its input is not at fault.
+  kInterrupted,
+  kOutput,  // the output folder or one of its files could not be written
 };
 
 struct RunError {

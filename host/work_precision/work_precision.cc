@@ -385,7 +385,11 @@ rig::Result<ShippedVerdict> RunDefaultAsShipped(const proto::Scenario& spec,
   request.calibrations = calibrations;
   RunPipelineResult run = RunPipeline(
       request, {control.wall_clock, control.realtime_clock, control.stop_requested, nullptr});
-  if (const RunError* error = std::get_if<RunError>(&run)) return rig::MakeError(error->message);
+  if (const RunError* error = std::get_if<RunError>(&run)) {
+    return rig::MakeError(error->failure == RunFailure::kInterrupted ? rig::ErrorCode::kInterrupted
+                                                                     : rig::ErrorCode::kUnspecified,
+                          error->message);
+  }
   const proto::Report& report = std::get<RunOutcome>(run).report;
   ShippedVerdict verdict;
   verdict.passed = report.passed();

@@ -98,7 +98,8 @@ TEST_P(CliStopSignalTest, CalibrateStopsInTheMiddleOfAStageAndWritesNothing) {
 }
 
 // A map:128 film tabulates for about 24 s before a run's first tick (once per build, then from
-// the cache): 1 s of CPU is inside it. The run is cut short and its folder says so.
+// the cache): 1 s of CPU is inside it. The run is cut short, fails as an interrupted run and its
+// folder says so.
 TEST_P(CliStopSignalTest, RunStopsWhileTabulatingAFieldMap) {
   std::string spec =
       ReadFile(fs::path(HILRIG_SOURCE_DIR) / "scenarios" / "tactile_hover.textproto");
@@ -110,7 +111,8 @@ TEST_P(CliStopSignalTest, RunStopsWhileTabulatingAFieldMap) {
       StartShellCommand(HilrigBinary() + " run " + (dir_ / "map128.textproto").string() +
                         " --no-reference" + " --reference-cache " + (dir_ / "cache").string() +
                         " --out " + (dir_ / "run").string() + Redirected());
-  EXPECT_TRUE(StopAfter(child, 1.0).has_value());
+  // Interrupted, as a run is: exit 1, not the bad input's 2.
+  EXPECT_EQ(StopAfter(child, 1.0), "exited with status 1");
   EXPECT_THAT(ReadFile(dir_ / "err"), HasSubstr("interrupted while tabulating the map:128"));
   EXPECT_THAT(ReadFile(dir_ / "run" / "report.json"), HasSubstr("\"stop_reason\": \"incomplete\""));
 }

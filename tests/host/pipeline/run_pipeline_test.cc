@@ -201,5 +201,20 @@ TEST_F(RunPipelineTest, AStoppedRunIsNotComparedAndFails) {
   EXPECT_THAT(ReadFile(dir_ / "out" / "report.json"), HasSubstr(outcome.report.stop_reason()));
 }
 
+// A stop request during the DUT's calibration (tactile_hover without a calibration cache) ends the
+// set-up as an interrupted run, not as a set-up that could not be made.
+TEST_F(RunPipelineTest, AStopDuringTheCalibrationIsAnInterruptedRun) {
+  RunRequest request;
+  request.spec_path = std::string(HILRIG_SOURCE_DIR) + "/scenarios/tactile_hover.textproto";
+  const std::atomic<bool> stop{true};
+
+  RunPipelineResult result = RunPipeline(request, {&wall_clock_, nullptr, &stop, &notes_});
+
+  ASSERT_TRUE(std::holds_alternative<RunError>(result));
+  const RunError& error = std::get<RunError>(result);
+  EXPECT_EQ(error.failure, RunFailure::kInterrupted) << error.message;
+  EXPECT_THAT(error.message, HasSubstr("tactile calibration: interrupted"));
+}
+
 }  // namespace
 }  // namespace hilrig::host
