@@ -56,15 +56,10 @@ class DeviceSchedule {
   const std::vector<DeviceEmulator*>& devices() const { return devices_; }
 
  private:
-  struct Entry {
-    DeviceEmulator* device;
-    std::int64_t next_event_ns;
-  };
-
   void TickDue(std::int64_t now_ns, const PlantView& plant, DutPort& dut);
 
   std::vector<DeviceEmulator*> devices_;
-  std::vector<Entry> entries_;  // the same devices with their next event times
+  std::vector<std::int64_t> next_event_ns_;  // devices_[i]'s next event
   std::int64_t earliest_event_ns_ = std::numeric_limits<std::int64_t>::max();
 };
 
