@@ -1,9 +1,9 @@
 // The firmware's main loop. Until the HIL link runs over USART1 the image proves itself on its
 // own: it announces itself, runs the controller on a fixed hover-and-grasp input sequence for a
 // number of control steps, timing each with SysTick, reports the work per step, and then echoes
-// what USART1 receives so both directions of the line can be checked. The inputs are what the rig
-// sends a DUT hovering at 1 m with six loaded pads: IMU at 1 kHz, VIO at 100 Hz, every sensor node
-// at 50 Hz.
+// what each USART receives so both directions of both lines can be checked. The inputs are what
+// the rig sends a DUT hovering at 1 m with six loaded pads: IMU at 1 kHz, VIO at 100 Hz, every
+// sensor node at 50 Hz.
 #include <algorithm>
 #include <array>
 #include <cstdint>
@@ -110,11 +110,13 @@ int main() {
                                          : "rcc not responding\r\n");
   static fw::DutCore<float> core(BenchParams());
   RunBench(core);
-  target::Write(target::Port::kLink, "echo: USART1\r\n");
+  target::Write(target::Port::kLink, "echo: USART1, USART2\r\n");
   for (;;) {
-    if (const auto byte = target::ReadByte(target::Port::kLink)) {
-      const char c = char(*byte);
-      target::Write(target::Port::kLink, std::string_view(&c, 1));
+    for (const target::Port port : {target::Port::kLink, target::Port::kBridge}) {
+      if (const auto byte = target::ReadByte(port)) {
+        const char c = char(*byte);
+        target::Write(port, std::string_view(&c, 1));
+      }
     }
   }
 }
