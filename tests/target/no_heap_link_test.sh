@@ -12,15 +12,14 @@ if ! command -v arm-none-eabi-g++ >/dev/null; then
 fi
 build_dir=$(mktemp -d)
 trap 'rm -rf "$build_dir"' EXIT
-cmake -S "$source_dir/dut_fw/target" -B "$build_dir" -G Ninja \
-  -DCMAKE_TOOLCHAIN_FILE="$source_dir/dut_fw/target/arm-none-eabi.cmake" >/dev/null
+export HILRIG_TARGET_BUILD_DIR=$build_dir
 
-if ! cmake --build "$build_dir" -j1 >"$build_dir/image.log" 2>&1; then
+if ! "$source_dir/scripts/build-target" -j1 >"$build_dir/image.log" 2>&1; then
   echo "FAIL: the firmware image does not build"
   tail -20 "$build_dir/image.log"
   exit 1
 fi
-if cmake --build "$build_dir" -j1 --target heap_probe >"$build_dir/probe.log" 2>&1; then
+if "$source_dir/scripts/build-target" -j1 --target heap_probe >"$build_dir/probe.log" 2>&1; then
   echo "FAIL: an image that calls malloc linked"
   exit 1
 fi
