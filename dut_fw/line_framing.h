@@ -20,6 +20,9 @@ namespace hilrig::dut_fw {
 
 inline constexpr std::uint8_t kFrameDelimiter = 0x00;
 inline constexpr std::size_t kFrameCrcBytes = 2;
+// The largest LinkMessage a serial HIL link carries (the DutConfig of a six-pad scene is the
+// largest, about 2 KB); the TCP link has the same limit.
+inline constexpr std::size_t kMaxLineMessageBytes = 4096;
 
 constexpr std::uint16_t Crc16CcittFalse(std::span<const std::uint8_t> bytes,
                                         std::uint16_t crc = 0xFFFF) {

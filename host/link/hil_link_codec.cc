@@ -227,6 +227,10 @@ const proto::LinkHeader* HeaderOf(const proto::LinkMessage& message) {
       return &message.step().header();
     case proto::LinkMessage::kBye:
       return &message.bye().header();
+    case proto::LinkMessage::kTargetInfo:
+      return &message.target_info().header();
+    case proto::LinkMessage::kSerialStep:  // the tick stamps these: a line has no room for more
+    case proto::LinkMessage::kSerialCommand:
     case proto::LinkMessage::PAYLOAD_NOT_SET:
       break;
   }
@@ -251,6 +255,10 @@ proto::LinkHeader* MutableHeaderOf(proto::LinkMessage& message) {
       return message.mutable_step()->mutable_header();
     case proto::LinkMessage::kBye:
       return message.mutable_bye()->mutable_header();
+    case proto::LinkMessage::kTargetInfo:
+      return message.mutable_target_info()->mutable_header();
+    case proto::LinkMessage::kSerialStep:
+    case proto::LinkMessage::kSerialCommand:
     case proto::LinkMessage::PAYLOAD_NOT_SET:
       break;
   }

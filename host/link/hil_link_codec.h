@@ -87,7 +87,7 @@ class LinkSequencer {
   void Stamp(proto::LinkMessage& message, std::int64_t time_ns, bool assign_sequence = true);
 
  private:
-  std::array<std::uint64_t, proto::LinkMessage::kByeFieldNumber + 1> next_{};
+  std::array<std::uint64_t, proto::LinkMessage::kTargetInfoFieldNumber + 1> next_{};
 };
 
 using LinkEvent = std::variant<proto::LinkMessage, LinkError>;
@@ -120,7 +120,7 @@ class LinkDecoder {
   std::vector<std::uint8_t> buffer_;
   std::size_t read_at_ = 0;
   bool broken_ = false;
-  std::array<std::optional<std::uint64_t>, proto::LinkMessage::kByeFieldNumber + 1> last_{};
+  std::array<std::optional<std::uint64_t>, proto::LinkMessage::kTargetInfoFieldNumber + 1> last_{};
   LinkCounters counters_;
 };
 
