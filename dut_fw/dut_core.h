@@ -18,9 +18,10 @@ namespace hilrig::dut_fw {
 template <typename S>
 struct DutCoreParams {
   FlightControllerParams<S> flight;
-  GraspAdmittanceParams<S> grasp;
-  bool external_force_in_position_loop = true;
   std::optional<TactileProcessorParams<S>> tactile;  // empty: the scene has no tactile nodes
+  GraspAdmittanceParams<S> grasp;
+  // false: the ablation that keeps the tactile force out of the admittance and the thrust.
+  bool external_force_in_position_loop = true;
 };
 
 template <typename S>
@@ -32,6 +33,10 @@ struct DutCoreOutput {
   bool tactile_ready = false;
   S grasp_force_estimate_n = S(0);
   Vec3<S> external_force_world_n = Vec3<S>::Zero();
+  // Each pad's decoded force in its sensor frame (nodes 1..6); zero without tactile nodes.
+  std::array<Vec3<S>, 6> tactile_force_sensor_n = {Vec3<S>::Zero(), Vec3<S>::Zero(),
+                                                   Vec3<S>::Zero(), Vec3<S>::Zero(),
+                                                   Vec3<S>::Zero(), Vec3<S>::Zero()};
 };
 
 template <typename S>
@@ -95,6 +100,11 @@ class DutCore {
     out.tactile_ready = tactile.valid;
     out.grasp_force_estimate_n = tactile.grasp_n;
     out.external_force_world_n = tactile.external_world_n;
+    if (tactile_params_) {
+      for (std::size_t i = 0; i < out.tactile_force_sensor_n.size(); ++i) {
+        out.tactile_force_sensor_n[i] = tactile_state_.nodes[i].force_sensor_n;
+      }
+    }
     return out;
   }
 

@@ -6,12 +6,9 @@
 #pragma once
 
 #include <memory>
-#include <optional>
 #include <vector>
 
-#include "dut_fw/flight_controller.h"
-#include "dut_fw/grasp_controller.h"
-#include "dut_fw/tactile_processor.h"
+#include "dut_fw/dut_core.h"
 #include "host/dut/dut_port.h"
 #include "host/dut/firmware_config.h"
 #include "rig/can_bus.h"
@@ -38,34 +35,8 @@ class BasicInProcessDut final : public DutPort {
   void Take(const VioMessage& message);
   void Take(const SetpointMessage& message);
   void DrainBus(std::int64_t now_ns);
-  // The tactile front end's sums at `now_ns`, rotated into the world with the estimated attitude;
-  // nothing until every pad is zeroed and fresh.
-  struct TactileForces {
-    dut_fw::Vec3<S> external_world_n = dut_fw::Vec3<S>::Zero();
-    S grasp_n = S(0);
-    bool valid = false;
-  };
-  TactileForces SummarizeForces(std::int64_t now_ns);
 
-  dut_fw::FlightController<S> controller_;
-  dut_fw::FlightControllerState<S> state_;
-  dut_fw::Reference<S> reference_;
-  dut_fw::FlightControllerOutput<S> output_;  // filled in place by every control step
-  const dut_fw::GraspAdmittanceParams<S> grasp_params_;
-  // GraspParamsValid(grasp_params_), checked once here: the parameters never change, so a valid
-  // set takes the step without the per-step check and an invalid one the checked step (which
-  // commands the open angle and counts every step as rejected).
-  const bool grasp_params_valid_;
-  dut_fw::GraspControllerState<S> grasp_state_;
-  dut_fw::GraspCommand<S> grasp_command_;
-  bool external_force_in_position_loop_;
-  std::optional<dut_fw::TactileProcessorParams<S>> tactile_params_;
-  dut_fw::TactileProcessorState<S> tactile_state_{};
-  // The front end's sums only change with a new sample or when a node goes stale, so they are
-  // kept between control steps (the 50 Hz nodes feed a 1 kHz loop).
-  dut_fw::TactileSummary<S> summary_;
-  bool summary_dirty_ = true;
-  std::int64_t summary_valid_until_ns_ = 0;
+  dut_fw::DutCore<S> core_;
   std::unique_ptr<rig::CanBus> bus_;
   S control_period_s_;
   std::vector<rig::TimedCanFrame> received_;

@@ -4,23 +4,14 @@
 // host/dut/firmware_config.h) is the harness's business.
 #pragma once
 
-#include <optional>
-
-#include "dut_fw/flight_controller.h"
-#include "dut_fw/grasp_controller.h"
-#include "dut_fw/tactile_processor.h"
+#include "dut_fw/dut_core.h"
 
 namespace hilrig::host {
 
-// Built for the firmware's scalar: double as on the host, or float as on the target.
+// Built for the firmware's scalar: double as on the host, or float as on the target. The
+// parameters are the ones DutCore takes, so the link carries what every DUT is built from.
 template <typename S>
-struct BasicDutFirmware {
-  dut_fw::FlightControllerParams<S> flight;
-  std::optional<dut_fw::TactileProcessorParams<S>> tactile;
-  dut_fw::GraspAdmittanceParams<S> grasp;
-  // false: the ablation that keeps the tactile force out of the admittance and the thrust.
-  bool external_force_in_position_loop = true;
-};
+using BasicDutFirmware = dut_fw::DutCoreParams<S>;
 using DutFirmware = BasicDutFirmware<double>;
 
 }  // namespace hilrig::host
