@@ -193,6 +193,33 @@ constexpr NodeFrame PackSampleFrame(std::uint8_t node_id, const std::array<std::
   return frame;
 }
 
+// A sample frame as the receiving side takes it apart: what PackSampleFrame packed.
+struct NodeSample {
+  std::uint8_t node_id = 0;
+  std::array<std::uint16_t, 3> code{};
+  std::uint8_t sequence = 0;
+  std::uint8_t status = 0;
+
+  friend constexpr bool operator==(const NodeSample&, const NodeSample&) = default;
+};
+
+// The sample in `frame`; nullopt for every other frame (status, commands, other ids) and for a
+// sample id with the wrong length, which rig/tactile_protocol.h rejects the same way.
+constexpr std::optional<NodeSample> UnpackSampleFrame(const NodeFrame& frame) {
+  if (frame.id < node_protocol::kSampleBaseId + node_protocol::kFirstNodeId ||
+      frame.id > node_protocol::kSampleBaseId + node_protocol::kLastNodeId || frame.len != 8) {
+    return std::nullopt;
+  }
+  NodeSample sample;
+  sample.node_id = std::uint8_t(frame.id - node_protocol::kSampleBaseId);
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    sample.code[axis] = std::uint16_t(frame.data[2 * axis] | (frame.data[2 * axis + 1] << 8));
+  }
+  sample.sequence = frame.data[6];
+  sample.status = frame.data[7];
+  return sample;
+}
+
 // True when any axis sits at a rail of the RES window it was converted at.
 constexpr bool AnyAxisSaturated(const std::array<std::uint16_t, 3>& code, std::uint8_t resolution) {
   for (std::uint16_t word : code) {

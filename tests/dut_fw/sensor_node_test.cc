@@ -555,5 +555,25 @@ TEST(UartBridgeTest, CountsBadLengthAndBadId) {
   EXPECT_EQ(after, (std::vector<NodeFrame>{Command(0x105, {7})}));
 }
 
+TEST(NodeSampleTest, UnpacksWhatPackSampleFramePackedAndOnlySampleFrames) {
+  for (std::uint8_t node = np::kFirstNodeId; node <= np::kLastNodeId; ++node) {
+    const NodeFrame frame = PackSampleFrame(node, {0x1234, 0xFFFF, 7}, 200, np::kSampleSaturated);
+    const std::optional<NodeSample> sample = UnpackSampleFrame(frame);
+    ASSERT_TRUE(sample.has_value()) << int(node);
+    EXPECT_EQ(*sample, (NodeSample{node, {0x1234, 0xFFFF, 7}, 200, np::kSampleSaturated}));
+  }
+  NodeFrame short_sample = PackSampleFrame(3, {1, 2, 3}, 0, 0);
+  short_sample.len = 7;
+  EXPECT_FALSE(UnpackSampleFrame(short_sample));
+  NodeFrame node_zero = PackSampleFrame(1, {1, 2, 3}, 0, 0);
+  node_zero.id = np::kSampleBaseId;
+  EXPECT_FALSE(UnpackSampleFrame(node_zero));
+  NodeFrame node_eight = node_zero;
+  node_eight.id = np::kSampleBaseId + 8;
+  EXPECT_FALSE(UnpackSampleFrame(node_eight));
+  SensorNode<> node(2, 0);
+  EXPECT_FALSE(UnpackSampleFrame(node.TakeStatus(0)));
+}
+
 }  // namespace
 }  // namespace hilrig::dut_fw
