@@ -1,0 +1,616 @@
+// The DUT's side of the HIL link on a serial line (proto/hil_link.proto, docs/serial_link.md):
+// the same code on the STM32 image and in dut_emu --serial. The platform feeds every byte of the
+// link line to OnLinkByte; the session answers the runner's Hello (or, on a protocol version it
+// does not speak, says Bye), builds its DutCore from the DutConfig that follows (answered by
+// TargetInfo, or by Bye with the reason when refused), and then answers each SerialStep with a
+// SerialCommand: the step's inputs in order into the core, then the sensor-node frames the step
+// announces read off the bridge line and stamped with the step's time, then one control step. A
+// tick asked again (its answer was lost) is answered from the last output without stepping; a
+// runner's Bye, or a new Hello, starts over. What it counts goes back with the commands.
+//
+// The platform provides four small interfaces, so a board and a host process plug in alike: the
+// sink its frames are written to, the bridge line's bytes, a clock that bounds the wait for bridge
+// bytes, and the cycle counter the work per step is measured with. Portable like the rest of
+// dut_fw: fixed buffers (about 5 KB plus the DutCore, 20 KB in all for float), no allocation, no
+// exceptions. OnLinkByte is O(1) per byte, and O(message + bridge bytes) plus one control step at
+// the byte that completes a frame.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string_view>
+
+#include "dut_fw/dut_config_decoder.h"
+#include "dut_fw/dut_core.h"
+#include "dut_fw/line_framing.h"
+#include "dut_fw/sensor_node.h"
+#include "dut_fw/wire_codec.h"
+
+namespace hilrig::dut_fw {
+
+// The HIL link's protocol version (host/dut/hil_messages.h kHilLinkProtocolVersion; dut_fw may not
+// include the host, so tests/dut_fw/serial_dut_session_test.cc checks the two agree).
+inline constexpr std::uint32_t kSerialLinkProtocolVersion = 1;
+// How long the bridge line may stay quiet before the announced bytes count as lost.
+inline constexpr std::int64_t kBridgeGapNs = 5'000'000;
+
+// Where the session's frames go (the link line's transmitter). Gets whole frames.
+class LineSink {
+ public:
+  virtual void Write(std::span<const std::uint8_t> bytes) = 0;
+
+ protected:
+  ~LineSink() = default;
+};
+
+// The bridge line's received bytes; nullopt when none is waiting. Never blocks.
+class ByteSource {
+ public:
+  virtual std::optional<std::uint8_t> ReadByte() = 0;
+
+ protected:
+  ~ByteSource() = default;
+};
+
+// Monotonic time of the DUT's own, for the bridge wait only (never for the control step).
+class MonotonicClock {
+ public:
+  virtual std::int64_t NowNs() = 0;
+
+ protected:
+  ~MonotonicClock() = default;
+};
+
+// Free-running cycle counter; differences modulo 2^32 are the work measured.
+class CycleCounter {
+ public:
+  virtual std::uint32_t Cycles() = 0;
+
+ protected:
+  ~CycleCounter() = default;
+};
+
+// What TargetInfo and Hello tell the runner about this DUT.
+struct TargetDescription {
+  std::string_view name;   // Hello.name, e.g. "dut_fw stm32f405"
+  std::string_view board;  // TargetInfo.board
+  std::uint32_t core_clock_hz = 0;
+  std::uint32_t flash_used_bytes = 0;
+  std::uint32_t ram_used_bytes = 0;
+  std::uint32_t stack_bytes = 0;
+};
+
+// proto SerialDutCounters, field for field.
+struct SerialDutCounterValues {
+  std::uint64_t frames_received = 0;
+  std::uint64_t frames_bad_checksum = 0;
+  std::uint64_t frames_malformed = 0;
+  std::uint64_t frames_oversize = 0;
+  std::uint64_t steps_repeated = 0;
+  std::uint64_t steps_skipped = 0;
+  std::uint64_t bridge_frames = 0;
+  std::uint64_t bridge_bad_frames = 0;
+  std::uint64_t bridge_bytes_missing = 0;
+  std::uint64_t uart_overruns = 0;
+  std::uint64_t rx_ring_drops = 0;
+
+  friend constexpr bool operator==(const SerialDutCounterValues&,
+                                   const SerialDutCounterValues&) = default;
+};
+
+enum class SerialDutPhase : std::uint8_t { kAwaitHello, kAwaitConfig, kRunning };
+
+namespace serial_link_internal {
+
+// LinkMessage payload field numbers (proto/hil_link.proto).
+inline constexpr std::uint32_t kHello = 5;
+inline constexpr std::uint32_t kConfig = 6;
+inline constexpr std::uint32_t kBye = 8;
+inline constexpr std::uint32_t kSerialStep = 9;
+inline constexpr std::uint32_t kSerialCommand = 10;
+inline constexpr std::uint32_t kTargetInfo = 11;
+inline constexpr std::uint64_t kRoleRunner = 1;
+inline constexpr std::uint64_t kRoleDut = 2;
+
+// The largest message the DUT sends: a SerialCommand with every field is about 170 bytes.
+inline constexpr std::size_t kMaxReplyBytes = 320;
+
+// Decimal text of `value` at the end of `out`; returns the digits. For reasons, without printf.
+inline std::string_view Decimal(std::uint64_t value, std::array<char, 20>& out) {
+  std::size_t at = out.size();
+  do {
+    out[--at] = char('0' + value % 10);
+    value /= 10;
+  } while (value != 0);
+  return {out.data() + at, out.size() - at};
+}
+
+// Times from the wire are added in unsigned arithmetic: a tick or an offset no run reaches wraps
+// instead of overflowing.
+constexpr std::int64_t WrappingAdd(std::int64_t a, std::int64_t b) {
+  return std::int64_t(std::uint64_t(a) + std::uint64_t(b));
+}
+
+inline std::span<const std::uint8_t> Bytes(std::string_view text) {
+  return {reinterpret_cast<const std::uint8_t*>(text.data()), text.size()};
+}
+
+// The inputs of one SerialStep, read in two passes: the first checks every input (a step that
+// does not parse changes nothing), the second feeds them to the core.
+struct StepFields {
+  std::uint64_t tick = 0;
+  std::int64_t now_offset_ns = 0;
+  std::uint32_t bridge_bytes = 0;
+  bool realtime = false;
+};
+
+}  // namespace serial_link_internal
+
+template <typename S>
+class SerialDutSession {
+ public:
+  SerialDutSession(LineSink& link, ByteSource& bridge, MonotonicClock& clock, CycleCounter& cycles,
+                   const TargetDescription& target)
+      : link_(link), bridge_(bridge), clock_(clock), cycles_(cycles), target_(target) {}
+
+  // Every byte received on the link line, in order. A complete frame is handled at once: the
+  // answer is written to the sink before this returns (a step may first wait for bridge bytes,
+  // at most kBridgeGapNs after the last one arrived).
+  void OnLinkByte(std::uint8_t byte) {
+    if (const auto payload = frames_.Feed(byte)) OnMessage(*payload);
+  }
+
+  // Bytes the platform's receivers lost before the session saw them (totals so far).
+  void SetReceiveLosses(std::uint64_t uart_overruns, std::uint64_t rx_ring_drops) {
+    uart_overruns_ = uart_overruns;
+    rx_ring_drops_ = rx_ring_drops;
+  }
+
+  SerialDutPhase phase() const { return phase_; }
+  SerialDutCounterValues counters() const {
+    SerialDutCounterValues c;
+    const FrameDecoderCounters& frames = frames_.counters();
+    c.frames_received = frames.frames;
+    c.frames_bad_checksum = frames.bad_checksums;
+    c.frames_malformed = frames.malformed + messages_malformed_;
+    c.frames_oversize = frames.oversize;
+    c.steps_repeated = steps_repeated_;
+    c.steps_skipped = steps_skipped_;
+    const UartDecoderCounters& bridge = bridge_frames_.counters();
+    c.bridge_frames = bridge.frames;
+    c.bridge_bad_frames = bridge.bad_checksums + bridge.bad_lengths + bridge.bad_ids;
+    c.bridge_bytes_missing = bridge_bytes_missing_;
+    c.uart_overruns = uart_overruns_;
+    c.rx_ring_drops = rx_ring_drops_;
+    return c;
+  }
+  // The configuration taken (valid while phase() is kRunning).
+  const DutConfigOnTarget<S>& config() const { return config_; }
+  const DutCore<S>* core() const { return core_ ? &*core_ : nullptr; }
+
+ private:
+  using Reader = wire::Reader;
+  using Writer = wire::Writer;
+
+  void OnMessage(std::span<const std::uint8_t> payload) {
+    namespace in = serial_link_internal;
+    const std::uint32_t start_cycles = cycles_.Cycles();
+    Reader message(payload);
+    std::uint32_t kind = 0;
+    std::span<const std::uint8_t> body;
+    while (const auto tag = message.Next()) {
+      if (tag->type != wire::WireType::kLengthDelimited) continue;  // not a payload of ours
+      kind = tag->field;
+      body = message.Bytes();
+    }
+    if (!message.ok()) {
+      ++messages_malformed_;
+      return;
+    }
+    switch (kind) {
+      case in::kHello:
+        return OnHello(body);
+      case in::kConfig:
+        return OnConfig(body);
+      case in::kBye:
+        return Reset(SerialDutPhase::kAwaitHello);
+      case in::kSerialStep:
+        return OnStep(body, start_cycles);
+      default:
+        return;  // messages for a DUT on TCP, or from a newer runner: not ours to answer
+    }
+  }
+
+  void Reset(SerialDutPhase phase) {
+    phase_ = phase;
+    core_.reset();
+    last_tick_.reset();
+  }
+
+  void OnHello(std::span<const std::uint8_t> body) {
+    Reader hello(body);
+    std::uint64_t version = 0;
+    std::uint64_t role = 0;
+    while (const auto tag = hello.Next()) {
+      if (tag->field == 1) version = HeaderVersion(hello.Message());
+      if (tag->field == 2) role = hello.Varint();
+    }
+    if (!hello.ok() || role != serial_link_internal::kRoleRunner) {
+      ++messages_malformed_;
+      return;
+    }
+    sequence_ = 0;
+    if (version != kSerialLinkProtocolVersion) {
+      std::array<char, 20> theirs;
+      std::array<char, 20> ours;
+      SendBye("protocol version ", serial_link_internal::Decimal(version, theirs),
+              ", this DUT speaks ",
+              serial_link_internal::Decimal(kSerialLinkProtocolVersion, ours));
+      return Reset(SerialDutPhase::kAwaitHello);
+    }
+    Reset(SerialDutPhase::kAwaitConfig);
+    Writer w = BeginReply();
+    const auto nested = w.BeginMessage(serial_link_internal::kHello);
+    PutHeader(w);
+    w.Varint(2, serial_link_internal::kRoleDut);
+    if (!target_.name.empty()) w.Bytes(3, serial_link_internal::Bytes(target_.name));
+    w.EndMessage(nested);
+    SendReply(w);
+  }
+
+  static std::uint64_t HeaderVersion(Reader header) {
+    std::uint64_t version = 0;
+    while (const auto tag = header.Next()) {
+      if (tag->field == 1) version = header.Varint();
+    }
+    return version;
+  }
+
+  void OnConfig(std::span<const std::uint8_t> body) {
+    if (phase_ == SerialDutPhase::kAwaitHello) {
+      return SendBye("dut config before hello", {}, {}, {});
+    }
+    const ConfigRefusal refusal = DecodeDutConfig(body, config_);
+    if (refusal != ConfigRefusal::kNone) {
+      SendBye(Describe(refusal), {}, {}, {});
+      return Reset(SerialDutPhase::kAwaitHello);
+    }
+    core_.emplace(config_.params);
+    reference_ = Reference<S>{};  // what DutCore starts with
+    grasp_ = GraspCommand<S>{};
+    period_ns_ = std::llround(config_.control_period_s * 1e9);
+    dt_s_ = S(config_.control_period_s);
+    last_tick_.reset();
+    phase_ = SerialDutPhase::kRunning;
+    Writer w = BeginReply();
+    const auto nested = w.BeginMessage(serial_link_internal::kTargetInfo);
+    PutHeader(w);
+    if (!target_.board.empty()) w.Bytes(2, serial_link_internal::Bytes(target_.board));
+    PutNonZero(w, 3, target_.core_clock_hz);
+    PutNonZero(w, 4, target_.flash_used_bytes);
+    PutNonZero(w, 5, target_.ram_used_bytes);
+    PutNonZero(w, 6, target_.stack_bytes);
+    w.EndMessage(nested);
+    SendReply(w);
+  }
+
+  void OnStep(std::span<const std::uint8_t> body, std::uint32_t start_cycles) {
+    if (phase_ != SerialDutPhase::kRunning) {
+      return SendBye("serial step before an accepted dut config", {}, {}, {});
+    }
+    serial_link_internal::StepFields step;
+    if (!ReadStep(body, step, false, 0)) {
+      ++messages_malformed_;
+      return;
+    }
+    if (last_tick_ && step.tick <= *last_tick_) {
+      if (step.tick < *last_tick_) return;  // a stale copy overtaken by a later tick
+      ++steps_repeated_;
+      SendCommand(*last_tick_, last_output_, last_work_cycles_);
+      return;
+    }
+    if (last_tick_) steps_skipped_ += step.tick - *last_tick_ - 1;
+    const std::int64_t now_ns = serial_link_internal::WrappingAdd(
+        std::int64_t(step.tick * std::uint64_t(period_ns_)), step.now_offset_ns);
+    ReadStep(body, step, true, now_ns);
+    std::uint32_t work_cycles = cycles_.Cycles() - start_cycles;
+    work_cycles += DrainBridge(step, now_ns);
+    const std::uint32_t step_start = cycles_.Cycles();
+    last_output_ = core_->Step(now_ns, dt_s_);
+    last_tick_ = step.tick;
+    last_work_cycles_ = SendCommand(step.tick, last_output_, work_cycles, step_start);
+  }
+
+  // Reads a SerialStep; with `apply` false only checks it, with true feeds its inputs to the core.
+  bool ReadStep(std::span<const std::uint8_t> body, serial_link_internal::StepFields& step,
+                bool apply, std::int64_t now_ns) {
+    Reader r(body);
+    bool inputs_ok = true;
+    while (const auto tag = r.Next()) {
+      switch (tag->field) {
+        case 1:
+          step.tick = r.Varint();
+          break;
+        case 2:
+          step.now_offset_ns = r.SInt64();
+          break;
+        case 3:
+          inputs_ok = ReadInput(r.Message(), apply, now_ns) && inputs_ok;
+          break;
+        case 4:
+          step.bridge_bytes = r.Uint32();
+          break;
+        case 5:
+          step.realtime = r.Bool();
+          break;
+        default:
+          break;
+      }
+    }
+    return r.ok() && inputs_ok;
+  }
+
+  bool ReadInput(Reader input, bool apply, std::int64_t now_ns) {
+    bool ok = true;
+    while (const auto tag = input.Next()) {
+      if (tag->field == 1) ok = ReadImu(input.Message(), apply, now_ns) && ok;
+      if (tag->field == 2) ok = ReadVio(input.Message(), apply, now_ns) && ok;
+      if (tag->field == 3) ok = ReadSetpoint(input.Message(), apply) && ok;
+    }
+    return input.ok() && ok;
+  }
+
+  bool ReadImu(Reader imu, bool apply, std::int64_t now_ns) {
+    std::array<float, 6> values{};
+    std::size_t count = 0;
+    std::int64_t offset_ns = 0;
+    while (const auto tag = imu.Next()) {
+      if (tag->field == 1) imu.AppendFloats(values, count);
+      if (tag->field == 2) offset_ns = imu.SInt64();
+    }
+    if (!imu.ok() || count != values.size()) return false;
+    if (apply) {
+      core_->OnImu(Vec3<S>(S(values[0]), S(values[1]), S(values[2])),
+                   Vec3<S>(S(values[3]), S(values[4]), S(values[5])),
+                   serial_link_internal::WrappingAdd(now_ns, offset_ns));
+    }
+    return true;
+  }
+
+  bool ReadVio(Reader vio, bool apply, std::int64_t now_ns) {
+    std::array<float, 3> position{};
+    std::array<float, 4> wxyz{};
+    std::size_t position_count = 0;
+    std::size_t wxyz_count = 0;
+    std::int64_t offset_ns = 0;
+    while (const auto tag = vio.Next()) {
+      if (tag->field == 1) offset_ns = vio.SInt64();
+      if (tag->field == 2) vio.AppendFloats(position, position_count);
+      if (tag->field == 3) vio.AppendFloats(wxyz, wxyz_count);
+    }
+    if (!vio.ok() || position_count != 3 || wxyz_count != 4) return false;
+    if (apply) {
+      core_->OnVio(Vec3<S>(S(position[0]), S(position[1]), S(position[2])),
+                   Quat<S>(S(wxyz[0]), S(wxyz[1]), S(wxyz[2]), S(wxyz[3])),
+                   serial_link_internal::WrappingAdd(now_ns, offset_ns));
+    }
+    return true;
+  }
+
+  bool ReadSetpoint(Reader setpoint, bool apply) {
+    std::array<std::array<float, 3>, 3> vectors{};
+    std::array<std::size_t, 3> counts{};
+    Reference<S> reference = reference_;
+    GraspCommand<S> grasp = grasp_;
+    while (const auto tag = setpoint.Next()) {
+      switch (tag->field) {
+        case 1:
+        case 2:
+        case 3:
+          setpoint.AppendFloats(vectors[tag->field - 1], counts[tag->field - 1]);
+          break;
+        case 4:
+          reference.yaw_rad = S(setpoint.Float());
+          break;
+        case 5:
+          grasp.mode = setpoint.Bool() ? GraspMode::kForce : GraspMode::kOpen;
+          break;
+        case 6:
+          grasp.force_n = S(setpoint.Float());
+          break;
+        case 7:
+          grasp.reference_angle_rad = S(setpoint.Float());
+          break;
+        default:
+          break;
+      }
+    }
+    if (!setpoint.ok()) return false;
+    Vec3<S>* targets[3] = {&reference.position_m, &reference.velocity_m_s,
+                           &reference.acceleration_m_s2};
+    for (std::size_t i = 0; i < 3; ++i) {  // a vector is absent (kept) or has all three values
+      if (counts[i] != 0 && counts[i] != 3) return false;
+      if (counts[i] == 3)
+        *targets[i] = Vec3<S>(S(vectors[i][0]), S(vectors[i][1]), S(vectors[i][2]));
+    }
+    if (apply) {
+      reference_ = reference;
+      grasp_ = grasp;
+      core_->OnSetpoint(reference_, grasp_);
+    }
+    return true;
+  }
+
+  // Feeds the bridge line's bytes to the tactile front end: in lockstep until the step's
+  // announced bytes are in (or the line stays quiet for kBridgeGapNs: the rest counts as
+  // missing), then whatever else is already there; in a real-time step only what is there.
+  // Returns the cycles spent on the bytes, not on waiting for them.
+  std::uint32_t DrainBridge(const serial_link_internal::StepFields& step, std::int64_t now_ns) {
+    std::int64_t owed = step.realtime ? 0 : std::int64_t(step.bridge_bytes);
+    // Bounds a line that never stops talking: the announced bytes plus a frame's worth.
+    std::uint64_t budget = std::uint64_t(step.bridge_bytes) + kUartMaxFrameBytes;
+    std::optional<std::int64_t> quiet_since_ns;
+    std::uint32_t work_cycles = 0;
+    while (budget > 0) {
+      const std::optional<std::uint8_t> byte = bridge_.ReadByte();
+      if (byte) {
+        const std::uint32_t start = cycles_.Cycles();
+        --budget;
+        --owed;
+        quiet_since_ns.reset();
+        OnBridgeByte(*byte, now_ns);
+        work_cycles += cycles_.Cycles() - start;
+        continue;
+      }
+      if (owed <= 0) break;
+      const std::int64_t clock_ns = clock_.NowNs();
+      if (!quiet_since_ns) {
+        quiet_since_ns = clock_ns;
+      } else if (clock_ns - *quiet_since_ns >= kBridgeGapNs) {
+        bridge_bytes_missing_ += std::uint64_t(owed);
+        break;
+      }
+    }
+    return work_cycles;
+  }
+
+  void OnBridgeByte(std::uint8_t byte, std::int64_t now_ns) {
+    const std::optional<NodeFrame> frame = bridge_frames_.Feed(byte);
+    if (!frame) return;
+    const std::optional<NodeSample> sample = UnpackSampleFrame(*frame);
+    if (!sample) return;  // status frames and other nodes' commands
+    core_->OnSensorSample(sample->node_id, sample->code, sample->sequence,
+                          (sample->status & node_protocol::kSampleSaturated) != 0, now_ns);
+  }
+
+  // Sends the command for `tick` and returns the work_cycles it carries: `work_cycles` plus, when
+  // `since` is given, the cycles from then until the field is written (stepping and encoding are
+  // part of the step's work).
+  std::uint32_t SendCommand(std::uint64_t tick, const DutCoreOutput<S>& out,
+                            std::uint32_t work_cycles,
+                            std::optional<std::uint32_t> since = std::nullopt) {
+    Writer w = BeginReply();
+    const auto nested = w.BeginMessage(serial_link_internal::kSerialCommand);
+    PutNonZero(w, 1, tick);
+    std::array<float, 4> thrust{};
+    for (std::size_t i = 0; i < thrust.size(); ++i) thrust[i] = float(out.rotor_thrust_n[i]);
+    w.PackedFloats(2, thrust);
+    if (out.armed) w.Bool(3, true);
+    PutNonZeroFloat(w, 4, float(out.servo_angle_rad));
+    w.PackedFloats(5, Floats(out.estimated_position_m));
+    if (out.tactile_ready) w.Bool(6, true);
+    PutNonZeroFloat(w, 7, float(out.grasp_force_estimate_n));
+    w.PackedFloats(8, Floats(out.external_force_world_n));
+    std::array<float, 18> pads{};
+    bool any_pad = false;
+    for (std::size_t i = 0; i < out.tactile_force_sensor_n.size(); ++i) {
+      for (std::size_t axis = 0; axis < 3; ++axis) {
+        pads[3 * i + axis] = float(out.tactile_force_sensor_n[i][int(axis)]);
+        any_pad = any_pad || pads[3 * i + axis] != 0.f;
+      }
+    }
+    if (any_pad) w.PackedFloats(9, pads);
+    if (since) work_cycles += cycles_.Cycles() - *since;
+    PutNonZero(w, 10, work_cycles);
+    const SerialDutCounterValues now = counters();
+    if (now != counters_sent_) {
+      PutCounters(w, now);
+      counters_sent_ = now;
+    }
+    w.EndMessage(nested);
+    SendReply(w);
+    return work_cycles;
+  }
+
+  static std::array<float, 3> Floats(const Vec3<S>& v) {
+    return {float(v.x()), float(v.y()), float(v.z())};
+  }
+
+  static void PutCounters(Writer& w, const SerialDutCounterValues& c) {
+    const auto nested = w.BeginMessage(11);
+    const std::uint64_t values[] = {
+        c.frames_received,      c.frames_bad_checksum, c.frames_malformed, c.frames_oversize,
+        c.steps_repeated,       c.steps_skipped,       c.bridge_frames,    c.bridge_bad_frames,
+        c.bridge_bytes_missing, c.uart_overruns,       c.rx_ring_drops};
+    for (std::uint32_t i = 0; i < 11; ++i) PutNonZero(w, i + 1, values[i]);
+    w.EndMessage(nested);
+  }
+
+  // proto3 leaves a field at its default off the wire; so does the DUT (as libprotobuf would).
+  static void PutNonZero(Writer& w, std::uint32_t field, std::uint64_t value) {
+    if (value != 0) w.Varint(field, value);
+  }
+  static void PutNonZeroFloat(Writer& w, std::uint32_t field, float value) {
+    if (value != 0.f) w.Float(field, value);
+  }
+
+  void PutHeader(Writer& w) {
+    const auto nested = w.BeginMessage(1);
+    w.Varint(1, kSerialLinkProtocolVersion);
+    PutNonZero(w, 2, sequence_++);
+    w.EndMessage(nested);
+  }
+
+  // Bye{error, reason}, the reason the concatenation of up to four parts.
+  void SendBye(std::string_view a, std::string_view b, std::string_view c, std::string_view d) {
+    Writer w = BeginReply();
+    const auto nested = w.BeginMessage(serial_link_internal::kBye);
+    PutHeader(w);
+    w.Bool(2, true);
+    std::array<std::uint8_t, 128> reason{};
+    std::size_t length = 0;
+    for (const std::string_view part : {a, b, c, d}) {
+      for (const char ch : part) {
+        if (length < reason.size()) reason[length++] = std::uint8_t(ch);
+      }
+    }
+    w.Bytes(3, std::span<const std::uint8_t>(reason.data(), length));
+    w.EndMessage(nested);
+    SendReply(w);
+  }
+
+  Writer BeginReply() { return Writer(reply_); }
+
+  void SendReply(const Writer& w) {
+    if (!w.ok()) return;  // cannot happen: kMaxReplyBytes holds every reply
+    const std::size_t size = EncodeFrame(w.written(), frame_out_);
+    if (size != 0) link_.Write(std::span<const std::uint8_t>(frame_out_.data(), size));
+  }
+
+  LineSink& link_;
+  ByteSource& bridge_;
+  MonotonicClock& clock_;
+  CycleCounter& cycles_;
+  TargetDescription target_;
+
+  FrameDecoder<kMaxLineMessageBytes> frames_;
+  UartDecoder bridge_frames_;
+  std::array<std::uint8_t, serial_link_internal::kMaxReplyBytes> reply_{};
+  std::array<std::uint8_t, EncodedFrameBytes(serial_link_internal::kMaxReplyBytes)> frame_out_{};
+
+  SerialDutPhase phase_ = SerialDutPhase::kAwaitHello;
+  DutConfigOnTarget<S> config_;
+  std::optional<DutCore<S>> core_;
+  std::int64_t period_ns_ = 0;
+  S dt_s_ = S(0);
+  Reference<S> reference_;
+  GraspCommand<S> grasp_;
+  std::optional<std::uint64_t> last_tick_;
+  DutCoreOutput<S> last_output_;
+  std::uint32_t last_work_cycles_ = 0;
+  std::uint64_t sequence_ = 0;
+
+  std::uint64_t messages_malformed_ = 0;
+  std::uint64_t steps_repeated_ = 0;
+  std::uint64_t steps_skipped_ = 0;
+  std::uint64_t bridge_bytes_missing_ = 0;
+  std::uint64_t uart_overruns_ = 0;
+  std::uint64_t rx_ring_drops_ = 0;
+  SerialDutCounterValues counters_sent_;
+};
+
+}  // namespace hilrig::dut_fw
