@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "dut_emu/dut_emu_server.h"
+#include "dut_emu/serial_dut.h"
 
 namespace {
 
@@ -30,8 +31,21 @@ void InstallSignalHandlers() {
 int main(int argc, char** argv) {
   const std::vector<std::string> args(argv, argv + argc);
   if (args.size() == 2 && (args[1] == "--help" || args[1] == "-h")) {
-    std::cout << hilrig::dut_emu::kDutEmuUsage;
+    std::cout << hilrig::dut_emu::kDutEmuUsage << hilrig::dut_emu::kSerialDutUsage;
     return hilrig::dut_emu::kExitOk;
+  }
+  // On a serial line the tty itself is the DUT's authority: no link token.
+  if (args.size() >= 2 && args[1] == "--serial") {
+    auto serial = args.size() == 3 ? hilrig::dut_emu::ParseSerialSpec(args[2])
+                                   : hilrig::rig::Result<hilrig::dut_emu::SerialDutOptions>(
+                                         hilrig::rig::MakeError("--serial takes one argument"));
+    if (!serial) {
+      std::cerr << "dut_emu: " << serial.error().message << "\n"
+                << hilrig::dut_emu::kSerialDutUsage;
+      return hilrig::dut_emu::kExitUsage;
+    }
+    InstallSignalHandlers();
+    return hilrig::dut_emu::RunSerialDut(serial.value(), &g_stop_requested, std::cerr);
   }
   auto options = hilrig::dut_emu::ParseDutEmuArgs(args);
   if (!options) {

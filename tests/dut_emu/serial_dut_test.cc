@@ -1,0 +1,185 @@
+// dut_emu --serial on pseudo-terminals: the runner's side of the line is the test, the DUT's side
+// is RunSerialDut in a thread with the link and the bridge on ttys in raw mode, as a real board's
+// lines would be. The session itself is tested in tests/dut_fw/serial_dut_session_test.cc; this
+// checks the tty plumbing: the spec, raw mode, both lines, a clean end.
+#include "dut_emu/serial_dut.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <sstream>
+#include <thread>
+
+#include "dut_emu/dut_emu_server.h"
+#include "tests/support/serial_line_peer.h"
+#include "tests/support/serial_step_script.h"
+
+namespace hilrig::dut_emu {
+namespace {
+
+using dut_fw::DirectDut;
+using dut_fw::ExpectCommandIs;
+using dut_fw::InputsAt;
+using dut_fw::SerialLinePeer;
+using dut_fw::TickInputs;
+
+constexpr int kAnswerTimeoutMs = 5000;  // a bound on a hung DUT; answers come in microseconds
+
+TEST(SerialDutSpecTest, ParsesPathBaudAndBridge) {
+  auto plain = ParseSerialSpec("/dev/ttyACM0");
+  ASSERT_TRUE(plain.ok());
+  EXPECT_EQ(plain.value().link_path, "/dev/ttyACM0");
+  EXPECT_EQ(plain.value().baud, 921'600u);
+  EXPECT_FALSE(plain.value().bridge_path.has_value());
+  auto full = ParseSerialSpec("/dev/ttyACM0,baud=115200,bridge=/dev/ttyUSB0");
+  ASSERT_TRUE(full.ok());
+  EXPECT_EQ(full.value().baud, 115'200u);
+  EXPECT_EQ(full.value().bridge_path, "/dev/ttyUSB0");
+  for (const char* bad : {"", ",baud=9600", "/dev/tty0,baud=12345", "/dev/tty0,baud=x",
+                          "/dev/tty0,speed=9600", "/dev/tty0,bridge="}) {
+    EXPECT_FALSE(ParseSerialSpec(bad).ok()) << bad;
+  }
+}
+
+// A hand-made firmware with six pads (no calibration needed): the bench's numbers.
+host::DutFirmware SixPadFirmware() {
+  host::DutFirmware firmware;
+  firmware.flight = dut_fw::DefaultFlightControllerParams<double>(0.556);
+  dut_fw::TactileProcessorParams<double> tactile;
+  for (std::size_t i = 0; i < tactile.nodes.size(); ++i) {
+    tactile.nodes[i].node_id = std::uint8_t(i + 1);
+    tactile.nodes[i].gain_a = dut_fw::Vec3<double>(0.5, 0.5, 2.0);
+  }
+  tactile.film = dut_fw::FilmConstants<double>::Published();
+  tactile.zeroing_samples = 5;
+  firmware.tactile = tactile;
+  return firmware;
+}
+
+// The float DUT a correct session must match: the firmware's numbers as floats.
+dut_fw::DutCoreParams<float> AsFloat(const host::DutFirmware& firmware) {
+  const std::string bytes = host::ToDutConfig(firmware, dut_fw::kPeriodS).SerializeAsString();
+  dut_fw::DutConfigOnTarget<float> decoded;
+  EXPECT_EQ(
+      dut_fw::DecodeDutConfig(
+          std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()), decoded),
+      dut_fw::ConfigRefusal::kNone);
+  return decoded.params;
+}
+
+// RunSerialDut in a thread, stopped and joined however the test ends (a failed ASSERT too).
+class DutThread {
+ public:
+  DutThread(const SerialDutOptions& options, std::ostringstream& log)
+      : thread_([this, options, &log] { exit_code_ = RunSerialDut(options, &stop_, log); }) {}
+  ~DutThread() {
+    stop_ = true;
+    Join();
+  }
+  int Join() {
+    if (thread_.joinable()) thread_.join();
+    return exit_code_;
+  }
+
+ private:
+  std::atomic<bool> stop_{false};
+  int exit_code_ = -1;
+  std::thread thread_;
+};
+
+TEST(SerialDutTest, RunsTheSessionOnPseudoTerminalsAndEndsWhenTheLineCloses) {
+  dut_fw::Pty link = dut_fw::OpenPty();
+  dut_fw::Pty bridge = dut_fw::OpenPty();
+  SerialDutOptions options;
+  options.link_path = link.slave_path;
+  options.bridge_path = bridge.slave_path;
+  std::ostringstream log;
+  DutThread dut(options, log);
+
+  SerialLinePeer runner(link.master.get());
+  runner.Send(dut_fw::Hello());
+  const auto hello = runner.Receive(kAnswerTimeoutMs);
+  ASSERT_TRUE(hello && hello->has_hello()) << log.str();
+  EXPECT_EQ(hello->hello().role(), proto::Hello::DUT);
+  EXPECT_EQ(hello->hello().name().rfind("dut_emu ", 0), 0u);
+  runner.Send(dut_fw::Config(SixPadFirmware()));
+  const auto info = runner.Receive(kAnswerTimeoutMs);
+  ASSERT_TRUE(info && info->has_target_info()) << log.str();
+  EXPECT_EQ(info->target_info().board(), "host");
+
+  DirectDut<float> direct(AsFloat(SixPadFirmware()));
+  for (std::uint64_t tick = 0; tick < 120; ++tick) {
+    SCOPED_TRACE(tick);
+    const TickInputs in = InputsAt(tick);
+    dut_fw::WriteAll(bridge.master.get(), in.bridge);
+    runner.Send(in.step);
+    const auto answer = runner.Receive(kAnswerTimeoutMs);
+    ASSERT_TRUE(answer && answer->has_serial_command()) << log.str();
+    ExpectCommandIs(answer->serial_command(), direct.Step(tick), tick);
+    EXPECT_EQ(answer->serial_command().work_cycles(), 0u);
+    if (answer->serial_command().has_counters()) {
+      EXPECT_EQ(answer->serial_command().counters().bridge_bytes_missing(), 0u);
+      EXPECT_EQ(answer->serial_command().counters().bridge_frames(), (tick / 4 + 1) * 7);
+    }
+    if (HasFailure()) break;
+  }
+
+  // Bye ends the run; the next runner's Hello is answered (so the Bye was taken), and the line
+  // going away between runs ends dut_emu cleanly.
+  runner.Send(dut_fw::Bye());
+  runner.Send(dut_fw::Hello());
+  const auto again = runner.Receive(kAnswerTimeoutMs);
+  ASSERT_TRUE(again && again->has_hello()) << log.str();
+  link.slave.Close();
+  link.master.Close();
+  EXPECT_EQ(dut.Join(), kExitOk) << log.str();
+  EXPECT_NE(log.str().find("closed"), std::string::npos) << log.str();
+}
+
+TEST(SerialDutTest, TheLineClosingMidRunIsAFailure) {
+  dut_fw::Pty link = dut_fw::OpenPty();
+  SerialDutOptions options;
+  options.link_path = link.slave_path;
+  std::ostringstream log;
+  DutThread dut(options, log);
+  SerialLinePeer runner(link.master.get());
+  runner.Send(dut_fw::Hello());
+  ASSERT_TRUE(runner.Receive(kAnswerTimeoutMs));
+  runner.Send(dut_fw::Config(SixPadFirmware()));
+  const auto info = runner.Receive(kAnswerTimeoutMs);
+  ASSERT_TRUE(info && info->has_target_info()) << log.str();
+  link.slave.Close();
+  link.master.Close();
+  EXPECT_EQ(dut.Join(), kExitFailed) << log.str();
+}
+
+TEST(SerialDutTest, PutsBothLinesInRawModeAndEndsOnAStopRequest) {
+  dut_fw::Pty link = dut_fw::OpenPty(/*raw=*/false);
+  dut_fw::Pty bridge = dut_fw::OpenPty(/*raw=*/false);
+  SerialDutOptions options;
+  options.link_path = link.slave_path;
+  options.bridge_path = bridge.slave_path;
+  std::atomic<bool> stop{true};
+  std::ostringstream log;
+  EXPECT_EQ(RunSerialDut(options, &stop, log), kExitOk);
+  for (const int fd : {link.slave.get(), bridge.slave.get()}) {
+    termios mode{};
+    ASSERT_EQ(::tcgetattr(fd, &mode), 0);
+    EXPECT_EQ(mode.c_lflag & (ICANON | ECHO | ISIG | IEXTEN), 0u);
+    EXPECT_EQ(mode.c_iflag & (ICRNL | IXON | ISTRIP), 0u);
+    EXPECT_EQ(mode.c_oflag & OPOST, 0u);
+    EXPECT_EQ(mode.c_cflag & CSIZE, tcflag_t(CS8));
+    EXPECT_EQ(::cfgetospeed(&mode), speed_t(B921600));
+  }
+}
+
+TEST(SerialDutTest, ALineThatIsNoTerminalIsRefusedWithThePath) {
+  SerialDutOptions options;
+  options.link_path = "/dev/null";
+  std::ostringstream log;
+  EXPECT_EQ(RunSerialDut(options, nullptr, log), kExitFailed);
+  EXPECT_NE(log.str().find("/dev/null"), std::string::npos) << log.str();
+}
+
+}  // namespace
+}  // namespace hilrig::dut_emu
