@@ -1,9 +1,9 @@
-// The firmware's main loop. Until the HIL link runs over USART1 the image proves itself on its
-// own: it announces itself, runs the controller on a fixed hover-and-grasp input sequence for a
-// number of control steps, timing each with SysTick, reports the work per step, and then echoes
-// what each USART receives so both directions of both lines can be checked. The inputs are what
-// the rig sends a DUT hovering at 1 m with six loaded pads: IMU at 1 kHz, VIO at 100 Hz, every
-// sensor node at 50 Hz.
+// The bench image: the controller proving itself on the target without a rig. It announces
+// itself, runs the controller on a fixed hover-and-grasp input sequence for a number of control
+// steps, timing each with SysTick, reports the work per step on USART1, and then echoes what each
+// USART receives so both directions of both lines can be checked (tests/target/qemu_boot_test.sh).
+// The inputs are what the rig sends a DUT hovering at 1 m with six loaded pads: IMU at 1 kHz, VIO
+// at 100 Hz, every sensor node at 50 Hz.
 #include <algorithm>
 #include <array>
 #include <cstdint>

@@ -171,10 +171,9 @@ void WriteUnsigned(Port port, std::uint32_t value) {
 
 std::optional<std::uint8_t> ReadByte(Port port) { return UsartOf(port).received.Pop(); }
 
-std::uint32_t DroppedBytes(Port port) {
-  const Usart& usart = UsartOf(port);
-  return usart.received.dropped() + usart.overruns.load(std::memory_order_relaxed);
-}
+std::uint32_t RingDrops(Port port) { return UsartOf(port).received.dropped(); }
+
+std::uint32_t Overruns(Port port) { return UsartOf(port).overruns.load(std::memory_order_relaxed); }
 
 extern "C" void OnSysTick() {
   milliseconds.store(milliseconds.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);

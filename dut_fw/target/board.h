@@ -38,9 +38,10 @@ std::uint32_t MillisecondsSinceBoot();
 void Write(Port port, std::string_view text);
 void WriteUnsigned(Port port, std::uint32_t value);
 std::optional<std::uint8_t> ReadByte(Port port);
-// Bytes lost because the ring buffer was full, or to a receiver overrun (the interrupt came too
-// late for the data register).
-std::uint32_t DroppedBytes(Port port);
+// Bytes lost because the ring buffer was full (the main loop fell behind).
+std::uint32_t RingDrops(Port port);
+// Bytes lost to a receiver overrun (the interrupt came too late for the data register).
+std::uint32_t Overruns(Port port);
 
 // Interrupt handlers, placed in the vector table by startup.cc.
 extern "C" void OnSysTick();

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Boots the STM32F405 image on QEMU's netduinoplus2 with -icount (SysTick then counts virtual
+# Boots the STM32F405 bench image on QEMU's netduinoplus2 with -icount (SysTick then counts virtual
 # time, so the figures repeat run to run) and checks its sign of life on USART1: the banner, a
 # bench line with the controller armed and the tactile front end ready, and a p99 work per
 # control step inside the 1 ms period. Builds the image in a fresh tree first. Skips (77) without
@@ -24,7 +24,7 @@ if ! HILRIG_TARGET_BUILD_DIR=$work_dir/build "$source_dir/scripts/build-target" 
   tail -20 "$work_dir/build.log"
   exit 1
 fi
-image=$work_dir/build/dut_fw_stm32f405.elf
+image=$work_dir/build/dut_fw_bench_stm32f405.elf
 usart1=$work_dir/usart1.log
 coproc qemu {
   exec qemu-system-arm -M netduinoplus2 -display none -monitor none -icount shift=0 \
