@@ -21,6 +21,7 @@ using dut_fw::DirectDut;
 using dut_fw::ExpectCommandIs;
 using dut_fw::InputsAt;
 using dut_fw::SerialLinePeer;
+using dut_fw::SixPadFirmware;
 using dut_fw::TickInputs;
 
 constexpr int kAnswerTimeoutMs = 5000;  // a bound on a hung DUT; answers come in microseconds
@@ -39,32 +40,6 @@ TEST(SerialDutSpecTest, ParsesPathBaudAndBridge) {
                           "/dev/tty0,speed=9600", "/dev/tty0,bridge="}) {
     EXPECT_FALSE(ParseSerialSpec(bad).ok()) << bad;
   }
-}
-
-// A hand-made firmware with six pads (no calibration needed): the bench's numbers.
-host::DutFirmware SixPadFirmware() {
-  host::DutFirmware firmware;
-  firmware.flight = dut_fw::DefaultFlightControllerParams<double>(0.556);
-  dut_fw::TactileProcessorParams<double> tactile;
-  for (std::size_t i = 0; i < tactile.nodes.size(); ++i) {
-    tactile.nodes[i].node_id = std::uint8_t(i + 1);
-    tactile.nodes[i].gain_a = dut_fw::Vec3<double>(0.5, 0.5, 2.0);
-  }
-  tactile.film = dut_fw::FilmConstants<double>::Published();
-  tactile.zeroing_samples = 5;
-  firmware.tactile = tactile;
-  return firmware;
-}
-
-// The float DUT a correct session must match: the firmware's numbers as floats.
-dut_fw::DutCoreParams<float> AsFloat(const host::DutFirmware& firmware) {
-  const std::string bytes = host::ToDutConfig(firmware, dut_fw::kPeriodS).SerializeAsString();
-  dut_fw::DutConfigOnTarget<float> decoded;
-  EXPECT_EQ(
-      dut_fw::DecodeDutConfig(
-          std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()), decoded),
-      dut_fw::ConfigRefusal::kNone);
-  return decoded.params;
 }
 
 // RunSerialDut in a thread, stopped and joined however the test ends (a failed ASSERT too).
@@ -107,7 +82,7 @@ TEST(SerialDutTest, RunsTheSessionOnPseudoTerminalsAndEndsWhenTheLineCloses) {
   ASSERT_TRUE(info && info->has_target_info()) << log.str();
   EXPECT_EQ(info->target_info().board(), "host");
 
-  DirectDut<float> direct(AsFloat(SixPadFirmware()));
+  DirectDut<float> direct(dut_fw::OverTheLink<float>(SixPadFirmware()));
   for (std::uint64_t tick = 0; tick < 120; ++tick) {
     SCOPED_TRACE(tick);
     const TickInputs in = InputsAt(tick);

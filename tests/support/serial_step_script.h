@@ -7,8 +7,11 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
+#include <string>
 #include <vector>
 
+#include "dut_fw/dut_config_decoder.h"
 #include "dut_fw/dut_core.h"
 #include "dut_fw/sensor_node.h"
 #include "host/dut/hil_messages.h"
@@ -163,6 +166,33 @@ void ExpectCommandIs(const proto::SerialCommand& command, const DutCoreOutput<S>
       EXPECT_EQ(command.tactile_force_sensor_n(i), float(out.tactile_force_sensor_n[i / 3][i % 3]));
     }
   }
+}
+
+// Six pads with the firmware bench's numbers: a tactile DUT without a calibration run.
+inline host::DutFirmware SixPadFirmware() {
+  host::DutFirmware firmware;
+  firmware.flight = DefaultFlightControllerParams<double>(0.556);
+  TactileProcessorParams<double> tactile;
+  for (std::size_t i = 0; i < tactile.nodes.size(); ++i) {
+    tactile.nodes[i].node_id = std::uint8_t(i + 1);
+    tactile.nodes[i].gain_a = Vec3<double>(0.5, 0.5, 2.0);
+  }
+  tactile.film = FilmConstants<double>::Published();
+  tactile.zeroing_samples = 5;
+  firmware.tactile = tactile;
+  return firmware;
+}
+
+// What a DUT built for S takes from `firmware` over the link.
+template <typename S>
+DutCoreParams<S> OverTheLink(const host::DutFirmware& firmware) {
+  const std::string bytes = host::ToDutConfig(firmware, kPeriodS).SerializeAsString();
+  DutConfigOnTarget<S> decoded;
+  EXPECT_EQ(
+      DecodeDutConfig(std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()),
+                      decoded),
+      ConfigRefusal::kNone);
+  return decoded.params;
 }
 
 }  // namespace hilrig::dut_fw

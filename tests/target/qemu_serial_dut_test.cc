@@ -39,21 +39,6 @@ std::string ReadFile(const std::filesystem::path& path) {
   return text.str();
 }
 
-// Six pads with the bench's numbers (no calibration needed).
-host::DutFirmware SixPadFirmware() {
-  host::DutFirmware firmware;
-  firmware.flight = DefaultFlightControllerParams<double>(0.556);
-  TactileProcessorParams<double> tactile;
-  for (std::size_t i = 0; i < tactile.nodes.size(); ++i) {
-    tactile.nodes[i].node_id = std::uint8_t(i + 1);
-    tactile.nodes[i].gain_a = Vec3<double>(0.5, 0.5, 2.0);
-  }
-  tactile.film = FilmConstants<double>::Published();
-  tactile.zeroing_samples = 5;
-  firmware.tactile = tactile;
-  return firmware;
-}
-
 class QemuSerialDutTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -148,14 +133,7 @@ TEST_F(QemuSerialDutTest, AnswersTheRunnerAndStepsLikeTheHostFloatCore) {
   EXPECT_EQ(target.ram_used_bytes() + target.stack_bytes(), 128u * 1024u);
 
   // The controller's arithmetic is the same code in float; only libm's last bits differ.
-  DirectDut<float> direct([] {
-    DutCoreParams<float> params;
-    const std::string bytes = host::ToDutConfig(SixPadFirmware(), kPeriodS).SerializeAsString();
-    DutConfigOnTarget<float> decoded;
-    DecodeDutConfig(std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()),
-                    decoded);
-    return decoded.params;
-  }());
+  DirectDut<float> direct(OverTheLink<float>(SixPadFirmware()));
   std::uint32_t max_work = 0;
   for (std::uint64_t tick = 0; tick < 200; ++tick) {
     SCOPED_TRACE(tick);
