@@ -5,14 +5,17 @@
 #include "dut_emu/serial_dut.h"
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <atomic>
+#include <cstdlib>
 #include <sstream>
 #include <thread>
 
 #include "dut_emu/dut_emu_server.h"
 #include "tests/support/serial_line_peer.h"
 #include "tests/support/serial_step_script.h"
+#include "tests/support/test_files.h"
 
 namespace hilrig::dut_emu {
 namespace {
@@ -154,6 +157,24 @@ TEST(SerialDutTest, ALineThatIsNoTerminalIsRefusedWithThePath) {
   std::ostringstream log;
   EXPECT_EQ(RunSerialDut(options, nullptr, log), kExitFailed);
   EXPECT_NE(log.str().find("/dev/null"), std::string::npos) << log.str();
+}
+
+// The executable: --serial needs no link token, and a bad spec is a usage error that says why.
+TEST(DutEmuSerialMainTest, TakesNoTokenAndRefusesABadSpecAsUsage) {
+  const auto err = host::FreshTestDir("dut_emu_serial_") / "err";
+  const std::string dut_emu = "env -u HILRIG_LINK_TOKEN " HILRIG_BIN_DIR "/dut_emu --serial ";
+  const int bad = std::system((dut_emu + "/dev/null,baud=7 2> " + err.string()).c_str());
+  ASSERT_TRUE(WIFEXITED(bad));
+  EXPECT_EQ(WEXITSTATUS(bad), kExitUsage);
+  EXPECT_NE(host::ReadFile(err).find("dut_emu: --serial baud=7: not a rate termios has"),
+            std::string::npos)
+      << host::ReadFile(err);
+  const int no_tty = std::system((dut_emu + "/nonexistent/tty 2> " + err.string()).c_str());
+  ASSERT_TRUE(WIFEXITED(no_tty));
+  EXPECT_EQ(WEXITSTATUS(no_tty), kExitFailed);
+  EXPECT_NE(host::ReadFile(err).find("cannot open /nonexistent/tty: No such file or directory"),
+            std::string::npos)
+      << host::ReadFile(err);
 }
 
 }  // namespace
