@@ -358,5 +358,35 @@ TEST_F(SerialDutSessionTest, WorkCyclesCountTheStepNotTheBridgeWait) {
   EXPECT_EQ(command.work_cycles(), 10u * (2 + in.bridge.size()));
 }
 
+TEST_F(SerialDutSessionTest, AnOlderTickIsNeitherAnsweredNorStepped) {
+  Start(BalloonFirmware());
+  DirectDut<double> direct(BalloonFirmware());
+  for (std::uint64_t tick = 0; tick < 4; ++tick) {
+    ExpectCommandIs(Step(InputsAt(tick)), direct.Step(tick), tick);
+  }
+  Send(InputsAt(1).step);  // a stale copy, overtaken by later ticks
+  EXPECT_TRUE(sink_.Take().empty());
+  ExpectCommandIs(Step(InputsAt(4)), direct.Step(4), 4);
+}
+
+TEST_F(SerialDutSessionTest, AConfigSentAgainIsAnsweredAgainWithAFreshCore) {
+  Start(BalloonFirmware());
+  Step(InputsAt(0));
+  Send(Config(BalloonFirmware()));  // the runner did not see the TargetInfo and sent it again
+  EXPECT_TRUE(Answer().has_target_info());
+  DirectDut<double> direct(BalloonFirmware());
+  ExpectCommandIs(Step(InputsAt(0)), direct.Step(0), 0);
+}
+
+TEST_F(SerialDutSessionTest, ReportsThePlatformsReceiveLosses) {
+  Start(BalloonFirmware());
+  session_.SetReceiveLosses(2, 5);
+  const proto::SerialCommand command = Step(InputsAt(0));
+  EXPECT_EQ(command.counters().uart_overruns(), 2u);
+  EXPECT_EQ(command.counters().rx_ring_drops(), 5u);
+  session_.SetReceiveLosses(2, 6);
+  EXPECT_EQ(Step(InputsAt(1)).counters().rx_ring_drops(), 6u);
+}
+
 }  // namespace
 }  // namespace hilrig::dut_fw
