@@ -5,6 +5,8 @@
 #include <array>
 #include <cstdint>
 
+#include "tests/support/six_pad_tactile.h"
+
 namespace hilrig::dut_fw {
 namespace {
 
@@ -14,16 +16,7 @@ constexpr std::array<std::uint16_t, 3> kReferenceCodes = {40, 65500, 200};
 constexpr std::array<std::uint16_t, 3> kUnloadedCodes = {301, 65000, 8000};
 constexpr std::array<std::uint16_t, 3> kLoadedCodes = {301, 65000, 9500};
 
-TactileProcessorParams<double> SixPads() {
-  TactileProcessorParams<double> params;
-  for (std::size_t i = 0; i < params.nodes.size(); ++i) {
-    params.nodes[i].node_id = std::uint8_t(i + 1);
-    params.nodes[i].gain_a = Vec3<double>(0.5, 0.5, 2.0);
-  }
-  params.film = FilmConstants<double>::Published();
-  params.zeroing_samples = 3;
-  return params;
-}
+TactileProcessorParams<double> SixPads() { return SixPadTactile<double>(3); }
 
 DutCoreParams<double> Params(bool tactile) {
   DutCoreParams<double> params;

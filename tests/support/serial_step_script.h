@@ -17,6 +17,7 @@
 #include "host/dut/hil_messages.h"
 #include "host/link/dut_config_codec.h"
 #include "proto/hil_link.pb.h"
+#include "tests/support/six_pad_tactile.h"
 
 namespace hilrig::dut_fw {
 
@@ -172,14 +173,7 @@ void ExpectCommandIs(const proto::SerialCommand& command, const DutCoreOutput<S>
 inline host::DutFirmware SixPadFirmware() {
   host::DutFirmware firmware;
   firmware.flight = DefaultFlightControllerParams<double>(0.556);
-  TactileProcessorParams<double> tactile;
-  for (std::size_t i = 0; i < tactile.nodes.size(); ++i) {
-    tactile.nodes[i].node_id = std::uint8_t(i + 1);
-    tactile.nodes[i].gain_a = Vec3<double>(0.5, 0.5, 2.0);
-  }
-  tactile.film = FilmConstants<double>::Published();
-  tactile.zeroing_samples = 5;
-  firmware.tactile = tactile;
+  firmware.tactile = SixPadTactile<double>(5);
   return firmware;
 }
 
