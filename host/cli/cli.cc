@@ -285,6 +285,10 @@ void PrintRun(const ScenarioOutcome& outcome, const Streams& io) {
   for (const proto::TimingCheckResult& check : outcome.report.timing_checks()) {
     io.out << FormatTimingCheckLine(check) << "\n";
   }
+  if (outcome.report.has_target()) io.out << FormatTargetLine(outcome.report.target()) << "\n";
+  for (const proto::TimingCheckResult& check : outcome.report.target_checks()) {
+    io.out << FormatTimingCheckLine(check, "target") << "\n";
+  }
   for (const std::string& line : FormatRealtimeTiming(outcome.report.timing())) {
     io.out << line << "\n";
   }

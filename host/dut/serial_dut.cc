@@ -307,26 +307,29 @@ std::vector<std::pair<std::string, double>> SerialDut::link_metrics() const {
                                     {"dut_rx_ring_drops", dut.rx_ring_drops()}}) {
     metrics.emplace_back(name, d(value));
   }
-  const TargetWork work = target_work();
-  if (work.steps > 0) {
-    metrics.emplace_back("target_work_steps", d(work.steps));
-    metrics.emplace_back("target_work_p50_cycles", d(work.p50_cycles));
-    metrics.emplace_back("target_work_p99_cycles", d(work.p99_cycles));
-    metrics.emplace_back("target_work_max_cycles", d(work.max_cycles));
-  }
-  if (target_info_) {
-    metrics.emplace_back("target_core_clock_hz", d(target_info_->core_clock_hz()));
-    metrics.emplace_back("target_flash_used_bytes", d(target_info_->flash_used_bytes()));
-    metrics.emplace_back("target_ram_used_bytes", d(target_info_->ram_used_bytes()));
-    metrics.emplace_back("target_stack_bytes", d(target_info_->stack_bytes()));
+  if (const std::optional<TargetSummary> target = this->target()) {
+    metrics.emplace_back("target_work_steps", d(target->steps_measured));
+    metrics.emplace_back("target_work_p50_cycles", d(target->work_p50_cycles));
+    metrics.emplace_back("target_work_p99_cycles", d(target->work_p99_cycles));
+    metrics.emplace_back("target_work_max_cycles", d(target->work_max_cycles));
+    metrics.emplace_back("target_core_clock_hz", d(target->core_clock_hz));
+    metrics.emplace_back("target_flash_used_bytes", d(target->flash_used_bytes));
+    metrics.emplace_back("target_ram_used_bytes", d(target->ram_used_bytes));
+    metrics.emplace_back("target_stack_bytes", d(target->stack_bytes));
   }
   return metrics;
 }
 
-TargetWork SerialDut::target_work() const {
-  TargetWork work;
-  work.steps = work_cycles_.size();
-  if (work_cycles_.empty()) return work;
+std::optional<TargetSummary> SerialDut::target() const {
+  if (!target_info_) return std::nullopt;
+  TargetSummary target;
+  target.board = target_info_->board();
+  target.core_clock_hz = target_info_->core_clock_hz();
+  target.flash_used_bytes = target_info_->flash_used_bytes();
+  target.ram_used_bytes = target_info_->ram_used_bytes();
+  target.stack_bytes = target_info_->stack_bytes();
+  target.steps_measured = work_cycles_.size();
+  if (work_cycles_.empty()) return target;
   std::vector<std::uint32_t> sorted = work_cycles_;
   std::sort(sorted.begin(), sorted.end());
   // Nearest rank: the smallest value with at least p of the samples at or below it.
@@ -334,10 +337,10 @@ TargetWork SerialDut::target_work() const {
     const auto index = static_cast<std::size_t>(std::ceil(p * double(sorted.size())));
     return sorted[std::clamp<std::size_t>(index, 1, sorted.size()) - 1];
   };
-  work.p50_cycles = rank(0.5);
-  work.p99_cycles = rank(0.99);
-  work.max_cycles = sorted.back();
-  return work;
+  target.work_p50_cycles = rank(0.5);
+  target.work_p99_cycles = rank(0.99);
+  target.work_max_cycles = sorted.back();
+  return target;
 }
 
 rig::Error SerialDut::Failed(rig::Error error) {

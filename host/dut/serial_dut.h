@@ -61,14 +61,6 @@ struct SerialDutOptions {
 // Checks the options: positive finite timeouts, a retry shorter than the watchdog.
 rig::Result<void> ValidateSerialDutOptions(const SerialDutOptions& options);
 
-// The work per control step the DUT reported, in its cycle counter's units.
-struct TargetWork {
-  std::uint64_t steps = 0;
-  std::uint32_t p50_cycles = 0;
-  std::uint32_t p99_cycles = 0;
-  std::uint32_t max_cycles = 0;
-};
-
 class SerialDut final : public DutPort {
  public:
   // `runner_bus` is the DUT's endpoint on the runner's emulated bus. Nothing opens until Start.
@@ -87,9 +79,9 @@ class SerialDut final : public DutPort {
   std::string description() const override;
   std::vector<std::pair<std::string, double>> link_metrics() const override;
 
-  // The DUT's answer to the configuration; nullopt before Start succeeded.
-  const std::optional<proto::TargetInfo>& target_info() const { return target_info_; }
-  TargetWork target_work() const;
+  // The DUT's TargetInfo and the work per step its commands reported; nullopt before the DUT
+  // took the configuration.
+  std::optional<TargetSummary> target() const override;
 
  private:
   struct Request {

@@ -199,8 +199,9 @@ TEST(SerialDutTest, RepeatsTheHelloUntilTheDutAnswersThenKeepsItsTarget) {
   auto setup = FromDutConfig(*rig.dut->config);
   ASSERT_TRUE(setup) << setup.error().message;
   EXPECT_EQ(setup.value().control_period_s, kControlPeriodS);
-  ASSERT_TRUE(rig.serial->target_info());
-  EXPECT_EQ(rig.serial->target_info()->board(), "stm32f405");
+  ASSERT_TRUE(rig.serial->target());
+  EXPECT_EQ(rig.serial->target()->board, "stm32f405");
+  EXPECT_EQ(rig.serial->target()->flash_used_bytes, 40'000u);
   EXPECT_NE(rig.serial->description().find("stm32f405"), std::string::npos);
   EXPECT_EQ(rig.Metric("line_hellos_sent"), 3);
   EXPECT_EQ(rig.Metric("target_core_clock_hz"), 168e6);
@@ -399,11 +400,12 @@ TEST(SerialDutTest, ReportsTheWorkPerStepTheDutMeasured) {
   for (std::uint64_t tick = 1; tick <= 100; ++tick) {
     ASSERT_TRUE(rig.serial->Step(tick, std::int64_t(tick) * kPeriodNs));
   }
-  const TargetWork work = rig.serial->target_work();
-  EXPECT_EQ(work.steps, 100u);
-  EXPECT_EQ(work.p50_cycles, 1050u);
-  EXPECT_EQ(work.p99_cycles, 1099u);
-  EXPECT_EQ(work.max_cycles, 1100u);
+  const std::optional<TargetSummary> target = rig.serial->target();
+  ASSERT_TRUE(target);
+  EXPECT_EQ(target->steps_measured, 100u);
+  EXPECT_EQ(target->work_p50_cycles, 1050u);
+  EXPECT_EQ(target->work_p99_cycles, 1099u);
+  EXPECT_EQ(target->work_max_cycles, 1100u);
   EXPECT_EQ(rig.Metric("target_work_p99_cycles"), 1099);
   EXPECT_EQ(rig.Metric("dut_line_frames_received"), 100);
 }
