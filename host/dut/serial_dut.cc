@@ -482,14 +482,10 @@ rig::Result<ActuatorMessage> SerialDut::AwaitCommand(const proto::LinkMessage& s
       if (auto exit = EmulatorExit()) return Failed("the dut's emulator " + *exit);
       continue;
     }
-    if (received.status != LineReceiveStatus::kMessage) return LineLost(received);
-    const proto::LinkMessage& message = received.message;
-    if (message.has_bye()) return Failed("the dut ended the link: " + message.bye().reason());
-    if (!message.has_serial_command()) {
-      ++unexpected_messages_;
-      continue;
-    }
-    const std::uint64_t answers = message.serial_command().answers_tick();
+    auto command = CommandIn(received);
+    if (!command) return command.error();
+    if (command.value() == nullptr) continue;
+    const std::uint64_t answers = command.value()->answers_tick();
     if (answers < tick) {
       ++stale_answers_;
       continue;
@@ -500,7 +496,7 @@ rig::Result<ActuatorMessage> SerialDut::AwaitCommand(const proto::LinkMessage& s
                                           ", which was never requested (asked: tick " +
                                           std::to_string(tick) + ")"));
     }
-    return TakeCommand(message.serial_command(), NowNs());
+    return TakeCommand(*command.value(), NowNs());
   }
   ++watchdog_timeouts_;
   if (auto exit = EmulatorExit()) return Failed("the dut's emulator " + *exit);
@@ -508,6 +504,15 @@ rig::Result<ActuatorMessage> SerialDut::AwaitCommand(const proto::LinkMessage& s
                                "the dut did not answer tick " + std::to_string(tick) + " within " +
                                    Seconds(options_.answer_timeout_s) + " (" +
                                    std::to_string(step_retries_) + " step retries so far)"));
+}
+
+rig::Result<const proto::SerialCommand*> SerialDut::CommandIn(const LineReceived& received) {
+  if (received.status != LineReceiveStatus::kMessage) return LineLost(received);
+  const proto::LinkMessage& message = received.message;
+  if (message.has_bye()) return Failed("the dut ended the link: " + message.bye().reason());
+  if (message.has_serial_command()) return &message.serial_command();
+  ++unexpected_messages_;
+  return nullptr;
 }
 
 rig::Result<ActuatorMessage> SerialDut::TakeCommand(const proto::SerialCommand& command,
@@ -548,14 +553,10 @@ rig::Result<std::optional<ActuatorMessage>> SerialDut::PollCommand() {
   for (int messages = 0; messages < kMaxMessagesPerPoll; ++messages) {
     const LineReceived received = link_->Receive(0);
     if (received.status == LineReceiveStatus::kTimeout) break;
-    if (received.status != LineReceiveStatus::kMessage) return LineLost(received);
-    const proto::LinkMessage& message = received.message;
-    if (message.has_bye()) return Failed("the dut ended the link: " + message.bye().reason());
-    if (!message.has_serial_command()) {
-      ++unexpected_messages_;
-      continue;
-    }
-    const std::uint64_t answers = message.serial_command().answers_tick();
+    auto serial_command = CommandIn(received);
+    if (!serial_command) return serial_command.error();
+    if (serial_command.value() == nullptr) continue;
+    const std::uint64_t answers = serial_command.value()->answers_tick();
     if (last_answered_ && answers <= *last_answered_) {
       ++stale_answers_;
       continue;
@@ -571,7 +572,7 @@ rig::Result<std::optional<ActuatorMessage>> SerialDut::PollCommand() {
           "the dut answered tick " + std::to_string(answers) + ", which was never requested"));
     }
     outstanding_.pop_front();
-    auto command = TakeCommand(message.serial_command(), NowNs());
+    auto command = TakeCommand(*serial_command.value(), NowNs());
     if (!command) return command.error();
     newest = std::move(command).value();
   }

@@ -106,6 +106,9 @@ class SerialDut final : public DutPort {
   void AddInput(const DutInput& input, std::int64_t now_ns, proto::SerialStep& step);
   rig::Result<std::uint32_t> ForwardBridgeFrames(std::int64_t now_ns, int timeout_ms);
   rig::Result<ActuatorMessage> AwaitCommand(const proto::LinkMessage& step, std::uint64_t tick);
+  // What a received line event means while commands are awaited: the command it carries, nullptr
+  // for another message (counted), or the failure (the line lost, a Bye). Not for kTimeout.
+  rig::Result<const proto::SerialCommand*> CommandIn(const LineReceived& received);
   // A command received: its ActuatorMessage, after the counters and work it carries are kept.
   rig::Result<ActuatorMessage> TakeCommand(const proto::SerialCommand& command,
                                            std::int64_t now_ns);
