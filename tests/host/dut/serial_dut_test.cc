@@ -5,6 +5,7 @@
 #include "host/dut/serial_dut.h"
 
 #include <gtest/gtest.h>
+#include <signal.h>
 
 #include <map>
 #include <set>
@@ -36,6 +37,7 @@ class ScriptedDut {
   bool silent_from_start = false;
   std::optional<std::uint64_t> silent_from_tick;  // no answer to this tick or later
   std::optional<std::uint64_t> close_at_tick;     // hangs up when asked this tick
+  std::function<void()> before_close;             // e.g. the emulator behind the line dies
   std::set<std::uint64_t> lose_first_answer;      // the first answer to these ticks is lost
   std::set<std::uint64_t> flip_first_answer;      // ... arrives with a byte flipped
   std::set<std::uint64_t> garbage_before_answer;  // noise on the line before the answer
@@ -101,6 +103,7 @@ class ScriptedDut {
     steps.push_back(step);
     const std::uint64_t tick = step.tick();
     if (close_at_tick && tick >= *close_at_tick) {
+      if (before_close) before_close();
       line_.Close();
       closed_ = true;
       return;
@@ -151,6 +154,7 @@ struct Rig {
   std::unique_ptr<MemoryByteStream> line_runner, line_dut, bridge_runner, bridge_dut;
   std::unique_ptr<ScriptedDut> dut;
   std::unique_ptr<SerialDut> serial;
+  std::optional<ChildProcess> emulator;  // handed over with the lines, when set before Start
   std::int64_t waited_ns = 0;
 
   explicit Rig(const std::function<void(ScriptedDut&)>& script = {}) {
@@ -172,6 +176,7 @@ struct Rig {
       lines.link = std::move(line_runner);
       lines.bridge = std::move(bridge_runner);
       lines.description = "an in-memory line";
+      lines.emulator = std::move(emulator);
       return lines;
     };
     serial = std::make_unique<SerialDut>(HoverFirmware(), bus.Connect("dut"), kControlPeriodS,
@@ -363,6 +368,25 @@ TEST(SerialDutTest, NamesALineThePeerClosed) {
   EXPECT_EQ(command.error().code, rig::ErrorCode::kLinkClosed);
   EXPECT_NE(command.error().message.find("serial line closed"), std::string::npos)
       << command.error().message;
+}
+
+TEST(SerialDutTest, NamesTheEmulatorThatDiedAndReapsIt) {
+  Rig rig;
+  auto sleep_path = FindInPath("sleep");
+  ASSERT_TRUE(sleep_path) << sleep_path.error().message;
+  auto child = ChildProcess::Spawn({sleep_path.value(), "1000"});
+  ASSERT_TRUE(child) << child.error().message;
+  const pid_t pid = child.value().pid();
+  rig.emulator = std::move(child).value();
+  rig.dut->close_at_tick = 2;
+  rig.dut->before_close = [pid] { ::kill(pid, SIGKILL); };
+  ASSERT_TRUE(rig.serial->Start());
+  ASSERT_TRUE(rig.serial->Step(1, kPeriodNs));
+  auto command = rig.serial->Step(2, 2 * kPeriodNs);
+  ASSERT_FALSE(command);
+  EXPECT_EQ(command.error().message, "the dut's emulator killed by signal 9");
+  rig.serial->Stop();
+  EXPECT_NE(::kill(pid, 0), 0);  // reaped: the pid is gone
 }
 
 TEST(SerialDutTest, WritesTheSensorFramesOnTheBridgeAndAnnouncesTheirBytes) {
