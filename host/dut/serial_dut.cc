@@ -183,6 +183,10 @@ rig::Result<void> SerialDut::Start() {
   return {};
 }
 
+std::int64_t SerialDut::RetryNs(double seconds, std::size_t bytes) const {
+  return Nanoseconds(seconds + 2.0 * double(dut_fw::EncodedFrameBytes(bytes)) * lines_.byte_time_s);
+}
+
 rig::Result<void> SerialDut::Exchange(
     const proto::LinkMessage& message, std::int64_t interval_ns, std::int64_t deadline_ns,
     const char* waiting_for,
@@ -202,7 +206,7 @@ rig::Result<void> SerialDut::Exchange(
         return sent.error();
       }
       (message.has_hello() ? hellos_sent_ : configs_sent_) += 1;
-      resend_ns = now_ns + interval_ns;
+      resend_ns = now_ns + interval_ns + RetryNs(0, message.ByteSizeLong());
     }
     const LineReceived received =
         link_->Receive(MillisecondsUntil(now_ns, std::min(resend_ns, deadline_ns)));
@@ -459,7 +463,11 @@ rig::Result<ActuatorMessage> SerialDut::AwaitCommand(const proto::LinkMessage& s
                                                      std::uint64_t tick) {
   const std::int64_t start_ns = NowNs();
   const std::int64_t deadline_ns = start_ns + Nanoseconds(options_.answer_timeout_s);
-  const std::int64_t retry_ns = Nanoseconds(options_.step_retry_s);
+  // The DUT steps once the step and its bridge bytes are in: the longer of the two lines'
+  // transfers.
+  const std::int64_t retry_ns =
+      RetryNs(options_.step_retry_s,
+              std::max<std::size_t>(step.ByteSizeLong(), step.serial_step().bridge_bytes()));
   std::int64_t resend_ns = start_ns;
   bool first = true;
   while (true) {

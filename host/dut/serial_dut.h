@@ -41,6 +41,10 @@ struct SerialLines {
   std::unique_ptr<ByteStream> bridge;
   std::optional<ChildProcess> emulator;  // the process behind the lines, when there is one
   std::string description;               // "a board on /dev/ttyACM0 at 921600 baud"
+  // How long one byte takes to reach the DUT (10 bits at the baud rate; an emulator's USART is
+  // slower). The retries wait twice the time the bytes they repeat need, on top of their timeout,
+  // so a slow line is not taken for a lost frame.
+  double byte_time_s = 0;
 };
 
 // Opens the lines within `timeout_s` (an emulator takes a moment to open its ports).
@@ -113,6 +117,8 @@ class SerialDut final : public DutPort {
   rig::Result<ActuatorMessage> TakeCommand(const proto::SerialCommand& command,
                                            std::int64_t now_ns);
   std::int64_t NowNs() const { return clock_->NowNs(); }
+  // `seconds` plus twice the time `bytes` take on the line.
+  std::int64_t RetryNs(double seconds, std::size_t bytes) const;
 
   DutFirmware firmware_;
   double control_period_s_;

@@ -42,6 +42,8 @@ class ScriptedDut {
   std::set<std::uint64_t> flip_first_answer;      // ... arrives with a byte flipped
   std::set<std::uint64_t> garbage_before_answer;  // noise on the line before the answer
   std::uint32_t work_cycles = 0;
+  std::int64_t answer_delay_ns = 0;  // a slow line: a command leaves this long after its step
+  const rig::Clock* clock = nullptr;
 
   // What it saw.
   int hellos = 0;
@@ -61,6 +63,10 @@ class ScriptedDut {
          read = bridge_line_.ReadSome(chunk, 0)) {
       bridge.insert(bridge.end(), chunk.begin(), chunk.begin() + read.bytes);
     }
+    while (!delayed_.empty() && delayed_.front().first <= clock->NowNs()) {
+      Write(delayed_.front().second);
+      delayed_.erase(delayed_.begin());
+    }
     for (LineReceived received = link_.Receive(0); received.status == LineReceiveStatus::kMessage;
          received = link_.Receive(0)) {
       Answer(received.message);
@@ -68,7 +74,11 @@ class ScriptedDut {
     }
   }
 
-  std::uint64_t runner_bad_frames_caused = 0;
+  // When the next delayed answer leaves: a wait ends there, as a read does when bytes arrive.
+  std::optional<std::int64_t> NextDueNs() const {
+    if (delayed_.empty()) return std::nullopt;
+    return delayed_.front().first;
+  }
 
  private:
   void Answer(const proto::LinkMessage& message) {
@@ -135,6 +145,10 @@ class ScriptedDut {
       ASSERT_TRUE(line_.WriteAll(frame, 0));
       return;
     }
+    if (answer_delay_ns > 0) {
+      delayed_.emplace_back(clock->NowNs() + answer_delay_ns, answer);
+      return;
+    }
     Write(answer);
   }
 
@@ -144,6 +158,7 @@ class ScriptedDut {
   MemoryByteStream& bridge_line_;
   LineLink link_;
   std::set<std::uint64_t> answered_;
+  std::vector<std::pair<std::int64_t, proto::LinkMessage>> delayed_;  // due time, answer
   bool closed_ = false;
 };
 
@@ -155,17 +170,23 @@ struct Rig {
   std::unique_ptr<ScriptedDut> dut;
   std::unique_ptr<SerialDut> serial;
   std::optional<ChildProcess> emulator;  // handed over with the lines, when set before Start
+  double byte_time_s = 0;                // the line's, as the opener would know it
   std::int64_t waited_ns = 0;
 
   explicit Rig(const std::function<void(ScriptedDut&)>& script = {}) {
     std::tie(line_runner, line_dut) = MakeMemoryStreamPair("line");
     std::tie(bridge_runner, bridge_dut) = MakeMemoryStreamPair("bridge");
     dut = std::make_unique<ScriptedDut>(*line_dut, *bridge_dut);
+    dut->clock = &clock;
     if (script) script(*dut);
     line_runner->set_idle_hook([this] { dut->Serve(); });
     line_runner->set_wait_hook([this](int timeout_ms) {
-      clock.AdvanceNs(std::int64_t{timeout_ms} * 1'000'000);
-      waited_ns += std::int64_t{timeout_ms} * 1'000'000;
+      std::int64_t wait_ns = std::int64_t{timeout_ms} * 1'000'000;
+      if (const std::optional<std::int64_t> due_ns = dut->NextDueNs()) {
+        wait_ns = std::clamp<std::int64_t>(*due_ns - clock.NowNs(), 0, wait_ns);
+      }
+      clock.AdvanceNs(wait_ns);
+      waited_ns += wait_ns;
     });
     SerialDutOptions options;
     options.clock = &clock;
@@ -177,6 +198,7 @@ struct Rig {
       lines.bridge = std::move(bridge_runner);
       lines.description = "an in-memory line";
       lines.emulator = std::move(emulator);
+      lines.byte_time_s = byte_time_s;
       return lines;
     };
     serial = std::make_unique<SerialDut>(HoverFirmware(), bus.Connect("dut"), kControlPeriodS,
@@ -320,6 +342,19 @@ TEST(SerialDutTest, RecoversALostAnswerByRepeatingTheStep) {
   EXPECT_EQ(rig.Metric("line_step_retries"), 1);
   EXPECT_EQ(rig.Metric("dut_steps_repeated"), 1);
   EXPECT_GE(rig.waited_ns, 50'000'000);  // one retry timeout
+}
+
+// At 1 ms a byte, a step without inputs (4 bytes, 8 on the line) waits 2 x 8 ms on top of the 50 ms
+// retry timeout: an answer after 60 ms is waited for, one after 80 ms costs one repeat.
+TEST(SerialDutTest, WaitsLongerBeforeRepeatingOnASlowLine) {
+  for (const auto& [delay_ns, retries] :
+       {std::pair{std::int64_t{60'000'000}, 0}, std::pair{std::int64_t{80'000'000}, 1}}) {
+    Rig rig([delay_ns](ScriptedDut& dut) { dut.answer_delay_ns = delay_ns; });
+    rig.byte_time_s = 1e-3;
+    ASSERT_TRUE(rig.serial->Start());
+    ASSERT_TRUE(rig.serial->Step(1, kPeriodNs));
+    EXPECT_EQ(rig.Metric("line_step_retries"), retries) << delay_ns;
+  }
 }
 
 TEST(SerialDutTest, CountsGarbageAndAFlippedAnswerAndRidesThrough) {
