@@ -18,6 +18,7 @@
 #include "host/cli/tactile_commands.h"
 #include "host/dut/firmware_config.h"
 #include "host/dut/process_dut.h"
+#include "host/dut/serial_lines.h"
 #include "host/pipeline/run_pipeline.h"
 #include "host/report/report_files.h"
 #include "host/report/stop_reason.h"
@@ -46,6 +47,10 @@ constexpr const char* kUsage =
     "      [--can socketcan:IFACE] (with --dut process: the sensors' CAN frames cross that\n"
     "      interface to the dut process, as on a bench; their timing then follows the wall\n"
     "      clock, so such a run means something with --realtime)\n"
+    "      --dut serial:DEVICE[,baud=N][,bridge=DEVICE] (a board on a serial line, the\n"
+    "      sensor nodes' UART bridge on the second device; default 921600 baud)\n"
+    "      --dut qemu [--target-image ELF] (the firmware image on QEMU's STM32F405; default\n"
+    "      build-target/dut_fw_stm32f405.elf, made by ./scripts/build-target)\n"
     "  hilrig check FILE.textproto...                     validate scenario specs\n"
     "  hilrig bench --out DIR [--scenes a,b|all] [--duration-s S] [--quick]\n"
     "                                                     work-precision sweep\n"
@@ -83,20 +88,74 @@ struct RunOptions {
 
 using Streams = CliStreams;
 
-// --dut inproc|process, --dut-timeout-s and --can; an unset factory is the in-process DUT. In real
-// time the process DUT reads a wall clock of its own for its watchdog and latencies (differences
-// only, so its epoch does not matter); the factory keeps it alive for every DUT it starts.
+// The factory of a DUT on a serial line: `serial:...` for a board, `qemu` for the firmware image on
+// QEMU's STM32F405 (--target-image, or the one ./scripts/build-target makes).
+rig::Result<DutFactory> SerialDutFactory(const CliArgs& cli, const std::string& mode,
+                                         const SerialDutOptions& options) {
+  const std::string* image = cli.Option("--target-image");
+  SerialLineOpener opener;
+  if (mode == "qemu") {
+    auto found = FindTargetImage(image ? std::optional<std::string>(*image) : std::nullopt);
+    if (!found) return rig::MakeError("--dut qemu: " + found.error().message);
+    opener = QemuLines({found.value(), ""});
+  } else {
+    if (image != nullptr) return rig::MakeError("--target-image needs --dut qemu");
+    auto spec = ParseSerialPortSpec(mode);
+    if (!spec) return rig::MakeError("--dut " + spec.error().message);
+    opener = SerialPortLines(spec.value());
+  }
+  return DutFactory(
+      [opener, options](const ScenarioConfig& config, std::unique_ptr<rig::CanBus> bus,
+                        double control_period_s) -> rig::Result<std::unique_ptr<DutPort>> {
+        return std::unique_ptr<DutPort>(std::make_unique<SerialDut>(
+            FirmwareFor(config), std::move(bus), control_period_s, opener, options));
+      });
+}
+
+// --dut-timeout-s S, if given; `fallback` otherwise.
+rig::Result<double> ParseDutTimeout(const std::string* timeout, double fallback) {
+  if (timeout == nullptr) return fallback;
+  char* end = nullptr;
+  const double seconds = std::strtod(timeout->c_str(), &end);
+  if (timeout->empty() || *end != '\0') {
+    return rig::MakeError("--dut-timeout-s \"" + *timeout + "\" is not a number");
+  }
+  return seconds;
+}
+
+// --dut inproc|process|qemu|serial:..., --dut-timeout-s, --target-image and --can; an unset
+// factory is the in-process DUT. In real time the process DUT reads a wall clock of its own for
+// its watchdog and latencies (differences only, so its epoch does not matter); the factory keeps
+// it alive for every DUT it starts.
 rig::Result<DutFactory> ParseDutOptions(const CliArgs& cli, bool realtime) {
   const std::string* mode = cli.Option("--dut");
   const std::string* timeout = cli.Option("--dut-timeout-s");
   const std::string* can = cli.Option("--can");
-  if (mode != nullptr && *mode != "inproc" && *mode != "process") {
-    return rig::MakeError("--dut \"" + *mode + "\": expected inproc or process");
+  const bool serial = mode != nullptr && (*mode == "qemu" || mode->rfind("serial:", 0) == 0);
+  if (mode != nullptr && *mode != "inproc" && *mode != "process" && !serial) {
+    return rig::MakeError(
+        "--dut \"" + *mode +
+        "\": expected inproc, process, qemu or serial:DEVICE[,baud=N][,bridge=DEVICE]");
   }
   const bool process = mode != nullptr && *mode == "process";
-  if (timeout != nullptr && !process) return rig::MakeError("--dut-timeout-s needs --dut process");
+  if (cli.Option("--target-image") != nullptr && !(serial && *mode == "qemu")) {
+    return rig::MakeError("--target-image needs --dut qemu");
+  }
+  if (timeout != nullptr && !process && !serial) {
+    return rig::MakeError("--dut-timeout-s needs --dut process, qemu or serial:");
+  }
   // The in-process DUT sits on the runner's emulated bus; only a DUT process reaches another one.
   if (can != nullptr && !process) return rig::MakeError("--can " + *can + " needs --dut process");
+  if (serial) {
+    SerialDutOptions options;
+    auto seconds = ParseDutTimeout(timeout, options.answer_timeout_s);
+    if (!seconds) return seconds.error();
+    options.answer_timeout_s = seconds.value();
+    if (auto valid = ValidateSerialDutOptions(options); !valid) {
+      return rig::MakeError("--dut-timeout-s: " + valid.error().message);
+    }
+    return SerialDutFactory(cli, *mode, options);
+  }
   if (!process) return DutFactory();
   ProcessDutOptions options;
   if (can != nullptr) {
@@ -105,13 +164,9 @@ rig::Result<DutFactory> ParseDutOptions(const CliArgs& cli, bool realtime) {
     }
     options.can_uri = *can;
   }
-  if (timeout != nullptr) {
-    char* end = nullptr;
-    options.answer_timeout_s = std::strtod(timeout->c_str(), &end);
-    if (timeout->empty() || *end != '\0') {
-      return rig::MakeError("--dut-timeout-s \"" + *timeout + "\" is not a number");
-    }
-  }
+  auto seconds = ParseDutTimeout(timeout, options.answer_timeout_s);
+  if (!seconds) return seconds.error();
+  options.answer_timeout_s = seconds.value();
   if (auto valid = ValidateProcessDutOptions(options); !valid) {
     return rig::MakeError("--dut-timeout-s: " + valid.error().message);
   }
@@ -150,7 +205,7 @@ rig::Result<RunOptions> ParseRunOptions(std::vector<std::string> args) {
     return rig::MakeError("--reference and --no-reference contradict each other");
   }
   auto parsed = ParseCliArgs(args, {"--out", "--seed", "--dut", "--dut-timeout-s", "--can",
-                                    "--reference-cache", "--rt-priority"});
+                                    "--reference-cache", "--rt-priority", "--target-image"});
   if (!parsed) return parsed.error();
   const CliArgs& cli = parsed.value();
   if (cli.positional.size() != 1) {
@@ -229,6 +284,10 @@ void PrintRun(const ScenarioOutcome& outcome, const Streams& io) {
   }
   for (const proto::TimingCheckResult& check : outcome.report.timing_checks()) {
     io.out << FormatTimingCheckLine(check) << "\n";
+  }
+  if (outcome.report.has_target()) io.out << FormatTargetLine(outcome.report.target()) << "\n";
+  for (const proto::TimingCheckResult& check : outcome.report.target_checks()) {
+    io.out << FormatTimingCheckLine(check, "target") << "\n";
   }
   for (const std::string& line : FormatRealtimeTiming(outcome.report.timing())) {
     io.out << line << "\n";

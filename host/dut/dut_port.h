@@ -43,6 +43,20 @@ struct StreamLatency {
   rig::DurationSummary latency;
 };
 
+// A DUT on a target of its own (a board, an emulated MCU): the target as it described itself and
+// the work per control step it measured, in its cycle counter (core cycles at core_clock_hz).
+struct TargetSummary {
+  std::string board;
+  std::uint32_t core_clock_hz = 0;
+  std::uint32_t flash_used_bytes = 0;
+  std::uint32_t ram_used_bytes = 0;
+  std::uint32_t stack_bytes = 0;
+  std::uint64_t steps_measured = 0;
+  std::uint32_t work_p50_cycles = 0;
+  std::uint32_t work_p99_cycles = 0;
+  std::uint32_t work_max_cycles = 0;
+};
+
 // Lifecycle: the runner calls Start once before anything else; a DUT that fails to start is
 // never sent a message nor stepped. Stop comes once at the end of every run, a failed start
 // included, so a DUT can release what a half-done start left behind.
@@ -79,6 +93,9 @@ class DutPort {
   // Named counters of the link to the DUT (messages, named link errors, ...) for the run report;
   // a DUT without a link has none.
   virtual std::vector<std::pair<std::string, double>> link_metrics() const { return {}; }
+
+  // The target the DUT runs on; nullopt for a DUT on the host, or one not started.
+  virtual std::optional<TargetSummary> target() const { return std::nullopt; }
 
  private:
   // The default RequestStep's answer, until PollCommand takes it.

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <string_view>
@@ -115,6 +116,21 @@ rig::Result<std::string> ExecutableDirectory() {
   const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
   if (error) return rig::MakeError("cannot read /proc/self/exe: " + error.message());
   return self.parent_path().string();
+}
+
+rig::Result<std::string> FindInPath(const std::string& name) {
+  const char* path = std::getenv("PATH");
+  const std::string directories = path != nullptr ? path : "";
+  std::size_t start = 0;
+  while (start <= directories.size()) {
+    const std::size_t end = std::min(directories.find(':', start), directories.size());
+    const std::string directory = directories.substr(start, end - start);
+    start = end + 1;
+    if (directory.empty()) continue;
+    const std::string candidate = directory + "/" + name;
+    if (::access(candidate.c_str(), X_OK) == 0) return candidate;
+  }
+  return rig::MakeError("no " + name + " in PATH");
 }
 
 }  // namespace hilrig::host

@@ -41,6 +41,9 @@ class ChildProcess {
   std::optional<std::string> exit_;
 };
 
+// The first executable `name` in the directories of $PATH; the error names it and the search.
+rig::Result<std::string> FindInPath(const std::string& name);
+
 // Directory of the running executable (/proc/self/exe), for finding sibling executables.
 rig::Result<std::string> ExecutableDirectory();
 

@@ -10,37 +10,18 @@
 #include <chrono>
 #include <cstring>
 
+#include "host/link/poll_wait.h"
+#include "host/link/tcp_connect.h"
+
 namespace hilrig::host {
 namespace {
 
 namespace asio = boost::asio;
 using asio::ip::tcp;
-using Deadline = std::chrono::steady_clock::time_point;
 
 // Connections the kernel holds for accepting: others on the host may connect before the DUT (the
 // handshake refuses them), and a full queue would make the DUT's connect wait on a SYN retry.
 constexpr int kListenBacklog = 64;
-
-// The transport's deadlines are wall time by nature: they bound how long the peer may take.
-Deadline DeadlineIn(int timeout_ms) {
-  return std::chrono::steady_clock::now() + std::chrono::milliseconds(std::max(timeout_ms, 0));
-}
-
-int MillisecondsLeft(Deadline deadline) {
-  const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-      deadline - std::chrono::steady_clock::now());
-  return static_cast<int>(std::max<std::int64_t>(left.count(), 0));
-}
-
-// poll(2) for `events` on fd; >0 ready, 0 timed out, <0 failed. EINTR retries with what is left.
-int WaitFor(int fd, short events, Deadline deadline) {
-  while (true) {
-    pollfd entry{fd, events, 0};
-    const int ready = ::poll(&entry, 1, MillisecondsLeft(deadline));
-    if (ready < 0 && errno == EINTR) continue;
-    return ready;
-  }
-}
 
 std::string ErrnoText(const char* what) { return std::string(what) + ": " + std::strerror(errno); }
 
@@ -62,32 +43,11 @@ LinkConnection::~LinkConnection() = default;
 rig::Result<std::unique_ptr<LinkConnection>> LinkConnection::Connect(const std::string& host,
                                                                      std::uint16_t port,
                                                                      int timeout_ms) {
-  boost::system::error_code error;
-  const asio::ip::address address = asio::ip::make_address(host, error);
-  if (error) return rig::MakeError("link address " + host + ": " + error.message());
   auto socket = std::make_unique<Socket>();
-  const tcp::endpoint peer(address, port);
-  const std::string where = host + ":" + std::to_string(port);
-  if (socket->socket.open(peer.protocol(), error)) {
-    return rig::MakeError("link socket: " + error.message());
+  if (auto connected = ConnectWithin(socket->socket, host, port, timeout_ms, "link connect");
+      !connected) {
+    return connected.error();
   }
-  socket->socket.non_blocking(true, error);
-  const int fd = socket->socket.native_handle();
-  socket->socket.connect(peer, error);
-  if (error == asio::error::in_progress || error == asio::error::would_block) {
-    if (WaitFor(fd, POLLOUT, DeadlineIn(timeout_ms)) <= 0) {
-      return rig::MakeError(rig::ErrorCode::kTimeout, "link connect to " + where + " timed out");
-    }
-    int status = 0;
-    socklen_t length = sizeof(status);
-    ::getsockopt(fd, SOL_SOCKET, SO_ERROR, &status, &length);
-    if (status != 0) {
-      return rig::MakeError("link connect to " + where + ": " + std::strerror(status));
-    }
-  } else if (error) {
-    return rig::MakeError("link connect to " + where + ": " + error.message());
-  }
-  socket->socket.set_option(tcp::no_delay(true), error);
   return std::unique_ptr<LinkConnection>(new LinkConnection(std::move(socket)));
 }
 

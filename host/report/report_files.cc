@@ -49,15 +49,18 @@ std::string FormatTimingValue(double value, const std::string& unit) {
   return buffer;
 }
 
-void AppendTimingCases(const proto::Report& report, std::ostringstream& cases, int& failures) {
-  for (const proto::TimingCheckResult& check : report.timing_checks()) {
-    cases << "    <testcase classname=\"" << EscapeXmlText(report.scenario()) << "\" name=\"timing "
-          << EscapeXmlText(check.name()) << "\">\n";
+// The timing or the target checks (`kind`) as test cases.
+void AppendCheckCases(const proto::Report& report,
+                      const google::protobuf::RepeatedPtrField<proto::TimingCheckResult>& checks,
+                      const char* kind, std::ostringstream& cases, int& failures) {
+  for (const proto::TimingCheckResult& check : checks) {
+    cases << "    <testcase classname=\"" << EscapeXmlText(report.scenario()) << "\" name=\""
+          << kind << " " << EscapeXmlText(check.name()) << "\">\n";
     if (!check.evaluated()) {
       cases << "      <skipped message=\"" << EscapeXmlText(check.note()) << "\"/>\n";
     } else if (!check.passed()) {
       ++failures;
-      cases << "      <failure message=\"" << EscapeXmlText(FormatTimingCheckLine(check))
+      cases << "      <failure message=\"" << EscapeXmlText(FormatTimingCheckLine(check, kind))
             << "\"/>\n";
     }
     cases << "    </testcase>\n";
@@ -89,7 +92,8 @@ rig::Result<void> WriteJunitXml(const proto::Report& report, const std::string& 
     }
     cases << "    </testcase>\n";
   }
-  AppendTimingCases(report, cases, failures);
+  AppendCheckCases(report, report.timing_checks(), "timing", cases, failures);
+  AppendCheckCases(report, report.target_checks(), "target", cases, failures);
   if (!RunCompleted(report)) {
     ++failures;
     cases << "    <testcase classname=\"" << EscapeXmlText(report.scenario())
@@ -98,8 +102,8 @@ rig::Result<void> WriteJunitXml(const proto::Report& report, const std::string& 
                            " s simulated")
           << "\"/>\n    </testcase>\n";
   }
-  const int tests =
-      report.envelopes_size() + report.timing_checks_size() + (!RunCompleted(report) ? 1 : 0);
+  const int tests = report.envelopes_size() + report.timing_checks_size() +
+                    report.target_checks_size() + (!RunCompleted(report) ? 1 : 0);
   std::ostringstream xml;
   xml << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
       << "<testsuites>\n  <testsuite name=\"" << EscapeXmlText(report.scenario()) << "\" tests=\""
@@ -155,9 +159,9 @@ std::string FormatFidelityErrorLine(const proto::FidelityError& error, bool gras
   return buffer;
 }
 
-std::string FormatTimingCheckLine(const proto::TimingCheckResult& result) {
+std::string FormatTimingCheckLine(const proto::TimingCheckResult& result, const char* kind) {
   std::string line = !result.evaluated() ? "----" : result.passed() ? "PASS" : "FAIL";
-  line += "  timing " + result.name() + "  ";
+  line += "  " + std::string(kind) + " " + result.name() + "  ";
   if (result.evaluated()) {
     line += FormatTimingValue(result.value(), result.unit());
     if (!result.note().empty()) line += " (" + result.note() + ")";
@@ -165,6 +169,20 @@ std::string FormatTimingCheckLine(const proto::TimingCheckResult& result) {
     line += result.note();
   }
   return line + "  limit " + FormatTimingValue(result.limit(), result.unit());
+}
+
+std::string FormatTargetLine(const proto::Target& target) {
+  char buffer[320];
+  std::snprintf(buffer, sizeof(buffer),
+                "target %s at %.0f MHz: work per control step p50 %u, p99 %u, max %u cycles "
+                "(%.3g %%, %.3g %%, %.3g %% of %.0f us) over %llu steps; flash %u B, RAM %u B",
+                target.board().c_str(), target.core_clock_hz() / 1e6, target.work_p50_cycles(),
+                target.work_p99_cycles(), target.work_max_cycles(),
+                100 * target.work_p50_fraction(), 100 * target.work_p99_fraction(),
+                100 * target.work_max_fraction(), target.control_period_s() * 1e6,
+                static_cast<unsigned long long>(target.steps_measured()), target.flash_used_bytes(),
+                target.ram_used_bytes());
+  return buffer;
 }
 
 std::vector<std::string> FormatRealtimeTiming(const proto::Timing& timing) {

@@ -30,8 +30,14 @@ std::string FormatObjectLine(const proto::ObjectOutcome& outcome);
 std::string FormatTimingLine(const proto::Report& report);
 
 // "PASS  timing loop_period_p99_max_s  1020 us  limit 2000 us", or "----  timing
-// loop_period_p99_max_s  not evaluated (lockstep)  limit 2000 us".
-std::string FormatTimingCheckLine(const proto::TimingCheckResult& result);
+// loop_period_p99_max_s  not evaluated (lockstep)  limit 2000 us"; `kind` is the second word
+// ("target" for the target envelopes).
+std::string FormatTimingCheckLine(const proto::TimingCheckResult& result,
+                                  const char* kind = "timing");
+
+// "target stm32f405 at 168 MHz: work per control step p50 1302, p99 1410, max 2210 cycles (0.78 %,
+// 0.84 %, 1.3 % of 1000 us) over 3000 steps; flash 41234 B, RAM 6120 B".
+std::string FormatTargetLine(const proto::Target& target);
 
 // A real-time run's timing block: loop period p50/p99/max, late ticks, tick work, missed DUT
 // commands and the DUT's latency per stream, in µs. None for a lockstep run.

@@ -93,6 +93,7 @@ class LockstepRunner::Impl {
   void DrainCanLog(std::int64_t now_ns);
   void ReportProgress(std::int64_t now_ns);
   void AppendTiming(proto::Report& report, bool& passed) const;
+  void AppendTarget(proto::Report& report, bool& passed) const;
 
   const ScenarioConfig& config_;
   RunSinks sinks_;
@@ -457,6 +458,20 @@ void LockstepRunner::Impl::AppendTiming(proto::Report& report, bool& passed) con
   *report.mutable_timing() = std::move(timing);
 }
 
+void LockstepRunner::Impl::AppendTarget(proto::Report& report, bool& passed) const {
+  const std::optional<TargetSummary> target = dut_ ? dut_->target() : std::nullopt;
+  if (target) {
+    const double control_period_s =
+        Seconds(config_.physics_step_ns * std::int64_t{config_.control_every_ticks});
+    *report.mutable_target() = TargetSection(*target, control_period_s);
+  }
+  for (proto::TimingCheckResult& check :
+       GradeTarget(config_.target, target ? &report.target() : nullptr)) {
+    passed = passed && check.passed();
+    *report.add_target_checks() = std::move(check);
+  }
+}
+
 proto::Report LockstepRunner::Impl::Finish() {
   ended_ = true;
   StopDut();
@@ -479,6 +494,7 @@ proto::Report LockstepRunner::Impl::Finish() {
     passed = passed && report.envelopes().rbegin()->meets_expectation();
   }
   AppendTiming(report, passed);
+  AppendTarget(report, passed);
   report.set_passed(passed);
   statistics_.AppendMetrics(report);
   const DutCounters counters = dut_ ? dut_->counters() : DutCounters();

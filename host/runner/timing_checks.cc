@@ -117,6 +117,57 @@ proto::TimingCheckResult GradeRealtime(const GradedLimit& check, double limit,
 
 }  // namespace
 
+proto::Target TargetSection(const TargetSummary& target, double control_period_s) {
+  proto::Target section;
+  section.set_board(target.board);
+  section.set_core_clock_hz(target.core_clock_hz);
+  section.set_flash_used_bytes(target.flash_used_bytes);
+  section.set_ram_used_bytes(target.ram_used_bytes);
+  section.set_stack_bytes(target.stack_bytes);
+  section.set_control_period_s(control_period_s);
+  section.set_steps_measured(target.steps_measured);
+  section.set_work_p50_cycles(target.work_p50_cycles);
+  section.set_work_p99_cycles(target.work_p99_cycles);
+  section.set_work_max_cycles(target.work_max_cycles);
+  const double period_cycles = control_period_s * target.core_clock_hz;
+  if (period_cycles > 0) {
+    section.set_work_p50_fraction(target.work_p50_cycles / period_cycles);
+    section.set_work_p99_fraction(target.work_p99_cycles / period_cycles);
+    section.set_work_max_fraction(target.work_max_cycles / period_cycles);
+  }
+  return section;
+}
+
+std::vector<proto::TimingCheckResult> GradeTarget(const TargetLimits& limits,
+                                                  const proto::Target* target) {
+  struct Limit {
+    const char* name;
+    std::optional<double> TargetLimits::*limit;
+    double (proto::Target::*fraction)() const;
+  };
+  constexpr Limit kLimits[] = {
+      {"work_p99_fraction_max", &TargetLimits::work_p99_fraction_max,
+       &proto::Target::work_p99_fraction},
+      {"work_max_fraction_max", &TargetLimits::work_max_fraction_max,
+       &proto::Target::work_max_fraction},
+  };
+  std::vector<proto::TimingCheckResult> results;
+  for (const Limit& check : kLimits) {
+    const std::optional<double>& limit = limits.*check.limit;
+    if (!limit) continue;
+    if (target == nullptr) {
+      results.push_back(NotEvaluated(check.name, *limit, "fraction", "the DUT runs on the host"));
+    } else if (target->steps_measured() == 0 || target->core_clock_hz() == 0) {
+      results.push_back(Unmeasured(check.name, *limit, "fraction",
+                                   "the target measured no work per step, or gave no core clock"));
+    } else {
+      results.push_back(Graded(check.name, (target->*check.fraction)(), *limit, "fraction",
+                               "target " + target->board()));
+    }
+  }
+  return results;
+}
+
 std::vector<proto::TimingCheckResult> GradeTiming(const TimingLimits& limits,
                                                   const proto::Timing& timing) {
   const bool realtime = timing.mode() == "realtime";

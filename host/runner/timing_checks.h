@@ -7,6 +7,7 @@
 
 #include <vector>
 
+#include "host/dut/dut_port.h"
 #include "host/scenario/scenario_config.h"
 #include "proto/report.pb.h"
 
@@ -15,5 +16,15 @@ namespace hilrig::host {
 // One result per limit the spec sets, in the order of proto::TimingEnvelopes' fields.
 std::vector<proto::TimingCheckResult> GradeTiming(const TimingLimits& limits,
                                                   const proto::Timing& timing);
+
+// The report's target section: what the DUT's target reported, and its work per control step as
+// fractions of `control_period_s` at its core clock (0 when the clock is unknown).
+proto::Target TargetSection(const TargetSummary& target, double control_period_s);
+
+// One result per target limit the spec sets, in the order of proto::TargetEnvelopes' fields: not
+// evaluated without a target (`target` null: a DUT on the host), failed when the target measured
+// no work or gave no core clock (the run proved nothing), else graded.
+std::vector<proto::TimingCheckResult> GradeTarget(const TargetLimits& limits,
+                                                  const proto::Target* target);
 
 }  // namespace hilrig::host

@@ -186,6 +186,13 @@ void ResolveTiming(const proto::TimingEnvelopes& timing, ScenarioConfig& config)
                                  : config.physics_step_ns;
 }
 
+void ResolveTarget(const proto::TargetEnvelopes& target, ScenarioConfig& config) {
+  config.target.work_p99_fraction_max =
+      OptionalOf(target.has_work_p99_fraction_max(), target.work_p99_fraction_max());
+  config.target.work_max_fraction_max =
+      OptionalOf(target.has_work_max_fraction_max(), target.work_max_fraction_max());
+}
+
 EnvelopeSpec ResolveEnvelope(const proto::Envelope& envelope) {
   EnvelopeSpec resolved;
   resolved.name = envelope.name();
@@ -285,6 +292,7 @@ ScenarioConfig ResolveScenario(const proto::Scenario& spec,
   ResolveGripper(spec, config.gripper);
   ResolveSimulation(spec.simulation(), config);
   ResolveTiming(spec.timing(), config);
+  ResolveTarget(spec.target(), config);
 
   const double initial_yaw_rad = spec.vehicle().initial_yaw_deg() * kDegToRad;
   config.initial_reference.position_m = ToEigen(spec.vehicle().initial_position_m());

@@ -112,6 +112,13 @@ struct TimingLimits {
   std::optional<double> dut_commands_missed_fraction_max;
 };
 
+// The target envelopes, resolved from the spec: fractions of the control period at the target's
+// core clock, unset when the spec sets none.
+struct TargetLimits {
+  std::optional<double> work_p99_fraction_max;
+  std::optional<double> work_max_fraction_max;
+};
+
 struct ScenarioConfig {
   std::string name;
   std::uint64_t seed = 1;
@@ -138,6 +145,7 @@ struct ScenarioConfig {
   // physics period), and the timing envelopes graded at the end.
   std::int64_t late_threshold_ns = 1'000'000;
   TimingLimits timing;
+  TargetLimits target;
 };
 
 // The physics ticks of a run of config.duration_s, and the trace samples a run that completes

@@ -415,6 +415,14 @@ void CheckTiming(const proto::Scenario& scenario, const ProblemList& problems) {
                   problems);
 }
 
+void CheckTarget(const proto::Scenario& scenario, const ProblemList& problems) {
+  const proto::TargetEnvelopes& target = scenario.target();
+  RequireFraction(target.has_work_p99_fraction_max(), target.work_p99_fraction_max(),
+                  "work_p99_fraction_max", problems);
+  RequireFraction(target.has_work_max_fraction_max(), target.work_max_fraction_max(),
+                  "work_max_fraction_max", problems);
+}
+
 // With every rotor at full thrust the vehicle must at least hover, or no scenario can fly it.
 void CheckCanLift(const proto::Scenario& scenario, const ProblemList& problems) {
   const proto::Vehicle& vehicle = scenario.vehicle();
@@ -465,6 +473,7 @@ std::vector<FieldProblem> ValidateScenario(const proto::Scenario& scenario) {
   CheckEnvelopes(scenario, root);
   CheckMeanWindows(scenario, root);
   CheckTiming(scenario, root.Nested("timing"));
+  CheckTarget(scenario, root.Nested("target"));
   if (scenario.environment().has_gravity_m_s2() && !(scenario.environment().gravity_m_s2() > 0)) {
     root.Nested("environment").Add("gravity_m_s2", "must be > 0");
   }

@@ -61,7 +61,7 @@ check host/link rig/ proto/ dut_fw/ host/dut/hil_messages.h
 forbid host/scenario fixtures/calibration/ host/setup/
 # An emulated run reaches no transport, and the runner knows no command line.
 forbid host/runner host/cli/ host/cache/ host/fidelity/ host/pipeline/ host/work_precision/ \
-  host/setup/ host/link/ host/dut/process_dut.h \
+  host/setup/ host/link/ host/dut/process_dut.h host/dut/serial_dut.h \
   rig/udp_bus.h rig/socketcan_bus.h rig/gs_usb rig/libusb rig/can_open.h
 # The checks read envelopes resolved from the spec, never the spec's messages.
 forbid host/checks proto/scenario.pb.h

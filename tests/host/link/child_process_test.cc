@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <stdlib.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 namespace hilrig::host {
 namespace {
@@ -20,6 +21,16 @@ TEST(ChildProcessTest, EnvironmentGoesToTheChildOnly) {
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
   EXPECT_STREQ(::getenv("HILRIG_CHILD_TEST_SECRET"), "parent");
   ::unsetenv("HILRIG_CHILD_TEST_SECRET");
+}
+
+TEST(FindInPathTest, FindsAnExecutableAndNamesAMissingOne) {
+  auto shell = FindInPath("sh");
+  ASSERT_TRUE(shell) << shell.error().message;
+  EXPECT_EQ(shell.value().substr(shell.value().size() - 3), "/sh");
+  EXPECT_EQ(::access(shell.value().c_str(), X_OK), 0);
+  auto missing = FindInPath("hilrig-no-such-program");
+  ASSERT_FALSE(missing);
+  EXPECT_EQ(missing.error().message, "no hilrig-no-such-program in PATH");
 }
 
 }  // namespace

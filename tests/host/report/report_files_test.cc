@@ -74,6 +74,40 @@ TEST(ReportFilesTest, IncompleteRunIsAFailedCase) {
   EXPECT_THAT(ReadFile(TempFile("junit2.xml")), HasSubstr("tests=\"3\" failures=\"2\""));
 }
 
+TEST(ReportFilesTest, TargetChecksAreCasesAndTheTargetHasALine) {
+  proto::Report report = TwoEnvelopeReport();
+  proto::TimingCheckResult* check = report.add_target_checks();
+  check->set_name("work_p99_fraction_max");
+  check->set_evaluated(true);
+  check->set_passed(false);
+  check->set_value(0.6);
+  check->set_limit(0.5);
+  check->set_unit("fraction");
+  ASSERT_TRUE(WriteJunitXml(report, TempFile("junit3.xml").string()).ok());
+  const std::string xml = ReadFile(TempFile("junit3.xml"));
+  EXPECT_THAT(xml, HasSubstr("tests=\"3\" failures=\"2\""));
+  EXPECT_THAT(xml, HasSubstr("name=\"target work_p99_fraction_max\""));
+  EXPECT_THAT(xml, HasSubstr("FAIL  target work_p99_fraction_max  60 %  limit 50 %"));
+
+  proto::Target target;
+  target.set_board("stm32f405");
+  target.set_core_clock_hz(168'000'000);
+  target.set_control_period_s(0.001);
+  target.set_steps_measured(3000);
+  target.set_work_p50_cycles(1302);
+  target.set_work_p99_cycles(1410);
+  target.set_work_max_cycles(2210);
+  target.set_work_p50_fraction(1302 / 168e3);
+  target.set_work_p99_fraction(1410 / 168e3);
+  target.set_work_max_fraction(2210 / 168e3);
+  target.set_flash_used_bytes(41234);
+  target.set_ram_used_bytes(6120);
+  EXPECT_EQ(FormatTargetLine(target),
+            "target stm32f405 at 168 MHz: work per control step p50 1302, p99 1410, max 2210 "
+            "cycles (0.775 %, 0.839 %, 1.32 % of 1000 us) over 3000 steps; flash 41234 B, RAM "
+            "6120 B");
+}
+
 TEST(ReportFilesTest, WritingIntoAMissingFolderIsAnError) {
   EXPECT_FALSE(WriteJsonFile(TwoEnvelopeReport(), "/nonexistent/dir/report.json").ok());
 }

@@ -1,0 +1,599 @@
+#include "host/dut/serial_dut.h"
+
+#include <time.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "dut_fw/sensor_node.h"
+#include "host/link/dut_config_codec.h"
+#include "rig/number_text.h"
+
+namespace hilrig::host {
+namespace {
+
+constexpr int kLockstepWriteTimeoutMs = 1000;
+constexpr int kMaxMessagesPerPoll = 4096;  // bounds one poll's work on a DUT that floods the line
+constexpr std::size_t kMaxOutstanding = std::size_t{1} << 14;
+constexpr int kByeTimeoutMs = 100;
+constexpr int kEmulatorGraceMs = 500;
+
+std::int64_t Nanoseconds(double seconds) { return std::llround(seconds * 1e9); }
+
+// Rounded up, so a wait never ends before its deadline.
+int MillisecondsUntil(std::int64_t now_ns, std::int64_t deadline_ns) {
+  return static_cast<int>(std::max<std::int64_t>(0, (deadline_ns - now_ns + 999'999) / 1'000'000));
+}
+
+std::string Seconds(double seconds) { return rig::NumberText(seconds) + " s"; }
+
+template <typename Repeated>
+void SetFloats(Repeated* out, std::initializer_list<double> values) {
+  out->Clear();
+  for (const double value : values) out->Add(static_cast<float>(value));
+}
+
+template <typename Repeated>
+void SetVector(Repeated* out, const Eigen::Vector3d& vector) {
+  SetFloats(out, {vector.x(), vector.y(), vector.z()});
+}
+
+proto::SerialSetpoint FullSetpoint(const SetpointMessage& setpoint) {
+  proto::SerialSetpoint full;
+  SetVector(full.mutable_position_m(), setpoint.position_m);
+  SetVector(full.mutable_velocity_m_s(), setpoint.velocity_m_s);
+  SetVector(full.mutable_acceleration_m_s2(), setpoint.acceleration_m_s2);
+  full.set_yaw_rad(static_cast<float>(setpoint.yaw_rad));
+  full.set_grasp_regulate(setpoint.grasp_regulate);
+  full.set_grasp_force_n(static_cast<float>(setpoint.grasp_force_n));
+  full.set_grasp_reference_angle_rad(static_cast<float>(setpoint.grasp_reference_angle_rad));
+  return full;
+}
+
+template <typename Repeated>
+bool SameFloats(const Repeated& a, const Repeated& b) {
+  return std::equal(a.begin(), a.end(), b.begin(), b.end());
+}
+
+// The fields of `full` that differ from `last` (all of them without a last).
+proto::SerialSetpoint ChangedFields(const proto::SerialSetpoint& full,
+                                    const std::optional<proto::SerialSetpoint>& last) {
+  if (!last) return full;
+  proto::SerialSetpoint changed;
+  if (!SameFloats(full.position_m(), last->position_m())) {
+    *changed.mutable_position_m() = full.position_m();
+  }
+  if (!SameFloats(full.velocity_m_s(), last->velocity_m_s())) {
+    *changed.mutable_velocity_m_s() = full.velocity_m_s();
+  }
+  if (!SameFloats(full.acceleration_m_s2(), last->acceleration_m_s2())) {
+    *changed.mutable_acceleration_m_s2() = full.acceleration_m_s2();
+  }
+  if (full.yaw_rad() != last->yaw_rad()) changed.set_yaw_rad(full.yaw_rad());
+  if (full.grasp_regulate() != last->grasp_regulate()) {
+    changed.set_grasp_regulate(full.grasp_regulate());
+  }
+  if (full.grasp_force_n() != last->grasp_force_n())
+    changed.set_grasp_force_n(full.grasp_force_n());
+  if (full.grasp_reference_angle_rad() != last->grasp_reference_angle_rad()) {
+    changed.set_grasp_reference_angle_rad(full.grasp_reference_angle_rad());
+  }
+  return changed;
+}
+
+template <typename Repeated>
+rig::Result<Eigen::Vector3d> Vector3From(const Repeated& values, const char* field) {
+  if (values.size() != 3) {
+    return rig::MakeError(std::string(field) + " has " + std::to_string(values.size()) +
+                          " values, not 3");
+  }
+  return Eigen::Vector3d(values[0], values[1], values[2]);
+}
+
+rig::Result<ActuatorMessage> ActuatorFrom(const proto::SerialCommand& command,
+                                          std::int64_t now_ns) {
+  ActuatorMessage message;
+  message.stamp = {command.answers_tick(), now_ns};
+  message.answers_sequence = command.answers_tick();
+  if (command.rotor_thrust_n_size() != 4) {
+    return rig::MakeError("rotor_thrust_n has " + std::to_string(command.rotor_thrust_n_size()) +
+                          " values, not 4");
+  }
+  for (int rotor = 0; rotor < 4; ++rotor)
+    message.rotor_thrust_n[rotor] = command.rotor_thrust_n(rotor);
+  message.armed = command.armed();
+  auto position = Vector3From(command.estimated_position_m(), "estimated_position_m");
+  if (!position) return position.error();
+  message.estimated_position_m = position.value();
+  auto external = Vector3From(command.external_force_world_n(), "external_force_world_n");
+  if (!external) return external.error();
+  message.external_force_world_n = external.value();
+  const auto& forces = command.tactile_force_sensor_n();
+  if (!forces.empty() && forces.size() != 18) {
+    return rig::MakeError("tactile_force_sensor_n has " + std::to_string(forces.size()) +
+                          " values, not 18 (or none)");
+  }
+  for (int node = 0; node < 6 && !forces.empty(); ++node) {
+    message.tactile_force_sensor_n[node] =
+        Eigen::Vector3d(forces[3 * node], forces[3 * node + 1], forces[3 * node + 2]);
+  }
+  message.tactile_ready = command.tactile_ready();
+  message.servo_angle_rad = command.servo_angle_rad();
+  message.grasp_force_estimate_n = command.grasp_force_estimate_n();
+  return message;
+}
+
+// The sensor node frame a CAN frame carries, when the UART bridge can carry it.
+std::optional<dut_fw::NodeFrame> NodeFrameOf(const rig::TimedCanFrame& timed) {
+  const rig::CanFrame& frame = timed.frame;
+  if (timed.tx_echo || frame.extended || frame.remote || frame.error || frame.fd ||
+      frame.length > 8) {
+    return std::nullopt;
+  }
+  dut_fw::NodeFrame node;
+  node.id = static_cast<std::uint16_t>(frame.id);
+  node.len = frame.length;
+  std::copy_n(frame.data.begin(), frame.length, node.data.begin());
+  return node;
+}
+
+}  // namespace
+
+rig::Result<void> ValidateSerialDutOptions(const SerialDutOptions& options) {
+  const auto check = [](double seconds, const char* what) -> rig::Result<void> {
+    if (std::isfinite(seconds) && seconds > 0 && seconds <= 3600) return {};
+    return rig::MakeError(std::string("serial dut ") + what + " " + rig::NumberText(seconds) +
+                          " s: must be positive, finite and at most an hour");
+  };
+  for (const auto& [seconds, what] : {std::pair{options.answer_timeout_s, "answer timeout"},
+                                      std::pair{options.start_timeout_s, "start timeout"},
+                                      std::pair{options.hello_interval_s, "hello interval"},
+                                      std::pair{options.config_retry_s, "configuration retry"},
+                                      std::pair{options.step_retry_s, "step retry"}}) {
+    if (auto valid = check(seconds, what); !valid) return valid;
+  }
+  return {};
+}
+
+SerialDut::SerialDut(const DutFirmware& firmware, std::unique_ptr<rig::CanBus> runner_bus,
+                     double control_period_s, SerialLineOpener open_lines,
+                     const SerialDutOptions& options)
+    : firmware_(firmware),
+      control_period_s_(control_period_s),
+      period_ns_(Nanoseconds(control_period_s)),
+      runner_bus_(std::move(runner_bus)),
+      open_lines_(std::move(open_lines)),
+      options_(options),
+      own_clock_(options.clock ? nullptr : std::make_unique<rig::SteadyClock>()),
+      clock_(options.clock ? options.clock : own_clock_.get()) {
+  frames_.reserve(64);
+}
+
+SerialDut::~SerialDut() { Stop(); }
+
+rig::Result<void> SerialDut::Start() {
+  if (link_) return rig::MakeError("the serial dut was started already");
+  if (auto valid = ValidateSerialDutOptions(options_); !valid) return valid.error();
+  auto lines = open_lines_(options_.start_timeout_s);
+  if (!lines) return lines.error();
+  lines_ = std::move(lines).value();
+  link_ = std::make_unique<LineLink>(*lines_.link);
+  if (auto shaken = Handshake(); !shaken) return Failed(shaken.error());
+  return {};
+}
+
+std::int64_t SerialDut::RetryNs(double seconds, std::size_t bytes) const {
+  return Nanoseconds(seconds + 2.0 * double(dut_fw::EncodedFrameBytes(bytes)) * lines_.byte_time_s);
+}
+
+rig::Result<void> SerialDut::Exchange(
+    const proto::LinkMessage& message, std::int64_t interval_ns, std::int64_t deadline_ns,
+    const char* waiting_for,
+    const std::function<rig::Result<bool>(const proto::LinkMessage&)>& accept) {
+  std::int64_t resend_ns = NowNs();
+  while (true) {
+    const std::int64_t now_ns = NowNs();
+    if (now_ns >= deadline_ns) {
+      if (auto exit = EmulatorExit()) return rig::MakeError("the dut's emulator " + *exit);
+      return rig::MakeError(rig::ErrorCode::kTimeout,
+                            "the dut did not answer the " + std::string(waiting_for) + " within " +
+                                Seconds(options_.start_timeout_s) + " on " + lines_.link->name());
+    }
+    if (now_ns >= resend_ns) {
+      // Each hello opens a session: lead with a delimiter to end any frame the DUT half holds.
+      if (auto sent = link_->Send(message, kLockstepWriteTimeoutMs, /*flush_first=*/true); !sent) {
+        return sent.error();
+      }
+      (message.has_hello() ? hellos_sent_ : configs_sent_) += 1;
+      resend_ns = now_ns + interval_ns + RetryNs(0, message.ByteSizeLong());
+    }
+    const LineReceived received =
+        link_->Receive(MillisecondsUntil(now_ns, std::min(resend_ns, deadline_ns)));
+    if (received.status == LineReceiveStatus::kTimeout) continue;
+    if (received.status != LineReceiveStatus::kMessage) return LineLost(received);
+    auto taken = accept(received.message);
+    if (!taken) return taken.error();
+    if (taken.value()) return {};
+    ++unexpected_messages_;
+  }
+}
+
+rig::Result<void> SerialDut::Handshake() {
+  const std::int64_t deadline_ns = NowNs() + Nanoseconds(options_.start_timeout_s);
+  proto::LinkMessage hello;
+  hello.mutable_hello()->set_role(proto::Hello::RUNNER);
+  hello.mutable_hello()->set_name("hilrig " + std::to_string(::getpid()));
+  sequencer_.Stamp(hello, 0);
+  const auto refused = [](const proto::Bye& bye, const char* what) {
+    return rig::MakeError("the dut refused the " + std::string(what) + ": " + bye.reason());
+  };
+  auto greeted =
+      Exchange(hello, Nanoseconds(options_.hello_interval_s), deadline_ns, "hello",
+               [&](const proto::LinkMessage& message) -> rig::Result<bool> {
+                 if (message.has_bye()) return refused(message.bye(), "link");
+                 if (!message.has_hello() || message.hello().role() != proto::Hello::DUT)
+                   return false;
+                 const std::uint32_t version = message.hello().header().protocol_version();
+                 if (version != kHilLinkProtocolVersion) {
+                   return LinkProtocolError(LinkErrorKind::kBadVersion,
+                                            "the dut speaks HIL link protocol version " +
+                                                std::to_string(version) + ", the runner version " +
+                                                std::to_string(kHilLinkProtocolVersion));
+                 }
+                 dut_name_ = message.hello().name();
+                 return true;
+               });
+  if (!greeted) return greeted.error();
+  proto::LinkMessage config;
+  *config.mutable_config() = ToDutConfig(firmware_, control_period_s_);
+  sequencer_.Stamp(config, 0);
+  return Exchange(config, Nanoseconds(options_.config_retry_s), deadline_ns,
+                  "firmware configuration",
+                  [&](const proto::LinkMessage& message) -> rig::Result<bool> {
+                    if (message.has_bye()) return refused(message.bye(), "firmware configuration");
+                    if (!message.has_target_info()) return false;
+                    target_info_ = message.target_info();
+                    return true;
+                  });
+}
+
+void SerialDut::Stop() {
+  if (stopped_) return;
+  stopped_ = true;
+  if (link_ && !failure_) {
+    proto::LinkMessage bye;
+    bye.mutable_bye()->set_reason("run ended");
+    sequencer_.Stamp(bye, 0);
+    (void)link_->Send(bye, kByeTimeoutMs);
+  }
+  if (lines_.emulator) lines_.emulator->Terminate(kEmulatorGraceMs);
+}
+
+std::string SerialDut::description() const {
+  if (!link_) return "a dut on a serial line (not started)";
+  std::string text = "a dut on a serial line: " + lines_.description;
+  if (target_info_) text += ", target " + target_info_->board();
+  if (!dut_name_.empty()) text += " (" + dut_name_ + ")";
+  text += lines_.bridge ? ", sensor bridge on " + lines_.bridge->name() : ", no sensor bridge";
+  return text;
+}
+
+std::vector<std::pair<std::string, double>> SerialDut::link_metrics() const {
+  if (!link_) return {};
+  const auto d = [](std::uint64_t value) { return static_cast<double>(value); };
+  std::vector<std::pair<std::string, double>> metrics = LineLinkMetrics(link_->counters(), "line_");
+  for (const auto& [name, value] : {std::pair{"line_hellos_sent", hellos_sent_},
+                                    {"line_configs_sent", configs_sent_},
+                                    {"line_steps_sent", steps_sent_},
+                                    {"line_step_retries", step_retries_},
+                                    {"line_commands_received", commands_received_},
+                                    {"line_stale_answers", stale_answers_},
+                                    {"line_unexpected_messages", unexpected_messages_},
+                                    {"line_requests_skipped", requests_skipped_},
+                                    {"line_watchdog_timeouts", watchdog_timeouts_},
+                                    {"bridge_frames_sent", bridge_frames_},
+                                    {"bridge_bytes_sent", bridge_bytes_sent_},
+                                    {"bridge_frames_dropped", bridge_frames_dropped_}}) {
+    metrics.emplace_back(name, d(value));
+  }
+  const proto::SerialDutCounters& dut = dut_counters_;
+  for (const auto& [name, value] : {std::pair{"dut_line_frames_received", dut.frames_received()},
+                                    {"dut_line_bad_checksum", dut.frames_bad_checksum()},
+                                    {"dut_line_malformed", dut.frames_malformed()},
+                                    {"dut_line_oversize", dut.frames_oversize()},
+                                    {"dut_steps_repeated", dut.steps_repeated()},
+                                    {"dut_steps_skipped", dut.steps_skipped()},
+                                    {"dut_bridge_frames", dut.bridge_frames()},
+                                    {"dut_bridge_bad_frames", dut.bridge_bad_frames()},
+                                    {"dut_bridge_bytes_missing", dut.bridge_bytes_missing()},
+                                    {"dut_uart_overruns", dut.uart_overruns()},
+                                    {"dut_rx_ring_drops", dut.rx_ring_drops()}}) {
+    metrics.emplace_back(name, d(value));
+  }
+  if (const std::optional<TargetSummary> target = this->target()) {
+    metrics.emplace_back("target_work_steps", d(target->steps_measured));
+    metrics.emplace_back("target_work_p50_cycles", d(target->work_p50_cycles));
+    metrics.emplace_back("target_work_p99_cycles", d(target->work_p99_cycles));
+    metrics.emplace_back("target_work_max_cycles", d(target->work_max_cycles));
+    metrics.emplace_back("target_core_clock_hz", d(target->core_clock_hz));
+    metrics.emplace_back("target_flash_used_bytes", d(target->flash_used_bytes));
+    metrics.emplace_back("target_ram_used_bytes", d(target->ram_used_bytes));
+    metrics.emplace_back("target_stack_bytes", d(target->stack_bytes));
+  }
+  return metrics;
+}
+
+std::optional<TargetSummary> SerialDut::target() const {
+  if (!target_info_) return std::nullopt;
+  TargetSummary target;
+  target.board = target_info_->board();
+  target.core_clock_hz = target_info_->core_clock_hz();
+  target.flash_used_bytes = target_info_->flash_used_bytes();
+  target.ram_used_bytes = target_info_->ram_used_bytes();
+  target.stack_bytes = target_info_->stack_bytes();
+  target.steps_measured = work_cycles_.size();
+  if (work_cycles_.empty()) return target;
+  std::vector<std::uint32_t> sorted = work_cycles_;
+  std::sort(sorted.begin(), sorted.end());
+  // Nearest rank: the smallest value with at least p of the samples at or below it.
+  const auto rank = [&sorted](double p) {
+    const auto index = static_cast<std::size_t>(std::ceil(p * double(sorted.size())));
+    return sorted[std::clamp<std::size_t>(index, 1, sorted.size()) - 1];
+  };
+  target.work_p50_cycles = rank(0.5);
+  target.work_p99_cycles = rank(0.99);
+  target.work_max_cycles = sorted.back();
+  return target;
+}
+
+rig::Error SerialDut::Failed(rig::Error error) {
+  if (!failure_) failure_ = std::move(error);
+  return *failure_;
+}
+
+std::optional<std::string> SerialDut::EmulatorExit() {
+  if (!lines_.emulator) return std::nullopt;
+  return lines_.emulator->PollExit();
+}
+
+rig::Error SerialDut::LineLost(const LineReceived& received) {
+  if (lines_.emulator) {
+    // The line closes as the emulator dies; its exit status follows within moments.
+    const timespec nap{0, 5'000'000};
+    for (int waited_ms = 0; waited_ms < 200; waited_ms += 5) {
+      if (auto exit = EmulatorExit()) return Failed("the dut's emulator " + *exit);
+      ::nanosleep(&nap, nullptr);
+    }
+  }
+  if (received.status == LineReceiveStatus::kClosed) {
+    return Failed(rig::MakeError(rig::ErrorCode::kLinkClosed,
+                                 "the dut's serial line closed: " + received.error));
+  }
+  return Failed(
+      rig::MakeError(rig::ErrorCode::kIo, "the dut's serial line failed: " + received.error));
+}
+
+rig::Result<void> SerialDut::CheckRunning() {
+  if (failure_) return *failure_;
+  if (!link_ || stopped_) return Failed("the serial dut is not running (not started, or stopped)");
+  return {};
+}
+
+void SerialDut::Send(const DutInput& input) {
+  counters_.Count(input);
+  pending_inputs_.push_back(input);
+}
+
+void SerialDut::AddInput(const DutInput& input, std::int64_t now_ns, proto::SerialStep& step) {
+  proto::SerialInput* out = step.add_inputs();
+  if (const auto* imu = std::get_if<ImuMessage>(&input)) {
+    proto::SerialImu* serial = out->mutable_imu();
+    const Eigen::Vector3d& g = imu->gyro_rad_s;
+    const Eigen::Vector3d& a = imu->accel_m_s2;
+    SetFloats(serial->mutable_gyro_accel(), {g.x(), g.y(), g.z(), a.x(), a.y(), a.z()});
+    if (imu->stamp.time_ns != now_ns) serial->set_time_offset_ns(imu->stamp.time_ns - now_ns);
+  } else if (const auto* vio = std::get_if<VioMessage>(&input)) {
+    proto::SerialVio* serial = out->mutable_vio();
+    if (vio->capture_time_ns != now_ns)
+      serial->set_capture_offset_ns(vio->capture_time_ns - now_ns);
+    SetVector(serial->mutable_position_m(), vio->position_m);
+    const Eigen::Quaterniond& q = vio->orientation;
+    SetFloats(serial->mutable_orientation_wxyz(), {q.w(), q.x(), q.y(), q.z()});
+  } else if (const auto* setpoint = std::get_if<SetpointMessage>(&input)) {
+    proto::SerialSetpoint full = FullSetpoint(*setpoint);
+    *out->mutable_setpoint() = ChangedFields(full, last_setpoint_);
+    last_setpoint_ = std::move(full);
+  }
+}
+
+rig::Result<std::uint32_t> SerialDut::ForwardBridgeFrames(std::int64_t now_ns, int timeout_ms) {
+  frames_.clear();
+  runner_bus_->Receive(now_ns, frames_);
+  counters_.can_frames_received += frames_.size();
+  bridge_bytes_.clear();
+  std::array<std::uint8_t, dut_fw::kUartMaxFrameBytes> encoded;
+  for (const rig::TimedCanFrame& timed : frames_) {
+    const std::optional<dut_fw::NodeFrame> node = NodeFrameOf(timed);
+    const std::size_t size = node && lines_.bridge ? dut_fw::EncodeUartFrame(*node, encoded) : 0;
+    if (size == 0) {
+      ++bridge_frames_dropped_;
+      continue;
+    }
+    bridge_bytes_.insert(bridge_bytes_.end(), encoded.begin(), encoded.begin() + size);
+    ++bridge_frames_;
+  }
+  if (bridge_bytes_.empty()) return 0;
+  if (auto written = lines_.bridge->WriteAll(bridge_bytes_, timeout_ms); !written) {
+    return rig::MakeError(written.error().code,
+                          "the sensor bridge line: " + written.error().message);
+  }
+  bridge_bytes_sent_ += bridge_bytes_.size();
+  return static_cast<std::uint32_t>(bridge_bytes_.size());
+}
+
+rig::Result<proto::LinkMessage> SerialDut::BuildStep(std::uint64_t tick, std::int64_t now_ns,
+                                                     bool realtime) {
+  proto::LinkMessage message;
+  proto::SerialStep* step = message.mutable_serial_step();
+  step->set_tick(tick);
+  const std::int64_t offset_ns = now_ns - static_cast<std::int64_t>(tick) * period_ns_;
+  if (offset_ns != 0) step->set_now_offset_ns(offset_ns);
+  for (const DutInput& input : pending_inputs_) AddInput(input, now_ns, *step);
+  pending_inputs_.clear();
+  auto bridge = ForwardBridgeFrames(now_ns, realtime ? 0 : kLockstepWriteTimeoutMs);
+  if (!bridge) return Failed(bridge.error());
+  step->set_bridge_bytes(bridge.value());
+  step->set_realtime(realtime);
+  return message;
+}
+
+rig::Result<ActuatorMessage> SerialDut::Step(std::uint64_t tick, std::int64_t now_ns) {
+  if (auto running = CheckRunning(); !running) return running.error();
+  if (last_answered_ && tick <= *last_answered_) {
+    return Failed("tick " + std::to_string(tick) + " requested after tick " +
+                  std::to_string(*last_answered_));
+  }
+  auto step = BuildStep(tick, now_ns, /*realtime=*/false);
+  if (!step) return step.error();
+  return AwaitCommand(step.value(), tick);
+}
+
+rig::Result<ActuatorMessage> SerialDut::AwaitCommand(const proto::LinkMessage& step,
+                                                     std::uint64_t tick) {
+  const std::int64_t start_ns = NowNs();
+  const std::int64_t deadline_ns = start_ns + Nanoseconds(options_.answer_timeout_s);
+  // The DUT steps once the step and its bridge bytes are in: the longer of the two lines'
+  // transfers.
+  const std::int64_t retry_ns =
+      RetryNs(options_.step_retry_s,
+              std::max<std::size_t>(step.ByteSizeLong(), step.serial_step().bridge_bytes()));
+  std::int64_t resend_ns = start_ns;
+  bool first = true;
+  while (true) {
+    const std::int64_t now_ns = NowNs();
+    if (now_ns >= deadline_ns) break;
+    if (now_ns >= resend_ns) {
+      // A repeat leads with a delimiter: whatever half frame a lost byte left at the DUT ends.
+      if (auto sent = link_->Send(step, kLockstepWriteTimeoutMs, /*flush_first=*/!first); !sent) {
+        if (auto exit = EmulatorExit()) return Failed("the dut's emulator " + *exit);
+        return Failed(
+            rig::MakeError(sent.error().code, "the dut's serial line: " + sent.error().message));
+      }
+      ++(first ? steps_sent_ : step_retries_);
+      first = false;
+      resend_ns = now_ns + retry_ns;
+    }
+    const LineReceived received =
+        link_->Receive(MillisecondsUntil(now_ns, std::min(resend_ns, deadline_ns)));
+    if (received.status == LineReceiveStatus::kTimeout) {
+      if (auto exit = EmulatorExit()) return Failed("the dut's emulator " + *exit);
+      continue;
+    }
+    auto command = CommandIn(received);
+    if (!command) return command.error();
+    if (command.value() == nullptr) continue;
+    const std::uint64_t answers = command.value()->answers_tick();
+    if (answers < tick) {
+      ++stale_answers_;
+      continue;
+    }
+    if (answers > tick) {
+      return Failed(LinkProtocolError(LinkErrorKind::kOutOfOrder,
+                                      "the dut answered tick " + std::to_string(answers) +
+                                          ", which was never requested (asked: tick " +
+                                          std::to_string(tick) + ")"));
+    }
+    return TakeCommand(*command.value(), NowNs());
+  }
+  ++watchdog_timeouts_;
+  if (auto exit = EmulatorExit()) return Failed("the dut's emulator " + *exit);
+  return Failed(rig::MakeError(rig::ErrorCode::kTimeout,
+                               "the dut did not answer tick " + std::to_string(tick) + " within " +
+                                   Seconds(options_.answer_timeout_s) + " (" +
+                                   std::to_string(step_retries_) + " step retries so far)"));
+}
+
+rig::Result<const proto::SerialCommand*> SerialDut::CommandIn(const LineReceived& received) {
+  if (received.status != LineReceiveStatus::kMessage) return LineLost(received);
+  const proto::LinkMessage& message = received.message;
+  if (message.has_bye()) return Failed("the dut ended the link: " + message.bye().reason());
+  if (message.has_serial_command()) return &message.serial_command();
+  ++unexpected_messages_;
+  return nullptr;
+}
+
+rig::Result<ActuatorMessage> SerialDut::TakeCommand(const proto::SerialCommand& command,
+                                                    std::int64_t now_ns) {
+  auto actuator = ActuatorFrom(command, now_ns);
+  if (!actuator) {
+    return Failed(LinkProtocolError(LinkErrorKind::kMalformed,
+                                    "the dut sent a bad command: " + actuator.error().message));
+  }
+  if (command.has_counters()) dut_counters_ = command.counters();
+  if (command.work_cycles() > 0) work_cycles_.push_back(command.work_cycles());
+  last_answered_ = command.answers_tick();
+  ++commands_received_;
+  return actuator;
+}
+
+void SerialDut::RequestStep(std::uint64_t tick, std::int64_t now_ns) {
+  if (!CheckRunning()) return;
+  if (outstanding_.size() >= kMaxOutstanding) {
+    (void)Failed("the dut fell " + std::to_string(outstanding_.size()) + " requests behind");
+    return;
+  }
+  auto step = BuildStep(tick, now_ns, /*realtime=*/true);
+  if (!step) return;
+  // A real-time plant never waits for the line: a DUT that stops reading fails the run instead.
+  if (auto sent = link_->Send(step.value(), 0); !sent) {
+    (void)Failed(
+        rig::MakeError(sent.error().code, "the dut's serial line: " + sent.error().message));
+    return;
+  }
+  ++steps_sent_;
+  outstanding_.push_back({tick, NowNs()});
+}
+
+rig::Result<std::optional<ActuatorMessage>> SerialDut::PollCommand() {
+  if (auto running = CheckRunning(); !running) return running.error();
+  std::optional<ActuatorMessage> newest;
+  for (int messages = 0; messages < kMaxMessagesPerPoll; ++messages) {
+    const LineReceived received = link_->Receive(0);
+    if (received.status == LineReceiveStatus::kTimeout) break;
+    auto serial_command = CommandIn(received);
+    if (!serial_command) return serial_command.error();
+    if (serial_command.value() == nullptr) continue;
+    const std::uint64_t answers = serial_command.value()->answers_tick();
+    if (last_answered_ && answers <= *last_answered_) {
+      ++stale_answers_;
+      continue;
+    }
+    // A DUT that falls behind may answer only its newest request; the ones before are skipped.
+    while (!outstanding_.empty() && outstanding_.front().tick < answers) {
+      outstanding_.pop_front();
+      ++requests_skipped_;
+    }
+    if (outstanding_.empty() || outstanding_.front().tick != answers) {
+      return Failed(LinkProtocolError(
+          LinkErrorKind::kOutOfOrder,
+          "the dut answered tick " + std::to_string(answers) + ", which was never requested"));
+    }
+    outstanding_.pop_front();
+    auto command = TakeCommand(*serial_command.value(), NowNs());
+    if (!command) return command.error();
+    newest = std::move(command).value();
+  }
+  if (auto exit = EmulatorExit()) return Failed("the dut's emulator " + *exit);
+  if (!outstanding_.empty() &&
+      NowNs() - outstanding_.front().clock_ns > Nanoseconds(options_.answer_timeout_s)) {
+    ++watchdog_timeouts_;
+    return Failed(rig::MakeError(rig::ErrorCode::kTimeout,
+                                 "the dut did not answer for " +
+                                     Seconds(options_.answer_timeout_s) + " (tick " +
+                                     std::to_string(outstanding_.front().tick) + ")"));
+  }
+  return newest;
+}
+
+}  // namespace hilrig::host

@@ -1,0 +1,131 @@
+// `hilrig run --dut serial:` end to end without a board: the runner opens the slave sides of two
+// pseudo-terminal pairs as its HIL line and sensor bridge, and a thread plays a board on the master
+// sides (the kernel's tty layer in between, as for a USB serial adapter). The thread answers the
+// handshake with a TargetInfo and each step with a fixed command and a work figure, and reads the
+// bridge; the run completes and its report carries the target section and both lines' counts.
+#include <fcntl.h>
+#include <google/protobuf/util/json_util.h>
+#include <gtest/gtest.h>
+#include <pty.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <fstream>
+#include <thread>
+
+#include "host/cli/cli.h"
+#include "host/link/fd_byte_stream.h"
+#include "host/link/line_link.h"
+#include "proto/report.pb.h"
+#include "tests/support/cli_runner.h"
+#include "tests/support/test_files.h"
+
+namespace hilrig::host {
+namespace {
+
+// The slave stays open here too: a master whose slave nobody holds reads as hung up.
+struct PtyPair {
+  int master = -1;
+  int slave = -1;
+  std::string slave_path;
+  PtyPair() {
+    std::array<char, 128> name{};
+    if (::openpty(&master, &slave, name.data(), nullptr, nullptr) != 0) return;
+    slave_path = name.data();
+    ::fcntl(master, F_SETFL, ::fcntl(master, F_GETFL) | O_NONBLOCK);
+  }
+  ~PtyPair() {
+    ::close(master);
+    ::close(slave);
+  }
+};
+
+// The board: serves until the runner says Bye or closes the line.
+struct PtyBoard {
+  std::atomic<std::uint64_t> steps{0};
+  std::atomic<std::uint64_t> bridge_bytes{0};
+  std::atomic<std::uint64_t> announced_bridge_bytes{0};
+  std::atomic<bool> bye{false};
+  std::atomic<bool> stop{false};  // the run is over, whatever it said
+
+  void Serve(int link_fd, int bridge_fd) {
+    FdByteStream line(link_fd, false, "board link", nullptr);
+    FdByteStream bridge(bridge_fd, false, "board bridge", nullptr);
+    LineLink link(line);
+    std::array<std::uint8_t, 512> chunk;
+    while (!bye && !stop) {
+      for (StreamRead read = bridge.ReadSome(chunk, 0); read.status == StreamStatus::kData;
+           read = bridge.ReadSome(chunk, 0)) {
+        bridge_bytes += read.bytes;
+      }
+      const LineReceived received = link.Receive(1000);
+      if (received.status == LineReceiveStatus::kTimeout) continue;
+      if (received.status != LineReceiveStatus::kMessage) return;
+      proto::LinkMessage answer;
+      const proto::LinkMessage& message = received.message;
+      if (message.has_hello()) {
+        answer.mutable_hello()->set_role(proto::Hello::DUT);
+        answer.mutable_hello()->mutable_header()->set_protocol_version(1);
+      } else if (message.has_config()) {
+        answer.mutable_target_info()->set_board("pty board");
+        answer.mutable_target_info()->set_core_clock_hz(168'000'000);
+      } else if (message.has_serial_step()) {
+        ++steps;
+        announced_bridge_bytes += message.serial_step().bridge_bytes();
+        proto::SerialCommand* command = answer.mutable_serial_command();
+        command->set_answers_tick(message.serial_step().tick());
+        for (int rotor = 0; rotor < 4; ++rotor) command->add_rotor_thrust_n(0);
+        for (int axis = 0; axis < 3; ++axis) command->add_estimated_position_m(0);
+        for (int axis = 0; axis < 3; ++axis) command->add_external_force_world_n(0);
+        command->set_work_cycles(16'800);
+      } else if (message.has_bye()) {
+        bye = true;
+        continue;
+      }
+      if (!link.Send(answer, 1000)) return;
+    }
+  }
+};
+
+TEST(CliSerialPtyTest, RunsAScenarioAgainstABoardOnAPseudoTerminal) {
+  const std::filesystem::path dir = FreshTestDir("cli_serial_pty");
+  const std::filesystem::path spec = dir / "pads.textproto";
+  std::ofstream(spec) << "name: \"pads\"\n"
+                         "models { tactile { enabled: true field_fidelity: \"tiles:8\" } }\n"
+                         "vehicle { initial_position_m { z: 1 } }\n"
+                         "simulation { duration_s: 0.5 }\n";
+  PtyPair link;
+  PtyPair bridge;
+  ASSERT_GE(link.master, 0);
+  ASSERT_GE(bridge.master, 0);
+  PtyBoard board;
+  std::thread serving([&] { board.Serve(link.master, bridge.master); });
+  const CliResult run =
+      Cli({"run", spec.string(), "--no-reference", "--out", (dir / "out").string(), "--dut",
+           "serial:" + link.slave_path + ",baud=115200,bridge=" + bridge.slave_path});
+  board.stop = true;
+  serving.join();
+  proto::Report report;
+  ASSERT_TRUE(
+      google::protobuf::util::JsonStringToMessage(ReadFile(dir / "out" / "report.json"), &report)
+          .ok())
+      << run.err;
+  EXPECT_EQ(report.stop_reason(), "completed") << run.err;
+  EXPECT_EQ(board.steps, 500u);  // 0.5 s of 1 kHz control
+  EXPECT_TRUE(board.bye);
+  ASSERT_TRUE(report.has_target());
+  EXPECT_EQ(report.target().board(), "pty board");
+  EXPECT_EQ(report.target().steps_measured(), 500u);
+  EXPECT_DOUBLE_EQ(report.target().work_p99_fraction(), 0.1);
+  EXPECT_GT(board.bridge_bytes.load(), 0u);  // the pads' CAN frames crossed the bridge
+  EXPECT_EQ(board.bridge_bytes.load(), board.announced_bridge_bytes.load());
+  EXPECT_NE(run.out.find("target pty board at 168 MHz"), std::string::npos) << run.out;
+  double line_frames = -1;
+  for (const proto::Metric& metric : report.metrics()) {
+    if (metric.name() == "line_commands_received") line_frames = metric.value();
+  }
+  EXPECT_EQ(line_frames, 500);
+}
+
+}  // namespace
+}  // namespace hilrig::host
