@@ -87,13 +87,18 @@ struct PtyBoard {
   }
 };
 
-TEST(CliSerialPtyTest, RunsAScenarioAgainstABoardOnAPseudoTerminal) {
-  const std::filesystem::path dir = FreshTestDir("cli_serial_pty");
+std::filesystem::path PadsScene(const std::filesystem::path& dir) {
   const std::filesystem::path spec = dir / "pads.textproto";
   std::ofstream(spec) << "name: \"pads\"\n"
                          "models { tactile { enabled: true field_fidelity: \"tiles:8\" } }\n"
                          "vehicle { initial_position_m { z: 1 } }\n"
                          "simulation { duration_s: 0.5 }\n";
+  return spec;
+}
+
+TEST(CliSerialPtyTest, RunsAScenarioAgainstABoardOnAPseudoTerminal) {
+  const std::filesystem::path dir = FreshTestDir("cli_serial_pty");
+  const std::filesystem::path spec = PadsScene(dir);
   PtyPair link;
   PtyPair bridge;
   ASSERT_GE(link.master, 0);
@@ -125,6 +130,34 @@ TEST(CliSerialPtyTest, RunsAScenarioAgainstABoardOnAPseudoTerminal) {
     if (metric.name() == "line_commands_received") line_frames = metric.value();
   }
   EXPECT_EQ(line_frames, 500);
+}
+
+// Real time: the steps go out without waiting, and the commands are polled as they come.
+TEST(CliSerialPtyTest, RunsInRealTimeOverThePseudoTerminal) {
+  const std::filesystem::path dir = FreshTestDir("cli_serial_pty_rt");
+  const std::filesystem::path spec = PadsScene(dir);
+  PtyPair link;
+  PtyPair bridge;
+  ASSERT_GE(link.master, 0);
+  ASSERT_GE(bridge.master, 0);
+  PtyBoard board;
+  std::thread serving([&] { board.Serve(link.master, bridge.master); });
+  const CliResult run = Cli({"run", spec.string(), "--realtime", "--rt-priority", "0", "--out",
+                             (dir / "out").string(), "--dut",
+                             "serial:" + link.slave_path + ",bridge=" + bridge.slave_path});
+  board.stop = true;
+  serving.join();
+  proto::Report report;
+  ASSERT_TRUE(
+      google::protobuf::util::JsonStringToMessage(ReadFile(dir / "out" / "report.json"), &report)
+          .ok())
+      << run.err;
+  EXPECT_EQ(report.stop_reason(), "completed") << run.err;
+  EXPECT_EQ(report.timing().mode(), "realtime");
+  EXPECT_EQ(board.steps, 500u);
+  ASSERT_TRUE(report.has_target());
+  EXPECT_GT(report.target().steps_measured(), 400u);  // a late command may be superseded
+  EXPECT_EQ(board.bridge_bytes.load(), board.announced_bridge_bytes.load());
 }
 
 }  // namespace
