@@ -173,16 +173,30 @@ std::string FormatTimingCheckLine(const proto::TimingCheckResult& result, const 
 
 std::string FormatTargetLine(const proto::Target& target) {
   char buffer[320];
-  std::snprintf(buffer, sizeof(buffer),
-                "target %s at %.0f MHz: work per control step p50 %u, p99 %u, max %u cycles "
-                "(%.3g %%, %.3g %%, %.3g %% of %.0f us) over %llu steps; flash %u B, RAM %u B",
-                target.board().c_str(), target.core_clock_hz() / 1e6, target.work_p50_cycles(),
-                target.work_p99_cycles(), target.work_max_cycles(),
-                100 * target.work_p50_fraction(), 100 * target.work_p99_fraction(),
-                100 * target.work_max_fraction(), target.control_period_s() * 1e6,
-                static_cast<unsigned long long>(target.steps_measured()), target.flash_used_bytes(),
-                target.ram_used_bytes());
-  return buffer;
+  std::string line = "target " + target.board();
+  if (target.core_clock_hz() > 0) {
+    std::snprintf(buffer, sizeof(buffer), " at %.0f MHz", target.core_clock_hz() / 1e6);
+    line += buffer;
+  }
+  if (target.steps_measured() == 0) {
+    line += ": work per control step not measured";
+  } else {
+    std::snprintf(buffer, sizeof(buffer), ": work per control step p50 %u, p99 %u, max %u cycles",
+                  target.work_p50_cycles(), target.work_p99_cycles(), target.work_max_cycles());
+    line += buffer;
+    if (target.core_clock_hz() > 0) {
+      std::snprintf(buffer, sizeof(buffer), " (%.3g %%, %.3g %%, %.3g %% of %.0f us)",
+                    100 * target.work_p50_fraction(), 100 * target.work_p99_fraction(),
+                    100 * target.work_max_fraction(), target.control_period_s() * 1e6);
+      line += buffer;
+    }
+    line += " over " + std::to_string(target.steps_measured()) + " steps";
+  }
+  if (target.flash_used_bytes() > 0 || target.ram_used_bytes() > 0) {
+    line += "; flash " + std::to_string(target.flash_used_bytes()) + " B, RAM " +
+            std::to_string(target.ram_used_bytes()) + " B";
+  }
+  return line;
 }
 
 std::vector<std::string> FormatRealtimeTiming(const proto::Timing& timing) {

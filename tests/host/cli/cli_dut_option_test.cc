@@ -16,7 +16,8 @@ const std::string kScenario = HILRIG_SOURCE_DIR "/scenarios/hover.textproto";
 TEST(CliDutOptionTest, UnknownDutModeExitsTwoNamingIt) {
   const CliResult run = Cli({"run", kScenario, "--dut", "remote"});
   EXPECT_EQ(run.exit_code, kExitBadInput);
-  EXPECT_NE(run.err.find("--dut \"remote\": expected inproc, process, qemu or serial:"), std::string::npos)
+  EXPECT_NE(run.err.find("--dut \"remote\": expected inproc, process, qemu or serial:"),
+            std::string::npos)
       << run.err;
 }
 

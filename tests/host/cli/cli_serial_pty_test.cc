@@ -87,44 +87,90 @@ struct PtyBoard {
   }
 };
 
-TEST(CliSerialPtyTest, RunsAScenarioAgainstABoardOnAPseudoTerminal) {
-  const std::filesystem::path dir = FreshTestDir("cli_serial_pty");
+std::filesystem::path PadsScene(const std::filesystem::path& dir) {
   const std::filesystem::path spec = dir / "pads.textproto";
   std::ofstream(spec) << "name: \"pads\"\n"
                          "models { tactile { enabled: true field_fidelity: \"tiles:8\" } }\n"
                          "vehicle { initial_position_m { z: 1 } }\n"
                          "simulation { duration_s: 0.5 }\n";
+  return spec;
+}
+
+// What a run against the board showed on both ends.
+struct BoardRun {
+  CliResult cli;
+  proto::Report report;
+  std::uint64_t steps = 0;
+  std::uint64_t bridge_bytes = 0;
+  std::uint64_t announced_bridge_bytes = 0;
+  bool bye = false;
+};
+
+// Runs the pads scene with `options` against a board on two pseudo-terminal pairs; `line` is
+// appended to the link device in the serial: spec (",baud=N").
+BoardRun RunAgainstABoard(const std::string& name, std::vector<std::string> options,
+                          const std::string& line) {
+  const std::filesystem::path dir = FreshTestDir(name);
   PtyPair link;
   PtyPair bridge;
-  ASSERT_GE(link.master, 0);
-  ASSERT_GE(bridge.master, 0);
+  EXPECT_GE(link.master, 0);
+  EXPECT_GE(bridge.master, 0);
   PtyBoard board;
   std::thread serving([&] { board.Serve(link.master, bridge.master); });
-  const CliResult run =
-      Cli({"run", spec.string(), "--no-reference", "--out", (dir / "out").string(), "--dut",
-           "serial:" + link.slave_path + ",baud=115200,bridge=" + bridge.slave_path});
+  std::vector<std::string> args = {
+      "run",   PadsScene(dir).string(),
+      "--out", (dir / "out").string(),
+      "--dut", "serial:" + link.slave_path + line + ",bridge=" + bridge.slave_path};
+  args.insert(args.end(), options.begin(), options.end());
+  BoardRun run;
+  run.cli = Cli(args);
   board.stop = true;
   serving.join();
-  proto::Report report;
-  ASSERT_TRUE(
-      google::protobuf::util::JsonStringToMessage(ReadFile(dir / "out" / "report.json"), &report)
-          .ok())
-      << run.err;
-  EXPECT_EQ(report.stop_reason(), "completed") << run.err;
-  EXPECT_EQ(board.steps, 500u);  // 0.5 s of 1 kHz control
-  EXPECT_TRUE(board.bye);
+  EXPECT_TRUE(google::protobuf::util::JsonStringToMessage(ReadFile(dir / "out" / "report.json"),
+                                                          &run.report)
+                  .ok())
+      << run.cli.err;
+  run.steps = board.steps;
+  run.bridge_bytes = board.bridge_bytes;
+  run.announced_bridge_bytes = board.announced_bridge_bytes;
+  run.bye = board.bye;
+  return run;
+}
+
+double Metric(const proto::Report& report, const std::string& name) {
+  for (const proto::Metric& metric : report.metrics()) {
+    if (metric.name() == name) return metric.value();
+  }
+  return -1;
+}
+
+TEST(CliSerialPtyTest, RunsAScenarioAgainstABoardOnAPseudoTerminal) {
+  const BoardRun run = RunAgainstABoard("cli_serial_pty", {"--no-reference"}, ",baud=115200");
+  const proto::Report& report = run.report;
+  EXPECT_EQ(report.stop_reason(), "completed") << run.cli.err;
+  EXPECT_EQ(run.steps, 500u);  // 0.5 s of 1 kHz control
+  EXPECT_TRUE(run.bye);
   ASSERT_TRUE(report.has_target());
   EXPECT_EQ(report.target().board(), "pty board");
   EXPECT_EQ(report.target().steps_measured(), 500u);
   EXPECT_DOUBLE_EQ(report.target().work_p99_fraction(), 0.1);
-  EXPECT_GT(board.bridge_bytes.load(), 0u);  // the pads' CAN frames crossed the bridge
-  EXPECT_EQ(board.bridge_bytes.load(), board.announced_bridge_bytes.load());
-  EXPECT_NE(run.out.find("target pty board at 168 MHz"), std::string::npos) << run.out;
-  double line_frames = -1;
-  for (const proto::Metric& metric : report.metrics()) {
-    if (metric.name() == "line_commands_received") line_frames = metric.value();
-  }
-  EXPECT_EQ(line_frames, 500);
+  EXPECT_GT(run.bridge_bytes, 0u);  // the pads' CAN frames crossed the bridge
+  EXPECT_EQ(run.bridge_bytes, run.announced_bridge_bytes);
+  EXPECT_NE(run.cli.out.find("target pty board at 168 MHz"), std::string::npos) << run.cli.out;
+  EXPECT_EQ(Metric(report, "line_commands_received"), 500);
+}
+
+// Real time: the steps go out without waiting, and the commands are polled as they come.
+TEST(CliSerialPtyTest, RunsInRealTimeOverThePseudoTerminal) {
+  const BoardRun run =
+      RunAgainstABoard("cli_serial_pty_rt", {"--realtime", "--rt-priority", "0"}, "");
+  const proto::Report& report = run.report;
+  EXPECT_EQ(report.stop_reason(), "completed") << run.cli.err;
+  EXPECT_EQ(report.timing().mode(), "realtime");
+  EXPECT_EQ(run.steps, 500u);
+  ASSERT_TRUE(report.has_target());
+  EXPECT_GT(report.target().steps_measured(), 400u);  // a late command may be superseded
+  EXPECT_EQ(run.bridge_bytes, run.announced_bridge_bytes);
 }
 
 }  // namespace

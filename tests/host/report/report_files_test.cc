@@ -106,6 +106,10 @@ TEST(ReportFilesTest, TargetChecksAreCasesAndTheTargetHasALine) {
             "target stm32f405 at 168 MHz: work per control step p50 1302, p99 1410, max 2210 "
             "cycles (0.775 %, 0.839 %, 1.32 % of 1000 us) over 3000 steps; flash 41234 B, RAM "
             "6120 B");
+  // A target that measures nothing and knows neither its clock nor its memory says so.
+  proto::Target host;
+  host.set_board("host");
+  EXPECT_EQ(FormatTargetLine(host), "target host: work per control step not measured");
 }
 
 TEST(ReportFilesTest, WritingIntoAMissingFolderIsAnError) {
