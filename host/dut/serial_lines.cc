@@ -152,7 +152,7 @@ SerialLineOpener QemuLines(const QemuTarget& target) {
       if (!bridge_port) return bridge_port.error();
     }
     const auto chardev = [](std::uint16_t port) {
-      return "tcp:127.0.0.1:" + std::to_string(port) + ",server=on,wait=on";
+      return "tcp:127.0.0.1:" + std::to_string(port) + ",server=on,wait=off,nodelay=on";
     };
     auto qemu =
         ChildProcess::Spawn({qemu_path, "-M", "netduinoplus2", "-display", "none", "-monitor",

@@ -100,7 +100,8 @@ TEST(QemuLinesTest, NamesAnEmulatorThatExitsBeforeOpeningItsPorts) {
                       "/images/fw.elf -serial tcp:127.0.0.1:"),
             std::string::npos)
       << argv;
-  EXPECT_NE(argv.find(",server=on,wait=on -serial tcp:127.0.0.1:"), std::string::npos) << argv;
+  EXPECT_NE(argv.find(",server=on,wait=off,nodelay=on -serial tcp:127.0.0.1:"), std::string::npos)
+      << argv;
 }
 
 TEST(QemuLinesTest, NamesAMissingEmulator) {
