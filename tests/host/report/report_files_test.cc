@@ -127,6 +127,14 @@ TEST(ReportFilesTest, TimingLineCarriesTheRealTimeFactor) {
   EXPECT_THAT(FormatTimingLine(TwoEnvelopeReport()), HasSubstr("real-time factor 1234x"));
 }
 
+TEST(ReportFilesTest, TimingLineGivesASlowRunsFactorInTwoDigits) {
+  proto::Report report = TwoEnvelopeReport();
+  report.set_real_time_factor(0.2712);
+  EXPECT_THAT(FormatTimingLine(report), HasSubstr("real-time factor 0.27x"));
+  report.set_real_time_factor(3.46);
+  EXPECT_THAT(FormatTimingLine(report), HasSubstr("real-time factor 3.5x"));
+}
+
 TEST(ReportFilesTest, FidelityErrorLineNamesTheReferenceAndGivesGraspFiguresOnlyInGraspScenes) {
   proto::FidelityError error;
   error.set_reference_fidelity("DP(1e-10) x8 tiles:64");
