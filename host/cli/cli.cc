@@ -17,6 +17,7 @@
 #include "host/cli/cli_args.h"
 #include "host/cli/tactile_commands.h"
 #include "host/dut/firmware_config.h"
+#include "host/dut/in_process_dut.h"
 #include "host/dut/process_dut.h"
 #include "host/dut/serial_lines.h"
 #include "host/pipeline/run_pipeline.h"
@@ -39,6 +40,7 @@ constexpr const char* kUsage =
     "  hilrig run DIR/ [--out DIR] [--seed N]             run every *.textproto in DIR\n"
     "      run options: --dut inproc|process (the DUT in this process, the default, or in\n"
     "      its own dut_emu process over the HIL link, lockstep) [--dut-timeout-s S]\n"
+    "      --dut inproc-float (in this process, in single precision as on the target)\n"
     "      (how long a dut process may take to answer a tick; default 1) [--realtime]\n"
     "      (pace the run by the wall clock, the DUT answering asynchronously; reports loop\n"
     "      period, late ticks and DUT latency and grades the spec's timing envelopes)\n"
@@ -123,19 +125,29 @@ rig::Result<double> ParseDutTimeout(const std::string* timeout, double fallback)
   return seconds;
 }
 
-// --dut inproc|process|qemu|serial:..., --dut-timeout-s, --target-image and --can; an unset
-// factory is the in-process DUT. In real time the process DUT reads a wall clock of its own for
-// its watchdog and latencies (differences only, so its epoch does not matter); the factory keeps
-// it alive for every DUT it starts.
+// --dut inproc|inproc-float|process|qemu|serial:..., --dut-timeout-s, --target-image and --can; an
+// unset factory is the in-process DUT. In real time the process DUT reads a wall clock of its own
+// for its watchdog and latencies (differences only, so its epoch does not matter); the factory
+// keeps it alive for every DUT it starts. The firmware in this process in single precision, as the
+// target computes it: the reference a target's trace is held against.
+DutFactory SinglePrecisionDutFactory() {
+  return [](const ScenarioConfig& config, std::unique_ptr<rig::CanBus> bus,
+            double control_period_s) -> rig::Result<std::unique_ptr<DutPort>> {
+    return std::unique_ptr<DutPort>(std::make_unique<SinglePrecisionInProcessDut>(
+        FirmwareFor<float>(config), std::move(bus), control_period_s));
+  };
+}
+
 rig::Result<DutFactory> ParseDutOptions(const CliArgs& cli, bool realtime) {
   const std::string* mode = cli.Option("--dut");
   const std::string* timeout = cli.Option("--dut-timeout-s");
   const std::string* can = cli.Option("--can");
   const bool serial = mode != nullptr && (*mode == "qemu" || mode->rfind("serial:", 0) == 0);
-  if (mode != nullptr && *mode != "inproc" && *mode != "process" && !serial) {
-    return rig::MakeError(
-        "--dut \"" + *mode +
-        "\": expected inproc, process, qemu or serial:DEVICE[,baud=N][,bridge=DEVICE]");
+  const bool single_precision = mode != nullptr && *mode == "inproc-float";
+  if (mode != nullptr && *mode != "inproc" && *mode != "process" && !single_precision && !serial) {
+    return rig::MakeError("--dut \"" + *mode +
+                          "\": expected inproc, inproc-float, process, qemu or "
+                          "serial:DEVICE[,baud=N][,bridge=DEVICE]");
   }
   const bool process = mode != nullptr && *mode == "process";
   if (cli.Option("--target-image") != nullptr && !(serial && *mode == "qemu")) {
@@ -156,6 +168,7 @@ rig::Result<DutFactory> ParseDutOptions(const CliArgs& cli, bool realtime) {
     }
     return SerialDutFactory(cli, *mode, options);
   }
+  if (single_precision) return SinglePrecisionDutFactory();
   if (!process) return DutFactory();
   ProcessDutOptions options;
   if (can != nullptr) {

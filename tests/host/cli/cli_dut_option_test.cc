@@ -1,12 +1,14 @@
-// `hilrig run --dut inproc|process [--dut-timeout-s S] [--can URI]`: the options' parsing and their
-// errors. The full process run is covered by tests/host/dut/process_dut_acceptance_test.cc, a bus
-// named by --can by tests/host/dut/process_dut_can_test.cc.
+// `hilrig run --dut inproc|inproc-float|process [--dut-timeout-s S] [--can URI]`: the options'
+// parsing and their errors. The full process run is covered by
+// tests/host/dut/process_dut_acceptance_test.cc, a bus named by --can by
+// tests/host/dut/process_dut_can_test.cc.
 #include <gtest/gtest.h>
 
 #include <sstream>
 
 #include "host/cli/cli.h"
 #include "tests/support/cli_runner.h"
+#include "tests/support/test_files.h"
 
 namespace hilrig::host {
 namespace {
@@ -16,8 +18,9 @@ const std::string kScenario = HILRIG_SOURCE_DIR "/scenarios/hover.textproto";
 TEST(CliDutOptionTest, UnknownDutModeExitsTwoNamingIt) {
   const CliResult run = Cli({"run", kScenario, "--dut", "remote"});
   EXPECT_EQ(run.exit_code, kExitBadInput);
-  EXPECT_NE(run.err.find("--dut \"remote\": expected inproc, process, qemu or serial:"),
-            std::string::npos)
+  EXPECT_NE(
+      run.err.find("--dut \"remote\": expected inproc, inproc-float, process, qemu or serial:"),
+      std::string::npos)
       << run.err;
 }
 
@@ -36,7 +39,7 @@ TEST(CliDutOptionTest, BadTimeoutsExitTwo) {
 }
 
 TEST(CliDutOptionTest, CanWithoutProcessModeExitsTwo) {
-  for (const char* mode : {"", "inproc"}) {
+  for (const char* mode : {"", "inproc", "inproc-float"}) {
     std::vector<std::string> args = {"run", kScenario, "--can", "socketcan:vcan0"};
     if (*mode != '\0') args.insert(args.end(), {"--dut", mode});
     const CliResult run = Cli(args);
@@ -72,6 +75,20 @@ TEST(CliDutOptionTest, AnInterfaceThatCannotOpenStopsTheRunNamingIt) {
   EXPECT_NE(run.out.find("dut failed to start: CAN bus \"socketcan:hilrignone0\": "),
             std::string::npos)
       << run.out;
+}
+
+// The single-precision firmware is the one a target runs: the same scene flies, but its trace is
+// not the double one's byte for byte.
+TEST(CliDutOptionTest, InprocFloatRunsTheFirmwareInSinglePrecision) {
+  const std::string out = ::testing::TempDir() + "/cli_inproc_float";
+  const CliResult single =
+      Cli({"run", kScenario, "--dut", "inproc-float", "--no-reference", "--out", out + "/float"});
+  ASSERT_EQ(single.exit_code, kExitPass) << single.out << single.err;
+  const CliResult twice = Cli({"run", kScenario, "--no-reference", "--out", out + "/double"});
+  ASSERT_EQ(twice.exit_code, kExitPass) << twice.out << twice.err;
+  EXPECT_NE(ReadFile(out + "/float/report.json").find("in-process dut_fw (float)"),
+            std::string::npos);
+  EXPECT_NE(ReadFile(out + "/float/trace.csv"), ReadFile(out + "/double/trace.csv"));
 }
 
 }  // namespace
