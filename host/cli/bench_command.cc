@@ -49,21 +49,6 @@ std::string SceneFile(const std::string& scene, const fs::path& scenarios_dir) {
   return (scenarios_dir / (scene + ".textproto")).string();
 }
 
-rig::Result<double> ParseDuration(const std::string& text) {
-  std::size_t used = 0;
-  double value = 0;
-  try {
-    value = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || text.empty() || !std::isfinite(value) || !(value > 0)) {
-    return rig::MakeError("--duration-s must be a positive number of seconds, got \"" + text +
-                          "\"");
-  }
-  return value;
-}
-
 rig::Result<BenchOptions> ParseBenchOptions(std::vector<std::string> args) {
   BenchOptions options;
   const auto quick = std::remove(args.begin() + 1, args.end(), std::string("--quick"));
@@ -92,7 +77,7 @@ rig::Result<BenchOptions> ParseBenchOptions(std::vector<std::string> args) {
   }
   if (options.scene_files.empty()) return rig::MakeError("--scenes names no scene");
   if (const std::string* duration = cli.Option("--duration-s")) {
-    auto value = ParseDuration(*duration);
+    auto value = ParseDurationOption(*duration);
     if (!value) return value.error();
     options.duration_s = value.value();
   }

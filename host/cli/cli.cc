@@ -38,6 +38,8 @@ constexpr const char* kUsage =
     "usage:\n"
     "  hilrig run FILE.textproto [--out DIR] [--seed N]   run one scenario\n"
     "  hilrig run DIR/ [--out DIR] [--seed N]             run every *.textproto in DIR\n"
+    "      [--duration-s S] (only the first S seconds: later timeline entries and envelopes\n"
+    "      that open later are left out)\n"
     "      run options: --dut inproc|process (the DUT in this process, the default, or in\n"
     "      its own dut_emu process over the HIL link, lockstep) [--dut-timeout-s S]\n"
     "      --dut inproc-float (in this process, in single precision as on the target)\n"
@@ -79,7 +81,8 @@ struct RunOptions {
   std::string target;
   std::optional<std::string> out_dir;
   std::optional<std::uint64_t> seed;
-  bool reference = true;  // --no-reference: do not compare with the reference run
+  std::optional<double> duration_s;  // --duration-s: only the scene's first seconds
+  bool reference = true;             // --no-reference: do not compare with the reference run
   std::optional<std::string> reference_cache_dir;      // --reference-cache
   DutFactory dut_factory;                              // --dut process; unset: in process
   bool realtime = false;                               // --realtime: paced by the wall clock
@@ -217,8 +220,9 @@ rig::Result<RunOptions> ParseRunOptions(std::vector<std::string> args) {
   if (with_reference && without_reference) {
     return rig::MakeError("--reference and --no-reference contradict each other");
   }
-  auto parsed = ParseCliArgs(args, {"--out", "--seed", "--dut", "--dut-timeout-s", "--can",
-                                    "--reference-cache", "--rt-priority", "--target-image"});
+  auto parsed =
+      ParseCliArgs(args, {"--out", "--seed", "--dut", "--dut-timeout-s", "--can",
+                          "--reference-cache", "--rt-priority", "--target-image", "--duration-s"});
   if (!parsed) return parsed.error();
   const CliArgs& cli = parsed.value();
   if (cli.positional.size() != 1) {
@@ -236,6 +240,11 @@ rig::Result<RunOptions> ParseRunOptions(std::vector<std::string> args) {
     auto seed = ParseSeed(*seed_text);
     if (!seed) return seed.error();
     options.seed = seed.value();
+  }
+  if (const std::string* duration = cli.Option("--duration-s")) {
+    auto value = ParseDurationOption(*duration);
+    if (!value) return value.error();
+    options.duration_s = value.value();
   }
   if (const std::string* priority = cli.Option("--rt-priority")) {
     if (!realtime) return rig::MakeError("--rt-priority applies to --realtime runs only");
@@ -265,6 +274,7 @@ ScenarioOutcome RunOneFile(const std::string& path, const fs::path& out_dir,
   request.spec_path = path;
   request.out_dir = out_dir.string();
   request.seed = options.seed;
+  request.duration_s = options.duration_s;
   request.dut_factory = options.dut_factory;
   request.realtime_priority = options.realtime_priority;
   request.field_maps = options.field_maps;

@@ -1,6 +1,8 @@
 #include "host/cli/cli_args.h"
 
 #include <charconv>
+#include <cmath>
+#include <exception>
 
 namespace hilrig::host {
 
@@ -20,6 +22,21 @@ rig::Result<int> ParseWholeNumberOption(const std::string& option, const std::st
   if (error != std::errc() || end != text.data() + text.size() || value < min || value > max) {
     return rig::MakeError(option + " must be a whole number from " + std::to_string(min) + " to " +
                           std::to_string(max) + ", got \"" + text + "\"");
+  }
+  return value;
+}
+
+rig::Result<double> ParseDurationOption(const std::string& text) {
+  std::size_t used = 0;
+  double value = 0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || text.empty() || !std::isfinite(value) || !(value > 0)) {
+    return rig::MakeError("--duration-s must be a positive number of seconds, got \"" + text +
+                          "\"");
   }
   return value;
 }

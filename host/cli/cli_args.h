@@ -28,4 +28,7 @@ rig::Result<std::uint64_t> ParseSeed(const std::string& text);
 rig::Result<int> ParseWholeNumberOption(const std::string& option, const std::string& text, int min,
                                         int max);
 
+// --duration-s: a positive, finite number of seconds, the whole text and nothing else.
+rig::Result<double> ParseDurationOption(const std::string& text);
+
 }  // namespace hilrig::host

@@ -66,6 +66,9 @@ rig::Result<ResolvedSpec> LoadAndResolve(const RunRequest& request,
     if (!loaded) return loaded.error();
     resolved.spec = std::move(loaded).value();
   }
+  if (request.duration_s && *request.duration_s < resolved.spec.simulation().duration_s()) {
+    resolved.spec = TruncatedTo(std::move(resolved.spec), *request.duration_s);
+  }
   auto config = ResolveChecked(resolved.spec, spec_directory, request.seed);
   if (!config) return config.error();
   resolved.config = std::move(config).value();

@@ -35,8 +35,11 @@ struct RunRequest {
   // The folder the run's files go to; unset: nothing is written, only the report is returned.
   std::optional<std::string> out_dir;
   std::optional<std::uint64_t> seed;  // unset: the spec's own
-  DutFactory dut_factory;             // unset: the DUT in this process
-  int realtime_priority = 0;          // SCHED_FIFO priority of a real-time run; 0: default
+  // Set: only the scene's first duration_s seconds run (TruncatedTo: later timeline entries and
+  // envelopes that open later are left out); unset, or longer than the scene: all of it.
+  std::optional<double> duration_s;
+  DutFactory dut_factory;     // unset: the DUT in this process
+  int realtime_priority = 0;  // SCHED_FIFO priority of a real-time run; 0: default
   const FieldMapTableStore* field_maps = nullptr;      // tabulated maps kept between runs
   const FileCalibrationStore* calibrations = nullptr;  // calibrations kept between runs
   const ReferenceSource* reference = nullptr;          // unset: no comparison with a reference

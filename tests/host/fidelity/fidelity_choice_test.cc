@@ -41,5 +41,19 @@ TEST(FidelityTest, TruncatedToDropsTimelineEntriesAfterTheEnd) {
   EXPECT_EQ(cut.timeline(1).at_s(), 7);
 }
 
+// An envelope that opens after the cut could never be evaluated; one that opens before it stays.
+TEST(FidelityTest, TruncatedToDropsEnvelopesThatOpenAfterTheEnd) {
+  auto spec = LoadScenario(std::string(HILRIG_SOURCE_DIR) + "/scenarios/load_ramp.textproto");
+  ASSERT_TRUE(spec.ok());
+
+  const proto::Scenario cut = TruncatedTo(spec.value(), 18);
+
+  for (const auto& envelope : cut.envelopes()) {
+    EXPECT_NE(envelope.name(), "final_load");
+    EXPECT_NE(envelope.name(), "load_estimate_after_pour");
+  }
+  EXPECT_EQ(cut.envelopes_size(), spec.value().envelopes_size() - 2);
+}
+
 }  // namespace
 }  // namespace hilrig::host
