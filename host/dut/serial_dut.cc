@@ -17,7 +17,9 @@ constexpr int kLockstepWriteTimeoutMs = 1000;
 constexpr int kMaxMessagesPerPoll = 4096;  // bounds one poll's work on a DUT that floods the line
 constexpr std::size_t kMaxOutstanding = std::size_t{1} << 14;
 constexpr int kByeTimeoutMs = 100;
-constexpr int kEmulatorGraceMs = 500;
+// An emulator has nothing to save, and QEMU answers SIGTERM with a line on its stderr: it is
+// killed at once.
+constexpr int kEmulatorGraceMs = 0;
 
 std::int64_t Nanoseconds(double seconds) { return std::llround(seconds * 1e9); }
 

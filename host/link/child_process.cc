@@ -96,7 +96,7 @@ std::optional<std::string> ChildProcess::PollExit() {
 std::string ChildProcess::Terminate(int grace_ms) {
   if (pid_ <= 0) return "not started";
   if (PollExit()) return *exit_;
-  ::kill(pid_, SIGTERM);
+  if (grace_ms > 0) ::kill(pid_, SIGTERM);
   // Short naps on a child that is going away; bounded by grace_ms.
   const timespec nap{0, 5'000'000};
   for (int waited_ms = 0; waited_ms < grace_ms; waited_ms += 5) {

@@ -32,7 +32,8 @@ class ChildProcess {
   // Without blocking: nullopt while it runs, else how it ended ("exited with status 3",
   // "killed by signal 9"). Reaps it.
   std::optional<std::string> PollExit();
-  // SIGTERM, up to grace_ms for it to exit, then SIGKILL; reaps. Returns how it ended.
+  // SIGTERM, up to grace_ms for it to exit, then SIGKILL; reaps. Returns how it ended. grace_ms 0:
+  // SIGKILL at once, for a child with nothing to save.
   std::string Terminate(int grace_ms = 500);
 
  private:
