@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# Runs a shipped scene with the firmware image in the loop on QEMU (`hilrig run --dut qemu`) and
+# holds it to what the scene asks of any DUT: exit 0 (every envelope, the target's work envelope
+# included, passed), a report with the target section, and a trace within a stated tolerance of
+# the same firmware in single precision on the host (`--dut inproc-float`). Byte identity is not
+# expected: newlib's libm and the target compiler's contractions round differently from glibc's.
+# QEMU's USART keeps such a run below real time (about 0.2x), so DURATION_S (when given) runs only
+# the scene's first seconds (`--duration-s`); HILRIG_TARGET_FULL_SCENES=1 runs the whole scene.
+# Builds the image in a fresh tree first. Skips (77) without qemu-system-arm or the cross compiler.
+# Usage: qemu_scene_test.sh SOURCE_DIR BIN_DIR SCENE [DURATION_S]
+set -euo pipefail
+
+source_dir=$1
+bin_dir=$2
+scene=$3
+cut=()
+if [[ -n ${4:-} && ${HILRIG_TARGET_FULL_SCENES:-0} != 1 ]]; then cut=(--duration-s "$4"); fi
+command -v qemu-system-arm >/dev/null || { echo "SKIP: qemu-system-arm not installed"; exit 77; }
+command -v arm-none-eabi-g++ >/dev/null || { echo "SKIP: arm-none-eabi-g++ not installed"; exit 77; }
+
+work_dir=$(mktemp -d)
+trap 'rm -rf "$work_dir"' EXIT
+if ! HILRIG_TARGET_BUILD_DIR=$work_dir/build "$source_dir/scripts/build-target" -j1 \
+  >"$work_dir/build.log" 2>&1; then
+  echo "FAIL: the firmware image does not build"
+  tail -20 "$work_dir/build.log"
+  exit 1
+fi
+spec=$source_dir/scenarios/$scene.textproto
+
+status=0
+"$bin_dir/hilrig" run "$spec" --dut qemu --target-image "$work_dir/build/dut_fw_stm32f405.elf" \
+  --no-reference "${cut[@]}" --out "$work_dir/qemu" >"$work_dir/qemu.out" 2>&1 || status=$?
+grep -E '^(PASS|FAIL|----)|^target |^real-time factor' "$work_dir/qemu.out" || true
+if [[ $status != 0 ]]; then
+  echo "FAIL: $scene with --dut qemu exited $status"
+  tail -20 "$work_dir/qemu.out"
+  exit 1
+fi
+for field in work_p50_cycles work_p99_cycles work_max_cycles flash_used_bytes ram_used_bytes; do
+  grep -q "\"$field\"" "$work_dir/qemu/report.json" ||
+    { echo "FAIL: report.json has no target $field"; exit 1; }
+done
+
+"$bin_dir/hilrig" run "$spec" --dut inproc-float --no-reference "${cut[@]}" --out "$work_dir/float" \
+  >"$work_dir/float.out" 2>&1 || { echo "FAIL: $scene with --dut inproc-float"; exit 1; }
+
+# The largest |qemu - float| of each column with a tolerance, and where it is.
+awk -F, -v tolerances="x_m=1e-4 y_m=1e-4 z_m=1e-4 position_error_m=1e-4 thrust0_n=5e-3 \
+thrust1_n=5e-3 thrust2_n=5e-3 thrust3_n=5e-3 grasp_force_n=5e-3 grasp_force_estimate_n=2e-2 \
+servo_command_rad=1e-4 load_n=5e-3" '
+  BEGIN { n = split(tolerances, pairs, " ")
+          for (i = 1; i <= n; ++i) { split(pairs[i], kv, "="); limit[kv[1]] = kv[2] } }
+  FNR == 1 { for (i = 1; i <= NF; ++i) name[i] = $i; columns = NF; next }
+  NR == FNR { for (i = 1; i <= NF; ++i) float_value[FNR, i] = $i; rows = FNR; next }
+  { if (FNR > rows) { extra = 1; next }
+    for (i = 2; i <= NF; ++i) if (name[i] in limit) {
+      d = $i - float_value[FNR, i]; if (d < 0) d = -d
+      if (d > worst[i] || !(i in worst)) { worst[i] = d; at[i] = $1 } } }
+  END { if (FNR != rows || extra) { print "FAIL: the traces have different lengths"; exit 1 }
+        bad = 0
+        for (i = 2; i <= columns; ++i) if (name[i] in limit) {
+          verdict = worst[i] <= limit[name[i]] ? "ok  " : "FAIL"; if (verdict == "FAIL") bad = 1
+          printf "%s %-24s max |qemu - float| %.3g at %s s (tolerance %s)\n",
+                 verdict, name[i], worst[i], at[i], limit[name[i]] }
+        exit bad }' "$work_dir/float/trace.csv" "$work_dir/qemu/trace.csv"
+echo "qemu scene: $scene passed with the firmware on QEMU, within tolerance of --dut inproc-float"
