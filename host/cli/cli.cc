@@ -43,7 +43,8 @@ constexpr const char* kUsage =
     "      run options: --dut inproc|process (the DUT in this process, the default, or in\n"
     "      its own dut_emu process over the HIL link, lockstep) [--dut-timeout-s S]\n"
     "      --dut inproc-float (in this process, in single precision as on the target)\n"
-    "      (how long a dut process may take to answer a tick; default 1) [--realtime]\n"
+    "      (how long a dut process may take to answer a tick; default 1, 10 for qemu)\n"
+    "      [--realtime]\n"
     "      (pace the run by the wall clock, the DUT answering asynchronously; reports loop\n"
     "      period, late ticks and DUT latency and grades the spec's timing envelopes)\n"
     "      [--rt-priority N] (the real-time loop and its dut process run under SCHED_FIFO\n"
@@ -141,6 +142,9 @@ DutFactory SinglePrecisionDutFactory() {
   };
 }
 
+constexpr double kQemuAnswerTimeoutS = 10;
+constexpr double kQemuStepRetryS = 1;
+
 rig::Result<DutFactory> ParseDutOptions(const CliArgs& cli, bool realtime) {
   const std::string* mode = cli.Option("--dut");
   const std::string* timeout = cli.Option("--dut-timeout-s");
@@ -163,9 +167,17 @@ rig::Result<DutFactory> ParseDutOptions(const CliArgs& cli, bool realtime) {
   if (can != nullptr && !process) return rig::MakeError("--can " + *can + " needs --dut process");
   if (serial) {
     SerialDutOptions options;
+    if (*mode == "qemu") {
+      // QEMU's lines are loopback sockets that lose nothing, and an emulated core on a busy host
+      // can take long over a step: wait longer before repeating a step or giving up on it.
+      options.answer_timeout_s = kQemuAnswerTimeoutS;
+      options.step_retry_s = kQemuStepRetryS;
+    }
     auto seconds = ParseDutTimeout(timeout, options.answer_timeout_s);
     if (!seconds) return seconds.error();
     options.answer_timeout_s = seconds.value();
+    // A short watchdog still leaves room for a retry before it gives up.
+    options.step_retry_s = std::min(options.step_retry_s, options.answer_timeout_s / 2);
     if (auto valid = ValidateSerialDutOptions(options); !valid) {
       return rig::MakeError("--dut-timeout-s: " + valid.error().message);
     }

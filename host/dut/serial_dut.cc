@@ -155,6 +155,11 @@ rig::Result<void> ValidateSerialDutOptions(const SerialDutOptions& options) {
                                       std::pair{options.step_retry_s, "step retry"}}) {
     if (auto valid = check(seconds, what); !valid) return valid;
   }
+  if (options.step_retry_s >= options.answer_timeout_s) {
+    return rig::MakeError("serial dut step retry " + rig::NumberText(options.step_retry_s) +
+                          " s: must be shorter than the answer timeout " +
+                          rig::NumberText(options.answer_timeout_s) + " s");
+  }
   return {};
 }
 

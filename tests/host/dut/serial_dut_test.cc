@@ -214,6 +214,18 @@ struct Rig {
   }
 };
 
+// A step retry must come before the watchdog gives up, or a lost frame ends the run.
+TEST(SerialDutTest, OptionsRefuseARetryNoShorterThanTheWatchdog) {
+  SerialDutOptions options;
+  EXPECT_TRUE(ValidateSerialDutOptions(options).ok());
+  options.step_retry_s = options.answer_timeout_s;
+  const auto refused = ValidateSerialDutOptions(options);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.error().message.find("must be shorter than the answer timeout"),
+            std::string::npos)
+      << refused.error().message;
+}
+
 TEST(SerialDutTest, RepeatsTheHelloUntilTheDutAnswersThenKeepsItsTarget) {
   Rig rig([](ScriptedDut& dut) { dut.hellos_to_ignore = 2; });
   ASSERT_TRUE(rig.serial->Start()) << rig.serial->description();
