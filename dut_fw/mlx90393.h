@@ -18,6 +18,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 
@@ -55,6 +56,24 @@ inline constexpr double kRes0LsbMicroTesla[8][2] = {
     {0.150, 0.242},  // 7, 1x
 };
 
+// Every setting's LSB in tesla, {x/y, z}, worked out in double and rounded to S when the firmware
+// is compiled: the firmware reads a table of S, so a float build does no double arithmetic per
+// sample (the target has a single-precision FPU only).
+template <typename S>
+constexpr std::array<std::array<std::array<S, 2>, 4>, 8> MakeLsbTeslaTable() {
+  std::array<std::array<std::array<S, 2>, 4>, 8> table{};
+  for (std::size_t gain = 0; gain < table.size(); ++gain) {
+    for (std::size_t resolution = 0; resolution < table[gain].size(); ++resolution) {
+      const double scale = 1e-6 * double(1u << resolution);
+      table[gain][resolution] = {S(kRes0LsbMicroTesla[gain][0] * scale),
+                                 S(kRes0LsbMicroTesla[gain][1] * scale)};
+    }
+  }
+  return table;
+}
+template <typename S>
+inline constexpr auto kLsbTesla = MakeLsbTeslaTable<S>();
+
 }  // namespace mlx90393_internal
 
 // LSB size in tesla per axis (x, y, z). An invalid setting yields NaN on every axis so a misuse
@@ -62,10 +81,8 @@ inline constexpr double kRes0LsbMicroTesla[8][2] = {
 template <typename S>
 Vec3<S> LsbTesla(Mlx90393Setting setting) {
   if (!IsValidSetting(setting)) return Vec3<S>::Constant(std::numeric_limits<S>::quiet_NaN());
-  const double scale = 1e-6 * double(1u << setting.resolution);
-  const double xy = mlx90393_internal::kRes0LsbMicroTesla[setting.gain_sel][0] * scale;
-  const double z = mlx90393_internal::kRes0LsbMicroTesla[setting.gain_sel][1] * scale;
-  return Vec3<S>(S(xy), S(xy), S(z));
+  const auto& lsb = mlx90393_internal::kLsbTesla<S>[setting.gain_sel][setting.resolution];
+  return Vec3<S>(lsb[0], lsb[0], lsb[1]);
 }
 
 // The zero-field code and the symmetric output limits (in counts, i.e. LSBs from zero field) of a
