@@ -8,16 +8,12 @@
 set -euo pipefail
 
 source_dir=$1
-command -v arm-none-eabi-g++ >/dev/null || { echo "SKIP: arm-none-eabi-g++ not installed"; exit 77; }
+source "$(dirname "$0")/target_image.sh"
+require_tools arm-none-eabi-g++
 
 work_dir=$(mktemp -d)
 trap 'rm -rf "$work_dir"' EXIT
-if ! HILRIG_TARGET_BUILD_DIR=$work_dir/build "$source_dir/scripts/build-target" -j1 \
-  >"$work_dir/build.log" 2>&1; then
-  echo "FAIL: the firmware image does not build"
-  tail -20 "$work_dir/build.log"
-  exit 1
-fi
+build_target_image "$source_dir" "$work_dir/build"
 
 arm-none-eabi-objdump -d -C "$work_dir/build/dut_fw_stm32f405.elf" |
   awk '/^[0-9a-f]+ <.*>:$/ { function_name = substr($0, index($0, "<")) }

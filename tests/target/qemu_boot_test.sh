@@ -8,8 +8,8 @@
 set -euo pipefail
 
 source_dir=$1
-command -v qemu-system-arm >/dev/null || { echo "SKIP: qemu-system-arm not installed"; exit 77; }
-command -v arm-none-eabi-g++ >/dev/null || { echo "SKIP: arm-none-eabi-g++ not installed"; exit 77; }
+source "$(dirname "$0")/target_image.sh"
+require_tools qemu-system-arm arm-none-eabi-g++
 
 work_dir=$(mktemp -d)
 qemu_pid=
@@ -18,12 +18,7 @@ cleanup() {
   rm -rf "$work_dir"
 }
 trap cleanup EXIT
-if ! HILRIG_TARGET_BUILD_DIR=$work_dir/build "$source_dir/scripts/build-target" -j1 \
-  >"$work_dir/build.log" 2>&1; then
-  echo "FAIL: the firmware image does not build"
-  tail -20 "$work_dir/build.log"
-  exit 1
-fi
+build_target_image "$source_dir" "$work_dir/build"
 image=$work_dir/build/dut_fw_bench_stm32f405.elf
 usart1=$work_dir/usart1.log
 coproc qemu {

@@ -9,9 +9,8 @@ set -euo pipefail
 
 source_dir=$1
 bin_dir=$2
-command -v qemu-system-arm >/dev/null || { echo "SKIP: qemu-system-arm not installed"; exit 77; }
-command -v arm-none-eabi-g++ >/dev/null || { echo "SKIP: arm-none-eabi-g++ not installed"; exit 77; }
-command -v pgrep >/dev/null || { echo "SKIP: pgrep (procps) not installed"; exit 77; }
+source "$(dirname "$0")/target_image.sh"
+require_tools qemu-system-arm arm-none-eabi-g++ pgrep
 
 work_dir=$(mktemp -d)
 run_pid=
@@ -20,12 +19,7 @@ cleanup() {
   rm -rf "$work_dir"
 }
 trap cleanup EXIT
-if ! HILRIG_TARGET_BUILD_DIR=$work_dir/build "$source_dir/scripts/build-target" -j1 \
-  >"$work_dir/build.log" 2>&1; then
-  echo "FAIL: the firmware image does not build"
-  tail -20 "$work_dir/build.log"
-  exit 1
-fi
+build_target_image "$source_dir" "$work_dir/build"
 
 out=$work_dir/run
 "$bin_dir/hilrig" run "$source_dir/scenarios/balloon_grasp.textproto" --dut qemu \

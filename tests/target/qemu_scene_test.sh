@@ -15,17 +15,12 @@ bin_dir=$2
 scene=$3
 cut=()
 if [[ -n ${4:-} && ${HILRIG_TARGET_FULL_SCENES:-0} != 1 ]]; then cut=(--duration-s "$4"); fi
-command -v qemu-system-arm >/dev/null || { echo "SKIP: qemu-system-arm not installed"; exit 77; }
-command -v arm-none-eabi-g++ >/dev/null || { echo "SKIP: arm-none-eabi-g++ not installed"; exit 77; }
+source "$(dirname "$0")/target_image.sh"
+require_tools qemu-system-arm arm-none-eabi-g++
 
 work_dir=$(mktemp -d)
 trap 'rm -rf "$work_dir"' EXIT
-if ! HILRIG_TARGET_BUILD_DIR=$work_dir/build "$source_dir/scripts/build-target" -j1 \
-  >"$work_dir/build.log" 2>&1; then
-  echo "FAIL: the firmware image does not build"
-  tail -20 "$work_dir/build.log"
-  exit 1
-fi
+build_target_image "$source_dir" "$work_dir/build"
 spec=$source_dir/scenarios/$scene.textproto
 
 status=0
