@@ -40,50 +40,81 @@ struct PtyPair {
   }
 };
 
-// The board: serves until the runner says Bye or closes the line.
+// The board: serves until the runner says Bye, or, once the run is over, until the line has been
+// quiet for a while; then it reads what is left on the bridge. The two pseudo-terminals deliver
+// independently, so a step may arrive before the bridge bytes written ahead of it, and a run in
+// real time returns before the board has read its last steps.
 struct PtyBoard {
-  std::atomic<std::uint64_t> steps{0};
+  std::atomic<std::uint64_t> steps{0};  // distinct ticks: a retried step counts once
   std::atomic<std::uint64_t> bridge_bytes{0};
   std::atomic<std::uint64_t> announced_bridge_bytes{0};
   std::atomic<bool> bye{false};
   std::atomic<bool> stop{false};  // the run is over, whatever it said
 
+  static constexpr int kQuietLineMs = 200;
+
   void Serve(int link_fd, int bridge_fd) {
     FdByteStream line(link_fd, false, "board link", nullptr);
     FdByteStream bridge(bridge_fd, false, "board bridge", nullptr);
     LineLink link(line);
-    std::array<std::uint8_t, 512> chunk;
-    while (!bye && !stop) {
-      for (StreamRead read = bridge.ReadSome(chunk, 0); read.status == StreamStatus::kData;
-           read = bridge.ReadSome(chunk, 0)) {
-        bridge_bytes += read.bytes;
-      }
-      const LineReceived received = link.Receive(1000);
-      if (received.status == LineReceiveStatus::kTimeout) continue;
-      if (received.status != LineReceiveStatus::kMessage) return;
-      proto::LinkMessage answer;
-      const proto::LinkMessage& message = received.message;
-      if (message.has_hello()) {
-        answer.mutable_hello()->set_role(proto::Hello::DUT);
-        answer.mutable_hello()->mutable_header()->set_protocol_version(1);
-      } else if (message.has_config()) {
-        answer.mutable_target_info()->set_board("pty board");
-        answer.mutable_target_info()->set_core_clock_hz(168'000'000);
-      } else if (message.has_serial_step()) {
-        ++steps;
-        announced_bridge_bytes += message.serial_step().bridge_bytes();
-        proto::SerialCommand* command = answer.mutable_serial_command();
-        command->set_answers_tick(message.serial_step().tick());
-        for (int rotor = 0; rotor < 4; ++rotor) command->add_rotor_thrust_n(0);
-        for (int axis = 0; axis < 3; ++axis) command->add_estimated_position_m(0);
-        for (int axis = 0; axis < 3; ++axis) command->add_external_force_world_n(0);
-        command->set_work_cycles(16'800);
-      } else if (message.has_bye()) {
-        bye = true;
+    std::uint64_t last_tick = ~std::uint64_t{0};
+    while (!bye) {
+      ReadBridge(bridge);
+      const bool run_over = stop;
+      const LineReceived received = link.Receive(run_over ? kQuietLineMs : 1000);
+      if (received.status == LineReceiveStatus::kTimeout) {
+        if (run_over) break;
         continue;
       }
-      if (!link.Send(answer, 1000)) return;
+      if (received.status != LineReceiveStatus::kMessage) break;
+      const proto::LinkMessage& message = received.message;
+      if (message.has_bye()) {
+        bye = true;
+        break;
+      }
+      if (message.has_serial_step() && message.serial_step().tick() != last_tick) {
+        last_tick = message.serial_step().tick();
+        ++steps;
+        announced_bridge_bytes += message.serial_step().bridge_bytes();
+      }
+      if (!link.Send(Answer(message), 1000)) break;
     }
+    ReadBridgeUntilQuiet(bridge);
+  }
+
+  void ReadBridge(FdByteStream& bridge) {
+    std::array<std::uint8_t, 512> chunk;
+    for (StreamRead read = bridge.ReadSome(chunk, 0); read.status == StreamStatus::kData;
+         read = bridge.ReadSome(chunk, 0)) {
+      bridge_bytes += read.bytes;
+    }
+  }
+
+  void ReadBridgeUntilQuiet(FdByteStream& bridge) {
+    std::array<std::uint8_t, 512> chunk;
+    for (StreamRead read = bridge.ReadSome(chunk, kQuietLineMs); read.status == StreamStatus::kData;
+         read = bridge.ReadSome(chunk, kQuietLineMs)) {
+      bridge_bytes += read.bytes;
+    }
+  }
+
+  static proto::LinkMessage Answer(const proto::LinkMessage& message) {
+    proto::LinkMessage answer;
+    if (message.has_hello()) {
+      answer.mutable_hello()->set_role(proto::Hello::DUT);
+      answer.mutable_hello()->mutable_header()->set_protocol_version(1);
+    } else if (message.has_config()) {
+      answer.mutable_target_info()->set_board("pty board");
+      answer.mutable_target_info()->set_core_clock_hz(168'000'000);
+    } else if (message.has_serial_step()) {
+      proto::SerialCommand* command = answer.mutable_serial_command();
+      command->set_answers_tick(message.serial_step().tick());
+      for (int rotor = 0; rotor < 4; ++rotor) command->add_rotor_thrust_n(0);
+      for (int axis = 0; axis < 3; ++axis) command->add_estimated_position_m(0);
+      for (int axis = 0; axis < 3; ++axis) command->add_external_force_world_n(0);
+      command->set_work_cycles(16'800);
+    }
+    return answer;
   }
 };
 
