@@ -130,9 +130,10 @@ class NoCycles final : public dut_fw::CycleCounter {
 }  // namespace
 
 const char* const kSerialDutUsage =
-    "   or: dut_emu --serial PATH[,baud=N][,bridge=PATH2]\n"
-    "Speaks the serial HIL link on the tty PATH (raw mode, 921600 baud unless baud=N), reading\n"
-    "the sensor nodes' UART bridge from PATH2, until a signal stops it or the line closes.\n";
+    "   or: dut_emu --serial PATH[,baud=N][,bridge=PATH2][,bridge_baud=N]\n"
+    "Speaks the serial HIL link on the tty PATH (raw mode, 2000000 baud unless baud=N), reading\n"
+    "the sensor nodes' UART bridge from PATH2 (921600 baud unless bridge_baud=N), until a\n"
+    "signal stops it or the line closes.\n";
 
 rig::Result<SerialDutOptions> ParseSerialSpec(const std::string& spec) {
   SerialDutOptions options;
@@ -146,18 +147,20 @@ rig::Result<SerialDutOptions> ParseSerialSpec(const std::string& spec) {
       if (part.empty()) return rig::MakeError("--serial \"" + spec + "\": expected a tty path");
       options.link_path = part;
       first = false;
-    } else if (part.rfind("baud=", 0) == 0) {
-      auto baud = rig::ParseNumber<std::uint32_t>(part.substr(5), "--serial baud");
+    } else if (part.rfind("baud=", 0) == 0 || part.rfind("bridge_baud=", 0) == 0) {
+      const std::size_t equals = part.find('=');
+      const std::string key = part.substr(0, equals);
+      auto baud = rig::ParseNumber<std::uint32_t>(part.substr(equals + 1), "--serial " + key);
       if (!baud) return baud.error();
       if (!TermiosSpeed(baud.value())) {
-        return rig::MakeError("--serial baud=" + part.substr(5) + ": not a rate termios has");
+        return rig::MakeError("--serial " + part + ": not a rate termios has");
       }
-      options.baud = baud.value();
+      (key == "baud" ? options.baud : options.bridge_baud) = baud.value();
     } else if (part.rfind("bridge=", 0) == 0 && part.size() > 7) {
       options.bridge_path = part.substr(7);
     } else {
       return rig::MakeError("--serial \"" + spec + "\": unknown part \"" + part +
-                            "\" (expected baud=N or bridge=PATH)");
+                            "\" (expected baud=N, bridge=PATH or bridge_baud=N)");
     }
   }
   return options;
@@ -165,15 +168,14 @@ rig::Result<SerialDutOptions> ParseSerialSpec(const std::string& spec) {
 
 int RunSerialDut(const SerialDutOptions& options, const std::atomic<bool>* stop_requested,
                  std::ostream& log) {
-  const speed_t speed = *TermiosSpeed(options.baud);
-  auto link = RawTty::Open(options.link_path, speed);
+  auto link = RawTty::Open(options.link_path, *TermiosSpeed(options.baud));
   if (!link) {
     log << "dut_emu: " << link.error().message << "\n";
     return kExitFailed;
   }
   std::optional<RawTty> bridge;
   if (options.bridge_path) {
-    auto opened = RawTty::Open(*options.bridge_path, speed);
+    auto opened = RawTty::Open(*options.bridge_path, *TermiosSpeed(options.bridge_baud));
     if (!opened) {
       log << "dut_emu: " << opened.error().message << "\n";
       return kExitFailed;

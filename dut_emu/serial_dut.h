@@ -12,6 +12,7 @@
 #include <ostream>
 #include <string>
 
+#include "dut_fw/serial_line_rates.h"
 #include "rig/result.h"
 
 namespace hilrig::dut_emu {
@@ -19,13 +20,14 @@ namespace hilrig::dut_emu {
 struct SerialDutOptions {
   std::string link_path;
   std::optional<std::string> bridge_path;
-  std::uint32_t baud = 921'600;
+  std::uint32_t baud = dut_fw::kLinkBaud;
+  std::uint32_t bridge_baud = dut_fw::kBridgeBaud;
 };
 
 extern const char* const kSerialDutUsage;
 
-// "PATH[,baud=N][,bridge=PATH2]", as --serial takes it; an unknown key or a baud rate termios
-// has no constant for is an error that says so.
+// "PATH[,baud=N][,bridge=PATH2][,bridge_baud=N]", as --serial takes it; an unknown key or a baud
+// rate termios has no constant for is an error that says so.
 rig::Result<SerialDutOptions> ParseSerialSpec(const std::string& spec);
 
 // Returns dut_emu's exit code (dut_emu_server.h) and says why on `log`: kExitOk on a stop

@@ -9,6 +9,7 @@
 #include <cstdint>
 
 #include "dut_fw/dut_core.h"
+#include "dut_fw/serial_line_rates.h"
 #include "dut_fw/target/board.h"
 
 namespace target = hilrig::dut_fw::target;
@@ -16,7 +17,6 @@ namespace fw = hilrig::dut_fw;
 
 namespace {
 
-constexpr std::uint32_t kLinkBaud = 921'600;
 constexpr std::uint32_t kBenchSteps = 1000;
 constexpr std::int64_t kControlPeriodNs = 1'000'000;
 constexpr float kControlPeriodS = 1e-3f;
@@ -103,7 +103,7 @@ void RunBench(fw::DutCore<float>& core) {
 }  // namespace
 
 int main() {
-  const target::ClockSource clock = target::InitBoard(kLinkBaud);
+  const target::ClockSource clock = target::InitBoard(fw::kLinkBaud, fw::kBridgeBaud);
   target::Write(target::Port::kLink, "hilrig dut_fw stm32f405: clock ");
   target::Write(target::Port::kLink, clock == target::ClockSource::kPll168MHz
                                          ? "pll 168 MHz\r\n"

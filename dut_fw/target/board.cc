@@ -121,13 +121,13 @@ std::atomic<std::uint32_t> milliseconds{0};
 
 }  // namespace
 
-ClockSource InitBoard(std::uint32_t baud) {
+ClockSource InitBoard(std::uint32_t link_baud, std::uint32_t bridge_baud) {
   const ClockSource clock = StartPll();
   RccApb2Enr() |= 1u << 4;   // USART1EN
   RccApb1Enr() |= 1u << 17;  // USART2EN
   RouteUsartPins();
-  StartUsart(usart1, kApb2HzAtPll, baud);
-  StartUsart(usart2, kApb1HzAtPll, baud);
+  StartUsart(usart1, kApb2HzAtPll, link_baud);
+  StartUsart(usart2, kApb1HzAtPll, bridge_baud);
   SysTickLoad() = kCyclesPerTick - 1;
   SysTickVal() = 0;
   SysTickCtrl() = kSysTickEnableInterruptCoreClock;

@@ -27,8 +27,9 @@ enum class ClockSource : std::uint8_t {
   kNoResponse,
 };
 
-// Clock tree, GPIO alternate functions, both USARTs at `baud` (8N1), SysTick; enables interrupts.
-ClockSource InitBoard(std::uint32_t baud);
+// Clock tree, GPIO alternate functions, USART1 (the link) at `link_baud` and USART2 (the bridge)
+// at `bridge_baud`, 8N1; SysTick; enables interrupts.
+ClockSource InitBoard(std::uint32_t link_baud, std::uint32_t bridge_baud);
 
 // Core cycles since InitBoard, from SysTick (under `-icount` QEMU: its virtual clock). Wraps after
 // 2^32 cycles (25 s at 168 MHz), so only differences over shorter spans are meaningful.

@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "dut_fw/serial_dut_session.h"
+#include "dut_fw/serial_line_rates.h"
 #include "dut_fw/target/board.h"
 
 namespace target = hilrig::dut_fw::target;
@@ -19,8 +20,6 @@ extern "C" const std::uint8_t __flash_start[], __data_load[], __data_start[], __
     __bss_end[], __stack_top[];
 
 namespace {
-
-constexpr std::uint32_t kLinkBaud = 921'600;
 
 class LinkUsart final : public fw::LineSink {
  public:
@@ -72,7 +71,7 @@ std::uint64_t LostBytes(std::uint32_t (*count)(target::Port)) {
 }  // namespace
 
 int main() {
-  target::InitBoard(kLinkBaud);
+  target::InitBoard(fw::kLinkBaud, fw::kBridgeBaud);
   static LinkUsart link;
   static BridgeUsart bridge;
   static SysTickClock clock;

@@ -52,8 +52,9 @@ constexpr const char* kUsage =
     "      [--can socketcan:IFACE] (with --dut process: the sensors' CAN frames cross that\n"
     "      interface to the dut process, as on a bench; their timing then follows the wall\n"
     "      clock, so such a run means something with --realtime)\n"
-    "      --dut serial:DEVICE[,baud=N][,bridge=DEVICE] (a board on a serial line, the\n"
-    "      sensor nodes' UART bridge on the second device; default 921600 baud)\n"
+    "      --dut serial:DEVICE[,baud=N][,bridge=DEVICE][,bridge_baud=N] (a board on a serial\n"
+    "      line, the sensor nodes' UART bridge on the second device; by default the link at\n"
+    "      2000000 baud and the bridge at 921600, as the firmware image sets them)\n"
     "      --dut qemu [--target-image ELF] (the firmware image on QEMU's STM32F405; default\n"
     "      build-target/dut_fw_stm32f405.elf, made by ./scripts/build-target)\n"
     "  hilrig check FILE.textproto...                     validate scenario specs\n"
@@ -154,7 +155,7 @@ rig::Result<DutFactory> ParseDutOptions(const CliArgs& cli, bool realtime) {
   if (mode != nullptr && *mode != "inproc" && *mode != "process" && !single_precision && !serial) {
     return rig::MakeError("--dut \"" + *mode +
                           "\": expected inproc, inproc-float, process, qemu or "
-                          "serial:DEVICE[,baud=N][,bridge=DEVICE]");
+                          "serial:DEVICE[,baud=N][,bridge=DEVICE][,bridge_baud=N]");
   }
   const bool process = mode != nullptr && *mode == "process";
   if (cli.Option("--target-image") != nullptr && !(serial && *mode == "qemu")) {

@@ -40,7 +40,7 @@ struct SerialLines {
   // dropped).
   std::unique_ptr<ByteStream> bridge;
   std::optional<ChildProcess> emulator;  // the process behind the lines, when there is one
-  std::string description;               // "a board on /dev/ttyACM0 at 921600 baud"
+  std::string description;               // "a board on /dev/ttyACM0 at 2000000 baud"
   // How long one byte takes to reach the DUT (10 bits at the baud rate; an emulator's USART is
   // slower). The retries wait twice the time the bytes they repeat need, on top of their timeout,
   // so a slow line is not taken for a lost frame.

@@ -6,6 +6,7 @@
 #include <charconv>
 #include <cmath>
 #include <filesystem>
+#include <set>
 
 #include "host/link/child_process.h"
 #include "host/link/open_byte_stream.h"
@@ -59,10 +60,11 @@ rig::Result<SerialPortSpec> ParseSerialPortSpec(const std::string& spec) {
   const auto bad = [&spec](const std::string& why) {
     return rig::MakeError("\"" + spec + "\": " + why);
   };
-  if (spec.rfind(scheme, 0) != 0) return bad("expected serial:DEVICE[,baud=N][,bridge=DEVICE]");
+  if (spec.rfind(scheme, 0) != 0) {
+    return bad("expected serial:DEVICE[,baud=N][,bridge=DEVICE][,bridge_baud=N]");
+  }
   SerialPortSpec parsed;
-  parsed.baud = kDefaultSerialBaud;
-  bool baud_seen = false;
+  std::set<std::string> seen;
   std::size_t start = scheme.size();
   for (bool first = true; start <= spec.size(); first = false) {
     const std::size_t end = std::min(spec.find(',', start), spec.size());
@@ -76,19 +78,19 @@ rig::Result<SerialPortSpec> ParseSerialPortSpec(const std::string& spec) {
     const std::size_t equals = part.find('=');
     const std::string key = part.substr(0, equals);
     const std::string value = equals == std::string::npos ? "" : part.substr(equals + 1);
-    if (key == "baud" && !baud_seen) {
-      auto baud = ParseBaud(value);
-      if (!baud) return bad(baud.error().message);
-      parsed.baud = baud.value();
-      baud_seen = true;
-    } else if (key == "bridge" && parsed.bridge_device.empty()) {
+    if (key != "baud" && key != "bridge" && key != "bridge_baud") {
+      return bad("unknown option \"" + part +
+                 "\" (expected baud=N, bridge=DEVICE or bridge_baud=N)");
+    }
+    if (!seen.insert(key).second) return bad(key + "= given twice");
+    if (key == "bridge") {
       if (value.empty()) return bad("no device after bridge=");
       parsed.bridge_device = value;
-    } else if (key == "baud" || key == "bridge") {
-      return bad(key + "= given twice");
-    } else {
-      return bad("unknown option \"" + part + "\" (expected baud=N or bridge=DEVICE)");
+      continue;
     }
+    auto baud = ParseBaud(value);
+    if (!baud) return bad(baud.error().message);
+    (key == "baud" ? parsed.baud : parsed.bridge_baud) = baud.value();
   }
   if (parsed.bridge_device == parsed.device) return bad("the bridge is the link's own device");
   return parsed;
@@ -101,7 +103,7 @@ SerialLineOpener SerialPortLines(const SerialPortSpec& spec) {
     if (!link) return link.error();
     lines.link = std::move(link).value();
     if (!spec.bridge_device.empty()) {
-      auto bridge = OpenSerialPort(spec.bridge_device, spec.baud);
+      auto bridge = OpenSerialPort(spec.bridge_device, spec.bridge_baud);
       if (!bridge) return bridge.error();
       lines.bridge = std::move(bridge).value();
     }

@@ -1,26 +1,30 @@
 // Where a serial DUT's lines come from, as `hilrig run --dut` names them: a board on serial
-// devices (`serial:/dev/ttyACM0[,baud=N][,bridge=/dev/ttyUSB0]`), or the firmware image on QEMU's
-// STM32F405 (`qemu`), its USART1 (the HIL link) and USART2 (the sensor bridge) on loopback TCP
-// chardevs.
+// devices (`serial:/dev/ttyACM0[,baud=N][,bridge=/dev/ttyUSB0][,bridge_baud=N]`), or the firmware
+// image on QEMU's STM32F405 (`qemu`), its USART1 (the HIL link) and USART2 (the sensor bridge) on
+// loopback TCP chardevs.
 #pragma once
 
 #include <optional>
 #include <string>
 
+#include "dut_fw/serial_line_rates.h"
 #include "host/dut/serial_dut.h"
 #include "rig/result.h"
 
 namespace hilrig::host {
 
+// The defaults are the firmware image's rates (dut_fw/serial_line_rates.h).
 struct SerialPortSpec {
   std::string device;
-  unsigned baud = 0;          // set by the parser: the default, or baud=N
+  unsigned baud = dut_fw::kLinkBaud;
   std::string bridge_device;  // empty: no sensor bridge wired
+  unsigned bridge_baud = dut_fw::kBridgeBaud;
 };
 
-// Parses "serial:DEVICE[,baud=N][,bridge=DEVICE]"; errors name the part that is wrong.
+// Parses "serial:DEVICE[,baud=N][,bridge=DEVICE][,bridge_baud=N]"; errors name the part that is
+// wrong.
 rig::Result<SerialPortSpec> ParseSerialPortSpec(const std::string& spec);
-// Opens both devices at the spec's baud rate.
+// Opens the link at `baud` and the bridge, if any, at `bridge_baud`.
 SerialLineOpener SerialPortLines(const SerialPortSpec& spec);
 
 inline constexpr const char* kTargetImageName = "dut_fw_stm32f405.elf";

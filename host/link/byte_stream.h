@@ -38,7 +38,7 @@ class ByteStream {
   virtual rig::Result<void> WriteAll(std::span<const std::uint8_t> bytes, int timeout_ms) = 0;
   // Reads what is there into `out`, waiting at most timeout_ms (0: do not wait) for a first byte.
   virtual StreamRead ReadSome(std::span<std::uint8_t> out, int timeout_ms) = 0;
-  // What the stream was opened as ("/dev/ttyACM0 at 921600 baud", "tcp 127.0.0.1:4000").
+  // What the stream was opened as ("/dev/ttyACM0 at 2000000 baud", "tcp 127.0.0.1:4000").
   virtual std::string name() const = 0;
 };
 

@@ -13,8 +13,6 @@
 
 namespace hilrig::host {
 
-inline constexpr unsigned kDefaultSerialBaud = 921600;
-
 // Opens `device` 8N1, no flow control, raw (no echo, no line editing, no CR/LF mapping) at `baud`.
 rig::Result<std::unique_ptr<ByteStream>> OpenSerialPort(const std::string& device, unsigned baud);
 

@@ -33,14 +33,16 @@ TEST(SerialDutSpecTest, ParsesPathBaudAndBridge) {
   auto plain = ParseSerialSpec("/dev/ttyACM0");
   ASSERT_TRUE(plain.ok());
   EXPECT_EQ(plain.value().link_path, "/dev/ttyACM0");
-  EXPECT_EQ(plain.value().baud, 921'600u);
+  EXPECT_EQ(plain.value().baud, 2'000'000u);  // the firmware image's rates
+  EXPECT_EQ(plain.value().bridge_baud, 921'600u);
   EXPECT_FALSE(plain.value().bridge_path.has_value());
-  auto full = ParseSerialSpec("/dev/ttyACM0,baud=115200,bridge=/dev/ttyUSB0");
+  auto full = ParseSerialSpec("/dev/ttyACM0,baud=115200,bridge=/dev/ttyUSB0,bridge_baud=230400");
   ASSERT_TRUE(full.ok());
   EXPECT_EQ(full.value().baud, 115'200u);
   EXPECT_EQ(full.value().bridge_path, "/dev/ttyUSB0");
+  EXPECT_EQ(full.value().bridge_baud, 230'400u);
   for (const char* bad : {"", ",baud=9600", "/dev/tty0,baud=12345", "/dev/tty0,baud=x",
-                          "/dev/tty0,speed=9600", "/dev/tty0,bridge="}) {
+                          "/dev/tty0,speed=9600", "/dev/tty0,bridge=", "/dev/tty0,bridge_baud=7"}) {
     EXPECT_FALSE(ParseSerialSpec(bad).ok()) << bad;
   }
 }
@@ -140,14 +142,16 @@ TEST(SerialDutTest, PutsBothLinesInRawModeAndEndsOnAStopRequest) {
   std::atomic<bool> stop{true};
   std::ostringstream log;
   EXPECT_EQ(RunSerialDut(options, &stop, log), kExitOk);
-  for (const int fd : {link.slave.get(), bridge.slave.get()}) {
+  // Each line at its own default rate: the link at 2 Mbaud, the bridge at 921600.
+  for (const auto& [fd, speed] : {std::pair{link.slave.get(), speed_t(B2000000)},
+                                  std::pair{bridge.slave.get(), speed_t(B921600)}}) {
     termios mode{};
     ASSERT_EQ(::tcgetattr(fd, &mode), 0);
     EXPECT_EQ(mode.c_lflag & (ICANON | ECHO | ISIG | IEXTEN), 0u);
     EXPECT_EQ(mode.c_iflag & (ICRNL | IXON | ISTRIP), 0u);
     EXPECT_EQ(mode.c_oflag & OPOST, 0u);
     EXPECT_EQ(mode.c_cflag & CSIZE, tcflag_t(CS8));
-    EXPECT_EQ(::cfgetospeed(&mode), speed_t(B921600));
+    EXPECT_EQ(::cfgetospeed(&mode), speed);
   }
 }
 

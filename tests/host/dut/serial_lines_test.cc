@@ -8,7 +8,6 @@
 
 #include <fstream>
 
-#include "host/link/open_byte_stream.h"
 #include "tests/support/test_files.h"
 
 namespace hilrig::host {
@@ -18,12 +17,15 @@ TEST(SerialPortSpecTest, ReadsTheDeviceTheBaudAndTheBridge) {
   auto plain = ParseSerialPortSpec("serial:/dev/ttyACM0");
   ASSERT_TRUE(plain) << plain.error().message;
   EXPECT_EQ(plain.value().device, "/dev/ttyACM0");
-  EXPECT_EQ(plain.value().baud, kDefaultSerialBaud);
+  EXPECT_EQ(plain.value().baud, 2'000'000u);  // the firmware image's rates
   EXPECT_EQ(plain.value().bridge_device, "");
-  auto full = ParseSerialPortSpec("serial:/dev/ttyACM0,bridge=/dev/ttyUSB0,baud=2000000");
+  EXPECT_EQ(plain.value().bridge_baud, 921'600u);
+  auto full = ParseSerialPortSpec(
+      "serial:/dev/ttyACM0,bridge=/dev/ttyUSB0,baud=3000000,bridge_baud=115200");
   ASSERT_TRUE(full) << full.error().message;
-  EXPECT_EQ(full.value().baud, 2'000'000u);
+  EXPECT_EQ(full.value().baud, 3'000'000u);
   EXPECT_EQ(full.value().bridge_device, "/dev/ttyUSB0");
+  EXPECT_EQ(full.value().bridge_baud, 115'200u);
 }
 
 TEST(SerialPortSpecTest, NamesWhatIsWrongWithABadSpec) {
@@ -35,6 +37,9 @@ TEST(SerialPortSpecTest, NamesWhatIsWrongWithABadSpec) {
       {"serial:/dev/a,baud=115200x", "baud \"115200x\""},
       {"serial:/dev/a,baud=", "baud \"\""},
       {"serial:/dev/a,baud=9600,baud=9600", "baud= given twice"},
+      {"serial:/dev/a,bridge=/dev/b,bridge=/dev/c", "bridge= given twice"},
+      {"serial:/dev/a,bridge_baud=0", "baud \"0\" is not a whole number"},
+      {"serial:/dev/a,bridge_baud=1,bridge_baud=2", "bridge_baud= given twice"},
       {"serial:/dev/a,bridge=", "no device after bridge="},
       {"serial:/dev/a,bridge=/dev/a", "the bridge is the link's own device"},
       {"serial:/dev/a,parity=even", "unknown option \"parity=even\""},
@@ -50,7 +55,7 @@ TEST(SerialPortSpecTest, NamesWhatIsWrongWithABadSpec) {
 }
 
 TEST(SerialPortLinesTest, NamesTheDeviceThatDoesNotOpen) {
-  auto lines = SerialPortLines({"/dev/hilrig-no-such-tty", 115200, ""})(1.0);
+  auto lines = SerialPortLines({"/dev/hilrig-no-such-tty", 115200, "", 115200})(1.0);
   ASSERT_FALSE(lines);
   EXPECT_NE(lines.error().message.find("/dev/hilrig-no-such-tty: open: No such file"),
             std::string::npos)
