@@ -339,18 +339,10 @@ std::optional<TargetSummary> SerialDut::target() const {
   target.flash_used_bytes = target_info_->flash_used_bytes();
   target.ram_used_bytes = target_info_->ram_used_bytes();
   target.stack_bytes = target_info_->stack_bytes();
-  target.steps_measured = work_cycles_.size();
-  if (work_cycles_.empty()) return target;
-  std::vector<std::uint32_t> sorted = work_cycles_;
-  std::sort(sorted.begin(), sorted.end());
-  // Nearest rank: the smallest value with at least p of the samples at or below it.
-  const auto rank = [&sorted](double p) {
-    const auto index = static_cast<std::size_t>(std::ceil(p * double(sorted.size())));
-    return sorted[std::clamp<std::size_t>(index, 1, sorted.size()) - 1];
-  };
-  target.work_p50_cycles = rank(0.5);
-  target.work_p99_cycles = rank(0.99);
-  target.work_max_cycles = sorted.back();
+  target.steps_measured = work_cycles_.count();
+  target.work_p50_cycles = work_cycles_.Quantile(0.5);
+  target.work_p99_cycles = work_cycles_.Quantile(0.99);
+  target.work_max_cycles = work_cycles_.max();
   return target;
 }
 
@@ -538,7 +530,7 @@ rig::Result<ActuatorMessage> SerialDut::TakeCommand(const proto::SerialCommand& 
                                     "the dut sent a bad command: " + actuator.error().message));
   }
   if (command.has_counters()) dut_counters_ = command.counters();
-  if (command.work_cycles() > 0) work_cycles_.push_back(command.work_cycles());
+  if (command.work_cycles() > 0) work_cycles_.Add(command.work_cycles());
   last_answered_ = command.answers_tick();
   ++commands_received_;
   return actuator;

@@ -30,6 +30,7 @@
 #include "rig/can_bus.h"
 #include "rig/clock.h"
 #include "rig/ring_buffer.h"
+#include "rig/value_counts.h"
 
 namespace hilrig::host {
 
@@ -145,7 +146,7 @@ class SerialDut final : public DutPort {
   std::optional<std::uint64_t> last_answered_;
   DutCounters counters_;
   proto::SerialDutCounters dut_counters_;
-  std::vector<std::uint32_t> work_cycles_;
+  rig::ValueCounts work_cycles_;
 
   std::uint64_t hellos_sent_ = 0;
   std::uint64_t configs_sent_ = 0;
