@@ -66,6 +66,11 @@ rig::EmulatedBusConfig BusConfigFor(const ScenarioConfig& config) {
 // 0.030000000000000002.
 double Seconds(std::int64_t time_ns) { return static_cast<double>(time_ns) / 1e9; }
 
+// The period the DUT is configured with, and the target's work is held to.
+double ControlPeriodS(const ScenarioConfig& config) {
+  return Seconds(config.physics_step_ns) * static_cast<double>(config.control_every_ticks);
+}
+
 }  // namespace
 
 // Every piece of run state lives here; Tick() steps it.
@@ -158,9 +163,7 @@ LockstepRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
     pacer_.emplace(*control.realtime_clock,
                    PacerSettings{config.physics_step_ns, config.late_threshold_ns});
   }
-  const double control_period_s =
-      Seconds(config.physics_step_ns) * static_cast<double>(config.control_every_ticks);
-  StartDut(control_period_s);
+  StartDut(ControlPeriodS(config));
   if (config.gripper.enabled) gripper_.emplace(config, config.hall_sensors.tactile);
   // A scenario starting in the air starts hovering, rotors spun up; on the ground it starts at
   // rest.
@@ -460,11 +463,7 @@ void LockstepRunner::Impl::AppendTiming(proto::Report& report, bool& passed) con
 
 void LockstepRunner::Impl::AppendTarget(proto::Report& report, bool& passed) const {
   const std::optional<TargetSummary> target = dut_ ? dut_->target() : std::nullopt;
-  if (target) {
-    const double control_period_s =
-        Seconds(config_.physics_step_ns * std::int64_t{config_.control_every_ticks});
-    *report.mutable_target() = TargetSection(*target, control_period_s);
-  }
+  if (target) *report.mutable_target() = TargetSection(*target, ControlPeriodS(config_));
   for (proto::TimingCheckResult& check :
        GradeTarget(config_.target, target ? &report.target() : nullptr)) {
     passed = passed && check.passed();
