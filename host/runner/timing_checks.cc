@@ -157,9 +157,14 @@ std::vector<proto::TimingCheckResult> GradeTarget(const TargetLimits& limits,
     if (!limit) continue;
     if (target == nullptr) {
       results.push_back(NotEvaluated(check.name, *limit, "fraction", "the DUT runs on the host"));
-    } else if (target->steps_measured() == 0 || target->core_clock_hz() == 0) {
+    } else if (target->core_clock_hz() == 0) {
+      // A DUT on a serial line that is no MCU (dut_emu --serial) says so by giving no clock.
+      results.push_back(NotEvaluated(check.name, *limit, "fraction",
+                                     "the DUT gives no core clock: it measures no work"));
+    } else if (target->steps_measured() == 0) {
+      // A target that claims a clock owes the figure; a missing one must not pass.
       results.push_back(Unmeasured(check.name, *limit, "fraction",
-                                   "the target measured no work per step, or gave no core clock"));
+                                   "the target gave a core clock but measured no work per step"));
     } else {
       results.push_back(Graded(check.name, (target->*check.fraction)(), *limit, "fraction",
                                "target " + target->board()));

@@ -115,6 +115,19 @@ TEST(TargetReportTest, ATargetThatMeasuredNothingFailsItsLimits) {
   EXPECT_FALSE(report.passed());
 }
 
+TEST(TargetReportTest, ADutWithoutACoreClockMeasuresNothingAndIsNotEvaluated) {
+  TargetSummary host_float = Stm32(0);
+  host_float.board = "dut_emu 42";
+  host_float.core_clock_hz = 0;
+  host_float.steps_measured = 0;
+  const proto::Report report = RunWith(host_float, "target { work_p99_fraction_max: 0.5 }");
+  ASSERT_TRUE(report.has_target());
+  ASSERT_EQ(report.target_checks_size(), 1);
+  EXPECT_FALSE(report.target_checks(0).evaluated());
+  EXPECT_THAT(report.target_checks(0).note(), HasSubstr("no core clock"));
+  EXPECT_TRUE(report.passed());
+}
+
 TEST(TargetReportTest, TheSpecsTargetEnvelopesAreFractions) {
   const auto spec =
       ParseScenario("name: \"t\"\ntarget { work_p99_fraction_max: 1.5 }\n", "spec.textproto");
