@@ -17,4 +17,16 @@ std::string NumberText(double value) {
   return std::string(buffer.data(), end);
 }
 
+std::string FactorText(double factor) {
+  if (!std::isfinite(factor)) return NumberText(factor) + "x";
+  std::array<char, 32> buffer{};
+  const bool whole = factor >= 10 && factor < 1e15;
+  const auto [end, error] = whole ? std::to_chars(buffer.data(), buffer.data() + buffer.size(),
+                                                  factor, std::chars_format::fixed, 0)
+                                  : std::to_chars(buffer.data(), buffer.data() + buffer.size(),
+                                                  factor, std::chars_format::general, 2);
+  if (error != std::errc()) return "0x";  // unreachable: 32 characters hold either form
+  return std::string(buffer.data(), end) + "x";
+}
+
 }  // namespace hilrig::rig

@@ -9,4 +9,8 @@ namespace hilrig::rig {
 
 std::string NumberText(double value);
 
+// A speed against real time: whole numbers from 10 up ("2480x"), two significant digits below, so
+// an emulated target's run reads "0.26x", not "0x" nor "0.262370x".
+std::string FactorText(double factor);
+
 }  // namespace hilrig::rig

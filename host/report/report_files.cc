@@ -133,16 +133,10 @@ std::string FormatEnvelopeLine(const proto::EnvelopeResult& result) {
 
 std::string FormatTimingLine(const proto::Report& report) {
   char buffer[200];
-  // Whole numbers for the usual thousands; two digits for a run slower than ten times real time
-  // (an emulated target), which would otherwise print as 0x.
-  const double factor = report.real_time_factor();
   std::snprintf(buffer, sizeof(buffer),
-                factor >= 10 ? "real-time factor %.0fx (%.3g s simulated in %.3g s wall, %s; setup "
-                               "%.3g s)"
-                             : "real-time factor %.2gx (%.3g s simulated in %.3g s wall, %s; "
-                               "setup %.3g s)",
-                factor, report.simulated_s(), report.wall_s(), report.stop_reason().c_str(),
-                report.setup_s());
+                "real-time factor %s (%.3g s simulated in %.3g s wall, %s; setup %.3g s)",
+                rig::FactorText(report.real_time_factor()).c_str(), report.simulated_s(),
+                report.wall_s(), report.stop_reason().c_str(), report.setup_s());
   return buffer;
 }
 

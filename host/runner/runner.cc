@@ -367,7 +367,8 @@ void LockstepRunner::Impl::ReportProgress(std::int64_t now_ns) {
   if (sinks_.progress == nullptr) return;
   *sinks_.progress << config_.name << ": " << Seconds(now_ns) << " / " << config_.duration_s
                    << " s simulated, real-time factor "
-                   << Seconds(now_ns) / std::max(1e-9, Seconds(wall_ns - wall_start_ns_)) << "x";
+                   << rig::FactorText(Seconds(now_ns) /
+                                      std::max(1e-9, Seconds(wall_ns - wall_start_ns_)));
   if (pacer_) {
     *sinks_.progress << ", late ticks " << pacer_->late_ticks() << ", dut commands missed "
                      << pacer_->dut_commands_missed();

@@ -19,5 +19,15 @@ TEST(NumberTextTest, SixSignificantDigitsInTheShortestForm) {
   EXPECT_EQ(NumberText(std::numeric_limits<double>::quiet_NaN()), "nan");
 }
 
+TEST(NumberTextTest, FactorsAreWholeFromTenAndTwoDigitsBelow) {
+  EXPECT_EQ(FactorText(2480.4), "2480x");
+  EXPECT_EQ(FactorText(10), "10x");
+  EXPECT_EQ(FactorText(0.26237), "0.26x");  // an emulated target
+  EXPECT_EQ(FactorText(1.5), "1.5x");
+  EXPECT_EQ(FactorText(0.00012345), "0.00012x");
+  EXPECT_EQ(FactorText(3e20), "3e+20x");
+  EXPECT_EQ(FactorText(std::numeric_limits<double>::infinity()), "infx");
+}
+
 }  // namespace
 }  // namespace hilrig::rig
