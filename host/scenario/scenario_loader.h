@@ -1,27 +1,16 @@
-// Loads a scenario spec from protobuf text format and validates it before anything runs. Every
-// problem is reported as "file:line:column: field: message" (1-based line and column), pointing at
-// the offending field, or at its enclosing message when a required field is missing, so a scenario
-// author can go straight to it. All problems of a file are reported at once, not just the first.
+// Loads a scenario spec from protobuf text format and validates it before anything runs; every
+// problem is reported at once, located in the file (host/scenario/text_spec.h).
 #pragma once
 
 #include <cstddef>
 #include <string>
 #include <vector>
 
+#include "host/scenario/text_spec.h"
 #include "proto/scenario.pb.h"
 #include "rig/result.h"
 
 namespace hilrig::host {
-
-struct SpecProblem {
-  std::string file;
-  int line = 0;    // 1-based; 0 when unknown
-  int column = 0;  // 1-based; 0 when unknown
-  std::string field;
-  std::string message;
-
-  std::string ToString() const;
-};
 
 // The largest spec file read: a shipped spec is a few KB, so 16 MiB leaves room for generated
 // timelines while `/dev/zero` or a mistyped path to a data file is refused at once.
