@@ -1,0 +1,120 @@
+// Loading a sweep: the scenarios it names, its axes checked against each of them, and every
+// problem of the file located and reported at once.
+#include "host/sweep/sweep_spec.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "tests/support/test_files.h"
+
+namespace hilrig::host {
+namespace {
+
+using ::testing::HasSubstr;
+
+constexpr const char* kBottle = R"(name: "bottle"
+simulation { duration_s: 2 }
+vehicle { initial_position_m { z: 1 } }
+models { tactile { enabled: true } }
+object { fixture: "water_bottle" }
+timeline { at_s: 0.5 setpoint { position_m { z: 1 } } }
+timeline { at_s: 1 grasp { force_n: 3.5 } }
+envelopes { name: "not_dropped" signal: OBJECT_DROPPED upper: 0 }
+)";
+
+std::filesystem::path FolderWithBottle(const std::string& name) {
+  const std::filesystem::path dir = FreshTestDir(name);
+  std::ofstream(dir / "bottle.textproto") << kBottle;
+  return dir;
+}
+
+TEST(SweepSpecTest, LoadsTheScenariosRelativeToTheSweepFile) {
+  const std::filesystem::path dir = FolderWithBottle("sweep_spec_loads");
+  std::ofstream(dir / "sweep.textproto") << R"(name: "bottle_slip"
+scenario: "bottle.textproto"
+seeds { count: 4 }
+axis { path: "object.mass_kg" list { value: 0.18 value: 0.3 } }
+axis { path: "timeline[1].grasp.force_n" grid { from: 1 to: 4 count: 4 } }
+criterion { envelope: "not_dropped" min_pass_rate: 0.9 }
+)";
+  auto sweep = LoadSweep((dir / "sweep.textproto").string());
+  ASSERT_TRUE(sweep.ok()) << sweep.error().message;
+  ASSERT_EQ(sweep.value().scenarios.size(), 1u);
+  EXPECT_EQ(sweep.value().scenarios[0].spec.name(), "bottle");
+  EXPECT_EQ(sweep.value().scenarios[0].path, (dir / "bottle.textproto").string());
+}
+
+// Each line of the sweep below carries one mistake; each is reported at its line.
+TEST(SweepSpecTest, LocatesEveryProblemAtOnce) {
+  const std::filesystem::path dir = FolderWithBottle("sweep_spec_problems");
+  const std::string text = R"(name: "bad sweep!"
+scenario: "bottle.textproto"
+scenario: "missing.textproto"
+seeds { count: 3 list: 7 }
+axis { path: "object.weight_kg" list { value: 1 } }
+axis { path: "object.fixture" list { value: 1 } }
+axis { path: "vehicle.mass_kg" grid { from: 0.5 to: 0.7 } }
+axis { path: "models.vio.latency_s" distribution { uniform { low: 0.05 high: 0.01 } } }
+axis { path: "vehicle.linear_drag_n_s_per_m" distribution { normal { mean: 0 sigma: 1 low: 9 } } }
+axis { path: "seed" list { value: 1 } }
+criterion { envelope: "no_such_envelope" min_pass_rate: 0.9 }
+criterion { envelope: "not_dropped" min_pass_rate: 1.5 confidence: 1 }
+criterion { envelope: "not_dropped" }
+)";
+  auto sweep = ParseSweep(text, "s.textproto", dir.string());
+  ASSERT_FALSE(sweep.ok());
+  const std::string& message = sweep.error().message;
+  const std::vector<std::string> expected = {
+      "s.textproto:1:1: name: ",
+      "s.textproto:3:1: scenario[1]: does not load:",
+      "missing.textproto",
+      "s.textproto:4:1: seeds: give a count or a list of seeds, not both",
+      "s.textproto:5:8: axis[0].path: in ",
+      "GraspObject has no field weight_kg",
+      "s.textproto:6:8: axis[1].path: in ",
+      "fixture is text, not a number",
+      "s.textproto:7:",
+      "axis[2].grid.count: must be in 1..10000",
+      "s.textproto:8:",
+      "axis[3].distribution.uniform: low must be below high",
+      "s.textproto:9:",
+      "axis[4].distribution.normal: [low, high] holds ",
+      "s.textproto:10:8: axis[5].path: the seed is swept by `seeds`",
+      "s.textproto:11:",
+      "criterion[0].envelope: no envelope \"no_such_envelope\"",
+      "criterion[1].min_pass_rate: must be in [0, 1]",
+      "criterion[1].confidence: must be in (0, 1)",
+      "s.textproto:13:1: criterion[2]: set min_pass_rate, quantile or both",
+  };
+  for (const std::string& part : expected) {
+    EXPECT_THAT(message, HasSubstr(part)) << message;
+  }
+}
+
+TEST(SweepSpecTest, RefusesAGridThatExpandsPastTheCaseLimit) {
+  const std::filesystem::path dir = FolderWithBottle("sweep_spec_limit");
+  auto sweep = ParseSweep(R"(name: "huge"
+scenario: "bottle.textproto"
+seeds { count: 1000 }
+axis { path: "object.mass_kg" grid { from: 0.1 to: 1 count: 10000 } }
+criterion { min_pass_rate: 0.5 }
+)",
+                          "huge.textproto", dir.string());
+  ASSERT_FALSE(sweep.ok());
+  EXPECT_THAT(sweep.error().message, HasSubstr("1e+07 cases: at most 1000000 per sweep"));
+}
+
+TEST(SweepSpecTest, NeedsAScenarioAndACriterion) {
+  auto sweep = ParseSweep("name: \"empty\"\n", "e.textproto", ".");
+  ASSERT_FALSE(sweep.ok());
+  EXPECT_THAT(sweep.error().message, HasSubstr("at least one scenario is required"));
+  EXPECT_THAT(sweep.error().message, HasSubstr("at least one criterion is required"));
+  auto garbled = ParseSweep("name: \"x\" axis {", "g.textproto", ".");
+  ASSERT_FALSE(garbled.ok());
+  EXPECT_THAT(garbled.error().message, HasSubstr("g.textproto:1:"));
+}
+
+}  // namespace
+}  // namespace hilrig::host
