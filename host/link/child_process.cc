@@ -66,7 +66,7 @@ rig::Result<ChildProcess> ChildProcess::Spawn(const std::vector<std::string>& ar
 }
 
 ChildProcess::ChildProcess(ChildProcess&& other) noexcept
-    : pid_(other.pid_), exit_(std::move(other.exit_)) {
+    : pid_(other.pid_), exit_(std::move(other.exit_)), exit_status_(other.exit_status_) {
   other.pid_ = -1;
 }
 
@@ -75,6 +75,7 @@ ChildProcess& ChildProcess::operator=(ChildProcess&& other) noexcept {
     if (pid_ > 0 && !exit_) Terminate();
     pid_ = other.pid_;
     exit_ = std::move(other.exit_);
+    exit_status_ = other.exit_status_;
     other.pid_ = -1;
   }
   return *this;
@@ -88,7 +89,7 @@ std::optional<std::string> ChildProcess::PollExit() {
   if (exit_ || pid_ <= 0) return exit_;
   int status = 0;
   const pid_t done = ::waitpid(pid_, &status, WNOHANG);
-  if (done == pid_) exit_ = DescribeStatus(status);
+  if (done == pid_) Ended(status);
   if (done < 0 && errno == ECHILD) exit_ = "was reaped elsewhere";
   return exit_;
 }
@@ -107,8 +108,13 @@ std::string ChildProcess::Terminate(int grace_ms) {
   int status = 0;
   while (::waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
   }
-  exit_ = DescribeStatus(status);
+  Ended(status);
   return *exit_;
+}
+
+void ChildProcess::Ended(int wait_status) {
+  exit_ = DescribeStatus(wait_status);
+  if (WIFEXITED(wait_status)) exit_status_ = WEXITSTATUS(wait_status);
 }
 
 rig::Result<std::string> ExecutableDirectory() {

@@ -35,11 +35,16 @@ class ChildProcess {
   // SIGTERM, up to grace_ms for it to exit, then SIGKILL; reaps. Returns how it ended. grace_ms 0:
   // SIGKILL at once, for a child with nothing to save.
   std::string Terminate(int grace_ms = 500);
+  // The status it exited with, once PollExit or Terminate saw it exit; unset while it runs or
+  // when a signal ended it.
+  std::optional<int> exit_status() const { return exit_status_; }
 
  private:
   explicit ChildProcess(pid_t pid) : pid_(pid) {}
+  void Ended(int wait_status);
   pid_t pid_ = -1;
   std::optional<std::string> exit_;
+  std::optional<int> exit_status_;
 };
 
 // The first executable `name` in the directories of $PATH; the error names it and the search.
