@@ -37,6 +37,7 @@ namespace fs = std::filesystem;
 constexpr const char* kUsage =
     "usage:\n"
     "  hilrig run FILE.textproto [--out DIR] [--seed N]   run one scenario\n"
+    "      [--set PATH=VALUE,...] (set numbers of the spec: object.mass_kg=0.25)\n"
     "  hilrig run DIR/ [--out DIR] [--seed N]             run every *.textproto in DIR\n"
     "      [--duration-s S] (only the first S seconds: later timeline entries and envelopes\n"
     "      that open later are left out)\n"
@@ -84,7 +85,8 @@ struct RunOptions {
   std::optional<std::string> out_dir;
   std::optional<std::uint64_t> seed;
   std::optional<double> duration_s;  // --duration-s: only the scene's first seconds
-  bool reference = true;             // --no-reference: do not compare with the reference run
+  std::vector<std::pair<std::string, double>> overrides;  // --set
+  bool reference = true;  // --no-reference: do not compare with the reference run
   std::optional<std::string> reference_cache_dir;      // --reference-cache
   DutFactory dut_factory;                              // --dut process; unset: in process
   bool realtime = false;                               // --realtime: paced by the wall clock
@@ -212,14 +214,6 @@ rig::Result<DutFactory> ParseDutOptions(const CliArgs& cli, bool realtime) {
       });
 }
 
-// Removes every `flag` from args; true if there was one.
-bool TakeFlag(std::vector<std::string>& args, const std::string& flag) {
-  const auto removed = std::remove(args.begin() + 1, args.end(), flag);
-  const bool present = removed != args.end();
-  args.erase(removed, args.end());
-  return present;
-}
-
 rig::Result<RunOptions> ParseRunOptions(std::vector<std::string> args) {
   // --reference is the default; the flag stays accepted for scripts written when it was not.
   const bool with_reference = TakeFlag(args, "--reference");
@@ -233,9 +227,9 @@ rig::Result<RunOptions> ParseRunOptions(std::vector<std::string> args) {
   if (with_reference && without_reference) {
     return rig::MakeError("--reference and --no-reference contradict each other");
   }
-  auto parsed =
-      ParseCliArgs(args, {"--out", "--seed", "--dut", "--dut-timeout-s", "--can",
-                          "--reference-cache", "--rt-priority", "--target-image", "--duration-s"});
+  auto parsed = ParseCliArgs(
+      args, {"--out", "--seed", "--dut", "--dut-timeout-s", "--can", "--reference-cache",
+             "--rt-priority", "--target-image", "--duration-s", "--set"});
   if (!parsed) return parsed.error();
   const CliArgs& cli = parsed.value();
   if (cli.positional.size() != 1) {
@@ -258,6 +252,11 @@ rig::Result<RunOptions> ParseRunOptions(std::vector<std::string> args) {
     auto value = ParseDurationOption(*duration);
     if (!value) return value.error();
     options.duration_s = value.value();
+  }
+  if (const std::string* sets = cli.Option("--set")) {
+    auto parsed_sets = ParseSetOption(*sets);
+    if (!parsed_sets) return parsed_sets.error();
+    options.overrides = std::move(parsed_sets).value();
   }
   if (const std::string* priority = cli.Option("--rt-priority")) {
     if (!realtime) return rig::MakeError("--rt-priority applies to --realtime runs only");
@@ -288,6 +287,7 @@ ScenarioOutcome RunOneFile(const std::string& path, const fs::path& out_dir,
   request.out_dir = out_dir.string();
   request.seed = options.seed;
   request.duration_s = options.duration_s;
+  request.overrides = options.overrides;
   request.dut_factory = options.dut_factory;
   request.realtime_priority = options.realtime_priority;
   request.field_maps = options.field_maps;

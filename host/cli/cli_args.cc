@@ -1,5 +1,6 @@
 #include "host/cli/cli_args.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <exception>
@@ -26,6 +27,14 @@ rig::Result<int> ParseWholeNumberOption(const std::string& option, const std::st
   return value;
 }
 
+bool TakeFlag(std::vector<std::string>& args, const std::string& flag) {
+  if (args.empty()) return false;
+  const auto removed = std::remove(args.begin() + 1, args.end(), flag);
+  const bool present = removed != args.end();
+  args.erase(removed, args.end());
+  return present;
+}
+
 rig::Result<double> ParseDurationOption(const std::string& text) {
   std::size_t used = 0;
   double value = 0;
@@ -39,6 +48,26 @@ rig::Result<double> ParseDurationOption(const std::string& text) {
                           "\"");
   }
   return value;
+}
+
+rig::Result<std::vector<std::pair<std::string, double>>> ParseSetOption(const std::string& text) {
+  std::vector<std::pair<std::string, double>> sets;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', start), text.size());
+    const std::string part = text.substr(start, comma - start);
+    start = comma + 1;
+    const std::size_t equals = part.find('=');
+    if (equals == std::string::npos || equals == 0) {
+      return rig::MakeError("--set \"" + text + "\": expected PATH=VALUE[,PATH=VALUE...], got \"" +
+                            part + "\"");
+    }
+    auto value =
+        rig::ParseNumber<double>(part.substr(equals + 1), "--set " + part.substr(0, equals));
+    if (!value) return value.error();
+    sets.emplace_back(part.substr(0, equals), value.value());
+  }
+  return sets;
 }
 
 }  // namespace hilrig::host

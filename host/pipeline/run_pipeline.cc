@@ -8,6 +8,7 @@
 #include "host/report/run_folder.h"
 #include "host/report/run_plots.h"
 #include "host/report/stop_reason.h"
+#include "host/scenario/field_path.h"
 #include "host/scenario/scenario_loader.h"
 #include "host/trace/trace_capture.h"
 #include "rig/file_io.h"
@@ -65,6 +66,10 @@ rig::Result<ResolvedSpec> LoadAndResolve(const RunRequest& request,
     auto loaded = LoadScenario(request.spec_path);
     if (!loaded) return loaded.error();
     resolved.spec = std::move(loaded).value();
+  }
+  for (const auto& [path, value] : request.overrides) {
+    auto set = SetNumberAt(resolved.spec, path, value);
+    if (!set.ok()) return rig::InContext(resolved.spec.name() + ": --set ", set.error());
   }
   if (request.duration_s && *request.duration_s < resolved.spec.simulation().duration_s()) {
     resolved.spec = TruncatedTo(std::move(resolved.spec), *request.duration_s);

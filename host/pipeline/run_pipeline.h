@@ -35,6 +35,9 @@ struct RunRequest {
   // The folder the run's files go to; unset: nothing is written, only the report is returned.
   std::optional<std::string> out_dir;
   std::optional<std::uint64_t> seed;  // unset: the spec's own
+  // Numbers of the spec set by field path before it is validated (`hilrig run --set`, a sweep
+  // case's reproduction), in order; a path or value the spec refuses is a bad spec.
+  std::vector<std::pair<std::string, double>> overrides;
   // Set: only the scene's first duration_s seconds run (TruncatedTo: later timeline entries and
   // envelopes that open later are left out); unset, or longer than the scene: all of it.
   std::optional<double> duration_s;
