@@ -15,6 +15,7 @@
 #include "host/cli/bench_command.h"
 #include "host/cli/can_commands.h"
 #include "host/cli/cli_args.h"
+#include "host/cli/sweep_command.h"
 #include "host/cli/tactile_commands.h"
 #include "host/dut/firmware_config.h"
 #include "host/dut/in_process_dut.h"
@@ -59,6 +60,9 @@ constexpr const char* kUsage =
     "      --dut qemu [--target-image ELF] (the firmware image on QEMU's STM32F405; default\n"
     "      build-target/dut_fw_stm32f405.elf, made by ./scripts/build-target)\n"
     "  hilrig check FILE.textproto...                     validate scenario specs\n"
+    "  hilrig sweep SWEEP.textproto --out DIR [--jobs N] [--keep-runs]\n"
+    "                                                     run and grade a sweep's cases\n"
+    "      --shard I/N (one shard, for a cluster task); hilrig sweep --merge DIR gathers them\n"
     "  hilrig bench --out DIR [--scenes a,b|all] [--duration-s S] [--quick]\n"
     "                                                     work-precision sweep\n"
     "  hilrig calibrate --out DIR [--seed N] [--field F]  calibrate the tactile sensors\n"
@@ -465,6 +469,7 @@ int RunCli(const std::vector<std::string>& args, std::ostream& out, std::ostream
   if (args[0] == "run") return RunCommand(args, io);
   if (args[0] == "check") return CheckCommand(args, io);
   if (args[0] == "bench") return BenchCommand(args, io);
+  if (args[0] == "sweep") return SweepCommand(args, io);
   if (args[0] == "calibrate") return CalibrateCommand(args, io);
   if (args[0] == "accuracy") return AccuracyCommand(args, io);
   if (args[0] == "listen") return ListenCommand(args, io);

@@ -68,7 +68,9 @@ forbid host/checks proto/scenario.pb.h
 # A report is written from a run's results; it runs nothing.
 forbid host/report host/runner/ host/fidelity/ host/pipeline/ host/cli/
 # The run pipeline is a library under the command line, never the other way round.
-forbid host/pipeline host/cli/ host/work_precision/
+forbid host/pipeline host/cli/ host/work_precision/ host/sweep/
+# A sweep runs cases through the pipeline; starting shard processes is the command line's.
+forbid host/sweep host/cli/
 # The DUT process is the firmware behind the link on a bus: none of the harness's command line.
 forbid dut_emu host/cli/ host/runner/ host/scenario/
 

@@ -1,0 +1,342 @@
+#include "host/cli/sweep_command.h"
+
+#include <google/protobuf/text_format.h>
+#include <google/protobuf/util/json_util.h>
+#include <time.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <thread>
+
+#include "host/cache/setup_caches.h"
+#include "host/cli/cli.h"
+#include "host/link/child_process.h"
+#include "host/sweep/case_run.h"
+#include "host/sweep/sweep_merge.h"
+#include "host/sweep/sweep_shard.h"
+#include "host/sweep/sweep_statistics.h"
+#include "rig/clock.h"
+#include "rig/file_io.h"
+#include "rig/number_text.h"
+#include "rig/stop_request.h"
+
+namespace hilrig::host {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kResolvedSweepName = "sweep.textproto";
+constexpr int kMaxJobs = 256;
+constexpr std::int64_t kProgressPeriodNs = 1'000'000'000;
+constexpr int kPollMs = 100;
+// A shard asked to stop ends its running case at the next tick; a case of a QEMU DUT may take
+// longer to wind down, so the grace is generous before SIGKILL.
+constexpr int kShardStopGraceMs = 5000;
+
+struct SweepOptions {
+  std::string sweep_path;  // the spec, or DIR/sweep.textproto for --merge
+  std::string out_dir;
+  int jobs = 1;
+  std::optional<ShardSpec> shard;
+  bool merge_only = false;
+  bool keep_runs = false;
+  std::optional<std::string> cache_dir;
+};
+
+int Usage(const CliStreams& io, const std::string& why) {
+  io.err << "hilrig sweep: " << why
+         << "\nusage: hilrig sweep SWEEP.textproto --out DIR [--jobs N] [--keep-runs]\n"
+            "       hilrig sweep SWEEP.textproto --out DIR --shard I/N\n"
+            "       hilrig sweep --merge DIR\n";
+  return kExitBadInput;
+}
+
+rig::Result<SweepOptions> ParseSweepOptions(std::vector<std::string> args) {
+  SweepOptions options;
+  options.keep_runs = TakeFlag(args, "--keep-runs");
+  auto parsed = ParseCliArgs(args, {"--out", "--jobs", "--shard", "--merge", "--reference-cache"});
+  if (!parsed) return parsed.error();
+  const CliArgs& cli = parsed.value();
+  if (const std::string* merge = cli.Option("--merge")) {
+    if (!cli.positional.empty() || cli.Option("--out") || cli.Option("--jobs") ||
+        cli.Option("--shard")) {
+      return rig::MakeError("--merge DIR takes nothing else");
+    }
+    options.merge_only = true;
+    options.out_dir = *merge;
+    options.sweep_path = (fs::path(*merge) / kResolvedSweepName).string();
+    return options;
+  }
+  if (cli.positional.size() != 1) return rig::MakeError("sweep takes one sweep file");
+  options.sweep_path = cli.positional.front();
+  const std::string* out = cli.Option("--out");
+  if (out == nullptr) return rig::MakeError("--out DIR is required");
+  options.out_dir = *out;
+  if (const std::string* cache = cli.Option("--reference-cache")) options.cache_dir = *cache;
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  options.jobs = static_cast<int>(std::min<unsigned>(cores, kMaxJobs));
+  if (const std::string* jobs = cli.Option("--jobs")) {
+    auto value = ParseWholeNumberOption("--jobs", *jobs, 1, kMaxJobs);
+    if (!value) return value.error();
+    options.jobs = value.value();
+  }
+  if (const std::string* shard = cli.Option("--shard")) {
+    if (cli.Option("--jobs"))
+      return rig::MakeError("--shard runs one shard; --jobs does not apply");
+    auto value = ParseShardSpec(*shard);
+    if (!value) return value.error();
+    options.shard = value.value();
+  }
+  return options;
+}
+
+// The sweep as the shards and the merge read it: the spec with every scenario path absolute, so
+// it loads from DIR whatever the working directory.
+rig::Result<void> WriteResolvedSweep(const LoadedSweep& sweep, const std::string& out_dir) {
+  proto::Sweep resolved = sweep.spec;
+  resolved.clear_scenario();
+  for (const SweepScenario& scenario : sweep.scenarios) {
+    resolved.add_scenario(fs::absolute(scenario.path).lexically_normal().string());
+  }
+  std::string text;
+  google::protobuf::TextFormat::PrintToString(resolved, &text);
+  return rig::WriteFileAtomically((fs::path(out_dir) / kResolvedSweepName).string(),
+                                  "# written by hilrig sweep: the sweep its shards run\n" + text);
+}
+
+// Shard files of an earlier sweep in DIR would mix into this one's merge.
+rig::Result<void> ClearShards(const std::string& out_dir) {
+  std::error_code error;
+  fs::remove_all(fs::path(out_dir) / "shards", error);
+  if (error) return rig::MakeError("cannot clear " + out_dir + "/shards: " + error.message());
+  return {};
+}
+
+// Counts the rows the running shards have written, reading only what is new each time.
+class ShardProgress {
+ public:
+  explicit ShardProgress(std::string out_dir) : folder_(fs::path(out_dir) / "shards") {}
+
+  void Poll() {
+    std::error_code error;
+    for (fs::directory_iterator entry(folder_, error), end; !error && entry != end;
+         entry.increment(error)) {
+      if (entry->path().extension() == ".jsonl") ReadNew(entry->path().string());
+    }
+  }
+  std::uint64_t done() const { return done_; }
+  std::uint64_t not_passed() const { return not_passed_; }
+
+ private:
+  void ReadNew(const std::string& path) {
+    std::ifstream in(path);
+    auto& [offset, partial] = files_[path];
+    in.seekg(static_cast<std::streamoff>(offset));
+    std::string chunk((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    offset += chunk.size();
+    partial += chunk;
+    for (std::size_t newline = partial.find('\n'); newline != std::string::npos;
+         newline = partial.find('\n')) {
+      proto::SweepCaseResult row;
+      if (google::protobuf::util::JsonStringToMessage(partial.substr(0, newline), &row).ok()) {
+        ++done_;
+        if (row.outcome() != proto::SweepCaseResult::PASSED) ++not_passed_;
+      }
+      partial.erase(0, newline + 1);
+    }
+  }
+
+  fs::path folder_;
+  std::map<std::string, std::pair<std::uint64_t, std::string>> files_;
+  std::uint64_t done_ = 0;
+  std::uint64_t not_passed_ = 0;
+};
+
+void PrintProgress(const std::string& name, std::uint64_t done, std::uint64_t total,
+                   std::uint64_t not_passed, double elapsed_s, std::ostream& err) {
+  err << name << ": " << done << "/" << total << " cases, " << not_passed << " not passed, "
+      << std::lround(elapsed_s) << " s";
+  if (done > 0 && done < total) {
+    err << ", about " << std::lround(elapsed_s * double(total - done) / double(done)) << " s left";
+  }
+  err << std::endl;
+}
+
+// The sibling hilrig executable (the shards run it, and failing.txt names it).
+rig::Result<std::string> HilrigExecutable() {
+  auto dir = ExecutableDirectory();
+  if (!dir) return dir.error();
+  const std::string path = (fs::path(dir.value()) / "hilrig").string();
+  if (::access(path.c_str(), X_OK) != 0) {
+    return rig::MakeError("no hilrig executable beside this one at " + path);
+  }
+  return path;
+}
+
+// Runs the sweep's shards as `jobs` processes of `hilrig`, printing progress; on a stop request
+// asks them to stop and waits. Fails when a shard cannot start or fails.
+rig::Result<void> RunShardProcesses(const LoadedSweep& sweep, const SweepOptions& options,
+                                    const std::string& hilrig, const CliStreams& io) {
+  const std::string resolved = (fs::path(options.out_dir) / kResolvedSweepName).string();
+  std::vector<ChildProcess> shards;
+  for (int i = 1; i <= options.jobs; ++i) {
+    std::vector<std::string> argv = {hilrig,
+                                     "sweep",
+                                     resolved,
+                                     "--out",
+                                     options.out_dir,
+                                     "--shard",
+                                     std::to_string(i) + "/" + std::to_string(options.jobs)};
+    if (options.keep_runs) argv.push_back("--keep-runs");
+    if (options.cache_dir) argv.insert(argv.end(), {"--reference-cache", *options.cache_dir});
+    auto child = ChildProcess::Spawn(argv);
+    if (!child)
+      return rig::InContext("cannot start shard " + std::to_string(i) + ": ", child.error());
+    shards.push_back(std::move(child).value());
+  }
+  const rig::SteadyClock clock;
+  const std::int64_t start_ns = clock.NowNs();
+  std::int64_t next_progress_ns = start_ns + kProgressPeriodNs;
+  ShardProgress progress(options.out_dir);
+  const std::uint64_t total = CaseCount(sweep);
+  std::optional<std::string> failure;
+  for (bool running = true; running;) {
+    const timespec nap{0, kPollMs * 1'000'000L};
+    ::nanosleep(&nap, nullptr);
+    if (rig::StopRequested(io.stop_requested)) {
+      for (ChildProcess& shard : shards) shard.Terminate(kShardStopGraceMs);
+    }
+    running = false;
+    for (std::size_t i = 0; i < shards.size(); ++i) {
+      if (!shards[i].PollExit()) {
+        running = true;
+      } else if (shards[i].exit_status() != 0 && !failure &&
+                 !rig::StopRequested(io.stop_requested)) {
+        failure = "shard " + std::to_string(i + 1) + " " + *shards[i].PollExit();
+      }
+    }
+    const std::int64_t now_ns = clock.NowNs();
+    if (now_ns >= next_progress_ns || !running) {
+      next_progress_ns = now_ns + kProgressPeriodNs;
+      progress.Poll();
+      PrintProgress(sweep.spec.name(), progress.done(), total, progress.not_passed(),
+                    double(now_ns - start_ns) * 1e-9, io.err);
+    }
+  }
+  if (failure) return rig::MakeError(*failure);
+  return {};
+}
+
+CaseRunSetup MakeCaseSetup(const LoadedSweep& sweep, const SweepOptions& options,
+                           const SetupCaches& caches, const rig::Clock& clock,
+                           const CliStreams& io) {
+  CaseRunSetup setup;
+  setup.wall_clock = &clock;
+  setup.stop_requested = io.stop_requested;
+  setup.field_maps = caches.field_maps.get();
+  setup.calibrations = caches.calibrations.get();
+  setup.runs_dir = (fs::path(options.out_dir) / "runs").string();
+  setup.keep_all_runs = options.keep_runs || sweep.spec.keep_all_traces();
+  return setup;
+}
+
+// "PASS  criterion 0  balloon_grasp / not_dropped  pass rate lower bound 0.996 >= 0.99".
+std::string FormatCheckLine(const proto::SweepCriterionCheck& check) {
+  const bool rate = check.kind() == proto::SweepCriterionCheck::PASS_RATE;
+  std::ostringstream line;
+  line << (check.passed() ? "PASS" : "FAIL") << "  criterion " << check.criterion() << "  "
+       << check.scenario() << " / " << check.envelope() << "  "
+       << (rate ? "pass rate (Wilson lower bound) " : "margin quantile ");
+  if (check.has_measured()) {
+    line << rig::NumberText(check.measured());
+  } else {
+    line << "not measured";
+  }
+  line << " >= " << rig::NumberText(check.limit());
+  if (!check.note().empty()) line << "  (" << check.note() << ")";
+  return line.str();
+}
+
+int PrintMerged(const LoadedSweep& sweep, const MergedSweep& merged, const std::string& out_dir,
+                bool stopped, const CliStreams& io) {
+  for (const proto::SweepCriterionCheck& check : merged.summary.check()) {
+    io.out << FormatCheckLine(check) << "\n";
+  }
+  io.out << sweep.spec.name() << ": " << merged.finished << " of " << merged.cases << " cases, "
+         << merged.not_passed << " not passed";
+  if (merged.bad_lines > 0) io.out << ", " << merged.bad_lines << " unreadable shard lines";
+  io.out << "; " << (fs::path(out_dir) / "summary.json").string() << "\n";
+  if (stopped || merged.finished < merged.cases) {
+    io.out << sweep.spec.name() << ": INCOMPLETE (" << (stopped ? "stopped" : "cases missing")
+           << "): the criteria are not graded as met\n";
+    return kExitCheckFailed;
+  }
+  io.out << sweep.spec.name() << ": " << (merged.criteria_met ? "PASS" : "FAIL") << "\n";
+  return merged.criteria_met ? kExitPass : kExitCheckFailed;
+}
+
+}  // namespace
+
+int SweepCommand(const std::vector<std::string>& args, const CliStreams& io) {
+  auto options = ParseSweepOptions(args);
+  if (!options) return Usage(io, options.error().message);
+  auto sweep = LoadSweep(options.value().sweep_path);
+  if (!sweep) {
+    io.err << sweep.error().message << "\n";
+    return kExitBadInput;
+  }
+  const SweepOptions& opts = options.value();
+  auto hilrig = HilrigExecutable();
+  const std::string hilrig_path = hilrig ? hilrig.value() : "hilrig";
+  if (!opts.merge_only) {
+    std::error_code error;
+    fs::create_directories(opts.out_dir, error);
+    if (error) {
+      io.err << "hilrig sweep: cannot make " << opts.out_dir << ": " << error.message() << "\n";
+      return kExitBadInput;
+    }
+  }
+  if (opts.shard) {
+    const SetupCaches caches = MakeSetupCaches(opts.cache_dir, io.err);
+    const rig::SteadyClock clock;
+    auto ran = RunShard(sweep.value(), *opts.shard, opts.out_dir,
+                        MakeCaseSetup(sweep.value(), opts, caches, clock, io));
+    if (!ran) {
+      io.err << "hilrig sweep: " << ran.error().message << "\n";
+      return kExitCheckFailed;
+    }
+    return kExitPass;
+  }
+  bool stopped = false;
+  if (!opts.merge_only) {
+    if (auto written = WriteResolvedSweep(sweep.value(), opts.out_dir); !written.ok()) {
+      io.err << "hilrig sweep: " << written.error().message << "\n";
+      return kExitBadInput;
+    }
+    if (auto cleared = ClearShards(opts.out_dir); !cleared.ok()) {
+      io.err << "hilrig sweep: " << cleared.error().message << "\n";
+      return kExitBadInput;
+    }
+    if (!hilrig) {
+      io.err << "hilrig sweep: " << hilrig.error().message << "\n";
+      return kExitBadInput;
+    }
+    io.err << sweep.value().spec.name() << ": " << CaseCount(sweep.value()) << " cases in "
+           << opts.jobs << " shard" << (opts.jobs == 1 ? "" : "s") << "\n";
+    auto ran = RunShardProcesses(sweep.value(), opts, hilrig_path, io);
+    stopped = rig::StopRequested(io.stop_requested);
+    if (!ran) io.err << "hilrig sweep: " << ran.error().message << "\n";
+  }
+  auto merged = MergeSweep(sweep.value(), opts.out_dir, hilrig_path);
+  if (!merged) {
+    io.err << "hilrig sweep: " << merged.error().message << "\n";
+    return kExitCheckFailed;
+  }
+  return PrintMerged(sweep.value(), merged.value(), opts.out_dir, stopped, io);
+}
+
+}  // namespace hilrig::host

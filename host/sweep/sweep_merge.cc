@@ -1,0 +1,189 @@
+#include "host/sweep/sweep_merge.h"
+
+#include <array>
+#include <charconv>
+#include <filesystem>
+#include <set>
+#include <sstream>
+#include <vector>
+
+#include "host/sweep/case_run.h"
+#include "host/sweep/sweep_cases.h"
+#include "host/sweep/sweep_shard.h"
+#include "host/sweep/sweep_statistics.h"
+#include "rig/file_io.h"
+
+namespace hilrig::host {
+namespace {
+
+// A CSV field: quoted when it holds a comma, a quote or a line break, quotes doubled (RFC 4180).
+std::string CsvField(const std::string& text) {
+  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+  std::string quoted = "\"";
+  for (const char c : text) {
+    if (c == '"') quoted += '"';
+    quoted += c;
+  }
+  return quoted + "\"";
+}
+
+// A shell word: single-quoted unless it is plain.
+std::string ShellWord(const std::string& text) {
+  if (!text.empty() &&
+      text.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789"
+                             "_-./=,:+") == std::string::npos) {
+    return text;
+  }
+  std::string quoted = "'";
+  for (const char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+// The envelope names of the sweep's scenarios, each once, in first-seen order.
+std::vector<std::string> EnvelopeColumns(const LoadedSweep& sweep) {
+  std::vector<std::string> names;
+  std::set<std::string> seen;
+  for (const SweepScenario& scenario : sweep.scenarios) {
+    for (const proto::Envelope& envelope : scenario.spec.envelopes()) {
+      if (seen.insert(envelope.name()).second) names.push_back(envelope.name());
+    }
+  }
+  return names;
+}
+
+const char* OutcomeName(proto::SweepCaseResult::Outcome outcome) {
+  switch (outcome) {
+    case proto::SweepCaseResult::PASSED:
+      return "passed";
+    case proto::SweepCaseResult::FAILED:
+      return "failed";
+    case proto::SweepCaseResult::STOPPED:
+      return "stopped";
+    case proto::SweepCaseResult::INVALID:
+      return "invalid";
+    case proto::SweepCaseResult::SET_UP_FAILED:
+      return "set_up_failed";
+    default:
+      return "unknown";
+  }
+}
+
+const SweepScenario* ScenarioNamed(const LoadedSweep& sweep, const std::string& name) {
+  for (const SweepScenario& scenario : sweep.scenarios) {
+    if (scenario.spec.name() == name) return &scenario;
+  }
+  return nullptr;
+}
+
+std::string FailingText(const LoadedSweep& sweep,
+                        const std::map<std::uint64_t, proto::SweepCaseResult>& rows,
+                        const std::string& hilrig, const std::string& runs_dir) {
+  std::ostringstream text;
+  for (const auto& [index, row] : rows) {
+    if (row.outcome() == proto::SweepCaseResult::PASSED) continue;
+    text << "# case " << index << " " << OutcomeName(row.outcome());
+    if (!row.detail().empty()) text << ": " << row.detail();
+    text << "\n" << ReproduceCommand(sweep, row, hilrig, runs_dir) << "\n";
+  }
+  return text.str();
+}
+
+}  // namespace
+
+std::string ExactNumber(double value) {
+  std::array<char, 32> buffer{};
+  const auto [end, error] = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
+  if (error != std::errc()) return "nan";  // unreachable: 32 characters hold any double
+  return std::string(buffer.data(), end);
+}
+
+std::string RunsCsv(const LoadedSweep& sweep,
+                    const std::map<std::uint64_t, proto::SweepCaseResult>& rows) {
+  const std::vector<std::string> envelopes = EnvelopeColumns(sweep);
+  std::ostringstream csv;
+  csv << "case,scenario,seed";
+  for (const proto::Axis& axis : sweep.spec.axis()) csv << "," << CsvField(axis.path());
+  csv << ",outcome";
+  for (const std::string& name : envelopes) {
+    csv << "," << CsvField(name + ".met") << "," << CsvField(name + ".worst") << ","
+        << CsvField(name + ".margin");
+  }
+  csv << ",detail,real_time_factor,wall_s\n";
+  for (const auto& [index, row] : rows) {
+    csv << index << "," << CsvField(row.scenario()) << "," << row.seed();
+    for (const double value : row.value()) csv << "," << ExactNumber(value);
+    csv << "," << OutcomeName(row.outcome());
+    for (const std::string& name : envelopes) {
+      const proto::SweepCaseResult::Envelope* found = nullptr;
+      for (const auto& envelope : row.envelope()) {
+        if (envelope.name() == name) found = &envelope;
+      }
+      if (found == nullptr) {
+        csv << ",,,";
+        continue;
+      }
+      csv << "," << (found->met() ? 1 : 0) << "," << ExactNumber(found->worst()) << ","
+          << ExactNumber(found->margin());
+    }
+    csv << "," << CsvField(row.detail()) << "," << ExactNumber(row.real_time_factor()) << ","
+        << ExactNumber(row.wall_s()) << "\n";
+  }
+  return csv.str();
+}
+
+std::string ReproduceCommand(const LoadedSweep& sweep, const proto::SweepCaseResult& row,
+                             const std::string& hilrig, const std::string& runs_dir) {
+  const SweepScenario* scenario = ScenarioNamed(sweep, row.scenario());
+  std::string command = ShellWord(hilrig) + " run " +
+                        ShellWord(scenario != nullptr ? scenario->path : row.scenario()) +
+                        " --seed " + std::to_string(row.seed());
+  std::string sets;
+  for (int a = 0; a < sweep.spec.axis_size() && a < row.value_size(); ++a) {
+    sets += (sets.empty() ? "" : ",") + sweep.spec.axis(a).path() + "=" + ExactNumber(row.value(a));
+  }
+  if (!sets.empty()) command += " --set " + ShellWord(sets);
+  return command + " --no-reference --out " + ShellWord(CaseFolder(runs_dir, row.index()));
+}
+
+rig::Result<MergedSweep> MergeSweep(const LoadedSweep& sweep, const std::string& out_dir,
+                                    const std::string& hilrig) {
+  MergedSweep merged;
+  merged.cases = CaseCount(sweep);
+  auto rows = ReadShardRows(out_dir, &merged.bad_lines);
+  if (!rows) return rows.error();
+  // Rows of cases the sweep does not have (a shard of an earlier, larger sweep) are not its.
+  for (auto it = rows.value().begin(); it != rows.value().end();) {
+    it = it->first < merged.cases ? std::next(it) : rows.value().erase(it);
+  }
+  merged.finished = rows.value().size();
+  for (const auto& [index, row] : rows.value()) {
+    if (row.outcome() != proto::SweepCaseResult::PASSED) ++merged.not_passed;
+  }
+  const std::filesystem::path folder(out_dir);
+  const std::string runs_dir = (folder / "runs").string();
+  if (auto written =
+          rig::WriteFileAtomically((folder / "runs.csv").string(), RunsCsv(sweep, rows.value()));
+      !written.ok()) {
+    return written.error();
+  }
+  if (auto written = rig::WriteFileAtomically((folder / "failing.txt").string(),
+                                              FailingText(sweep, rows.value(), hilrig, runs_dir));
+      !written.ok()) {
+    return written.error();
+  }
+  std::vector<proto::SweepCaseResult> results;
+  results.reserve(rows.value().size());
+  for (auto& [index, row] : rows.value()) results.push_back(std::move(row));
+  merged.summary = SummariseSweep(sweep, results);
+  merged.summary.set_sweep_cases(merged.cases);
+  auto json = SummaryJson(merged.summary);
+  if (!json) return json.error();
+  if (auto written = rig::WriteFileAtomically((folder / "summary.json").string(), json.value());
+      !written.ok()) {
+    return written.error();
+  }
+  merged.criteria_met = merged.finished == merged.cases && merged.summary.passed();
+  return merged;
+}
+
+}  // namespace hilrig::host

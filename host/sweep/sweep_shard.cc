@@ -1,0 +1,112 @@
+#include "host/sweep/sweep_shard.h"
+
+#include <google/protobuf/util/json_util.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "rig/command_args.h"
+#include "rig/file_io.h"
+
+namespace hilrig::host {
+namespace {
+
+constexpr std::uint32_t kMaxShards = 100'000;
+// A row is a few hundred bytes; a line far longer than any row is not one.
+constexpr std::size_t kMaxRowBytes = std::size_t{1} << 20;
+
+std::string JsonLine(const proto::SweepCaseResult& row) {
+  std::string json;
+  google::protobuf::util::JsonPrintOptions options;
+  options.preserve_proto_field_names = true;
+  // Cannot fail for a message of this schema: no Any, no map keys to reject.
+  (void)google::protobuf::util::MessageToJsonString(row, &json, options);
+  return json + "\n";
+}
+
+}  // namespace
+
+rig::Result<ShardSpec> ParseShardSpec(const std::string& text) {
+  const std::size_t slash = text.find('/');
+  const auto bad = [&text] {
+    return rig::MakeError("--shard \"" + text +
+                          "\": expected I/N with 1 <= I <= N <= " + std::to_string(kMaxShards));
+  };
+  if (slash == std::string::npos) return bad();
+  auto index = rig::ParseNumber<std::uint32_t>(text.substr(0, slash), "shard");
+  auto count = rig::ParseNumber<std::uint32_t>(text.substr(slash + 1), "shard count");
+  if (!index || !count || index.value() < 1 || index.value() > count.value() ||
+      count.value() > kMaxShards) {
+    return bad();
+  }
+  return ShardSpec{index.value() - 1, count.value()};
+}
+
+bool InShard(std::uint64_t case_index, const ShardSpec& shard) {
+  return case_index % shard.count == shard.index;
+}
+
+std::string ShardFile(const std::string& out_dir, const ShardSpec& shard) {
+  char name[64];
+  std::snprintf(name, sizeof(name), "shard-%04u-of-%04u.jsonl", shard.index + 1, shard.count);
+  return (std::filesystem::path(out_dir) / "shards" / name).string();
+}
+
+rig::Result<std::uint64_t> RunShard(
+    const LoadedSweep& sweep, const ShardSpec& shard, const std::string& out_dir,
+    const CaseRunSetup& setup, const std::function<void(const proto::SweepCaseResult&)>& on_case) {
+  const std::string path = ShardFile(out_dir, shard);
+  std::error_code error;
+  std::filesystem::create_directories(std::filesystem::path(path).parent_path(), error);
+  if (error) return rig::MakeError("cannot make " + path + "'s folder: " + error.message());
+  auto file = rig::OutputFile::Create(path, 1 << 16);
+  if (!file) return file.error();
+  std::uint64_t written = 0;
+  const std::uint64_t cases = CaseCount(sweep);
+  for (std::uint64_t index = shard.index; index < cases; index += shard.count) {
+    if (setup.stop_requested != nullptr && setup.stop_requested->load()) break;
+    const std::optional<proto::SweepCaseResult> row = RunCase(sweep, CaseAt(sweep, index), setup);
+    if (!row) break;  // interrupted mid-case: not a row
+    file.value()->stream() << JsonLine(*row);
+    // Each row reaches the file before the next case starts: a kill loses at most the case
+    // that was running.
+    if (auto flushed = file.value()->Flush(); !flushed.ok()) return flushed.error();
+    ++written;
+    if (on_case) on_case(*row);
+  }
+  if (auto closed = file.value()->Close(); !closed.ok()) return closed.error();
+  return written;
+}
+
+rig::Result<std::map<std::uint64_t, proto::SweepCaseResult>> ReadShardRows(
+    const std::string& out_dir, std::uint64_t* bad_lines) {
+  namespace fs = std::filesystem;
+  const fs::path folder = fs::path(out_dir) / "shards";
+  std::vector<fs::path> files;
+  std::error_code error;
+  for (fs::directory_iterator entry(folder, error), end; !error && entry != end;
+       entry.increment(error)) {
+    if (entry->path().extension() == ".jsonl") files.push_back(entry->path());
+  }
+  if (error) return rig::MakeError("cannot read " + folder.string() + ": " + error.message());
+  std::sort(files.begin(), files.end());
+  std::map<std::uint64_t, proto::SweepCaseResult> rows;
+  for (const fs::path& file : files) {
+    std::ifstream in(file);
+    std::string line;
+    while (std::getline(in, line)) {
+      proto::SweepCaseResult row;
+      if (line.size() > kMaxRowBytes ||
+          !google::protobuf::util::JsonStringToMessage(line, &row).ok()) {
+        if (bad_lines != nullptr) ++*bad_lines;
+        continue;
+      }
+      rows[row.index()] = std::move(row);
+    }
+  }
+  return rows;
+}
+
+}  // namespace hilrig::host

@@ -1,0 +1,76 @@
+// The merged files' text: numbers that read back exactly, CSV quoting, envelope columns across
+// scenarios, and the command that runs one case alone.
+#include "host/sweep/sweep_merge.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fstream>
+
+#include "tests/support/hover_sweep.h"
+
+namespace hilrig::host {
+namespace {
+
+using ::testing::HasSubstr;
+
+TEST(SweepMergeTest, NumbersReadBackExactly) {
+  for (double value : {0.1, 1.0 / 3.0, 1e-300, -2.5, 0.0, 123456789.125}) {
+    EXPECT_EQ(std::strtod(ExactNumber(value).c_str(), nullptr), value) << ExactNumber(value);
+  }
+  EXPECT_EQ(ExactNumber(3.5), "3.5");
+}
+
+LoadedSweep HoverSweep(const std::string& name) {
+  const std::filesystem::path dir = HoverSweepFolder(name, 0.05, 2);
+  auto sweep = LoadSweep((dir / "sweep.textproto").string());
+  EXPECT_TRUE(sweep.ok()) << sweep.error().message;
+  return sweep.ok() ? std::move(sweep).value() : LoadedSweep{};
+}
+
+TEST(SweepMergeTest, RunsCsvHasARowPerCaseWithItsEnvelopesAndQuotedDetail) {
+  const LoadedSweep sweep = HoverSweep("sweep_merge_csv");
+  std::map<std::uint64_t, proto::SweepCaseResult> rows;
+  proto::SweepCaseResult& passed = rows[0];
+  passed.set_index(0);
+  passed.set_scenario("hover_sweep");
+  passed.set_seed(1);
+  passed.add_value(0.5);
+  passed.set_outcome(proto::SweepCaseResult::PASSED);
+  auto* envelope = passed.add_envelope();
+  envelope->set_name("altitude");
+  envelope->set_met(true);
+  envelope->set_worst(0.01);
+  envelope->set_margin(0.04);
+  passed.set_real_time_factor(900);
+  passed.set_wall_s(0.002);
+  proto::SweepCaseResult& invalid = rows[3];
+  invalid.set_index(3);
+  invalid.set_scenario("hover_sweep");
+  invalid.set_seed(2);
+  invalid.add_value(0.6);
+  invalid.set_outcome(proto::SweepCaseResult::INVALID);
+  invalid.set_detail("vehicle.mass_kg: \"-1\", not above 0");
+  EXPECT_EQ(RunsCsv(sweep, rows),
+            "case,scenario,seed,vehicle.mass_kg,outcome,altitude.met,altitude.worst,"
+            "altitude.margin,detail,real_time_factor,wall_s\n"
+            "0,hover_sweep,1,0.5,passed,1,0.01,0.04,,900,0.002\n"
+            "3,hover_sweep,2,0.6,invalid,,,,\"vehicle.mass_kg: \"\"-1\"\", not above 0\",0,0\n");
+}
+
+TEST(SweepMergeTest, TheReproducingCommandRunsTheCaseAlone) {
+  const LoadedSweep sweep = HoverSweep("sweep_merge_command");
+  proto::SweepCaseResult row;
+  row.set_index(12);
+  row.set_scenario("hover_sweep");
+  row.set_seed(7);
+  row.add_value(0.1 + 0.2);
+  const std::string command = ReproduceCommand(sweep, row, "/opt/hil rig/hilrig", "/out/runs");
+  EXPECT_EQ(command, "'/opt/hil rig/hilrig' run " + sweep.scenarios[0].path +
+                         " --seed 7 --set vehicle.mass_kg=0.30000000000000004 --no-reference"
+                         " --out /out/runs/case-0000012");
+}
+
+}  // namespace
+}  // namespace hilrig::host
