@@ -15,8 +15,8 @@ namespace {
 
 using ::testing::HasSubstr;
 
-constexpr const char* kScene = R"(name: "%s"
-seed: 40
+// A scene's body; each scene's name goes before it.
+constexpr const char* kSceneBody = R"(seed: 40
 simulation { duration_s: 2 }
 vehicle { initial_position_m { z: 1 } }
 models { tactile { enabled: true } }
@@ -28,12 +28,12 @@ envelopes { name: "not_dropped" signal: OBJECT_DROPPED upper: 0 }
 LoadedSweep Sweep(const std::string& name, const std::string& body) {
   const std::filesystem::path dir = FreshTestDir(name);
   for (const char* scene : {"a", "b"}) {
-    std::string text = kScene;
-    text.replace(text.find("%s"), 2, scene);
-    std::ofstream(dir / (std::string(scene) + ".textproto")) << text;
+    std::ofstream(dir / (std::string(scene) + ".textproto")) << "name: \"" << scene << "\"\n"
+                                                             << kSceneBody;
   }
-  auto sweep = ParseSweep("name: \"s\"\n" + body + "criterion { min_pass_rate: 0.5 }\n",
-                          "s.textproto", dir.string());
+  const std::string text =
+      std::string("name: \"s\"\n").append(body).append("criterion { min_pass_rate: 0.5 }\n");
+  auto sweep = ParseSweep(text, "s.textproto", dir.string());
   EXPECT_TRUE(sweep.ok()) << sweep.error().message;
   return sweep.ok() ? std::move(sweep).value() : LoadedSweep{};
 }
