@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "host/scenario/scenario_loader.h"
+#include "tests/support/bottle_scene.h"
 
 namespace hilrig::host {
 namespace {
@@ -14,15 +15,7 @@ namespace {
 using ::testing::HasSubstr;
 
 proto::Scenario BottleScene() {
-  auto scenario = ParseScenario(R"(name: "bottle"
-simulation { duration_s: 2 }
-vehicle { initial_position_m { z: 1 } }
-models { tactile { enabled: true } }
-object { fixture: "water_bottle" }
-timeline { at_s: 0.5 setpoint { position_m { z: 1 } } }
-timeline { at_s: 1 grasp { force_n: 3.5 } }
-)",
-                                "bottle.textproto");
+  auto scenario = ParseScenario(kBottleSceneText, "bottle.textproto");
   EXPECT_TRUE(scenario.ok()) << scenario.error().message;
   return scenario.value();
 }

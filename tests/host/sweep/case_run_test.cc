@@ -18,14 +18,19 @@ LoadedSweep Load(const fs::path& dir) {
   return sweep.ok() ? std::move(sweep).value() : LoadedSweep{};
 }
 
-TEST(CaseRunTest, APassingCaseGivesItsEnvelopesAndKeepsNoFiles) {
-  const fs::path dir = HoverSweepFolder("case_run_pass", 0.05, 2);
-  const LoadedSweep sweep = Load(dir);
+// Runs case `index` of the sweep in `dir`, keeping failing cases' files in DIR/runs.
+std::optional<proto::SweepCaseResult> RunCaseIn(const fs::path& dir, const LoadedSweep& sweep,
+                                                std::uint64_t index) {
   const rig::SteadyClock clock;
   CaseRunSetup setup;
   setup.wall_clock = &clock;
   setup.runs_dir = (dir / "runs").string();
-  const auto row = RunCase(sweep, CaseAt(sweep, 3), setup);
+  return RunCase(sweep, CaseAt(sweep, index), setup);
+}
+
+TEST(CaseRunTest, APassingCaseGivesItsEnvelopesAndKeepsNoFiles) {
+  const fs::path dir = HoverSweepFolder("case_run_pass", 0.05, 2);
+  const auto row = RunCaseIn(dir, Load(dir), 3);
   ASSERT_TRUE(row.has_value());
   EXPECT_EQ(row->index(), 3u);
   EXPECT_EQ(row->scenario(), "hover_sweep");
@@ -43,12 +48,7 @@ TEST(CaseRunTest, APassingCaseGivesItsEnvelopesAndKeepsNoFiles) {
 
 TEST(CaseRunTest, AFailingCaseKeepsTheFilesOfItsRun) {
   const fs::path dir = HoverSweepFolder("case_run_fail", 1e-6, 1);
-  const LoadedSweep sweep = Load(dir);
-  const rig::SteadyClock clock;
-  CaseRunSetup setup;
-  setup.wall_clock = &clock;
-  setup.runs_dir = (dir / "runs").string();
-  const auto row = RunCase(sweep, CaseAt(sweep, 1), setup);
+  const auto row = RunCaseIn(dir, Load(dir), 1);
   ASSERT_TRUE(row.has_value());
   EXPECT_EQ(row->outcome(), proto::SweepCaseResult::FAILED);
   EXPECT_FALSE(row->envelope(0).met());

@@ -29,15 +29,22 @@ LoadedSweep HoverSweep(const std::string& name) {
   return sweep.ok() ? std::move(sweep).value() : LoadedSweep{};
 }
 
+// A row of the hover sweep: case `index`, its seed and mass.
+proto::SweepCaseResult HoverRow(std::uint64_t index, std::uint64_t seed, double mass_kg,
+                                proto::SweepCaseResult::Outcome outcome) {
+  proto::SweepCaseResult row;
+  row.set_index(index);
+  row.set_scenario("hover_sweep");
+  row.set_seed(seed);
+  row.add_value(mass_kg);
+  row.set_outcome(outcome);
+  return row;
+}
+
 TEST(SweepMergeTest, RunsCsvHasARowPerCaseWithItsEnvelopesAndQuotedDetail) {
   const LoadedSweep sweep = HoverSweep("sweep_merge_csv");
   std::map<std::uint64_t, proto::SweepCaseResult> rows;
-  proto::SweepCaseResult& passed = rows[0];
-  passed.set_index(0);
-  passed.set_scenario("hover_sweep");
-  passed.set_seed(1);
-  passed.add_value(0.5);
-  passed.set_outcome(proto::SweepCaseResult::PASSED);
+  proto::SweepCaseResult& passed = rows[0] = HoverRow(0, 1, 0.5, proto::SweepCaseResult::PASSED);
   auto* envelope = passed.add_envelope();
   envelope->set_name("altitude");
   envelope->set_met(true);
@@ -45,12 +52,7 @@ TEST(SweepMergeTest, RunsCsvHasARowPerCaseWithItsEnvelopesAndQuotedDetail) {
   envelope->set_margin(0.04);
   passed.set_real_time_factor(900);
   passed.set_wall_s(0.002);
-  proto::SweepCaseResult& invalid = rows[3];
-  invalid.set_index(3);
-  invalid.set_scenario("hover_sweep");
-  invalid.set_seed(2);
-  invalid.add_value(0.6);
-  invalid.set_outcome(proto::SweepCaseResult::INVALID);
+  proto::SweepCaseResult& invalid = rows[3] = HoverRow(3, 2, 0.6, proto::SweepCaseResult::INVALID);
   invalid.set_detail("vehicle.mass_kg: \"-1\", not above 0");
   EXPECT_EQ(RunsCsv(sweep, rows),
             "case,scenario,seed,vehicle.mass_kg,outcome,altitude.met,altitude.worst,"
@@ -61,11 +63,7 @@ TEST(SweepMergeTest, RunsCsvHasARowPerCaseWithItsEnvelopesAndQuotedDetail) {
 
 TEST(SweepMergeTest, TheReproducingCommandRunsTheCaseAlone) {
   const LoadedSweep sweep = HoverSweep("sweep_merge_command");
-  proto::SweepCaseResult row;
-  row.set_index(12);
-  row.set_scenario("hover_sweep");
-  row.set_seed(7);
-  row.add_value(0.1 + 0.2);
+  const proto::SweepCaseResult row = HoverRow(12, 7, 0.1 + 0.2, proto::SweepCaseResult::FAILED);
   const std::string command = ReproduceCommand(sweep, row, "/opt/hil rig/hilrig", "/out/runs");
   EXPECT_EQ(command, "'/opt/hil rig/hilrig' run " + sweep.scenarios[0].path +
                          " --seed 7 --set vehicle.mass_kg=0.30000000000000004 --no-reference"

@@ -7,6 +7,7 @@
 
 #include <fstream>
 
+#include "tests/support/bottle_scene.h"
 #include "tests/support/test_files.h"
 
 namespace hilrig::host {
@@ -14,19 +15,9 @@ namespace {
 
 using ::testing::HasSubstr;
 
-constexpr const char* kBottle = R"(name: "bottle"
-simulation { duration_s: 2 }
-vehicle { initial_position_m { z: 1 } }
-models { tactile { enabled: true } }
-object { fixture: "water_bottle" }
-timeline { at_s: 0.5 setpoint { position_m { z: 1 } } }
-timeline { at_s: 1 grasp { force_n: 3.5 } }
-envelopes { name: "not_dropped" signal: OBJECT_DROPPED upper: 0 }
-)";
-
 std::filesystem::path FolderWithBottle(const std::string& name) {
   const std::filesystem::path dir = FreshTestDir(name);
-  std::ofstream(dir / "bottle.textproto") << kBottle;
+  std::ofstream(dir / "bottle.textproto") << kBottleSceneText;
   return dir;
 }
 
