@@ -1,5 +1,7 @@
 #include "host/link/child_process.h"
 
+#include <fcntl.h>
+#include <poll.h>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -7,6 +9,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -115,6 +118,69 @@ std::string ChildProcess::Terminate(int grace_ms) {
 void ChildProcess::Ended(int wait_status) {
   exit_ = DescribeStatus(wait_status);
   if (WIFEXITED(wait_status)) exit_status_ = WEXITSTATUS(wait_status);
+}
+
+rig::Result<CommandOutput> RunCapturingOutput(const std::vector<std::string>& argv,
+                                              const std::atomic<bool>* stop_requested,
+                                              std::size_t max_output_bytes) {
+  if (argv.empty()) return rig::MakeError("no program to start");
+  int pipe_fds[2];
+  if (::pipe2(pipe_fds, O_CLOEXEC) != 0) {
+    return rig::MakeError("cannot start " + argv[0] + ": pipe: " + std::strerror(errno));
+  }
+  std::vector<char*> args;
+  for (const std::string& arg : argv) args.push_back(const_cast<char*>(arg.c_str()));
+  args.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  ::posix_spawn_file_actions_init(&actions);
+  ::posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], STDOUT_FILENO);
+  posix_spawnattr_t attributes;
+  ::posix_spawnattr_init(&attributes);
+  ::posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
+  ::posix_spawnattr_setpgroup(&attributes, 0);
+  pid_t pid = -1;
+  const int error =
+      ::posix_spawn(&pid, argv[0].c_str(), &actions, &attributes, args.data(), environ);
+  ::posix_spawn_file_actions_destroy(&actions);
+  ::posix_spawnattr_destroy(&attributes);
+  ::close(pipe_fds[1]);
+  if (error != 0) {
+    ::close(pipe_fds[0]);
+    return rig::MakeError("cannot start " + argv[0] + ": " + std::strerror(error));
+  }
+  CommandOutput result;
+  std::array<char, 4096> chunk;
+  for (;;) {
+    if (stop_requested != nullptr && stop_requested->load()) break;
+    pollfd readable{pipe_fds[0], POLLIN, 0};
+    if (::poll(&readable, 1, 100) <= 0) continue;
+    const ssize_t got = ::read(pipe_fds[0], chunk.data(), chunk.size());
+    if (got < 0 && errno == EINTR) continue;
+    if (got <= 0) break;  // the child closed its standard output: it is ending
+    const std::size_t room = max_output_bytes - std::min(max_output_bytes, result.output.size());
+    result.output.append(chunk.data(), std::min(room, static_cast<std::size_t>(got)));
+  }
+  ::close(pipe_fds[0]);
+  // At the end of its output a child is ending on its own; a stopped one is asked to, and then
+  // made to.
+  int status = 0;
+  bool reaped = false;
+  if (stop_requested != nullptr && stop_requested->load()) {
+    ::kill(pid, SIGTERM);
+    const timespec nap{0, 5'000'000};
+    for (int waited_ms = 0; waited_ms < 1000 && !reaped; waited_ms += 5) {
+      reaped = ::waitpid(pid, &status, WNOHANG) == pid;
+      if (!reaped) ::nanosleep(&nap, nullptr);
+    }
+    if (!reaped) ::kill(pid, SIGKILL);
+  }
+  while (!reaped && ::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  result.ended = DescribeStatus(status);
+  if (WIFEXITED(status) && !(stop_requested != nullptr && stop_requested->load())) {
+    result.exit_status = WEXITSTATUS(status);
+  }
+  return result;
 }
 
 rig::Result<std::string> ExecutableDirectory() {

@@ -6,6 +6,8 @@
 
 #include <sys/types.h>
 
+#include <atomic>
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <vector>
@@ -46,6 +48,19 @@ class ChildProcess {
   std::optional<std::string> exit_;
   std::optional<int> exit_status_;
 };
+
+struct CommandOutput {
+  std::optional<int> exit_status;  // unset when a signal or a stop request ended it
+  std::string ended;               // "exited with status 1", "killed by signal 15"
+  std::string output;              // its standard output (standard error passes through)
+};
+
+// Runs argv (argv[0] a path) to its end and returns what it printed on standard output, at most
+// `max_output_bytes` of it (the rest is read and dropped, so the child never blocks on a full
+// pipe). A stop request ends the child (SIGTERM, then SIGKILL). Fails only when it cannot start.
+rig::Result<CommandOutput> RunCapturingOutput(const std::vector<std::string>& argv,
+                                              const std::atomic<bool>* stop_requested,
+                                              std::size_t max_output_bytes = 1 << 20);
 
 // The first executable `name` in the directories of $PATH; the error names it and the search.
 rig::Result<std::string> FindInPath(const std::string& name);

@@ -23,6 +23,31 @@ TEST(ChildProcessTest, EnvironmentGoesToTheChildOnly) {
   ::unsetenv("HILRIG_CHILD_TEST_SECRET");
 }
 
+TEST(RunCapturingOutputTest, KeepsStandardOutputAndTheExitStatus) {
+  auto ran = RunCapturingOutput({"/bin/sh", "-c", "echo 4711; echo noise >&2; exit 3"}, nullptr);
+  ASSERT_TRUE(ran.ok()) << ran.error().message;
+  EXPECT_EQ(ran.value().output, "4711\n");
+  EXPECT_EQ(ran.value().exit_status, 3);
+  EXPECT_EQ(ran.value().ended, "exited with status 3");
+  // More output than is kept: the rest is read and dropped, and the child still ends.
+  auto long_output =
+      RunCapturingOutput({"/bin/sh", "-c", "head -c 200000 /dev/zero | tr '\\0' x"}, nullptr, 10);
+  ASSERT_TRUE(long_output.ok());
+  EXPECT_EQ(long_output.value().output, "xxxxxxxxxx");
+  EXPECT_EQ(long_output.value().exit_status, 0);
+  auto missing = RunCapturingOutput({"/nonexistent/program"}, nullptr);
+  ASSERT_FALSE(missing.ok());
+  EXPECT_NE(missing.error().message.find("cannot start /nonexistent/program"), std::string::npos);
+}
+
+TEST(RunCapturingOutputTest, AStopRequestEndsTheChild) {
+  const std::atomic<bool> stop{true};
+  auto ran = RunCapturingOutput({"/bin/sleep", "30"}, &stop);
+  ASSERT_TRUE(ran.ok()) << ran.error().message;
+  EXPECT_FALSE(ran.value().exit_status.has_value());
+  EXPECT_EQ(ran.value().ended, "killed by signal 15");
+}
+
 TEST(FindInPathTest, FindsAnExecutableAndNamesAMissingOne) {
   auto shell = FindInPath("sh");
   ASSERT_TRUE(shell) << shell.error().message;
