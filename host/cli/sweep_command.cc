@@ -14,6 +14,7 @@
 
 #include "host/cache/setup_caches.h"
 #include "host/cli/cli.h"
+#include "host/cli/sweep_slurm.h"
 #include "host/link/child_process.h"
 #include "host/sweep/case_run.h"
 #include "host/sweep/sweep_merge.h"
@@ -31,6 +32,11 @@ namespace fs = std::filesystem;
 
 constexpr const char* kResolvedSweepName = "sweep.textproto";
 constexpr int kMaxJobs = 256;
+// A Slurm array's default size: enough tasks to fill a partition of a few nodes, few enough that
+// each task's start is small next to its cases.
+constexpr std::uint64_t kDefaultSlurmShards = 64;
+constexpr int kMaxSlurmShards = 100'000;
+constexpr int kMaxShardsAtOnce = 100'000;
 constexpr std::int64_t kProgressPeriodNs = 1'000'000'000;
 constexpr int kPollMs = 100;
 // A shard asked to stop ends its running case at the next tick; a case of a QEMU DUT may take
@@ -42,28 +48,63 @@ struct SweepOptions {
   std::string out_dir;
   int jobs = 1;
   std::optional<ShardSpec> shard;
+  bool jobs_given = false;
   bool merge_only = false;
   bool keep_runs = false;
   std::optional<std::string> cache_dir;
+  bool slurm = false;  // submit the shards to Slurm instead of running them here
+  bool wait = false;   // --slurm: return when the merge job has ended
+  std::optional<std::string> partition;
+  std::optional<std::uint32_t> max_parallel;
 };
 
 int Usage(const CliStreams& io, const std::string& why) {
   io.err << "hilrig sweep: " << why
          << "\nusage: hilrig sweep SWEEP.textproto --out DIR [--jobs N] [--keep-runs]\n"
+            "       hilrig sweep SWEEP.textproto --out DIR --slurm [--jobs SHARDS]\n"
+            "                    [--partition P] [--max-parallel K] [--wait]\n"
             "       hilrig sweep SWEEP.textproto --out DIR --shard I/N\n"
             "       hilrig sweep --merge DIR\n";
   return kExitBadInput;
 }
 
+// --slurm's own options, which mean nothing without it.
+rig::Result<void> ParseSlurmOptions(const CliArgs& cli, SweepOptions& options) {
+  const std::string* partition = cli.Option("--partition");
+  const std::string* max_parallel = cli.Option("--max-parallel");
+  if (!options.slurm) {
+    if (partition || max_parallel || options.wait) {
+      return rig::MakeError("--partition, --max-parallel and --wait go with --slurm");
+    }
+    return {};
+  }
+  if (cli.Option("--shard")) return rig::MakeError("--slurm submits every shard; not --shard");
+  if (partition) {
+    if (partition->empty() || partition->find_first_of(" \t\n%") != std::string::npos) {
+      return rig::MakeError("--partition \"" + *partition + "\" is no partition name");
+    }
+    options.partition = *partition;
+  }
+  if (max_parallel) {
+    auto value = ParseWholeNumberOption("--max-parallel", *max_parallel, 1, kMaxShardsAtOnce);
+    if (!value) return value.error();
+    options.max_parallel = static_cast<std::uint32_t>(value.value());
+  }
+  return {};
+}
+
 rig::Result<SweepOptions> ParseSweepOptions(std::vector<std::string> args) {
   SweepOptions options;
   options.keep_runs = TakeFlag(args, "--keep-runs");
-  auto parsed = ParseCliArgs(args, {"--out", "--jobs", "--shard", "--merge", "--reference-cache"});
+  options.slurm = TakeFlag(args, "--slurm");
+  options.wait = TakeFlag(args, "--wait");
+  auto parsed = ParseCliArgs(args, {"--out", "--jobs", "--shard", "--merge", "--reference-cache",
+                                    "--partition", "--max-parallel"});
   if (!parsed) return parsed.error();
   const CliArgs& cli = parsed.value();
   if (const std::string* merge = cli.Option("--merge")) {
-    if (!cli.positional.empty() || cli.Option("--out") || cli.Option("--jobs") ||
-        cli.Option("--shard")) {
+    if (!cli.positional.empty() || cli.options.size() > 1 || options.slurm || options.wait ||
+        options.keep_runs) {
       return rig::MakeError("--merge DIR takes nothing else");
     }
     options.merge_only = true;
@@ -80,10 +121,13 @@ rig::Result<SweepOptions> ParseSweepOptions(std::vector<std::string> args) {
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   options.jobs = static_cast<int>(std::min<unsigned>(cores, kMaxJobs));
   if (const std::string* jobs = cli.Option("--jobs")) {
-    auto value = ParseWholeNumberOption("--jobs", *jobs, 1, kMaxJobs);
+    auto value =
+        ParseWholeNumberOption("--jobs", *jobs, 1, options.slurm ? kMaxSlurmShards : kMaxJobs);
     if (!value) return value.error();
     options.jobs = value.value();
+    options.jobs_given = true;
   }
+  if (auto slurm = ParseSlurmOptions(cli, options); !slurm.ok()) return slurm.error();
   if (const std::string* shard = cli.Option("--shard")) {
     if (cli.Option("--jobs"))
       return rig::MakeError("--shard runs one shard; --jobs does not apply");
@@ -279,6 +323,37 @@ int PrintMerged(const LoadedSweep& sweep, const MergedSweep& merged, const std::
   return merged.criteria_met ? kExitPass : kExitCheckFailed;
 }
 
+// Submits the sweep to Slurm. Returns the exit code when the command ends here (submitted
+// without --wait, or refused); nothing when the merge job has ended and its results are to be
+// printed.
+std::optional<int> RunOnSlurm(const LoadedSweep& sweep, const SweepOptions& options,
+                              const std::string& hilrig, const CliStreams& io) {
+  SlurmSweepJob job;
+  job.name = sweep.spec.name();
+  job.hilrig = hilrig;
+  job.out_dir = fs::absolute(options.out_dir).lexically_normal().string();
+  if (job.out_dir.size() > 1 && job.out_dir.back() == '/') job.out_dir.pop_back();
+  const std::uint64_t cases = CaseCount(sweep);
+  job.shards = static_cast<std::uint32_t>(
+      std::min<std::uint64_t>(options.jobs_given ? options.jobs : kDefaultSlurmShards, cases));
+  job.partition = options.partition;
+  job.max_parallel = options.max_parallel;
+  job.keep_runs = options.keep_runs;
+  auto submitted = SubmitSweepToSlurm(job, options.wait, io.stop_requested);
+  if (!submitted) {
+    io.err << "hilrig sweep: " << submitted.error().message << "\n";
+    return kExitBadInput;
+  }
+  io.err << job.name << ": " << cases << " cases in " << job.shards << " array tasks: Slurm job "
+         << submitted.value().array_job_id << ", merge job " << submitted.value().merge_job_id
+         << " (scripts in " << job.out_dir << "/slurm/)\n";
+  if (options.wait) return std::nullopt;
+  io.out << job.name << ": submitted; the merged results appear in " << job.out_dir << " when job "
+         << submitted.value().merge_job_id << " ends (hilrig sweep --merge " << job.out_dir
+         << " prints them)\n";
+  return kExitPass;
+}
+
 }  // namespace
 
 int SweepCommand(const std::vector<std::string>& args, const CliStreams& io) {
@@ -325,11 +400,17 @@ int SweepCommand(const std::vector<std::string>& args, const CliStreams& io) {
       io.err << "hilrig sweep: " << hilrig.error().message << "\n";
       return kExitBadInput;
     }
-    io.err << sweep.value().spec.name() << ": " << CaseCount(sweep.value()) << " cases in "
-           << opts.jobs << " shard" << (opts.jobs == 1 ? "" : "s") << "\n";
-    auto ran = RunShardProcesses(sweep.value(), opts, hilrig_path, io);
+    if (opts.slurm) {
+      if (const std::optional<int> submitted = RunOnSlurm(sweep.value(), opts, hilrig_path, io)) {
+        return *submitted;
+      }
+    } else {
+      io.err << sweep.value().spec.name() << ": " << CaseCount(sweep.value()) << " cases in "
+             << opts.jobs << " shard" << (opts.jobs == 1 ? "" : "s") << "\n";
+      auto ran = RunShardProcesses(sweep.value(), opts, hilrig_path, io);
+      if (!ran) io.err << "hilrig sweep: " << ran.error().message << "\n";
+    }
     stopped = rig::StopRequested(io.stop_requested);
-    if (!ran) io.err << "hilrig sweep: " << ran.error().message << "\n";
   }
   auto merged = MergeSweep(sweep.value(), opts.out_dir, hilrig_path);
   if (!merged) {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "host/sweep/case_run.h"
+#include "host/sweep/shell_words.h"
 #include "host/sweep/sweep_cases.h"
 #include "host/sweep/sweep_shard.h"
 #include "host/sweep/sweep_statistics.h"
@@ -25,18 +26,6 @@ std::string CsvField(const std::string& text) {
     quoted += c;
   }
   return quoted + "\"";
-}
-
-// A shell word: single-quoted unless it is plain.
-std::string ShellWord(const std::string& text) {
-  if (!text.empty() &&
-      text.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789"
-                             "_-./=,:+") == std::string::npos) {
-    return text;
-  }
-  std::string quoted = "'";
-  for (const char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return quoted + "'";
 }
 
 // The envelope names of the sweep's scenarios, each once, in first-seen order.
@@ -134,15 +123,15 @@ std::string RunsCsv(const LoadedSweep& sweep,
 std::string ReproduceCommand(const LoadedSweep& sweep, const proto::SweepCaseResult& row,
                              const std::string& hilrig, const std::string& runs_dir) {
   const SweepScenario* scenario = ScenarioNamed(sweep, row.scenario());
-  std::string command = ShellWord(hilrig) + " run " +
-                        ShellWord(scenario != nullptr ? scenario->path : row.scenario()) +
+  std::string command = ShellQuoted(hilrig) + " run " +
+                        ShellQuoted(scenario != nullptr ? scenario->path : row.scenario()) +
                         " --seed " + std::to_string(row.seed());
   std::string sets;
   for (int a = 0; a < sweep.spec.axis_size() && a < row.value_size(); ++a) {
     sets += (sets.empty() ? "" : ",") + sweep.spec.axis(a).path() + "=" + ExactNumber(row.value(a));
   }
-  if (!sets.empty()) command += " --set " + ShellWord(sets);
-  return command + " --no-reference --out " + ShellWord(CaseFolder(runs_dir, row.index()));
+  if (!sets.empty()) command += " --set " + ShellQuoted(sets);
+  return command + " --no-reference --out " + ShellQuoted(CaseFolder(runs_dir, row.index()));
 }
 
 rig::Result<MergedSweep> MergeSweep(const LoadedSweep& sweep, const std::string& out_dir,

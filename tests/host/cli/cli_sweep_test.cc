@@ -117,6 +117,24 @@ TEST(CliSweepTest, ABadSweepOrUsageIsRefusedWithExitTwo) {
     EXPECT_EQ(usage.exit_code, 2) << args.size();
     EXPECT_THAT(usage.err, HasSubstr("usage: hilrig sweep"));
   }
+  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+           {"sweep", "a", "--out", "o", "--partition", "short"},
+           {"sweep", "a", "--out", "o", "--wait"},
+           {"sweep", "a", "--out", "o", "--slurm", "--shard", "1/2"},
+           {"sweep", "a", "--out", "o", "--slurm", "--max-parallel", "0"},
+           {"sweep", "a", "--out", "o", "--slurm", "--partition", "a b"}}) {
+    const CliResult slurm = Cli(args);
+    EXPECT_EQ(slurm.exit_code, 2) << args.back();
+    EXPECT_THAT(slurm.err, HasSubstr("usage: hilrig sweep"));
+  }
+  // #SBATCH --output cannot take a path with a space: refused before anything is submitted.
+  const fs::path good = HoverSweepFolder("cli_sweep_space", 0.05, 1);
+  const fs::path spaced = good / "out with space";
+  const CliResult space =
+      Cli({"sweep", (good / "sweep.textproto").string(), "--out", spaced.string(), "--slurm"});
+  EXPECT_EQ(space.exit_code, 2);
+  EXPECT_THAT(space.err, HasSubstr("has a space or a %"));
+  EXPECT_FALSE(fs::exists(spaced / "slurm"));
   const CliResult no_sweep = Cli({"sweep", "--merge", (dir / "nothing").string()});
   EXPECT_EQ(no_sweep.exit_code, 2);
   EXPECT_THAT(no_sweep.err, HasSubstr("nothing/sweep.textproto"));
