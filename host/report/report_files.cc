@@ -80,6 +80,20 @@ rig::Result<void> WriteJsonFile(const google::protobuf::Message& message, const 
   return WriteTextFile(path, json);
 }
 
+rig::Result<void> ReadJsonFile(const std::string& path, google::protobuf::Message& message) {
+  constexpr std::size_t kMaxJsonBytes = std::size_t{64} << 20;
+  auto text = rig::ReadRegularFile(path, kMaxJsonBytes);
+  if (!text) return text.error();
+  google::protobuf::util::JsonParseOptions options;
+  options.ignore_unknown_fields = true;
+  const auto status = google::protobuf::util::JsonStringToMessage(text.value(), &message, options);
+  if (!status.ok()) {
+    return rig::MakeError(path + " is not a " + message.GetDescriptor()->name() +
+                          " in JSON: " + std::string(status.message()));
+  }
+  return {};
+}
+
 rig::Result<void> WriteJunitXml(const proto::Report& report, const std::string& path) {
   int failures = 0;
   std::ostringstream cases;

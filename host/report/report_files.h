@@ -16,6 +16,10 @@ namespace hilrig::host {
 
 // Any of the rig's result messages (report, accuracy) as protobuf JSON, field names as in .proto.
 rig::Result<void> WriteJsonFile(const google::protobuf::Message& message, const std::string& path);
+// Reads a file WriteJsonFile wrote (or a later build's, whose unknown fields are skipped) into
+// `message`. Fails, naming the file, when it cannot be read, is over 64 MiB or is not that
+// message's JSON.
+rig::Result<void> ReadJsonFile(const std::string& path, google::protobuf::Message& message);
 // Whole or not at all: written beside `path` and renamed over it.
 rig::Result<void> WriteTextFile(const std::string& path, const std::string& content);
 rig::Result<void> WriteJunitXml(const proto::Report& report, const std::string& path);
