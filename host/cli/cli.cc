@@ -15,6 +15,7 @@
 #include "host/cli/bench_command.h"
 #include "host/cli/can_commands.h"
 #include "host/cli/cli_args.h"
+#include "host/cli/compare_command.h"
 #include "host/cli/sweep_command.h"
 #include "host/cli/tactile_commands.h"
 #include "host/dut/firmware_config.h"
@@ -65,6 +66,11 @@ constexpr const char* kUsage =
     "      --slurm [--partition P] [--max-parallel K] [--wait] (a Slurm job array of --jobs\n"
     "      shards, default 64, and a merge job after it); --shard I/N (one shard, as a task\n"
     "      runs it); hilrig sweep --merge DIR gathers them\n"
+    "  hilrig compare BASE CANDIDATE                      is the candidate worse? (exit 1)\n"
+    "      two run folders or two sweep folders; [--margin-tolerance F] (a margin may shrink\n"
+    "      by F of the base's, default 0.1) [--pass-rate-tolerance P] (default 0)\n"
+    "      [--confidence C] (a pass-rate drop counts when significant at C, default 0.95)\n"
+    "      [--trace-atol A] [--trace-rtol R] (default 1e-9, 1e-6) [--out FILE] (JSON)\n"
     "  hilrig bench --out DIR [--scenes a,b|all] [--duration-s S] [--quick]\n"
     "                                                     work-precision sweep\n"
     "  hilrig calibrate --out DIR [--seed N] [--field F]  calibrate the tactile sensors\n"
@@ -472,6 +478,7 @@ int RunCli(const std::vector<std::string>& args, std::ostream& out, std::ostream
   if (args[0] == "check") return CheckCommand(args, io);
   if (args[0] == "bench") return BenchCommand(args, io);
   if (args[0] == "sweep") return SweepCommand(args, io);
+  if (args[0] == "compare") return CompareCommand(args, io);
   if (args[0] == "calibrate") return CalibrateCommand(args, io);
   if (args[0] == "accuracy") return AccuracyCommand(args, io);
   if (args[0] == "listen") return ListenCommand(args, io);

@@ -71,6 +71,8 @@ forbid host/report host/runner/ host/fidelity/ host/pipeline/ host/cli/
 forbid host/pipeline host/cli/ host/work_precision/ host/sweep/
 # A sweep runs cases through the pipeline; starting shard processes is the command line's.
 forbid host/sweep host/cli/
+# A comparison reads two results' files; it runs nothing.
+forbid host/compare host/cli/ host/runner/ host/pipeline/ host/sweep/ host/fidelity/ host/dut/
 # The DUT process is the firmware behind the link on a bus: none of the harness's command line.
 forbid dut_emu host/cli/ host/runner/ host/scenario/
 

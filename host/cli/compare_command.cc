@@ -1,0 +1,168 @@
+#include "host/cli/compare_command.h"
+
+#include <fstream>
+#include <optional>
+#include <tuple>
+
+#include "host/cli/cli.h"
+#include "host/compare/comparison_text.h"
+#include "host/compare/result_folder.h"
+#include "host/compare/run_comparison.h"
+#include "host/compare/sweep_comparison.h"
+#include "host/compare/trace_difference.h"
+#include "host/report/report_files.h"
+#include "proto/compare.pb.h"
+#include "rig/number_text.h"
+
+namespace hilrig::host {
+namespace {
+
+struct CompareOptions {
+  std::string base_dir;
+  std::string candidate_dir;
+  std::optional<std::string> out_file;
+  proto::CompareTolerances tolerances;
+};
+
+int Usage(const CliStreams& io, const std::string& why) {
+  io.err << "hilrig compare: " << why
+         << "\nusage: hilrig compare BASE CANDIDATE [--margin-tolerance F]\n"
+            "                      [--pass-rate-tolerance P] [--confidence C]\n"
+            "                      [--trace-atol A] [--trace-rtol R] [--out FILE]\n"
+            "  BASE, CANDIDATE: two run folders or two sweep folders\n";
+  return kExitBadInput;
+}
+
+proto::CompareTolerances DefaultTolerances() {
+  proto::CompareTolerances tolerances;
+  tolerances.set_margin_fraction(0.1);
+  tolerances.set_pass_rate_drop(0);
+  tolerances.set_confidence(0.95);
+  tolerances.set_trace_abs(1e-9);
+  tolerances.set_trace_rel(1e-6);
+  return tolerances;
+}
+
+// The option's value as a finite number in [min, max], when given.
+rig::Result<void> ReadTolerance(const CliArgs& cli, const std::string& option, double min,
+                                double max, void (proto::CompareTolerances::*set)(double),
+                                proto::CompareTolerances& tolerances) {
+  const std::string* text = cli.Option(option);
+  if (text == nullptr) return {};
+  auto value = rig::ParseNumber<double>(*text, option);
+  if (!value) return value.error();
+  if (!(value.value() >= min && value.value() <= max)) {
+    return rig::MakeError(option + " must be from " + rig::NumberText(min) + " to " +
+                          rig::NumberText(max) + ", not " + *text);
+  }
+  (tolerances.*set)(value.value());
+  return {};
+}
+
+rig::Result<CompareOptions> ParseCompareOptions(const std::vector<std::string>& args) {
+  auto parsed = ParseCliArgs(args, {"--margin-tolerance", "--pass-rate-tolerance", "--confidence",
+                                    "--trace-atol", "--trace-rtol", "--out"});
+  if (!parsed) return parsed.error();
+  const CliArgs& cli = parsed.value();
+  if (cli.positional.size() != 2) return rig::MakeError("compare takes two folders");
+  CompareOptions options{cli.positional[0], cli.positional[1], std::nullopt, DefaultTolerances()};
+  if (const std::string* out = cli.Option("--out")) options.out_file = *out;
+  using T = proto::CompareTolerances;
+  constexpr double kHuge = 1e300;
+  for (const auto& [option, min, max, set] :
+       {std::tuple{"--margin-tolerance", 0.0, kHuge, &T::set_margin_fraction},
+        std::tuple{"--pass-rate-tolerance", 0.0, 1.0, &T::set_pass_rate_drop},
+        std::tuple{"--confidence", 0.0, 1.0, &T::set_confidence},
+        std::tuple{"--trace-atol", 0.0, kHuge, &T::set_trace_abs},
+        std::tuple{"--trace-rtol", 0.0, kHuge, &T::set_trace_rel}}) {
+    if (auto read = ReadTolerance(cli, option, min, max, set, options.tolerances); !read) {
+      return read.error();
+    }
+  }
+  return options;
+}
+
+rig::Result<proto::RunComparison> CompareRunFolders(const CompareOptions& options) {
+  auto base = ReadRunReport(options.base_dir);
+  if (!base) return base.error();
+  auto candidate = ReadRunReport(options.candidate_dir);
+  if (!candidate) return candidate.error();
+  if (base.value().scenario() != candidate.value().scenario()) {
+    return rig::MakeError("the runs are of different scenarios: " + base.value().scenario() +
+                          " and " + candidate.value().scenario());
+  }
+  proto::RunComparison comparison =
+      CompareRuns(base.value(), candidate.value(), options.tolerances);
+  std::ifstream base_trace(RunTracePath(options.base_dir));
+  std::ifstream candidate_trace(RunTracePath(options.candidate_dir));
+  if (!base_trace || !candidate_trace) {
+    comparison.mutable_trace()->set_problem(
+        "no readable " + RunTracePath(base_trace ? options.candidate_dir : options.base_dir));
+  } else {
+    *comparison.mutable_trace() = CompareTraces(base_trace, candidate_trace, options.tolerances);
+  }
+  return comparison;
+}
+
+rig::Result<proto::SweepComparison> CompareSweepFolders(const CompareOptions& options) {
+  auto base = ReadSweepSummary(options.base_dir);
+  if (!base) return base.error();
+  auto candidate = ReadSweepSummary(options.candidate_dir);
+  if (!candidate) return candidate.error();
+  return CompareSweeps(base.value(), candidate.value(), options.tolerances);
+}
+
+// Fills `comparison` from the two folders; fails when they are not of one kind or unreadable.
+rig::Result<void> CompareFolders(const CompareOptions& options, proto::Comparison& comparison) {
+  auto base_kind = ResultFolderKindOf(options.base_dir);
+  if (!base_kind) return base_kind.error();
+  auto candidate_kind = ResultFolderKindOf(options.candidate_dir);
+  if (!candidate_kind) return candidate_kind.error();
+  if (base_kind.value() != candidate_kind.value()) {
+    return rig::MakeError("one folder holds a run and the other a sweep: " + options.base_dir +
+                          ", " + options.candidate_dir);
+  }
+  if (base_kind.value() == ResultFolderKind::kRun) {
+    auto run = CompareRunFolders(options);
+    if (!run) return run.error();
+    *comparison.mutable_run() = std::move(run.value());
+  } else {
+    auto sweep = CompareSweepFolders(options);
+    if (!sweep) return sweep.error();
+    *comparison.mutable_sweep() = std::move(sweep.value());
+  }
+  return {};
+}
+
+}  // namespace
+
+int CompareCommand(const std::vector<std::string>& args, const CliStreams& io) {
+  auto options = ParseCompareOptions(args);
+  if (!options) return Usage(io, options.error().message);
+  proto::Comparison comparison;
+  comparison.set_base_dir(options.value().base_dir);
+  comparison.set_candidate_dir(options.value().candidate_dir);
+  *comparison.mutable_tolerances() = options.value().tolerances;
+  if (auto compared = CompareFolders(options.value(), comparison); !compared) {
+    io.err << "hilrig compare: " << compared.error().message << "\n";
+    return kExitBadInput;
+  }
+  const bool run = comparison.has_run();
+  const auto lines =
+      run ? RunComparisonLines(comparison.run()) : SweepComparisonLines(comparison.sweep());
+  const bool worse = run ? comparison.run().worse() : comparison.sweep().worse();
+  const auto& reasons = run ? comparison.run().reason() : comparison.sweep().reason();
+  for (const auto& line : lines) io.out << line << "\n";
+  for (const auto& line : VerdictLines(worse, reasons, comparison.tolerances(), !run)) {
+    io.out << line << "\n";
+  }
+  if (options.value().out_file) {
+    if (auto written = WriteJsonFile(comparison, *options.value().out_file); !written) {
+      io.err << "hilrig compare: " << written.error().message << "\n";
+      return kExitBadInput;
+    }
+  }
+  return worse ? kExitCheckFailed : kExitPass;
+}
+
+}  // namespace hilrig::host

@@ -1,0 +1,158 @@
+#include "host/compare/comparison_text.h"
+
+#include <string>
+
+#include "host/compare/change.h"
+#include "rig/number_text.h"
+
+namespace hilrig::host {
+namespace {
+
+// `text` and spaces to `width`, at least two.
+std::string Padded(std::string text, std::size_t width) {
+  text.append(text.size() + 2 <= width ? width - text.size() : 2, ' ');
+  return text;
+}
+
+std::string Arrow(const std::string& base, const std::string& candidate) {
+  return base == candidate ? base : base + " -> " + candidate;
+}
+
+std::string NumbersMoved(double base, double candidate) {
+  return Arrow(rig::NumberText(base), rig::NumberText(candidate));
+}
+
+const char* MetText(bool met) { return met ? "met" : "not met"; }
+
+const char* VerdictText(proto::Verdict verdict) { return verdict == proto::FAIL ? "FAIL" : "PASS"; }
+
+std::string CheckLine(const proto::CheckChange& check) {
+  std::string line = "  " + Padded(ChangeText(check.change()), 26);
+  const bool timing = check.kind() == proto::CheckChange::TIMING;
+  const bool envelope = !timing && check.kind() != proto::CheckChange::TARGET;
+  line += Padded(std::string(envelope ? "" : timing ? "timing " : "target ") + check.name(), 28);
+  if (check.change() == proto::ONLY_IN_BASE || check.change() == proto::ONLY_IN_CANDIDATE) {
+    return line;
+  }
+  if (!envelope) {
+    return line + Padded(Arrow(MetText(check.base_met()), MetText(check.candidate_met())), 20) +
+           "value " + NumbersMoved(check.base_worst(), check.candidate_worst());
+  }
+  return line +
+         Padded(Arrow(VerdictText(check.base_verdict()), VerdictText(check.candidate_verdict())),
+                14) +
+         "worst " + NumbersMoved(check.base_worst(), check.candidate_worst()) + "  margin " +
+         NumbersMoved(check.base_margin(), check.candidate_margin());
+}
+
+void AddTraceLines(const proto::TraceComparison& trace, std::vector<std::string>& lines) {
+  if (!trace.compared()) {
+    lines.push_back("traces: not compared: " + trace.problem());
+    return;
+  }
+  std::string head = "traces: " + std::to_string(trace.rows_compared()) + " rows compared (base " +
+                     std::to_string(trace.base_rows()) + ", candidate " +
+                     std::to_string(trace.candidate_rows()) + "), " +
+                     std::to_string(trace.signals_compared()) + " signals, " +
+                     std::to_string(trace.difference_size()) + " differ";
+  if (trace.has_times_part_at_s()) {
+    head += "; their times part at " + rig::NumberText(trace.times_part_at_s()) + " s";
+  }
+  lines.push_back(head);
+  if (!trace.problem().empty()) lines.push_back("  stopped early: " + trace.problem());
+  int listed = 0;
+  for (const auto& difference : trace.difference()) {
+    if (listed++ == kMaxListedSignals) {
+      lines.push_back("  ... and " + std::to_string(trace.difference_size() - kMaxListedSignals) +
+                      " more");
+      break;
+    }
+    lines.push_back("  " + Padded(difference.signal(), 28) +
+                    (difference.has_diverges_at_s()
+                         ? "diverges at " + rig::NumberText(difference.diverges_at_s()) + " s, "
+                         : std::string("within tolerance, ")) +
+                    "largest difference " + rig::NumberText(difference.max_abs_difference()) +
+                    " at " + rig::NumberText(difference.max_at_s()) + " s");
+  }
+  for (const auto& name : trace.only_in_base()) lines.push_back("  only in base: " + name);
+  for (const auto& name : trace.only_in_candidate())
+    lines.push_back("  only in candidate: " + name);
+}
+
+std::string RateText(std::uint64_t met, std::uint64_t cases) {
+  const double rate = cases == 0 ? 0 : static_cast<double>(met) / static_cast<double>(cases);
+  return rig::NumberText(100 * rate) + " % (" + std::to_string(met) + "/" + std::to_string(cases) +
+         ")";
+}
+
+void AddEnvelopeLines(const proto::PassRateChange& row, std::vector<std::string>& lines) {
+  std::string line = "  " + Padded(ChangeText(row.change()), 26) +
+                     Padded(row.scenario() + "/" + row.envelope(), 36);
+  if (row.change() == proto::ONLY_IN_BASE) {
+    lines.push_back(line);
+    return;
+  }
+  lines.push_back(line + "pass " +
+                  Arrow(RateText(row.base_met(), row.base_cases()),
+                        RateText(row.candidate_met(), row.candidate_cases())) +
+                  "  p " + rig::NumberText(row.p_value()));
+  if (row.quantile_size() == 0) return;
+  std::string margins = "      margin";
+  for (const auto& shift : row.quantile()) {
+    margins += "  " + shift.quantile() + " " + NumbersMoved(shift.base(), shift.candidate());
+    if (shift.change() == proto::WORSE) margins += shift.gated() ? " (WORSE)" : " (ungated)";
+  }
+  lines.push_back(margins);
+}
+
+}  // namespace
+
+std::vector<std::string> RunComparisonLines(const proto::RunComparison& comparison) {
+  std::vector<std::string> lines;
+  lines.push_back(
+      "run " + Arrow(comparison.scenario(), comparison.candidate_scenario()) + ", seed " +
+      Arrow(std::to_string(comparison.base_seed()), std::to_string(comparison.candidate_seed())) +
+      ": " + Arrow(comparison.base_stop_reason(), comparison.candidate_stop_reason()) + ", " +
+      Arrow(comparison.base_passed() ? "PASS" : "FAIL",
+            comparison.candidate_passed() ? "PASS" : "FAIL"));
+  for (const auto& check : comparison.check()) lines.push_back(CheckLine(check));
+  AddTraceLines(comparison.trace(), lines);
+  return lines;
+}
+
+std::vector<std::string> SweepComparisonLines(const proto::SweepComparison& comparison) {
+  std::vector<std::string> lines;
+  lines.push_back("sweep " + Arrow(comparison.sweep(), comparison.candidate_sweep()) + ": cases " +
+                  Arrow(std::to_string(comparison.base_cases()) + " of " +
+                            std::to_string(comparison.base_sweep_cases()),
+                        std::to_string(comparison.candidate_cases()) + " of " +
+                            std::to_string(comparison.candidate_sweep_cases())));
+  for (const auto& row : comparison.envelope()) AddEnvelopeLines(row, lines);
+  for (const auto& row : comparison.criterion()) {
+    lines.push_back(
+        "  " + Padded(ChangeText(row.change()), 26) + "criterion " +
+        std::to_string(row.criterion() + 1) + " (" + row.scenario() + "/" + row.envelope() + ") " +
+        (row.change() == proto::ONLY_IN_BASE ? std::string("only in base")
+                                             : Arrow(row.base_passed() ? "met" : "not met",
+                                                     row.candidate_passed() ? "met" : "not met")));
+  }
+  return lines;
+}
+
+std::vector<std::string> VerdictLines(
+    bool worse, const google::protobuf::RepeatedPtrField<std::string>& reasons,
+    const proto::CompareTolerances& tolerances, bool sweeps) {
+  std::string stated =
+      "margins may shrink by " + rig::NumberText(100 * tolerances.margin_fraction()) + " %";
+  if (sweeps) {
+    stated += ", pass rates drop by " + rig::NumberText(100 * tolerances.pass_rate_drop()) +
+              " points or without significance at " +
+              rig::NumberText(100 * tolerances.confidence()) + " %";
+  }
+  if (!worse) return {"candidate is not worse than the base (" + stated + ")"};
+  std::vector<std::string> lines = {"candidate is WORSE than the base (" + stated + "):"};
+  for (const auto& reason : reasons) lines.push_back("  " + reason);
+  return lines;
+}
+
+}  // namespace hilrig::host
