@@ -45,7 +45,7 @@ rig::Result<void> FinishRunFiles(RunFiles& files, const proto::Report& report,
   if (auto closed = files.trace->Close(); !closed) return closed.error();
   if (auto closed = files.can_log->Close(); !closed) return closed.error();
   if (auto finished = files.folder.Finish(report); !finished) return finished.error();
-  for (const char* file : {"trace.csv", "can.log", "junit.xml", "report.json"}) {
+  for (const char* file : {"trace.csv", "can.log", "junit.xml", "report.json", "index.html"}) {
     written.push_back((out_dir / file).string());
   }
   return {};

@@ -38,17 +38,6 @@ const char* VerdictName(proto::Verdict verdict) { return verdict == proto::PASS 
 
 double Micros(double seconds) { return seconds * 1e6; }
 
-// Seconds print as µs, fractions as percent: the units a bench engineer reads timing in.
-std::string FormatTimingValue(double value, const std::string& unit) {
-  char buffer[48];
-  if (unit == "s") {
-    std::snprintf(buffer, sizeof(buffer), "%.0f us", Micros(value));
-  } else {
-    std::snprintf(buffer, sizeof(buffer), "%.3g %%", value * 100);
-  }
-  return buffer;
-}
-
 // The timing or the target checks (`kind`) as test cases.
 void AppendCheckCases(const proto::Report& report,
                       const google::protobuf::RepeatedPtrField<proto::TimingCheckResult>& checks,
@@ -68,6 +57,16 @@ void AppendCheckCases(const proto::Report& report,
 }
 
 }  // namespace
+
+std::string FormatTimingValue(double value, const std::string& unit) {
+  char buffer[48];
+  if (unit == "s") {
+    std::snprintf(buffer, sizeof(buffer), "%.0f us", Micros(value));
+  } else {
+    std::snprintf(buffer, sizeof(buffer), "%.3g %%", value * 100);
+  }
+  return buffer;
+}
 
 rig::Result<void> WriteJsonFile(const google::protobuf::Message& message, const std::string& path) {
   std::string json;

@@ -33,6 +33,10 @@ std::string FormatObjectLine(const proto::ObjectOutcome& outcome);
 // The last line of a run: simulated and wall time and the real-time factor.
 std::string FormatTimingLine(const proto::Report& report);
 
+// A timing or target check's value or limit in the units a bench engineer reads timing in: seconds
+// ("s") as "1020 us", fractions as "0.78 %".
+std::string FormatTimingValue(double value, const std::string& unit);
+
 // "PASS  timing loop_period_p99_max_s  1020 us  limit 2000 us", or "----  timing
 // loop_period_p99_max_s  not evaluated (lockstep)  limit 2000 us"; `kind` is the second word
 // ("target" for the target envelopes).

@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "host/report/report_files.h"
+#include "host/report/run_page.h"
 #include "host/report/run_plots.h"
 #include "host/report/stop_reason.h"
 
@@ -29,7 +30,11 @@ rig::Result<void> WriteReportFiles(const proto::Report& report, const std::strin
   if (auto written = WriteJunitXml(report, (fs::path(out_dir) / "junit.xml").string()); !written) {
     return written.error();
   }
-  return WriteJsonFile(report, (fs::path(out_dir) / "report.json").string());
+  if (auto written = WriteJsonFile(report, (fs::path(out_dir) / "report.json").string());
+      !written) {
+    return written.error();
+  }
+  return WriteRunPage(report, out_dir);
 }
 
 rig::Result<RunOutputFolder> RunOutputFolder::Claim(const std::string& out_dir,

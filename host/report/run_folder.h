@@ -1,10 +1,10 @@
 // The output folder of one `hilrig run` scenario, which must never read as a pass for a run that
 // did not finish. Claiming it locks it (rig/folder_lock.h: a second run into it is refused), then,
-// before the run writes anything, replaces report.json and junit.xml with an "incomplete" report
-// (passed false, one failing junit case) and removes the previous run's plots. The runner's
-// periodic flush updates how far the run got; the final report replaces it. A run that is
-// killed, runs out of disk or fails on the way leaves "incomplete" beside its partial trace,
-// never the previous run's "completed".
+// before the run writes anything, replaces report.json, junit.xml and index.html with an
+// "incomplete" report (passed false, one failing junit case) and removes the previous run's plots.
+// The runner's periodic flush updates how far the run got; the final report replaces it. A run
+// that is killed, runs out of disk or fails on the way leaves "incomplete" beside its partial
+// trace, never the previous run's "completed".
 #pragma once
 
 #include <ostream>
@@ -16,7 +16,8 @@
 
 namespace hilrig::host {
 
-// Writes junit.xml, then report.json (CI reads the verdict from junit.xml, so it goes first).
+// Writes junit.xml, then report.json (CI reads the verdict from junit.xml, so it goes first), then
+// index.html with the plots the report lists (run_page.h).
 rig::Result<void> WriteReportFiles(const proto::Report& report, const std::string& out_dir);
 
 class RunOutputFolder {

@@ -104,7 +104,7 @@ TEST_F(CliFilesTest, AnOutputFolderThatIsAFileIsNamed) {
 
 TEST_F(CliFilesTest, AnOutputThatCannotBeWrittenIsNamedWithTheCause) {
   const fs::path spec = Write(dir_ / "short.textproto", kShortSpec);
-  for (const char* file : {"trace.csv", "can.log", "report.json", "junit.xml"}) {
+  for (const char* file : {"trace.csv", "can.log", "report.json", "junit.xml", "index.html"}) {
     const fs::path out = dir_ / (std::string("out_") + file);
     Write(out / file / "in_the_way", "a folder stands where the file goes");
     const CliResult result = Run(spec, out);

@@ -93,6 +93,7 @@ TEST_F(CliRunFolderTest, ARunKilledInAUsedFolderLeavesAnIncompleteReportNotTheOl
   const std::string junit = ReadFile(out / "junit.xml");
   EXPECT_THAT(junit, HasSubstr("failures=\"1\""));
   EXPECT_THAT(junit, HasSubstr("<failure message=\"incomplete at "));
+  EXPECT_THAT(ReadFile(out / "index.html"), HasSubstr(">INCOMPLETE</span>"));
   EXPECT_FALSE(fs::exists(out / "position.svg")) << "the previous run's plot";
 }
 

@@ -76,13 +76,15 @@ TEST_F(RunPipelineTest, RunsASceneIntoItsFolderAndSaysWhatItWrote) {
   EXPECT_EQ(outcome.report.spec_file(), spec_path_);
   EXPECT_FALSE(outcome.report.has_fidelity_error());  // none was asked for
   const fs::path out = dir_ / "out";
-  for (const char* file : {"trace.csv", "can.log", "junit.xml", "report.json", kPositionPlotFile}) {
+  for (const char* file :
+       {"trace.csv", "can.log", "junit.xml", "report.json", "index.html", kPositionPlotFile}) {
     EXPECT_THAT(outcome.files_written, ::testing::Contains((out / file).string()));
     EXPECT_GT(fs::file_size(out / file), 0u) << file;
   }
-  EXPECT_EQ(outcome.files_written.size(), 5u);  // hover grasps nothing: no force or load plot
+  EXPECT_EQ(outcome.files_written.size(), 6u);  // hover grasps nothing: no force or load plot
   EXPECT_EQ(Lines(ReadFile(out / "trace.csv")), 1u + 200u);  // a header and 2 s at 100 Hz
   EXPECT_THAT(ReadFile(out / "report.json"), HasSubstr("\"completed\""));
+  EXPECT_THAT(ReadFile(out / "index.html"), HasSubstr("id=\"plot0-plot-area\""));  // inlined
 }
 
 TEST_F(RunPipelineTest, ABadSpecIsATypedErrorAndWritesNoReport) {

@@ -16,6 +16,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 proto::Report ReadReport(const fs::path& path) {
   proto::Report report;
@@ -54,6 +55,9 @@ TEST(RunOutputFolderTest, ClaimingAUsedFolderMarksItIncompleteBeforeTheRunWrites
   const std::string junit = ReadFile(dir / "junit.xml");
   EXPECT_THAT(junit, HasSubstr("failures=\"1\""));
   EXPECT_THAT(junit, HasSubstr("<failure message=\"incomplete at 0 s simulated\"/>"));
+  const std::string page = ReadFile(dir / "index.html");
+  EXPECT_THAT(page, HasSubstr("<span class=\"badge neutral\">INCOMPLETE</span>"));
+  EXPECT_THAT(page, Not(HasSubstr("PASS"))) << "the previous run's page";
   for (const char* plot : {"force.svg", "load.svg", "position.svg"}) {
     EXPECT_FALSE(fs::exists(dir / plot)) << plot << " of the previous run";
   }
@@ -70,6 +74,7 @@ TEST(RunOutputFolderTest, TheIncompleteReportSaysHowFarTheRunGot) {
   EXPECT_EQ(ReadReport(dir / "report.json").simulated_s(), 12.5);
   EXPECT_EQ(ReadReport(dir / "report.json").stop_reason(), "incomplete");
   EXPECT_THAT(ReadFile(dir / "junit.xml"), HasSubstr("incomplete at 12.5 s simulated"));
+  EXPECT_THAT(ReadFile(dir / "index.html"), HasSubstr("incomplete at 12.5 s simulated"));
   EXPECT_EQ(notes.str(), "");
 }
 
@@ -85,6 +90,7 @@ TEST(RunOutputFolderTest, TheFinalReportReplacesTheIncompleteOne) {
 
   EXPECT_TRUE(ReadReport(dir / "report.json").passed());
   EXPECT_THAT(ReadFile(dir / "junit.xml"), HasSubstr("failures=\"0\""));
+  EXPECT_THAT(ReadFile(dir / "index.html"), HasSubstr("<span class=\"badge pass\">PASS</span>"));
 }
 
 TEST(RunOutputFolderTest, AFolderAnotherRunHoldsIsRefusedAndLeftAlone) {
