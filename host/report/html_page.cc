@@ -1,5 +1,10 @@
 #include "host/report/html_page.h"
 
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+
 #include "host/report/xml_text.h"
 #include "rig/number_text.h"
 
@@ -9,7 +14,7 @@ namespace {
 // Green and red strong enough for white text on them (WCAG AA), grey for what was not graded.
 constexpr const char* kStyle = R"(
 body { font: 14px/1.4 sans-serif; color: #1f2328; background: #fff; margin: 0 auto;
-       max-width: 1100px; padding: 16px 24px 48px; }
+       max-width: 1200px; padding: 16px 24px 48px; }
 h1 { font-size: 22px; margin: 8px 0 4px; }
 h2 { font-size: 17px; margin: 28px 0 8px; border-bottom: 1px solid #d0d7de; padding-bottom: 4px; }
 h3 { font-size: 14px; margin: 16px 0 4px; }
@@ -75,12 +80,24 @@ std::string PrefixIds(const std::string& text, const std::string& prefix) {
 
 std::string HtmlText(const std::string& text) { return EscapeXmlText(text); }
 
-HtmlCell TextCell(const std::string& text, Tone tone) { return {HtmlText(text), tone, false}; }
+HtmlCell TextCell(const std::string& text, Tone tone) { return {HtmlText(text), tone, false, 1}; }
+
+std::string PageNumber(double value) {
+  if (!std::isfinite(value)) return rig::NumberText(value);
+  std::array<char, 32> buffer{};
+  const bool whole = value == std::trunc(value) && std::abs(value) < 1e15;
+  const auto [end, error] = whole ? std::to_chars(buffer.data(), buffer.data() + buffer.size(),
+                                                  value + 0.0, std::chars_format::fixed, 0)
+                                  : std::to_chars(buffer.data(), buffer.data() + buffer.size(),
+                                                  value, std::chars_format::general, 4);
+  if (error != std::errc()) return rig::NumberText(value);  // unreachable: 32 characters hold it
+  return std::string(buffer.data(), end);
+}
 
 HtmlCell NumberCell(double value, const std::string& unit) {
-  std::string text = rig::NumberText(value);
+  std::string text = PageNumber(value);
   if (!unit.empty()) text += " " + unit;
-  return {HtmlText(text), Tone::kPlain, true};
+  return {HtmlText(text), Tone::kPlain, true, 1};
 }
 
 std::string HtmlTable(const std::vector<std::string>& headers,
@@ -90,13 +107,17 @@ std::string HtmlTable(const std::vector<std::string>& headers,
   html += "</tr>\n";
   for (const std::vector<HtmlCell>& row : rows) {
     html += "<tr>";
-    for (std::size_t c = 0; c < headers.size(); ++c) {
-      const HtmlCell cell = c < row.size() ? row[c] : HtmlCell{};
+    std::size_t spanned = 0;
+    for (const HtmlCell& cell : row) {
       std::string classes = ToneClass(cell.tone);
       if (cell.numeric) classes += classes.empty() ? "num" : " num";
-      html += classes.empty() ? "<td>" : "<td class=\"" + classes + "\">";
-      html += cell.html + "</td>";
+      html += "<td";
+      if (!classes.empty()) html += " class=\"" + classes + "\"";
+      if (cell.columns > 1) html += " colspan=\"" + std::to_string(cell.columns) + "\"";
+      html += ">" + cell.html + "</td>";
+      spanned += static_cast<std::size_t>(std::max(cell.columns, 1));
     }
+    for (; spanned < headers.size(); ++spanned) html += "<td></td>";
     html += "</tr>\n";
   }
   return html + "</table></div>\n";
@@ -104,6 +125,14 @@ std::string HtmlTable(const std::vector<std::string>& headers,
 
 std::string HtmlBadge(const std::string& text, Tone tone) {
   return "<span class=\"badge " + std::string(ToneClass(tone)) + "\">" + HtmlText(text) + "</span>";
+}
+
+std::string HtmlFileLinks(const std::vector<std::string>& files) {
+  std::string html = "<h2>Files</h2>\n<p>";
+  for (const std::string& file : files) {
+    html += "<a href=\"" + HtmlText(file) + "\">" + HtmlText(file) + "</a> ";
+  }
+  return html + "</p>\n";
 }
 
 std::string InlineSvg(const std::string& svg, const std::string& id_prefix) {

@@ -16,17 +16,9 @@ namespace {
 // not the rig's plot.
 constexpr std::size_t kMaxPlotBytes = 16u << 20;
 
-// The files a run folder holds besides the plots, linked from the page.
-constexpr const char* kNeighbourFiles[] = {"report.json", "junit.xml", "trace.csv", "can.log"};
-
-struct Verdict {
-  const char* word;
-  Tone tone;
-};
-
-Verdict RunVerdict(const proto::Report& report) {
+PageVerdict RunVerdict(const proto::Report& report) {
   if (report.stop_kind() == proto::STOP_INCOMPLETE) return {"INCOMPLETE", Tone::kNeutral};
-  return report.passed() ? Verdict{"PASS", Tone::kPass} : Verdict{"FAIL", Tone::kFail};
+  return report.passed() ? PageVerdict{"PASS", Tone::kPass} : PageVerdict{"FAIL", Tone::kFail};
 }
 
 Tone VerdictTone(proto::Verdict verdict) {
@@ -35,10 +27,10 @@ Tone VerdictTone(proto::Verdict verdict) {
 
 const char* VerdictWord(proto::Verdict verdict) { return verdict == proto::PASS ? "PASS" : "FAIL"; }
 
-std::string Seconds(double value) { return rig::NumberText(value) + " s"; }
+std::string Seconds(double value) { return PageNumber(value) + " s"; }
 
 std::string Heading(const proto::Report& report) {
-  const Verdict verdict = RunVerdict(report);
+  const PageVerdict verdict = RunVerdict(report);
   std::string html = "<h1>" + HtmlText(report.scenario()) + " " +
                      HtmlBadge(verdict.word, verdict.tone) + "</h1>\n<p class=\"sub\">";
   if (!report.spec_file().empty()) html += HtmlText(report.spec_file()) + " &middot; ";
@@ -56,7 +48,7 @@ std::string RunTable(const proto::Report& report) {
       {TextCell("simulated time"), NumberCell(report.simulated_s(), "s")},
       {TextCell("wall time (stepping loop)"), NumberCell(report.wall_s(), "s")},
       {TextCell("real-time factor"),
-       {HtmlText(rig::FactorText(report.real_time_factor())), Tone::kPlain, true}},
+       {HtmlText(rig::FactorText(report.real_time_factor())), Tone::kPlain, true, 1}},
       {TextCell("set-up time"), NumberCell(report.setup_s(), "s")},
       {TextCell("ticks"), NumberCell(static_cast<double>(report.ticks()))},
       {TextCell("CAN frames logged"), NumberCell(static_cast<double>(report.can_frames_logged()))},
@@ -101,7 +93,7 @@ std::string EnvelopeTable(const proto::Report& report) {
       row.push_back(NumberCell(result.worst_value(), unit));
       row.push_back(NumberCell(result.worst_at_s(), "s"));
     }
-    row.push_back({HtmlText(LimitText(result, unit)), Tone::kPlain, true});
+    row.push_back({HtmlText(LimitText(result, unit)), Tone::kPlain, true, 1});
     row.push_back(result.samples_checked() == 0 ? TextCell("-")
                                                 : NumberCell(result.margin(), unit));
     row.push_back(result.verdict() == proto::FAIL && result.samples_checked() > 0
@@ -225,21 +217,13 @@ std::string ModelSection(const proto::Report& report) {
          HtmlTable({"model", "fidelity"}, rows) + "</details>\n";
 }
 
-std::string FileLinks() {
-  std::string html = "<h2>Files</h2>\n<p>";
-  for (const char* file : kNeighbourFiles) {
-    html += "<a href=\"" + std::string(file) + "\">" + file + "</a> ";
-  }
-  return html + "</p>\n";
-}
-
 }  // namespace
 
 std::string RunPageHtml(const proto::Report& report, const std::vector<RunPagePlot>& plots) {
   const std::string body = Heading(report) + EnvelopeTable(report) + ObjectTable(report) +
                            RunTable(report) + FidelitySection(report) + PlotSection(plots) +
                            ChecksSection(report) + MetricSection(report) + ModelSection(report) +
-                           FileLinks();
+                           HtmlFileLinks({"report.json", "junit.xml", "trace.csv", "can.log"});
   return HtmlDocument(report.scenario() + ": " + RunVerdict(report).word, body);
 }
 

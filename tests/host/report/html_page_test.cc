@@ -16,6 +16,16 @@ TEST(HtmlPageTest, TextIsEscapedForElementsAndAttributes) {
   EXPECT_EQ(TextCell("<x>").html, "&lt;x&gt;");
 }
 
+TEST(HtmlPageTest, NumbersShowFourSignificantDigitsAndWholeNumbersWhole) {
+  EXPECT_EQ(PageNumber(0.60152230835650489), "0.6015");
+  EXPECT_EQ(PageNumber(28.73), "28.73");
+  EXPECT_EQ(PageNumber(1e-9), "1e-09");
+  EXPECT_EQ(PageNumber(34000), "34000");
+  EXPECT_EQ(PageNumber(-0.0), "0");
+  EXPECT_EQ(PageNumber(123456.7), "1.235e+05");
+  EXPECT_EQ(PageNumber(1e300), "1e+300");
+}
+
 TEST(HtmlPageTest, NumbersAreLocaleFreeAndNonFiniteOnesAreWords) {
   EXPECT_EQ(NumberCell(0.0123, "m").html, "0.0123 m");
   EXPECT_TRUE(NumberCell(1).numeric);
@@ -33,6 +43,18 @@ TEST(HtmlPageTest, ATableHasItsHeaderItsTonesAndPadsShortRows) {
   EXPECT_THAT(table,
               HasSubstr("<tr><td class=\"pass\">PASS</td><td>a</td><td class=\"num\">2</td></tr>"));
   EXPECT_THAT(table, HasSubstr("<tr><td class=\"fail\">FAIL</td><td></td><td></td></tr>"));
+}
+
+TEST(HtmlPageTest, ACellCanSpanColumnsAndTheRowIsPaddedAfterIt) {
+  const std::string table =
+      HtmlTable({"a", "b", "c"}, {{{"<code>x</code>", Tone::kPlain, false, 2}}});
+  EXPECT_THAT(table, HasSubstr("<tr><td colspan=\"2\"><code>x</code></td><td></td></tr>"));
+}
+
+TEST(HtmlPageTest, FileLinksAreRelativeAndEscaped) {
+  EXPECT_EQ(HtmlFileLinks({"report.json", "a&b.csv"}),
+            "<h2>Files</h2>\n<p><a href=\"report.json\">report.json</a> "
+            "<a href=\"a&amp;b.csv\">a&amp;b.csv</a> </p>\n");
 }
 
 TEST(HtmlPageTest, ABadgeCarriesItsToneAndEscapedText) {
