@@ -10,6 +10,7 @@
 #include "host/sweep/case_run.h"
 #include "host/sweep/shell_words.h"
 #include "host/sweep/sweep_cases.h"
+#include "host/sweep/sweep_page.h"
 #include "host/sweep/sweep_shard.h"
 #include "host/sweep/sweep_statistics.h"
 #include "rig/file_io.h"
@@ -40,6 +41,8 @@ std::vector<std::string> EnvelopeColumns(const LoadedSweep& sweep) {
   return names;
 }
 
+}  // namespace
+
 const char* OutcomeName(proto::SweepCaseResult::Outcome outcome) {
   switch (outcome) {
     case proto::SweepCaseResult::PASSED:
@@ -56,6 +59,8 @@ const char* OutcomeName(proto::SweepCaseResult::Outcome outcome) {
       return "unknown";
   }
 }
+
+namespace {
 
 const SweepScenario* ScenarioNamed(const LoadedSweep& sweep, const std::string& name) {
   for (const SweepScenario& scenario : sweep.scenarios) {
@@ -168,6 +173,12 @@ rig::Result<MergedSweep> MergeSweep(const LoadedSweep& sweep, const std::string&
   auto json = SummaryJson(merged.summary);
   if (!json) return json.error();
   if (auto written = rig::WriteFileAtomically((folder / "summary.json").string(), json.value());
+      !written.ok()) {
+    return written.error();
+  }
+  if (auto written =
+          rig::WriteFileAtomically((folder / kSweepPageFile).string(),
+                                   SweepPageHtml(sweep, results, merged.summary, hilrig, runs_dir));
       !written.ok()) {
     return written.error();
   }

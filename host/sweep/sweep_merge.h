@@ -1,6 +1,7 @@
 // A sweep's results gathered from its shards into the files a person and a CI job read: runs.csv
 // (a row per case, in case order), failing.txt (for each case that did not pass, one command that
-// runs it alone) and summary.json (pass rates and margins per envelope, the criteria's verdict).
+// runs it alone), summary.json (pass rates and margins per envelope, the criteria's verdict) and
+// index.html, the page that shows them (sweep_page.h).
 // The files depend on the case rows alone, never on how the cases were split or where they ran,
 // so a local sweep and a Slurm one merge to identical files (the real-time factors aside, which
 // measure the machine: they stay in runs.csv's last columns).
@@ -36,13 +37,18 @@ std::string ExactNumber(double value);
 std::string RunsCsv(const LoadedSweep& sweep,
                     const std::map<std::uint64_t, proto::SweepCaseResult>& rows);
 
+// runs.csv's outcome column: "passed", "failed", "stopped", "invalid", "set_up_failed"; "unknown"
+// for an outcome this build does not know.
+const char* OutcomeName(proto::SweepCaseResult::Outcome outcome);
+
 // The command that runs case `row` alone, as `hilrig run` with the case's seed and values, into
 // DIR/case-NNNNNNN under `runs_dir`.
 std::string ReproduceCommand(const LoadedSweep& sweep, const proto::SweepCaseResult& row,
                              const std::string& hilrig, const std::string& runs_dir);
 
-// Reads the shards under `out_dir` and writes runs.csv, failing.txt and summary.json there, each
-// whole or not at all. Fails when a shard folder cannot be read or a file cannot be written.
+// Reads the shards under `out_dir` and writes runs.csv, failing.txt, summary.json and index.html
+// (sweep_page.h) there, each whole or not at all. Fails when a shard folder cannot be read or a
+// file cannot be written.
 rig::Result<MergedSweep> MergeSweep(const LoadedSweep& sweep, const std::string& out_dir,
                                     const std::string& hilrig);
 

@@ -47,11 +47,6 @@ proto::SweepMarginQuantiles MarginQuantiles(const SortedSample& margins) {
   return quantiles;
 }
 
-// Whether the case ran to an envelope's say; any other outcome cannot pass an envelope.
-bool Ran(proto::SweepCaseResult::Outcome outcome) {
-  return outcome == proto::SweepCaseResult::PASSED || outcome == proto::SweepCaseResult::FAILED;
-}
-
 void CountOutcome(proto::SweepCaseResult::Outcome outcome, proto::SweepOutcomeCounts& counts) {
   switch (outcome) {
     case proto::SweepCaseResult::PASSED:
@@ -85,7 +80,7 @@ struct ScenarioTallies {
 // vector per tally) and sorted once at the end.
 void AddResult(const proto::SweepCaseResult& result, const ScenarioTallies& scenario,
                std::vector<EnvelopeTally>& tallies, std::vector<std::vector<double>>& margins) {
-  const bool ran = Ran(result.outcome());
+  const bool ran = CaseRan(result.outcome());
   std::vector<bool> recorded(scenario.tallies.size(), false);
   if (ran) {
     for (const proto::SweepCaseResult::Envelope& envelope : result.envelope()) {
@@ -216,6 +211,10 @@ bool Matches(const proto::Criterion& criterion, const proto::SweepEnvelopeStats&
 }
 
 }  // namespace
+
+bool CaseRan(proto::SweepCaseResult::Outcome outcome) {
+  return outcome == proto::SweepCaseResult::PASSED || outcome == proto::SweepCaseResult::FAILED;
+}
 
 double StandardNormalQuantile(double probability) {
   if (std::isnan(probability)) return probability;

@@ -59,6 +59,10 @@ class SortedSample {
 // SortedSample(values).Quantile(q), for a single quantile.
 std::optional<double> NearestRankQuantile(std::vector<double> values, double q);
 
+// Whether a case with `outcome` ran to its envelopes' say (PASSED or FAILED); a case with any other
+// outcome met no envelope and has no worst value or margin.
+bool CaseRan(proto::SweepCaseResult::Outcome outcome);
+
 // The confidence of the pass-rate interval in the summary, and of a criterion that sets none.
 inline constexpr double kDefaultPassRateConfidence = 0.95;
 

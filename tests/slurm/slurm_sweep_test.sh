@@ -3,7 +3,7 @@
 # from a configuration in a fresh folder (their own ports and sockets, nothing of the system's
 # Slurm touched). A 64-case sweep is submitted with `hilrig sweep --slurm --wait` (16 array tasks
 # and the merge job) and run again locally with --jobs 2; the merged results must be identical:
-# summary.json byte for byte, runs.csv but for its two timing columns.
+# summary.json and index.html byte for byte, runs.csv but for its two timing columns.
 # Skips (exit 77) only where the daemons cannot run: not installed, or not root.
 # Usage: slurm_sweep_test.sh HILRIG
 set -euo pipefail
@@ -99,4 +99,6 @@ cmp "$work/cluster/summary.json" "$work/local/summary.json" || {
 untimed() { sed -E 's/,[^,]*,[^,]*$//' "$1"; }
 cmp <(untimed "$work/cluster/runs.csv") <(untimed "$work/local/runs.csv") || {
   echo "FAIL: runs.csv differs between the cluster and the local sweep"; exit 1; }
+cmp "$work/cluster/index.html" "$work/local/index.html" || {
+  echo "FAIL: index.html differs between the cluster and the local sweep"; exit 1; }
 echo "PASS: 64 cases in 16 Slurm array tasks merge to the local sweep's results"

@@ -44,6 +44,8 @@ TEST(CliSweepTest, WritesTheResultsAndPassesWhenTheCriteriaAreMet) {
   EXPECT_THAT(runs, HasSubstr("\n7,hover_sweep,4,0.6,passed,1,"));
   EXPECT_THAT(ReadFile(dir / "out" / "summary.json"), HasSubstr("\"met\": \"8\""));
   EXPECT_EQ(ReadFile(dir / "out" / "failing.txt"), "");
+  EXPECT_THAT(ReadFile(dir / "out" / "index.html"),
+              HasSubstr("<h1>Sweep hover_mass <span class=\"badge pass\">PASS</span></h1>"));
   EXPECT_FALSE(fs::exists(dir / "out" / "runs"));  // nothing failed, no run kept its files
 }
 
@@ -70,6 +72,10 @@ TEST(CliSweepTest, TheResultsAreTheSameWhateverTheShardsAndTheSplit) {
   const std::string runs = RunsWithoutTiming(dir / "one");
   EXPECT_EQ(RunsWithoutTiming(dir / "three"), runs);
   EXPECT_EQ(RunsWithoutTiming(dir / "split"), runs);
+  const std::string page = ReadFile(dir / "one" / "index.html");
+  EXPECT_THAT(page, HasSubstr("<svg"));
+  EXPECT_EQ(ReadFile(dir / "three" / "index.html"), page);
+  EXPECT_EQ(ReadFile(dir / "split" / "index.html"), page);
 }
 
 TEST(CliSweepTest, FailsWhenTheCriteriaAreNotMetAndNamesACommandPerFailingCase) {
@@ -82,8 +88,13 @@ TEST(CliSweepTest, FailsWhenTheCriteriaAreNotMetAndNamesACommandPerFailingCase) 
   EXPECT_THAT(result.out, HasSubstr("hover_mass: FAIL"));
   const std::string failing = ReadFile(out / "failing.txt");
   EXPECT_THAT(failing, HasSubstr("# case 3 failed\n"));
-  // A failing case keeps its files, from a run identical to the one that failed.
+  // A failing case keeps its files, from a run identical to the one that failed, and the sweep's
+  // page links to the page of its folder.
   EXPECT_TRUE(fs::exists(out / "runs" / "case-0000003" / "trace.csv"));
+  EXPECT_THAT(ReadFile(out / "index.html"),
+              HasSubstr("<a href=\"runs/case-0000003/index.html\">3</a>"));
+  EXPECT_THAT(ReadFile(out / "runs" / "case-0000003" / "index.html"),
+              HasSubstr("<span class=\"badge fail\">FAIL</span>"));
   // The command of case 3 (seed 2, mass 0.6) runs it alone and fails the same way.
   const std::size_t at = failing.find("# case 3 failed\n");
   const std::size_t start = failing.find('\n', at) + 1;
@@ -164,6 +175,9 @@ TEST(CliSweepTest, AStoppedSweepKeepsAndMergesWhatFinished) {
   EXPECT_GT(rows, 0);
   EXPECT_LT(rows, 2000);
   EXPECT_THAT(printed, HasSubstr("hover_mass: " + std::to_string(rows) + " of 2000 cases"));
+  const std::string page = ReadFile(out / "index.html");
+  EXPECT_THAT(page, HasSubstr("<span class=\"badge neutral\">INCOMPLETE</span>"));
+  EXPECT_THAT(page, HasSubstr(std::to_string(rows) + " of 2000 cases finished"));
 }
 
 }  // namespace
