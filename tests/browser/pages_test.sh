@@ -1,0 +1,117 @@
+#!/usr/bin/env bash
+# The result pages in a real browser: makes a run folder (balloon_grasp, cut to 8 s) and a small
+# sweep folder (hover over 2 masses and 3 seeds, one envelope that always passes and one that
+# always fails), then opens each index.html in headless Chromium twice: --dump-dom, whose DOM must
+# hold the tables, the inlined <svg> plots and the verdicts, load nothing and link only to files
+# that exist (tests/browser/page_check.py); and --screenshot, whose PNG must decode and not be
+# blank. Chromium's log must show no console message (the pages run no script, so any message is
+# an error, and the pages' Content-Security-Policy turns every attempted load into one) and no
+# file loaded but the page. A page that loads an image shows that the log check can fail.
+# Chromium's profile, HOME and caches go into the test's temporary folder.
+# Skips (exit 77) when chromium or python3 is not installed.
+# Usage: pages_test.sh HILRIG SOURCE_DIR
+set -euo pipefail
+hilrig=$1
+source_dir=$2
+checks=$source_dir/tests/browser/page_check.py
+
+command -v chromium >/dev/null ||
+  { echo "SKIP: chromium is not installed (scripts/setup installs it)"; exit 77; }
+command -v python3 >/dev/null || { echo "SKIP: python3 is not installed"; exit 77; }
+
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+mkdir -p "$work/home"
+readonly width=1280 height=2000
+
+# browse PAGE OUT LOG ARGS...: Chromium on PAGE with ARGS, standard output to OUT, its log to
+# LOG. File loads are logged at verbosity 1 of file_url_loader_factory, console messages at INFO.
+browse() {
+  local page=$1 out=$2 log=$3
+  shift 3
+  HOME=$work/home XDG_CONFIG_HOME=$work/home/.config XDG_CACHE_HOME=$work/home/.cache \
+    timeout 60 chromium --headless --no-sandbox --user-data-dir="$work/profile" \
+    --no-first-run --disable-background-networking --disable-component-update --disable-sync \
+    --disable-default-apps --hide-scrollbars --enable-logging=stderr --v=0 \
+    --vmodule=file_url_loader_factory=1 "$@" "file://$page" >"$out" 2>"$log"
+}
+
+# log_problems PAGE LOG: what the log shows the page did beyond being shown.
+log_problems() {
+  grep -F ':CONSOLE' "$2" | sed 's/^/console: /' || true
+  grep -F 'FileURLLoader::Start: ' "$2" | grep -vF "FileURLLoader::Start: file://$1" |
+    sed 's/^/loaded: /' || true
+}
+
+failures=0
+fail() {
+  echo "FAIL: $*"
+  failures=$((failures + 1))
+}
+
+# check_page PAGE MIN_SVGS TEXT...: the DOM, the log and a screenshot of PAGE.
+check_page() {
+  local page=$1 min_svgs=$2 name problems
+  shift 2
+  name=$(basename "$(dirname "$page")")
+  browse "$page" "$work/$name.dom" "$work/$name.log" --dump-dom ||
+    fail "$page: chromium --dump-dom exited $?"
+  python3 "$checks" dom "$page" "$work/$name.dom" "$min_svgs" "$@" || failures=$((failures + 1))
+  grep -qF "FileURLLoader::Start: file://$page" "$work/$name.log" ||
+    fail "$page: the log does not show the page's own load, so the log check sees nothing"
+  browse "$page" /dev/null "$work/$name.shot.log" --screenshot="$work/$name.png" \
+    --window-size="$width,$height" || fail "$page: chromium --screenshot exited $?"
+  problems=$(log_problems "$page" "$work/$name.log"; log_problems "$page" "$work/$name.shot.log")
+  [[ -z $problems ]] || fail "$page: $problems"
+  [[ -s $work/$name.png ]] || { fail "$page: no screenshot written"; return; }
+  python3 "$checks" png "$work/$name.png" "$width" "$height" || failures=$((failures + 1))
+}
+
+# A run folder: balloon_grasp's grasp, lift and hold, with its three plots.
+run_status=0
+"$hilrig" run "$source_dir/scenarios/balloon_grasp.textproto" --no-reference --duration-s 8 \
+  --out "$work/run" >"$work/run.out" 2>&1 || run_status=$?
+((run_status <= 1)) || { echo "FAIL: hilrig run exited $run_status"; cat "$work/run.out"; exit 1; }
+check_page "$work/run/index.html" 3 "<h2>Envelopes</h2>" "<td>grasp_force</td>" \
+  "<h2>Objects</h2>" "<td>real-time factor</td>" 'class="badge '
+
+# A sweep folder with passing and failing cases, so that both colours, the failing cases'
+# commands and the links to their run folders are on the page.
+cat >"$work/hover.textproto" <<'SPEC'
+name: "hover_pages"
+vehicle { initial_position_m { z: 1 } }
+simulation { duration_s: 1 }
+envelopes { name: "altitude" signal: ALTITUDE_ERROR_M upper: 0.05 }
+envelopes { name: "tight" signal: ALTITUDE_ERROR_M upper: 1e-9 }
+SPEC
+cat >"$work/sweep.textproto" <<'SPEC'
+name: "hover_pages"
+scenario: "hover.textproto"
+seeds { count: 3 }
+axis { path: "vehicle.mass_kg" list { value: 0.5 value: 0.6 } }
+criterion { envelope: "altitude" min_pass_rate: 0.2 }
+SPEC
+sweep_status=0
+"$hilrig" sweep "$work/sweep.textproto" --out "$work/sweep" --jobs 2 >"$work/sweep.out" 2>&1 ||
+  sweep_status=$?
+((sweep_status <= 1)) ||
+  { echo "FAIL: hilrig sweep exited $sweep_status"; cat "$work/sweep.out"; exit 1; }
+check_page "$work/sweep/index.html" 2 "<h2>Criteria</h2>" "<h2>Envelopes</h2>" \
+  "<h2>Worst values</h2>" "<h2>Cases that did not pass</h2>" "<code>" \
+  'href="runs/case-0000000/index.html"'
+# A failing case's folder has its own page, which the sweep's page links to.
+[[ -f $work/sweep/runs/case-0000000/index.html ]] || fail "no page in the failing case's folder"
+
+# The log check can fail: a page with the same policy that tries to load an image.
+mkdir -p "$work/canary"
+cat >"$work/canary/index.html" <<'HTML'
+<!DOCTYPE html><html><head><meta charset="utf-8">
+<meta http-equiv="Content-Security-Policy" content="default-src 'none'; style-src 'unsafe-inline'">
+<title>canary</title></head><body><img src="missing.png" alt=""></body></html>
+HTML
+browse "$work/canary/index.html" /dev/null "$work/canary.log" --dump-dom || true
+[[ -n $(log_problems "$work/canary/index.html" "$work/canary.log") ]] ||
+  fail "a page that loads an image passes the log check: Chromium's log format changed?"
+
+((failures == 0)) || exit 1
+echo "PASS: the run and sweep pages render in Chromium with their tables and plots, load nothing"
