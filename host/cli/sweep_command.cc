@@ -138,14 +138,21 @@ rig::Result<SweepOptions> ParseSweepOptions(std::vector<std::string> args) {
   return options;
 }
 
-// The sweep as the shards and the merge read it: the spec with every scenario path absolute, so
-// it loads from DIR whatever the working directory.
+// Every scenario path absolute and normal, as DIR/sweep.textproto holds them: the merge here then
+// writes the same failing.txt and page as a `--merge DIR` elsewhere, whatever the working
+// directory and however the sweep file named its scenarios.
+void MakeScenarioPathsAbsolute(LoadedSweep& sweep) {
+  for (SweepScenario& scenario : sweep.scenarios) {
+    scenario.path = fs::absolute(scenario.path).lexically_normal().string();
+  }
+}
+
+// The sweep as the shards and the merge read it (its scenario paths made absolute), so it loads
+// from DIR whatever the working directory.
 rig::Result<void> WriteResolvedSweep(const LoadedSweep& sweep, const std::string& out_dir) {
   proto::Sweep resolved = sweep.spec;
   resolved.clear_scenario();
-  for (const SweepScenario& scenario : sweep.scenarios) {
-    resolved.add_scenario(fs::absolute(scenario.path).lexically_normal().string());
-  }
+  for (const SweepScenario& scenario : sweep.scenarios) resolved.add_scenario(scenario.path);
   std::string text;
   google::protobuf::TextFormat::PrintToString(resolved, &text);
   return rig::WriteFileAtomically((fs::path(out_dir) / kResolvedSweepName).string(),
@@ -388,6 +395,7 @@ int SweepCommand(const std::vector<std::string>& args, const CliStreams& io) {
   }
   bool stopped = false;
   if (!opts.merge_only) {
+    MakeScenarioPathsAbsolute(sweep.value());
     if (auto written = WriteResolvedSweep(sweep.value(), opts.out_dir); !written.ok()) {
       io.err << "hilrig sweep: " << written.error().message << "\n";
       return kExitBadInput;

@@ -78,6 +78,30 @@ TEST(CliSweepTest, TheResultsAreTheSameWhateverTheShardsAndTheSplit) {
   EXPECT_EQ(ReadFile(dir / "split" / "index.html"), page);
 }
 
+// A failing case's command names its scenario by the same absolute path whether the sweep merged
+// here or `--merge DIR` ran elsewhere, however the sweep file wrote the path.
+TEST(CliSweepTest, AFailingCasesCommandIsTheSameFromALocalSweepAndAMerge) {
+  const fs::path dir = HoverSweepFolder("cli_sweep_paths", 1e-6, 2);
+  fs::create_directories(dir / "sub");
+  std::string text = ReadFile(dir / "sweep.textproto");
+  text.replace(text.find("\"hover.textproto\""), 17, "\"sub/../hover.textproto\"");
+  std::ofstream(dir / "sweep.textproto", std::ios::trunc) << text;
+  const fs::path local = dir / "local";
+  ASSERT_EQ(
+      Cli({"sweep", (dir / "sweep.textproto").string(), "--out", local.string(), "--jobs", "2"})
+          .exit_code,
+      1);
+  const std::string failing = ReadFile(local / "failing.txt");
+  std::string command = "run ";  // built by appends: GCC 12 warns falsely on "x" + string
+  command += (dir / "hover.textproto").string();
+  command += " --seed";
+  EXPECT_THAT(failing, HasSubstr(command));
+  const std::string page = ReadFile(local / "index.html");
+  ASSERT_EQ(Cli({"sweep", "--merge", local.string()}).exit_code, 1);
+  EXPECT_EQ(ReadFile(local / "failing.txt"), failing);
+  EXPECT_EQ(ReadFile(local / "index.html"), page);
+}
+
 TEST(CliSweepTest, FailsWhenTheCriteriaAreNotMetAndNamesACommandPerFailingCase) {
   const fs::path dir = HoverSweepFolder("cli_sweep_fail", 1e-6, 2);
   const fs::path out = dir / "out";
