@@ -128,8 +128,9 @@ RunPipelineResult RunPipeline(const RunRequest& request, const RunSeams& seams) 
                                    : RunFailure::kSetUp;
     return RunError{failure, run_name + ": " + set_up.error().message};
   }
-  // One capture for the plots and the comparison with the reference.
-  CapturedTrace captured;
+  // One capture for the plots (decimated) and the comparison with the reference.
+  PlottedTrace plotted;
+  CapturedTrace compared;
   RunSinks sinks;
   if (files) {
     sinks.trace_csv = &files->trace->stream();
@@ -137,7 +138,10 @@ RunPipelineResult RunPipeline(const RunRequest& request, const RunSeams& seams) 
   }
   sinks.progress = seams.notes;
   if (files || request.reference != nullptr) {
-    sinks.trace_sample = [&captured](const TraceSample& sample) { captured.Add(sample); };
+    sinks.trace_sample = [&plotted, &compared](const TraceSample& sample) {
+      plotted.Add(sample);
+      compared.Add(sample);
+    };
   }
   // A real-time loop does not spend its period on rewriting the report (about 0.4 ms, up to 3):
   // its folder says "incomplete" without how far.
@@ -169,7 +173,7 @@ RunPipelineResult RunPipeline(const RunRequest& request, const RunSeams& seams) 
                              outcome.report.wall_s());
   if (files) {
     auto plots =
-        WriteRunPlots(captured, run.config.envelopes, run.config.gripper.enabled, *request.out_dir);
+        WriteRunPlots(plotted, run.config.envelopes, run.config.gripper.enabled, *request.out_dir);
     if (!plots) return RunError{RunFailure::kOutput, plots.error().message};
     for (const std::string& plot : plots.value()) {
       outcome.report.add_plots(plot);
@@ -177,7 +181,7 @@ RunPipelineResult RunPipeline(const RunRequest& request, const RunSeams& seams) 
     }
   }
   if (request.reference != nullptr && RunCompleted(outcome.report)) {
-    CompareWithReference(request, seams, run, spec_directory, run_name, captured, outcome);
+    CompareWithReference(request, seams, run, spec_directory, run_name, compared, outcome);
   }
   if (files) {
     if (auto finished =

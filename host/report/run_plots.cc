@@ -10,12 +10,12 @@
 namespace hilrig::host {
 namespace {
 
-PlotSeries Series(std::string name, const std::vector<double>& time_s,
-                  const std::vector<double>& value, bool dashed = false) {
+PlotSeries Series(std::string name, const DecimatedSeries& kept, bool dashed = false) {
+  DecimatedSeries::Points points = kept.ToPoints();
   PlotSeries series;
   series.name = std::move(name);
-  series.time_s = time_s;
-  series.value = value;
+  series.time_s = std::move(points.time_s);
+  series.value = std::move(points.value);
   series.dashed = dashed;
   return series;
 }
@@ -40,7 +40,7 @@ std::vector<PlotBand> BandsFor(const std::vector<EnvelopeSpec>& envelopes,
 
 }  // namespace
 
-rig::Result<std::vector<std::string>> WriteRunPlots(const CapturedTrace& trace,
+rig::Result<std::vector<std::string>> WriteRunPlots(const PlottedTrace& trace,
                                                     const std::vector<EnvelopeSpec>& envelopes,
                                                     bool grasp_scene, const std::string& out_dir) {
   std::vector<std::pair<std::string, TimePlot>> plots;
@@ -48,25 +48,25 @@ rig::Result<std::vector<std::string>> WriteRunPlots(const CapturedTrace& trace,
     TimePlot force;
     force.title = "Grasp force";
     force.y_label = "force (N)";
-    force.series = {Series("true (plant)", trace.time_s, trace.grasp_force_n),
-                    Series("DUT estimate", trace.time_s, trace.grasp_force_estimate_n),
-                    Series("setpoint f_d", trace.time_s, trace.grasp_force_setpoint_n, true)};
+    force.series = {Series("true (plant)", trace.grasp_force_n),
+                    Series("DUT estimate", trace.grasp_force_estimate_n),
+                    Series("setpoint f_d", trace.grasp_force_setpoint_n, true)};
     force.bands = BandsFor(envelopes, {proto::GRASP_FORCE_N, proto::GRASP_FORCE_ESTIMATE_N});
     plots.emplace_back(kForcePlotFile, std::move(force));
 
     TimePlot load;
     load.title = "Vertical load of the grasped object on the vehicle";
     load.y_label = "load (N)";
-    load.series = {Series("true (plant)", trace.time_s, trace.load_n),
-                   Series("DUT estimate", trace.time_s, trace.load_estimate_n)};
+    load.series = {Series("true (plant)", trace.load_n),
+                   Series("DUT estimate", trace.load_estimate_n)};
     load.bands = BandsFor(envelopes, {proto::LOAD_N});
     plots.emplace_back(kLoadPlotFile, std::move(load));
   }
   TimePlot position;
   position.title = "Position error";
   position.y_label = "error (m)";
-  position.series = {Series("altitude error", trace.time_s, trace.altitude_error_m),
-                     Series("horizontal error", trace.time_s, trace.horizontal_error_m)};
+  position.series = {Series("altitude error", trace.altitude_error_m),
+                     Series("horizontal error", trace.horizontal_error_m)};
   position.bands = BandsFor(
       envelopes, {proto::ALTITUDE_ERROR_M, proto::HORIZONTAL_ERROR_M, proto::POSITION_ERROR_M});
   plots.emplace_back(kPositionPlotFile, std::move(position));

@@ -4,11 +4,6 @@ namespace hilrig::host {
 
 void CapturedTrace::Add(const TraceSample& sample) {
   AddCompared(sample.time_s, sample.position_m, sample.grasp_force_n, sample.load_n);
-  grasp_force_estimate_n.push_back(sample.grasp_force_estimate_n);
-  grasp_force_setpoint_n.push_back(sample.grasp_force_setpoint_n);
-  load_estimate_n.push_back(sample.load_estimate_n);
-  altitude_error_m.push_back(SignalValue(sample, proto::ALTITUDE_ERROR_M));
-  horizontal_error_m.push_back(SignalValue(sample, proto::HORIZONTAL_ERROR_M));
 }
 
 void CapturedTrace::AddCompared(double time, const Eigen::Vector3d& position, double grasp_force,
@@ -17,6 +12,17 @@ void CapturedTrace::AddCompared(double time, const Eigen::Vector3d& position, do
   position_m.push_back(position);
   grasp_force_n.push_back(grasp_force);
   load_n.push_back(load);
+}
+
+void PlottedTrace::Add(const TraceSample& sample) {
+  const double time = sample.time_s;
+  grasp_force_n.Add(time, sample.grasp_force_n);
+  grasp_force_estimate_n.Add(time, sample.grasp_force_estimate_n);
+  grasp_force_setpoint_n.Add(time, sample.grasp_force_setpoint_n);
+  load_n.Add(time, sample.load_n);
+  load_estimate_n.Add(time, sample.load_estimate_n);
+  altitude_error_m.Add(time, SignalValue(sample, proto::ALTITUDE_ERROR_M));
+  horizontal_error_m.Add(time, SignalValue(sample, proto::HORIZONTAL_ERROR_M));
 }
 
 }  // namespace hilrig::host

@@ -1,34 +1,42 @@
-// The few trace columns a run keeps in memory, from one RunSinks::trace_sample callback, for both
-// things that read a run's trace after it: the plots beside its report (host/report/run_plots.h)
-// and its comparison with a reference (host/fidelity/trace_comparison.h). Columns, not whole
-// trace rows, so an hour-long run stays small.
+// The few trace columns a run keeps in memory, from one RunSinks::trace_sample callback, for the
+// two things that read a run's trace after it. The comparison with a reference
+// (host/fidelity/trace_comparison.h) matches samples one by one, so CapturedTrace keeps its
+// columns at the full trace rate and grows with the run. The plots beside the report
+// (host/report/run_plots.h) need no more than a plot has pixel columns, so PlottedTrace keeps each
+// plotted signal decimated (host/trace/decimated_series.h) and stays the same size however long the
+// run.
 #pragma once
 
 #include <Eigen/Core>
 #include <vector>
 
+#include "host/trace/decimated_series.h"
 #include "host/trace/trace_sample.h"
 
 namespace hilrig::host {
 
 struct CapturedTrace {
-  // What the comparison reads.
   std::vector<double> time_s;
   std::vector<Eigen::Vector3d> position_m;
   std::vector<double> grasp_force_n;
   std::vector<double> load_n;
-  // What only the plots read; empty in a reference read back from the reference cache, which
-  // keeps the compared columns alone.
-  std::vector<double> grasp_force_estimate_n;
-  std::vector<double> grasp_force_setpoint_n;
-  std::vector<double> load_estimate_n;
-  std::vector<double> altitude_error_m;
-  std::vector<double> horizontal_error_m;
 
   std::size_t size() const { return time_s.size(); }
   void Add(const TraceSample& sample);
   void AddCompared(double time_s, const Eigen::Vector3d& position_m, double grasp_force_n,
                    double load_n);
+};
+
+struct PlottedTrace {
+  DecimatedSeries grasp_force_n;
+  DecimatedSeries grasp_force_estimate_n;
+  DecimatedSeries grasp_force_setpoint_n;
+  DecimatedSeries load_n;
+  DecimatedSeries load_estimate_n;
+  DecimatedSeries altitude_error_m;
+  DecimatedSeries horizontal_error_m;
+
+  void Add(const TraceSample& sample);
 };
 
 }  // namespace hilrig::host

@@ -161,7 +161,7 @@ TEST_F(RunPipelineTest, OneCaptureFeedsThePlotsAndTheComparison) {
   const fs::path empty_dir = dir_ / "empty";
   fs::create_directories(empty_dir);
   const std::vector<EnvelopeSpec> envelopes = ResolveScenario(spec_, std::nullopt).envelopes;
-  ASSERT_TRUE(WriteRunPlots(CapturedTrace{}, envelopes, false, empty_dir.string()).ok());
+  ASSERT_TRUE(WriteRunPlots(PlottedTrace{}, envelopes, false, empty_dir.string()).ok());
   EXPECT_NE(ReadFile(dir_ / "out" / kPositionPlotFile), ReadFile(empty_dir / kPositionPlotFile));
   EXPECT_THAT(notes_.str(), HasSubstr("running the reference"));
 }

@@ -28,8 +28,8 @@ EnvelopeSpec Envelope(const std::string& name, proto::Signal signal, double uppe
   return envelope;
 }
 
-CapturedTrace ShortTrace() {
-  CapturedTrace trace;
+PlottedTrace ShortTrace() {
+  PlottedTrace trace;
   for (int i = 0; i < 100; ++i) {
     TraceSample sample;
     sample.time_s = i * 0.01;

@@ -9,18 +9,23 @@
 
 #include "host/dut/firmware_config.h"
 #include "host/dut/in_process_dut.h"
-#include "host/trace/trace_capture.h"
 #include "host/runner/runner.h"
 #include "host/scenario/scenario_config.h"
 #include "host/scenario/scenario_loader.h"
 #include "host/setup/scene_setup.h"
+#include "host/trace/trace_sample.h"
 
 namespace hilrig::host {
 namespace {
 
+// The compared signals of every trace sample.
+struct RunTrace {
+  std::vector<double> grasp_force_n, altitude_error_m, horizontal_error_m;
+};
+
 struct RunResult {
   proto::Report report;
-  CapturedTrace trace;
+  RunTrace trace;
 };
 
 RunResult RunWith(const ScenarioConfig& config, DutFactory factory) {
@@ -29,7 +34,11 @@ RunResult RunWith(const ScenarioConfig& config, DutFactory factory) {
   const rig::SimClock wall_clock;
   RunControl control{.wall_clock = &wall_clock};
   control.dut_factory = std::move(factory);
-  const auto keep = [&run](const TraceSample& sample) { run.trace.Add(sample); };
+  const auto keep = [&run](const TraceSample& sample) {
+    run.trace.grasp_force_n.push_back(sample.grasp_force_n);
+    run.trace.altitude_error_m.push_back(SignalValue(sample, proto::ALTITUDE_ERROR_M));
+    run.trace.horizontal_error_m.push_back(SignalValue(sample, proto::HORIZONTAL_ERROR_M));
+  };
   run.report = RunScenario(config, {&trace_csv, nullptr, nullptr, keep}, control);
   return run;
 }
@@ -66,7 +75,7 @@ TEST(FloatDutTest, BalloonGraspInFloatMeetsTheEnvelopesAndTracksTheDoubleBuild) 
     names_float = names_float || model.fidelity() == "in-process dut_fw (float)";
   }
   EXPECT_TRUE(names_float);
-  ASSERT_EQ(double_run.trace.time_s.size(), float_run.trace.time_s.size());
+  ASSERT_EQ(double_run.trace.grasp_force_n.size(), float_run.trace.grasp_force_n.size());
   // The runs differ only in the DUT's rounding, so they must not drift apart.
   EXPECT_LT(MaxDifference(double_run.trace.grasp_force_n, float_run.trace.grasp_force_n), 0.03);
   EXPECT_LT(MaxDifference(double_run.trace.altitude_error_m, float_run.trace.altitude_error_m),

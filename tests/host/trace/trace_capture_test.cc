@@ -22,30 +22,37 @@ TEST(CapturedTraceTest, KeepsTheSamplesColumnsExactly) {
   EXPECT_EQ(trace.load_n[0], 2.37);
 }
 
-// One capture feeds the plots as well as the comparison: the estimates, the setpoint and the
-// position errors come from the same sample.
-TEST(CapturedTraceTest, KeepsThePlottedColumnsOfTheSameSample) {
+// The plotted signals come from the same sample as the compared ones.
+TEST(PlottedTraceTest, KeepsThePlottedSignalsOfTheSameSample) {
   TraceSample sample;
   sample.time_s = 0.02;
   sample.position_m = Eigen::Vector3d(3, 4, 1.25);
   sample.reference_m = Eigen::Vector3d(0, 0, 1);
+  sample.grasp_force_n = 0.5;
   sample.grasp_force_estimate_n = 0.55;
   sample.grasp_force_setpoint_n = 0.6;
+  sample.load_n = 2.4;
   sample.load_estimate_n = 2.5;
-  CapturedTrace trace;
+  PlottedTrace trace;
 
   trace.Add(sample);
 
-  ASSERT_EQ(trace.grasp_force_estimate_n.size(), 1u);
-  EXPECT_EQ(trace.grasp_force_estimate_n[0], 0.55);
-  EXPECT_EQ(trace.grasp_force_setpoint_n[0], 0.6);
-  EXPECT_EQ(trace.load_estimate_n[0], 2.5);
-  EXPECT_EQ(trace.altitude_error_m[0], SignalValue(sample, proto::ALTITUDE_ERROR_M));
-  EXPECT_EQ(trace.horizontal_error_m[0], 5.0);  // |(3, 4)| from the reference's (0, 0)
-  EXPECT_NE(trace.altitude_error_m[0], 0.0);
+  const auto only = [](const DecimatedSeries& series) {
+    const DecimatedSeries::Points points = series.ToPoints();
+    EXPECT_EQ(points.time_s, std::vector<double>{0.02});
+    return points.value.size() == 1 ? points.value[0] : -1.0;
+  };
+  EXPECT_EQ(only(trace.grasp_force_n), 0.5);
+  EXPECT_EQ(only(trace.grasp_force_estimate_n), 0.55);
+  EXPECT_EQ(only(trace.grasp_force_setpoint_n), 0.6);
+  EXPECT_EQ(only(trace.load_n), 2.4);
+  EXPECT_EQ(only(trace.load_estimate_n), 2.5);
+  EXPECT_EQ(only(trace.altitude_error_m), SignalValue(sample, proto::ALTITUDE_ERROR_M));
+  EXPECT_NE(only(trace.altitude_error_m), 0.0);
+  EXPECT_EQ(only(trace.horizontal_error_m), 5.0);  // |(3, 4)| from the reference's (0, 0)
 }
 
-TEST(CapturedTraceTest, AComparedSampleLeavesThePlottedColumnsEmpty) {
+TEST(CapturedTraceTest, AComparedSampleKeepsItsColumns) {
   CapturedTrace trace;
 
   trace.AddCompared(0.01, Eigen::Vector3d(1, 2, 3), 0.5, 1.5);
@@ -54,8 +61,6 @@ TEST(CapturedTraceTest, AComparedSampleLeavesThePlottedColumnsEmpty) {
   EXPECT_EQ(trace.position_m[0], Eigen::Vector3d(1, 2, 3));
   EXPECT_EQ(trace.grasp_force_n[0], 0.5);
   EXPECT_EQ(trace.load_n[0], 1.5);
-  EXPECT_TRUE(trace.altitude_error_m.empty());
-  EXPECT_TRUE(trace.grasp_force_estimate_n.empty());
 }
 
 }  // namespace
