@@ -128,7 +128,9 @@ RunPipelineResult RunPipeline(const RunRequest& request, const RunSeams& seams) 
                                    : RunFailure::kSetUp;
     return RunError{failure, run_name + ": " + set_up.error().message};
   }
-  // One capture for the plots (decimated) and the comparison with the reference.
+  // The plots' decimated series stay the same size however long the run; the compared columns
+  // grow with it, so they are kept only for a comparison with the reference.
+  const bool compare = request.reference != nullptr;
   PlottedTrace plotted;
   CapturedTrace compared;
   RunSinks sinks;
@@ -137,10 +139,11 @@ RunPipelineResult RunPipeline(const RunRequest& request, const RunSeams& seams) 
     sinks.can_log = &files->can_log->stream();
   }
   sinks.progress = seams.notes;
-  if (files || request.reference != nullptr) {
-    sinks.trace_sample = [&plotted, &compared](const TraceSample& sample) {
-      plotted.Add(sample);
-      compared.Add(sample);
+  if (files || compare) {
+    const bool plot = files.has_value();
+    sinks.trace_sample = [&plotted, &compared, plot, compare](const TraceSample& sample) {
+      if (plot) plotted.Add(sample);
+      if (compare) compared.Add(sample);
     };
   }
   // A real-time loop does not spend its period on rewriting the report (about 0.4 ms, up to 3):
@@ -180,7 +183,7 @@ RunPipelineResult RunPipeline(const RunRequest& request, const RunSeams& seams) 
       outcome.files_written.push_back((fs::path(*request.out_dir) / plot).string());
     }
   }
-  if (request.reference != nullptr && RunCompleted(outcome.report)) {
+  if (compare && RunCompleted(outcome.report)) {
     CompareWithReference(request, seams, run, spec_directory, run_name, compared, outcome);
   }
   if (files) {

@@ -1,10 +1,10 @@
 // The few trace columns a run keeps in memory, from one RunSinks::trace_sample callback, for the
 // two things that read a run's trace after it. The comparison with a reference
 // (host/fidelity/trace_comparison.h) matches samples one by one, so CapturedTrace keeps its
-// columns at the full trace rate and grows with the run. The plots beside the report
-// (host/report/run_plots.h) need no more than a plot has pixel columns, so PlottedTrace keeps each
-// plotted signal decimated (host/trace/decimated_series.h) and stays the same size however long the
-// run.
+// columns at the full trace rate and grows with the run; it is made only when a reference
+// comparison will be. The plots beside the report (host/report/run_plots.h) need no more than a
+// plot has pixel columns, so PlottedTrace keeps each plotted signal decimated
+// (host/trace/decimated_series.h) and stays the same size however long the run.
 #pragma once
 
 #include <Eigen/Core>
