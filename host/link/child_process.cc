@@ -45,27 +45,37 @@ std::string DescribeStatus(int status) {
   return "ended with wait status " + std::to_string(status);
 }
 
-}  // namespace
-
-rig::Result<ChildProcess> ChildProcess::Spawn(const std::vector<std::string>& argv,
-                                              const std::vector<std::string>& environment) {
-  if (argv.empty()) return rig::MakeError("no program to start");
+// Starts argv[0] (a path; argv not empty) with argv, this process's environment plus
+// `environment` (as ChildEnvironment) and `file_actions` (null: none), in a process group of its
+// own: a Ctrl-C at the terminal reaches the harness, which then ends the child itself, instead of
+// both racing to stop. Fails when posix_spawn does; the error names the program.
+rig::Result<pid_t> SpawnInOwnGroup(const std::vector<std::string>& argv,
+                                   const std::vector<std::string>& environment,
+                                   const posix_spawn_file_actions_t* file_actions) {
   std::vector<char*> args;
   for (const std::string& arg : argv) args.push_back(const_cast<char*>(arg.c_str()));
   args.push_back(nullptr);
-  // Its own process group: a Ctrl-C at the terminal reaches the harness, which then ends the
-  // child itself, instead of both racing to stop.
   posix_spawnattr_t attributes;
   ::posix_spawnattr_init(&attributes);
   ::posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
   ::posix_spawnattr_setpgroup(&attributes, 0);
   std::vector<char*> variables = ChildEnvironment(environment);
   pid_t pid = -1;
-  const int error =
-      ::posix_spawn(&pid, argv[0].c_str(), nullptr, &attributes, args.data(), variables.data());
+  const int error = ::posix_spawn(&pid, argv[0].c_str(), file_actions, &attributes, args.data(),
+                                  variables.data());
   ::posix_spawnattr_destroy(&attributes);
   if (error != 0) return rig::MakeError("cannot start " + argv[0] + ": " + std::strerror(error));
-  return ChildProcess(pid);
+  return pid;
+}
+
+}  // namespace
+
+rig::Result<ChildProcess> ChildProcess::Spawn(const std::vector<std::string>& argv,
+                                              const std::vector<std::string>& environment) {
+  if (argv.empty()) return rig::MakeError("no program to start");
+  const rig::Result<pid_t> spawned = SpawnInOwnGroup(argv, environment, nullptr);
+  if (!spawned.ok()) return spawned.error();
+  return ChildProcess(spawned.value());
 }
 
 ChildProcess::ChildProcess(ChildProcess&& other) noexcept
@@ -128,26 +138,17 @@ rig::Result<CommandOutput> RunCapturingOutput(const std::vector<std::string>& ar
   if (::pipe2(pipe_fds, O_CLOEXEC) != 0) {
     return rig::MakeError("cannot start " + argv[0] + ": pipe: " + std::strerror(errno));
   }
-  std::vector<char*> args;
-  for (const std::string& arg : argv) args.push_back(const_cast<char*>(arg.c_str()));
-  args.push_back(nullptr);
   posix_spawn_file_actions_t actions;
   ::posix_spawn_file_actions_init(&actions);
   ::posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], STDOUT_FILENO);
-  posix_spawnattr_t attributes;
-  ::posix_spawnattr_init(&attributes);
-  ::posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
-  ::posix_spawnattr_setpgroup(&attributes, 0);
-  pid_t pid = -1;
-  const int error =
-      ::posix_spawn(&pid, argv[0].c_str(), &actions, &attributes, args.data(), environ);
+  const rig::Result<pid_t> spawned = SpawnInOwnGroup(argv, {}, &actions);
   ::posix_spawn_file_actions_destroy(&actions);
-  ::posix_spawnattr_destroy(&attributes);
   ::close(pipe_fds[1]);
-  if (error != 0) {
+  if (!spawned.ok()) {
     ::close(pipe_fds[0]);
-    return rig::MakeError("cannot start " + argv[0] + ": " + std::strerror(error));
+    return spawned.error();
   }
+  const pid_t pid = spawned.value();
   CommandOutput result;
   std::array<char, 4096> chunk;
   for (;;) {
