@@ -1,7 +1,6 @@
 #include "host/cli/sweep_command.h"
 
 #include <google/protobuf/text_format.h>
-#include <google/protobuf/util/json_util.h>
 #include <time.h>
 
 #include <algorithm>
@@ -192,10 +191,11 @@ class ShardProgress {
     partial += chunk;
     for (std::size_t newline = partial.find('\n'); newline != std::string::npos;
          newline = partial.find('\n')) {
-      proto::SweepCaseResult row;
-      if (google::protobuf::util::JsonStringToMessage(partial.substr(0, newline), &row).ok()) {
+      // A line cut by a kill is not a finished case; the merge skips it too.
+      const rig::Result<proto::SweepCaseResult> row = ParseShardRow(partial.substr(0, newline));
+      if (row.ok()) {
         ++done_;
-        if (row.outcome() != proto::SweepCaseResult::PASSED) ++not_passed_;
+        if (row.value().outcome() != proto::SweepCaseResult::PASSED) ++not_passed_;
       }
       partial.erase(0, newline + 1);
     }

@@ -80,6 +80,17 @@ rig::Result<std::uint64_t> RunShard(
   return written;
 }
 
+rig::Result<proto::SweepCaseResult> ParseShardRow(const std::string& line) {
+  if (line.size() > kMaxRowBytes) {
+    return rig::MakeError("a line of " + std::to_string(line.size()) +
+                          " bytes, longer than any case row");
+  }
+  proto::SweepCaseResult row;
+  const auto parsed = google::protobuf::util::JsonStringToMessage(line, &row);
+  if (!parsed.ok()) return rig::MakeError("not a case row: " + std::string(parsed.message()));
+  return row;
+}
+
 rig::Result<std::map<std::uint64_t, proto::SweepCaseResult>> ReadShardRows(
     const std::string& out_dir, std::uint64_t* bad_lines) {
   namespace fs = std::filesystem;
@@ -97,13 +108,12 @@ rig::Result<std::map<std::uint64_t, proto::SweepCaseResult>> ReadShardRows(
     std::ifstream in(file);
     std::string line;
     while (std::getline(in, line)) {
-      proto::SweepCaseResult row;
-      if (line.size() > kMaxRowBytes ||
-          !google::protobuf::util::JsonStringToMessage(line, &row).ok()) {
+      rig::Result<proto::SweepCaseResult> row = ParseShardRow(line);
+      if (!row.ok()) {
         if (bad_lines != nullptr) ++*bad_lines;
         continue;
       }
-      rows[row.index()] = std::move(row);
+      rows[row.value().index()] = std::move(row).value();
     }
   }
   return rows;

@@ -39,6 +39,11 @@ rig::Result<std::uint64_t> RunShard(
     const CaseRunSetup& setup,
     const std::function<void(const proto::SweepCaseResult&)>& on_case = nullptr);
 
+// One line of a shard file (without its newline) as a case row. Fails, saying why, on what a
+// shard does not write whole: a line cut by a kill, text that is not a row's JSON, or a line far
+// longer than any row.
+rig::Result<proto::SweepCaseResult> ParseShardRow(const std::string& line);
+
 // Every case row in DIR/shards/*.jsonl, by index. A line that does not parse (the last line of a
 // shard that was killed while writing) is skipped and counted in `*bad_lines`. Fails when the
 // folder cannot be read. A case present twice (a shard run again) keeps its later row.

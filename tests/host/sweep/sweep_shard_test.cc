@@ -1,5 +1,5 @@
-// Shards: the I/N form, a partition of the cases, and reading rows back from shards of which one
-// was killed while writing.
+// Shards: the I/N form, a partition of the cases, reading one row's line, and reading rows back
+// from shards of which one was killed while writing.
 #include "host/sweep/sweep_shard.h"
 
 #include <gmock/gmock.h>
@@ -35,6 +35,26 @@ TEST(ShardSpecTest, EveryCaseIsInExactlyOneShard) {
     }
   }
   EXPECT_THAT(ShardFile("out", {0, 12}), HasSubstr("out/shards/shard-0001-of-0012.jsonl"));
+}
+
+TEST(ShardRowTest, ReadsAWholeRow) {
+  auto row = ParseShardRow("{\"index\":\"7\",\"scenario\":\"a\",\"outcome\":\"FAILED\"}");
+  ASSERT_TRUE(row.ok()) << row.error().message;
+  EXPECT_EQ(row.value().index(), 7u);
+  EXPECT_EQ(row.value().scenario(), "a");
+  EXPECT_EQ(row.value().outcome(), proto::SweepCaseResult::FAILED);
+}
+
+TEST(ShardRowTest, RefusesACutLineAndGarbage) {
+  for (const char* bad :
+       {"{\"index\":\"3\",\"scen", "not json", "{\"no_such_field\":1}", "[1,2]"}) {
+    auto row = ParseShardRow(bad);
+    ASSERT_FALSE(row.ok()) << bad;
+    EXPECT_THAT(row.error().message, HasSubstr("not a case row")) << bad;
+  }
+  auto huge = ParseShardRow("{\"scenario\":\"" + std::string(std::size_t{1} << 20, 'a') + "\"}");
+  ASSERT_FALSE(huge.ok());
+  EXPECT_THAT(huge.error().message, HasSubstr("longer than any case row"));
 }
 
 TEST(ShardRowsTest, KeepsEveryWholeRowAndCountsACutLine) {
