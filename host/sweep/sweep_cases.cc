@@ -20,14 +20,6 @@ bool IsPointAxis(const proto::Axis& axis) {
   return axis.values_case() == proto::Axis::kList || axis.values_case() == proto::Axis::kGrid;
 }
 
-std::uint64_t PointCount(const proto::Sweep& sweep) {
-  std::uint64_t points = 1;
-  for (const proto::Axis& axis : sweep.axis()) {
-    if (IsPointAxis(axis)) points *= AxisPoints(axis).size();
-  }
-  return points;
-}
-
 std::uint64_t SeedCount(const proto::Sweep& sweep) {
   if (sweep.seeds().list_size() > 0) return sweep.seeds().list_size();
   return sweep.seeds().has_count() ? sweep.seeds().count() : 1;
@@ -115,25 +107,32 @@ double CaseCountEstimate(const proto::Sweep& sweep) {
   return double(sweep.scenario_size()) * points * double(SeedCount(sweep));
 }
 
-std::uint64_t CaseCount(const LoadedSweep& sweep) {
-  return sweep.scenarios.size() * PointCount(sweep.spec) * SeedCount(sweep.spec);
+std::uint64_t CaseCount(const LoadedSweep& sweep) { return SweepCaseSpace(sweep).case_count(); }
+
+SweepCaseSpace::SweepCaseSpace(const LoadedSweep& sweep)
+    : sweep_(&sweep), seed_count_(SeedCount(sweep.spec)) {
+  std::uint64_t points = 1;
+  for (const proto::Axis& axis : sweep.spec.axis()) {
+    axis_points_.push_back(AxisPoints(axis));
+    if (IsPointAxis(axis)) points *= axis_points_.back().size();
+  }
+  per_scenario_ = points * seed_count_;
+  case_count_ = sweep.scenarios.size() * per_scenario_;
 }
 
-SweepCase CaseAt(const LoadedSweep& sweep, std::uint64_t index) {
+SweepCase SweepCaseSpace::CaseAt(std::uint64_t index) const {
+  const LoadedSweep& sweep = *sweep_;
   SweepCase result;
   result.index = index;
-  const std::uint64_t seeds = SeedCount(sweep.spec);
-  const std::uint64_t per_scenario = PointCount(sweep.spec) * seeds;
-  result.scenario = static_cast<std::size_t>(index / per_scenario);
-  std::uint64_t point = (index % per_scenario) / seeds;
-  result.seed = SeedAt(sweep, result.scenario, index % seeds);
+  result.scenario = static_cast<std::size_t>(index / per_scenario_);
+  std::uint64_t point = (index % per_scenario_) / seed_count_;
+  result.seed = SeedAt(sweep, result.scenario, index % seed_count_);
   const int axes = sweep.spec.axis_size();
   result.values.assign(axes, 0.0);
   // Mixed radix over the point axes, the last one varying fastest.
   for (int a = axes - 1; a >= 0; --a) {
-    const proto::Axis& axis = sweep.spec.axis(a);
-    if (!IsPointAxis(axis)) continue;
-    const std::vector<double> points = AxisPoints(axis);
+    if (!IsPointAxis(sweep.spec.axis(a))) continue;
+    const std::vector<double>& points = axis_points_[a];
     result.values[a] = points[point % points.size()];
     point /= points.size();
   }

@@ -33,8 +33,23 @@ std::vector<double> AxisPoints(const proto::Axis& axis);
 double CaseCountEstimate(const proto::Sweep& sweep);
 std::uint64_t CaseCount(const LoadedSweep& sweep);
 
-// Case `index` (< CaseCount). O(axes); allocates the values vector.
-SweepCase CaseAt(const LoadedSweep& sweep, std::uint64_t index);
+// A sweep's axes expanded to their points once, so that taking each of its cases in turn does not
+// expand them again. Refers to the sweep, which must outlive it.
+class SweepCaseSpace {
+ public:
+  explicit SweepCaseSpace(const LoadedSweep& sweep);
+
+  std::uint64_t case_count() const { return case_count_; }
+  // Case `index` (< case_count()). O(axes); allocates the values vector.
+  SweepCase CaseAt(std::uint64_t index) const;
+
+ private:
+  const LoadedSweep* sweep_;
+  std::vector<std::vector<double>> axis_points_;  // AxisPoints of each axis, in the spec's order
+  std::uint64_t seed_count_ = 1;
+  std::uint64_t per_scenario_ = 1;  // points x seeds
+  std::uint64_t case_count_ = 0;
+};
 
 // The case's scenario: its spec with the case's seed and each axis's value set. Fails, naming the
 // case and its values, when a value does not fit its field or the changed spec does not validate

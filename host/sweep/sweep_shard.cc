@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "host/sweep/sweep_cases.h"
 #include "rig/command_args.h"
 #include "rig/file_io.h"
 
@@ -64,10 +65,10 @@ rig::Result<std::uint64_t> RunShard(
   auto file = rig::OutputFile::Create(path, 1 << 16);
   if (!file) return file.error();
   std::uint64_t written = 0;
-  const std::uint64_t cases = CaseCount(sweep);
-  for (std::uint64_t index = shard.index; index < cases; index += shard.count) {
+  const SweepCaseSpace cases(sweep);
+  for (std::uint64_t index = shard.index; index < cases.case_count(); index += shard.count) {
     if (setup.stop_requested != nullptr && setup.stop_requested->load()) break;
-    const std::optional<proto::SweepCaseResult> row = RunCase(sweep, CaseAt(sweep, index), setup);
+    const std::optional<proto::SweepCaseResult> row = RunCase(sweep, cases.CaseAt(index), setup);
     if (!row) break;  // interrupted mid-case: not a row
     file.value()->stream() << JsonLine(*row);
     // Each row reaches the file before the next case starts: a kill loses at most the case

@@ -25,7 +25,7 @@ std::optional<proto::SweepCaseResult> RunCaseIn(const fs::path& dir, const Loade
   CaseRunSetup setup;
   setup.wall_clock = &clock;
   setup.runs_dir = (dir / "runs").string();
-  return RunCase(sweep, CaseAt(sweep, index), setup);
+  return RunCase(sweep, SweepCaseSpace(sweep).CaseAt(index), setup);
 }
 
 TEST(CaseRunTest, APassingCaseGivesItsEnvelopesAndKeepsNoFiles) {
@@ -64,13 +64,13 @@ TEST(CaseRunTest, AnInvalidCaseIsARowAndAStoppedOneIsNone) {
   const rig::SteadyClock clock;
   CaseRunSetup setup;
   setup.wall_clock = &clock;
-  const auto invalid = RunCase(sweep, CaseAt(sweep, 1), setup);
+  const auto invalid = RunCase(sweep, SweepCaseSpace(sweep).CaseAt(1), setup);
   ASSERT_TRUE(invalid.has_value());
   EXPECT_EQ(invalid->outcome(), proto::SweepCaseResult::INVALID);
   EXPECT_NE(invalid->detail().find("vehicle.mass_kg"), std::string::npos) << invalid->detail();
   const std::atomic<bool> stop{true};
   setup.stop_requested = &stop;
-  EXPECT_FALSE(RunCase(sweep, CaseAt(sweep, 0), setup).has_value());
+  EXPECT_FALSE(RunCase(sweep, SweepCaseSpace(sweep).CaseAt(0), setup).has_value());
 }
 
 }  // namespace

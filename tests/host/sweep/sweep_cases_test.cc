@@ -46,14 +46,16 @@ axis { path: "object.mass_kg" list { value: 0.1 value: 0.2 } }
 axis { path: "timeline[0].grasp.force_n" grid { from: 1 to: 3 count: 3 } }
 )");
   ASSERT_EQ(CaseCount(sweep), 2u * 2 * 3 * 2);
-  const SweepCase first = CaseAt(sweep, 0);
+  const SweepCaseSpace cases(sweep);
+  ASSERT_EQ(cases.case_count(), CaseCount(sweep));
+  const SweepCase first = cases.CaseAt(0);
   EXPECT_EQ(first.scenario, 0u);
   EXPECT_EQ(first.seed, 5u);
   EXPECT_EQ(first.values, (std::vector<double>{0.1, 1}));
-  EXPECT_EQ(CaseAt(sweep, 1).seed, 6u);
-  EXPECT_EQ(CaseAt(sweep, 2).values, (std::vector<double>{0.1, 2}));
-  EXPECT_EQ(CaseAt(sweep, 6).values, (std::vector<double>{0.2, 1}));
-  const SweepCase last = CaseAt(sweep, 23);
+  EXPECT_EQ(cases.CaseAt(1).seed, 6u);
+  EXPECT_EQ(cases.CaseAt(2).values, (std::vector<double>{0.1, 2}));
+  EXPECT_EQ(cases.CaseAt(6).values, (std::vector<double>{0.2, 1}));
+  const SweepCase last = cases.CaseAt(23);
   EXPECT_EQ(last.scenario, 1u);
   EXPECT_EQ(last.seed, 6u);
   EXPECT_EQ(last.values, (std::vector<double>{0.2, 3}));
@@ -68,7 +70,7 @@ axis { path: "timeline[0].grasp.force_n" grid { from: 1 to: 3 count: 3 } }
 TEST(SweepCasesTest, WithoutSeedsEachScenarioKeepsItsOwn) {
   const LoadedSweep sweep = Sweep("sweep_cases_own_seed", "scenario: \"a.textproto\"\n");
   ASSERT_EQ(CaseCount(sweep), 1u);
-  EXPECT_EQ(CaseAt(sweep, 0).seed, 40u);
+  EXPECT_EQ(SweepCaseSpace(sweep).CaseAt(0).seed, 40u);
 }
 
 TEST(SweepCasesTest, GridEndsAreExactAndLogGridsSpaceByRatio) {
@@ -105,14 +107,15 @@ axis { path: "object.mass_kg" distribution { normal { mean: 0.2 sigma: 0.05 low:
 axis { path: "object.stiffness_scale" distribution { log_uniform { low: 0.5 high: 2 } } }
 axis { path: "models.vio.latency_s" distribution { uniform { low: 0.01 high: 0.05 } } }
 )");
-  const std::uint64_t per_scenario = CaseCount(sweep) / 2;
+  const SweepCaseSpace cases(sweep);
+  const std::uint64_t per_scenario = cases.case_count() / 2;
   double mass_sum = 0;
   double below_one_stiffness = 0;
   std::set<double> latencies;
   for (std::uint64_t i = 0; i < 2000; ++i) {
-    const SweepCase c = CaseAt(sweep, i);
-    const SweepCase other_point = CaseAt(sweep, i + 2000);
-    const SweepCase other_scenario = CaseAt(sweep, i + per_scenario);
+    const SweepCase c = cases.CaseAt(i);
+    const SweepCase other_point = cases.CaseAt(i + 2000);
+    const SweepCase other_scenario = cases.CaseAt(i + per_scenario);
     ASSERT_EQ(c.seed, other_point.seed);
     EXPECT_NE(c.values[0], other_point.values[0]);
     for (int a = 1; a < 4; ++a) {
@@ -138,8 +141,9 @@ TEST(SweepCasesTest, ACaseThatMakesAnInvalidScenarioIsNamedWithItsValues) {
 axis { path: "object.mass_kg" list { value: 0.2 value: -1 } }
 )");
   ASSERT_EQ(CaseCount(sweep), 2u);
-  EXPECT_TRUE(CaseScenario(sweep, CaseAt(sweep, 0)).ok());
-  auto invalid = CaseScenario(sweep, CaseAt(sweep, 1));
+  const SweepCaseSpace cases(sweep);
+  EXPECT_TRUE(CaseScenario(sweep, cases.CaseAt(0)).ok());
+  auto invalid = CaseScenario(sweep, cases.CaseAt(1));
   ASSERT_FALSE(invalid.ok());
   EXPECT_THAT(invalid.error().message, HasSubstr("case 1 (a, seed 40, object.mass_kg=-1): "));
   EXPECT_THAT(invalid.error().message, HasSubstr("object.mass_kg"));
