@@ -17,6 +17,13 @@ std::string NumberText(double value) {
   return std::string(buffer.data(), end);
 }
 
+std::string ExactNumber(double value) {
+  std::array<char, 32> buffer{};
+  const auto [end, error] = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
+  if (error != std::errc()) return "nan";  // unreachable: 32 characters hold any double
+  return std::string(buffer.data(), end);
+}
+
 std::string FactorText(double factor) {
   if (!std::isfinite(factor)) return NumberText(factor) + "x";
   std::array<char, 32> buffer{};

@@ -1,7 +1,5 @@
 #include "host/sweep/sweep_merge.h"
 
-#include <array>
-#include <charconv>
 #include <filesystem>
 #include <set>
 #include <sstream>
@@ -14,6 +12,7 @@
 #include "host/sweep/sweep_shard.h"
 #include "host/sweep/sweep_statistics.h"
 #include "rig/file_io.h"
+#include "rig/number_text.h"
 
 namespace hilrig::host {
 namespace {
@@ -84,13 +83,6 @@ std::string FailingText(const LoadedSweep& sweep,
 
 }  // namespace
 
-std::string ExactNumber(double value) {
-  std::array<char, 32> buffer{};
-  const auto [end, error] = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
-  if (error != std::errc()) return "nan";  // unreachable: 32 characters hold any double
-  return std::string(buffer.data(), end);
-}
-
 std::string RunsCsv(const LoadedSweep& sweep,
                     const std::map<std::uint64_t, proto::SweepCaseResult>& rows) {
   const std::vector<std::string> envelopes = EnvelopeColumns(sweep);
@@ -105,7 +97,7 @@ std::string RunsCsv(const LoadedSweep& sweep,
   csv << ",detail,real_time_factor,wall_s\n";
   for (const auto& [index, row] : rows) {
     csv << index << "," << CsvField(row.scenario()) << "," << row.seed();
-    for (const double value : row.value()) csv << "," << ExactNumber(value);
+    for (const double value : row.value()) csv << "," << rig::ExactNumber(value);
     csv << "," << OutcomeName(row.outcome());
     for (const std::string& name : envelopes) {
       const proto::SweepCaseResult::Envelope* found = nullptr;
@@ -116,11 +108,11 @@ std::string RunsCsv(const LoadedSweep& sweep,
         csv << ",,,";
         continue;
       }
-      csv << "," << (found->met() ? 1 : 0) << "," << ExactNumber(found->worst()) << ","
-          << ExactNumber(found->margin());
+      csv << "," << (found->met() ? 1 : 0) << "," << rig::ExactNumber(found->worst()) << ","
+          << rig::ExactNumber(found->margin());
     }
-    csv << "," << CsvField(row.detail()) << "," << ExactNumber(row.real_time_factor()) << ","
-        << ExactNumber(row.wall_s()) << "\n";
+    csv << "," << CsvField(row.detail()) << "," << rig::ExactNumber(row.real_time_factor()) << ","
+        << rig::ExactNumber(row.wall_s()) << "\n";
   }
   return csv.str();
 }
@@ -133,7 +125,8 @@ std::string ReproduceCommand(const LoadedSweep& sweep, const proto::SweepCaseRes
                         " --seed " + std::to_string(row.seed());
   std::string sets;
   for (int a = 0; a < sweep.spec.axis_size() && a < row.value_size(); ++a) {
-    sets += (sets.empty() ? "" : ",") + sweep.spec.axis(a).path() + "=" + ExactNumber(row.value(a));
+    sets += (sets.empty() ? "" : ",") + sweep.spec.axis(a).path() + "=" +
+            rig::ExactNumber(row.value(a));
   }
   if (!sets.empty()) command += " --set " + ShellQuoted(sets);
   return command + " --no-reference --out " + ShellQuoted(CaseFolder(runs_dir, row.index()));

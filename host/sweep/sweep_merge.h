@@ -26,9 +26,6 @@ struct MergedSweep {
   proto::SweepSummary summary;  // what summary.json holds
 };
 
-// "3.5", "0.20345678912345678": the shortest text that reads back as the same double.
-std::string ExactNumber(double value);
-
 // runs.csv's text for `rows` (in index order). Columns: case, scenario, seed, one per axis (its
 // path), outcome, then per envelope of the sweep's scenarios (in first-seen order) NAME.met,
 // NAME.worst, NAME.margin (empty where a case's scenario has no such envelope or it did not run),

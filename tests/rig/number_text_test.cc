@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <limits>
 
 namespace hilrig::rig {
@@ -17,6 +18,13 @@ TEST(NumberTextTest, SixSignificantDigitsInTheShortestForm) {
   EXPECT_EQ(NumberText(2.3456789), "2.34568");
   EXPECT_EQ(NumberText(std::numeric_limits<double>::infinity()), "inf");
   EXPECT_EQ(NumberText(std::numeric_limits<double>::quiet_NaN()), "nan");
+}
+
+TEST(NumberTextTest, ExactNumbersReadBackAsTheSameDouble) {
+  for (double value : {0.1, 1.0 / 3.0, 1e-300, -2.5, 0.0, 123456789.125}) {
+    EXPECT_EQ(std::strtod(ExactNumber(value).c_str(), nullptr), value) << ExactNumber(value);
+  }
+  EXPECT_EQ(ExactNumber(3.5), "3.5");
 }
 
 TEST(NumberTextTest, FactorsAreWholeFromTenAndTwoDigitsBelow) {
