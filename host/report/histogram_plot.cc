@@ -15,7 +15,6 @@ constexpr double kLeftPx = 56;
 constexpr double kRightPx = 16;
 constexpr double kBelowPx = 40;
 constexpr double kLegendBaselinePx = 38;
-constexpr double kLegendCharPx = 6.2;  // as svg_plot.cc: average glyph width at 11 px
 constexpr double kLegendSwatchPx = 14;
 constexpr double kLegendGapPx = 14;
 // Counts up to this get the axis 0..kMinCountAxis, whose ticks are whole numbers.

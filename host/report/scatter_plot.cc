@@ -8,7 +8,6 @@ namespace hilrig::host {
 namespace {
 
 constexpr int kMaxLogTicks = 8;
-constexpr double kLegendCharPx = 6.2;  // as svg_plot.cc: average glyph width at 11 px
 constexpr double kLegendSwatchPx = 24;
 constexpr double kMarkerRadiusPx = 3.5;
 constexpr const char* kFrontColor = "#333333";

@@ -13,7 +13,6 @@ constexpr double kMaxFinite = std::numeric_limits<double>::max();
 constexpr int kMaxTicks = 8;
 constexpr double kTickTolerance = 1e-9;  // in steps: 0.3 / 0.1 must count as 3, not 2.999...
 constexpr double kPaddingFraction = 0.05;
-constexpr double kLegendCharPx = 6.2;  // average glyph width at 11 px, to keep labels in a column
 constexpr double kLegendSwatchPx = 24;
 constexpr const char* kBandColor = "#009E73";
 constexpr const char* kFailBandColor = "#C00000";

@@ -61,6 +61,8 @@ inline constexpr double kPlotMarginRightPx = 24;
 inline constexpr double kPlotMarginTopPx = 36;
 inline constexpr double kAxisBelowPx = 44;
 inline constexpr double kLegendGapPx = 6;
+// The average glyph width of an 11 px label, for fitting legend text into a column.
+inline constexpr double kLegendCharPx = 6.2;
 inline constexpr double kLegendRowPx = 16;
 inline constexpr int kLegendColumnsWide = 2;
 inline constexpr int kLegendWideFromPx = 600;
