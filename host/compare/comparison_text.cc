@@ -129,12 +129,12 @@ std::vector<std::string> SweepComparisonLines(const proto::SweepComparison& comp
                             std::to_string(comparison.candidate_sweep_cases())));
   for (const auto& row : comparison.envelope()) AddEnvelopeLines(row, lines);
   for (const auto& row : comparison.criterion()) {
-    lines.push_back(
-        "  " + Padded(ChangeText(row.change()), 26) + "criterion " +
-        std::to_string(row.criterion() + 1) + " (" + row.scenario() + "/" + row.envelope() + ") " +
-        (row.change() == proto::ONLY_IN_BASE ? std::string("only in base")
-                                             : Arrow(row.base_passed() ? "met" : "not met",
-                                                     row.candidate_passed() ? "met" : "not met")));
+    lines.push_back("  " + Padded(ChangeText(row.change()), 26) + "criterion " +
+                    std::to_string(row.criterion() + 1) + " (" + row.scenario() + "/" +
+                    row.envelope() + ") " +
+                    (row.change() == proto::ONLY_IN_BASE
+                         ? std::string("only in base")
+                         : Arrow(MetText(row.base_passed()), MetText(row.candidate_passed()))));
   }
   return lines;
 }
