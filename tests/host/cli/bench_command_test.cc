@@ -96,6 +96,15 @@ TEST_F(BenchCommandTest, QuickSweepWritesOneRowPerRunAndAZeroErrorReference) {
   EXPECT_THAT(text.str(), HasSubstr("class=\"front\""));
 }
 
+TEST_F(BenchCommandTest, HelpNamesEveryBenchOption) {
+  const CliResult help = Cli({"help"});
+
+  for (const char* option : {"--out DIR", "--scenes a,b|all", "--scenarios DIR", "--duration-s S",
+                             "--timing-repeats N", "--quick"}) {
+    EXPECT_THAT(help.out, HasSubstr(option));
+  }
+}
+
 TEST_F(BenchCommandTest, NegativeDurationIsBadInput) {
   const CliResult result = Cli({"bench", "--out", out_dir_.string(), "--duration-s", "-1"});
 
