@@ -13,9 +13,9 @@ require_tools arm-none-eabi-g++
 
 work_dir=$(mktemp -d)
 trap 'rm -rf "$work_dir"' EXIT
-build_target_image "$source_dir" "$work_dir/build"
+target_images "$source_dir" "$work_dir/build"
 
-arm-none-eabi-objdump -d -C "$work_dir/build/dut_fw_stm32f405.elf" |
+arm-none-eabi-objdump -d -C "$image_dir/dut_fw_stm32f405.elf" |
   awk '/^[0-9a-f]+ <.*>:$/ { function_name = substr($0, index($0, "<")) }
        /\tbl\t.*<__aeabi_(d[a-z0-9]*|[ui]2d|[ul]l2d|ul2d|f2d)>/ { calls[function_name]++ }
        END { for (f in calls) print calls[f] "\t" f }' | sort -rn >"$work_dir/callers"

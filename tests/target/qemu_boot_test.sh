@@ -2,8 +2,8 @@
 # Boots the STM32F405 bench image on QEMU's netduinoplus2 with -icount (SysTick then counts virtual
 # time, so the figures repeat run to run) and checks its sign of life on USART1: the banner, a
 # bench line with the controller armed and the tactile front end ready, and a p99 work per
-# control step inside the 1 ms period. Builds the image in a fresh tree first. Skips (77) without
-# qemu-system-arm or the arm-none-eabi cross compiler.
+# control step inside the 1 ms period. Skips (77) without qemu-system-arm or the arm-none-eabi
+# cross compiler.
 # Usage: qemu_boot_test.sh SOURCE_DIR
 set -euo pipefail
 
@@ -18,8 +18,8 @@ cleanup() {
   rm -rf "$work_dir"
 }
 trap cleanup EXIT
-build_target_image "$source_dir" "$work_dir/build"
-image=$work_dir/build/dut_fw_bench_stm32f405.elf
+target_images "$source_dir" "$work_dir/build"
+image=$image_dir/dut_fw_bench_stm32f405.elf
 usart1=$work_dir/usart1.log
 coproc qemu {
   exec qemu-system-arm -M netduinoplus2 -display none -monitor none -icount shift=0 \

@@ -19,11 +19,11 @@ cleanup() {
   rm -rf "$work_dir"
 }
 trap cleanup EXIT
-build_target_image "$source_dir" "$work_dir/build"
+target_images "$source_dir" "$work_dir/build"
 
 out=$work_dir/run
 "$bin_dir/hilrig" run "$source_dir/scenarios/balloon_grasp.textproto" --dut qemu \
-  --target-image "$work_dir/build/dut_fw_stm32f405.elf" --no-reference --out "$out" \
+  --target-image "$image_dir/dut_fw_stm32f405.elf" --no-reference --out "$out" \
   >"$work_dir/run.out" 2>&1 &
 run_pid=$!
 

@@ -6,7 +6,8 @@
 # expected: newlib's libm and the target compiler's contractions round differently from glibc's.
 # QEMU's USART keeps such a run below real time (about 0.2x), so DURATION_S (when given) runs only
 # the scene's first seconds (`--duration-s`); HILRIG_TARGET_FULL_SCENES=1 runs the whole scene.
-# Builds the image in a fresh tree first. Skips (77) without qemu-system-arm or the cross compiler.
+# The image is the target_image fixture's (tests/target/target_image.sh). Skips (77) without
+# qemu-system-arm or the cross compiler.
 # Usage: qemu_scene_test.sh SOURCE_DIR BIN_DIR SCENE [DURATION_S]
 set -euo pipefail
 
@@ -20,11 +21,11 @@ require_tools qemu-system-arm arm-none-eabi-g++
 
 work_dir=$(mktemp -d)
 trap 'rm -rf "$work_dir"' EXIT
-build_target_image "$source_dir" "$work_dir/build"
+target_images "$source_dir" "$work_dir/build"
 spec=$source_dir/scenarios/$scene.textproto
 
 status=0
-"$bin_dir/hilrig" run "$spec" --dut qemu --target-image "$work_dir/build/dut_fw_stm32f405.elf" \
+"$bin_dir/hilrig" run "$spec" --dut qemu --target-image "$image_dir/dut_fw_stm32f405.elf" \
   --no-reference "${cut[@]}" --out "$work_dir/qemu" >"$work_dir/qemu.out" 2>&1 || status=$?
 grep -E '^(PASS|FAIL|----)|^target |^real-time factor' "$work_dir/qemu.out" || true
 if [[ $status != 0 ]]; then

@@ -1,5 +1,6 @@
-# Sourced by the target tests: the checks for the tools they need, and the firmware image built in
-# a fresh tree of the test's own (so a test never runs an image some other build left behind).
+# Sourced by the target tests: the checks for the tools they need, and the firmware images they run:
+# the ones the target_image fixture built fresh for this ctest run, or, for a test run by hand,
+# images built in a fresh tree of the test's own (never an image some other build left behind).
 
 # Exits 77 (ctest's skip) naming the first tool in "$@" that is not installed.
 require_tools() {
@@ -19,4 +20,22 @@ build_target_image() {
     tail -20 "$build_dir.log"
     exit 1
   fi
+}
+
+# Sets image_dir to the folder of the images the test runs: $HILRIG_TARGET_IMAGE_DIR, which ctest
+# sets for the tests that require the target_image fixture (tests/target/build_image_fixture.sh),
+# or else BUILD_DIR after building SOURCE_DIR's images into it.
+target_images() {
+  local source_dir=$1 build_dir=$2
+  if [[ -z ${HILRIG_TARGET_IMAGE_DIR:-} ]]; then
+    build_target_image "$source_dir" "$build_dir"
+    image_dir=$build_dir
+    return
+  fi
+  if [[ ! -f $HILRIG_TARGET_IMAGE_DIR/dut_fw_stm32f405.elf ]]; then
+    echo "FAIL: no firmware image in $HILRIG_TARGET_IMAGE_DIR (its fixture, target_image_build," \
+      "did not run or failed)"
+    exit 1
+  fi
+  image_dir=$HILRIG_TARGET_IMAGE_DIR
 }
