@@ -5,8 +5,10 @@
 #include <google/protobuf/io/zero_copy_stream_impl_lite.h>
 #include <google/protobuf/message.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -52,23 +54,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The header: magic, format version, content length, FNV-1a 64 of the content (host byte order:
-// the keys carry the executable's identity, so an entry is read only by the build that wrote it).
-constexpr std::size_t kMagicBytes = 8;
-constexpr std::size_t kHeaderBytes = kMagicBytes + 3 * sizeof(std::uint64_t);
-
 // A temporary file a crashed writer left is removed once it is this much older than a fresh entry.
 constexpr auto kAbandonedTemporaryAge = std::chrono::hours(1);
-
-void AppendWord(std::string& bytes, std::uint64_t word) {
-  bytes.append(reinterpret_cast<const char*>(&word), sizeof(word));
-}
-
-std::uint64_t WordAt(std::string_view bytes, std::size_t at) {
-  std::uint64_t word;
-  std::memcpy(&word, bytes.data() + at, sizeof(word));
-  return word;
-}
 
 std::uint64_t Checksum(std::string_view content) {
   Fnv1a64 hash;
@@ -77,31 +64,29 @@ std::uint64_t Checksum(std::string_view content) {
 }
 
 std::string EntryBytes(const CacheFormat& format, std::string_view content) {
-  std::string bytes(format.magic);
-  AppendWord(bytes, format.version);
-  AppendWord(bytes, content.size());
-  AppendWord(bytes, Checksum(content));
+  std::string bytes = EntryHeader(format, content.size(), Checksum(content));
   bytes.append(content);
   return bytes;
 }
 
 // The content of an entry's bytes, or why they are not a whole entry of `format`.
 rig::Result<std::string> EntryContent(const CacheFormat& format, std::string bytes) {
-  if (bytes.size() < kHeaderBytes ||
-      std::string_view(bytes).substr(0, kMagicBytes) != format.magic) {
-    return rig::MakeError("not an entry of this cache");
+  const auto promised = PromisedChecksum(format, bytes, bytes.size());
+  if (!promised) return promised.error();
+  if (promised.value() != Checksum(std::string_view(bytes).substr(kEntryHeaderBytes))) {
+    return ChecksumMismatch();
   }
-  if (WordAt(bytes, kMagicBytes) != format.version) {
-    return rig::MakeError("written in another format version");
-  }
-  if (WordAt(bytes, kMagicBytes + 8) != bytes.size() - kHeaderBytes) {
-    return rig::MakeError("the content is not as long as the header says (cut or padded)");
-  }
-  if (WordAt(bytes, kMagicBytes + 16) != Checksum(std::string_view(bytes).substr(kHeaderBytes))) {
-    return rig::MakeError("the checksum does not match the content");
-  }
-  bytes.erase(0, kHeaderBytes);
+  bytes.erase(0, kEntryHeaderBytes);
   return bytes;
+}
+
+// Refuses an entry of `bytes` (header included) that the cache would not read back.
+rig::Result<void> WithinBound(const CacheFormat& format, const std::string& path,
+                              std::uint64_t bytes) {
+  if (bytes <= format.max_entry_bytes) return {};
+  return rig::MakeError("cannot write " + path + ": " + std::to_string(bytes) +
+                        " bytes, more than the cache reads back (" +
+                        std::to_string(format.max_entry_bytes) + ")");
 }
 
 // Whether a file's first bytes are those of this cache's entries, now or before the header.
@@ -182,7 +167,7 @@ void CacheFolder::Trim(const std::string& fresh_path) const {
       continue;
     }
     if (!IsEntryName(name, format_.extension)) continue;
-    const auto head = rig::ReadRegularFileHead(path.string(), kMagicBytes);
+    const auto head = rig::ReadRegularFileHead(path.string(), format_.magic.size());
     if (head && OpensAsOwnEntry(head.value(), format_)) entries.emplace_back(used, path);
   }
   if (entries.size() <= format_.max_entries) return;
@@ -194,10 +179,8 @@ void CacheFolder::Trim(const std::string& fresh_path) const {
 
 rig::Result<void> CacheFolder::Store(const std::string& key, std::string_view content) const {
   const std::string path = PathOf(key);
-  if (kHeaderBytes + content.size() > format_.max_entry_bytes) {
-    return rig::MakeError(
-        "cannot write " + path + ": " + std::to_string(kHeaderBytes + content.size()) +
-        " bytes, more than the cache reads back (" + std::to_string(format_.max_entry_bytes) + ")");
+  if (auto bounded = WithinBound(format_, path, kEntryHeaderBytes + content.size()); !bounded) {
+    return bounded;
   }
   std::error_code error;
   fs::create_directories(directory_, error);
@@ -205,6 +188,61 @@ rig::Result<void> CacheFolder::Store(const std::string& key, std::string_view co
   if (auto written = rig::WriteFileAtomically(path, EntryBytes(format_, content)); !written) {
     return written;
   }
+  Trim(path);
+  return {};
+}
+
+rig::Result<std::optional<CacheEntryReader>> CacheFolder::Open(const std::string& key) const {
+  const std::string path = PathOf(key);
+  std::error_code error;
+  if (fs::symlink_status(path, error).type() == fs::file_type::not_found) {
+    return std::optional<CacheEntryReader>();
+  }
+  // The same checks and words as a whole read (a folder, a FIFO: never blocking on it).
+  if (auto head = rig::ReadRegularFileHead(path, kEntryHeaderBytes); !head) return head.error();
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+  if (fd < 0) return rig::MakeError("cannot read " + path + ": " + std::strerror(errno));
+  struct stat status {};
+  if (::fstat(fd, &status) != 0 || !S_ISREG(status.st_mode)) {
+    ::close(fd);
+    return rig::MakeError("cannot read " + path + ": not a regular file");
+  }
+  const auto file_bytes = static_cast<std::uint64_t>(status.st_size);
+  if (file_bytes > format_.max_entry_bytes) {
+    ::close(fd);
+    return rig::MakeError("cannot read " + path + ": larger than " +
+                          std::to_string(format_.max_entry_bytes) + " bytes");
+  }
+  auto reader = CacheEntryReader::Checked(fd, path, file_bytes, format_);
+  if (!reader) return reader.error();
+  return std::optional<CacheEntryReader>(std::move(reader).value());
+}
+
+rig::Result<CacheEntryWriter> CacheFolder::Begin(const std::string& key) const {
+  const std::string path = PathOf(key);
+  std::error_code error;
+  fs::create_directories(directory_, error);
+  if (error) return rig::MakeError("cannot create " + directory_ + ": " + error.message());
+  std::string temporary = rig::TemporaryNameBeside(path);
+  const int fd =
+      ::open(temporary.c_str(), O_RDWR | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (fd < 0) return rig::WriteError(path, errno);
+  return CacheEntryWriter(fd, std::move(temporary), path, format_);
+}
+
+rig::Result<void> CacheFolder::Commit(CacheEntryWriter& writer) const {
+  const std::string& path = writer.entry_path_;
+  if (!writer.finished_ || writer.temporary_path_.empty()) {
+    return rig::MakeError("cannot write " + path + ": the entry is not finished");
+  }
+  if (auto bounded = WithinBound(format_, path, kEntryHeaderBytes + writer.content_bytes_);
+      !bounded) {
+    return bounded;
+  }
+  if (::rename(writer.temporary_path_.c_str(), path.c_str()) != 0) {
+    return rig::WriteError(path, errno);  // the writer removes its temporary file
+  }
+  writer.temporary_path_.clear();
   Trim(path);
   return {};
 }

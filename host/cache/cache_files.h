@@ -13,7 +13,8 @@
 // An entry is written to a random name beside it and renamed into place, so a crash or Ctrl-C
 // never leaves half an entry and two runs storing one key at once cannot interleave; a reader sees
 // a whole entry or none. Reading never blocks and never throws: a folder, FIFO or device at an
-// entry's path is a miss.
+// entry's path is a miss. A long entry can also be written as it is made and read a block at a
+// time (host/cache/cache_entry.h).
 #pragma once
 
 #include <cstddef>
@@ -24,7 +25,9 @@
 #include <string_view>
 #include <type_traits>
 #include <utility>
+#include <vector>
 
+#include "host/cache/cache_entry.h"
 #include "rig/result.h"
 
 namespace google::protobuf {
@@ -47,18 +50,6 @@ class Fnv1a64 {
 
 // The message's bytes, the same for equal messages (map order fixed).
 std::string DeterministicBytes(const google::protobuf::Message& message);
-
-// What tells one cache's entries from every other file in its folder, and its bounds.
-struct CacheFormat {
-  std::string_view extension;  // of the entry names: <16 hex digits><extension>
-  std::string_view magic;      // 8 bytes, the first of every entry
-  std::uint64_t version = 1;   // of the content's layout
-  // What opened this cache's entries before they had a header: such files are still the cache's
-  // own to trim, never read.
-  std::string_view legacy_magic;
-  std::size_t max_entries = 1;
-  std::size_t max_entry_bytes = 0;  // header included; a larger file is not read
-};
 
 // One cache's folder: an entry per key, named <key><extension>, and at most `max_entries` of them.
 // Every key carries the executable's identity, so each rebuild starts a new set and the old ones
@@ -87,6 +78,19 @@ class CacheFolder {
   // folder to max_entries.
   rig::Result<void> Store(const std::string& key, std::string_view content) const;
 
+  // The entry under `key` open for reading, its header and checksum checked. Nothing when it is
+  // absent; an error naming the path and the cause when it is there but cannot be used (as Load).
+  rig::Result<std::optional<CacheEntryReader>> Open(const std::string& key) const;
+  // Creates the folder if needed and starts the entry under `key` as a temporary file beside it.
+  rig::Result<CacheEntryWriter> Begin(const std::string& key) const;
+  // Puts a finished entry of Begin in place and trims the folder; refused past the format's bound.
+  rig::Result<void> Commit(CacheEntryWriter& writer) const;
+
+  // Says on the notes stream why an entry that was there is not used.
+  void SayUnused(const rig::Error& why) const;
+  // Marks the entry at `path` used now (trimming removes the least recently used).
+  static void MarkUsed(const std::string& path);
+
   const std::string& directory() const { return directory_; }
   std::ostream* notes() const { return notes_; }
 
@@ -94,8 +98,6 @@ class CacheFolder {
   // The content of the entry at `path`: nothing when there is none, an error naming the path and
   // the cause when it cannot be used.
   rig::Result<std::optional<std::string>> ReadContent(const std::string& path) const;
-  void SayUnused(const rig::Error& why) const;
-  static void MarkUsed(const std::string& path);
   // Removes the cache's own entries past the bound and its writers' old temporary files;
   // `fresh_path` is the entry just written, whose time stands for now.
   void Trim(const std::string& fresh_path) const;

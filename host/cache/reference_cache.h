@@ -8,12 +8,16 @@
 // that a later run would read. An entry is checked against its checksum (cache_files.h) and as a
 // trace a completed run gives (time stamps in order, finite positions, the scene's sample count):
 // a damaged or foreign file is a miss, said, and the reference is run again; never numbers.
+// An entry is also written as its reference runs (ReferenceWriter) and read a block of samples at
+// a time (ReferenceReader), all of it checked in a first pass, so a run compared with its
+// reference never holds either trace whole: memory does not grow with the simulated duration.
 #pragma once
 
 #include <cstdint>
 #include <optional>
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include "host/cache/cache_files.h"
 #include "host/trace/trace_capture.h"
@@ -50,6 +54,56 @@ std::string DefaultReferenceCacheDir();
 std::string SerializeReference(const CachedReference& reference);
 rig::Result<CachedReference> ParseReference(const std::string& bytes);
 
+// A reference entry read a sample at a time, in time order. Open checks it whole first (the
+// checksum, then as a trace a completed run gives, as ParseReference does) and then reads it
+// again a block of samples at a time.
+class ReferenceReader {
+ public:
+  // `entry` as a reference of `expected_samples` samples (when given), or why it is not one.
+  static rig::Result<ReferenceReader> Open(CacheEntryReader entry,
+                                           std::optional<std::uint64_t> expected_samples);
+
+  std::uint64_t size() const { return count_; }
+  double wall_s() const { return wall_s_; }
+  // The next sample; nullopt past the last, or when the file can no longer be read or no longer
+  // holds what was checked (failure() then says why).
+  std::optional<ComparedSample> Next();
+  const std::optional<rig::Error>& failure() const { return failure_; }
+
+ private:
+  ReferenceReader(CacheEntryReader entry, std::uint64_t count, double wall_s);
+  // Every sample in order, checked: an error naming the first that no completed run gives.
+  rig::Result<void> CheckAll();
+  // The sample at `index` (< count_), reading its block when needed; nullopt with failure_ set.
+  std::optional<ComparedSample> ReadSample(std::uint64_t index);
+
+  CacheEntryReader entry_;
+  std::uint64_t count_ = 0;
+  double wall_s_ = 0;
+  std::uint64_t next_ = 0;
+  double last_time_s_ = 0;
+  std::vector<char> block_;
+  std::uint64_t block_first_ = 0, block_count_ = 0;
+  std::optional<rig::Error> failure_;
+};
+
+// A reference entry written as its run goes: its samples in order, then its count and wall time.
+class ReferenceWriter {
+ public:
+  explicit ReferenceWriter(CacheEntryWriter entry);
+  void Add(const ComparedSample& sample);
+  // Finishes the entry (still to be committed to a cache, or read back from its file).
+  rig::Result<void> Finish(double wall_s);
+  CacheEntryWriter& entry() { return entry_; }
+
+  // A writer with no cache: an unnamed temporary file.
+  static rig::Result<ReferenceWriter> Unnamed();
+
+ private:
+  CacheEntryWriter entry_;
+  std::uint64_t count_ = 0;
+};
+
 class ReferenceCache {
  public:
   // `notes` (may be null) hears of entries that were there but could not be used.
@@ -61,6 +115,15 @@ class ReferenceCache {
       const std::string& key, std::optional<std::uint64_t> expected_samples = std::nullopt) const;
   // Stores atomically (write to a temporary name, then rename).
   rig::Result<void> Store(const std::string& key, const CachedReference& reference) const;
+
+  // The entry under `key` for reading a sample at a time, checked as Load checks it; nullopt on
+  // a miss (said as Load says it).
+  std::optional<ReferenceReader> Open(
+      const std::string& key, std::optional<std::uint64_t> expected_samples = std::nullopt) const;
+  // Starts the entry under `key`, written as its run goes; nothing is under `key` until Commit.
+  rig::Result<ReferenceWriter> Begin(const std::string& key) const;
+  // Puts a finished entry in place atomically.
+  rig::Result<void> Commit(ReferenceWriter& writer) const;
 
   const std::string& directory() const { return folder_.directory(); }
 

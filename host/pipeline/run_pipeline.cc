@@ -80,16 +80,21 @@ rig::Result<ResolvedSpec> LoadAndResolve(const RunRequest& request,
   return resolved;
 }
 
-// The comparison with the reference of a completed run: set in the report, or why not.
-void CompareWithReference(const RunRequest& request, const RunSeams& seams,
-                          const ResolvedSpec& resolved, const std::string& spec_directory,
-                          const std::string& run_name, const CapturedTrace& trace,
-                          RunOutcome& outcome) {
+// The run's comparison with its reference, started before the run: the reference made or read
+// from its cache, the run then compared as it goes. An error says why there is none.
+rig::Result<std::unique_ptr<FidelityComparison>> StartComparison(
+    const RunRequest& request, const RunSeams& seams, const ResolvedSpec& resolved,
+    const std::string& spec_directory) {
   RunControl reference_control;
   reference_control.wall_clock = seams.wall_clock;
   reference_control.stop_requested = seams.stop_requested;
-  auto error = FidelityErrorOf(resolved.config, trace, resolved.spec, spec_directory,
-                               *request.reference, reference_control);
+  return FidelityComparison::Start(resolved.config, resolved.spec, spec_directory,
+                                   *request.reference, reference_control);
+}
+
+// The fidelity error of a completed run set in the report, or why there is none.
+void SetFidelityError(rig::Result<proto::FidelityError> error, const RunSeams& seams,
+                      const std::string& run_name, RunOutcome& outcome) {
   // Without a reference the run still has its verdict; the report then has no fidelity error.
   if (error) {
     *outcome.report.mutable_fidelity_error() = std::move(error).value();
@@ -128,22 +133,27 @@ RunPipelineResult RunPipeline(const RunRequest& request, const RunSeams& seams) 
                                    : RunFailure::kSetUp;
     return RunError{failure, run_name + ": " + set_up.error().message};
   }
-  // The plots' decimated series stay the same size however long the run; the compared columns
-  // grow with it, so they are kept only for a comparison with the reference.
+  // The plots' decimated series stay the same size however long the run, and the comparison with
+  // the reference reads the reference as the run goes: neither trace is kept. The reference's own
+  // run (with a cold cache) is no part of the run's set-up time.
   const bool compare = request.reference != nullptr;
+  const std::int64_t reference_start_ns = seams.wall_clock->NowNs();
+  auto comparison = compare ? StartComparison(request, seams, run, spec_directory)
+                            : rig::Result<std::unique_ptr<FidelityComparison>>(nullptr);
+  const std::int64_t reference_ns = seams.wall_clock->NowNs() - reference_start_ns;
+  FidelityComparison* const compared = comparison ? comparison.value().get() : nullptr;
   PlottedTrace plotted;
-  CapturedTrace compared;
   RunSinks sinks;
   if (files) {
     sinks.trace_csv = &files->trace->stream();
     sinks.can_log = &files->can_log->stream();
   }
   sinks.progress = seams.notes;
-  if (files || compare) {
+  if (files || compared != nullptr) {
     const bool plot = files.has_value();
-    sinks.trace_sample = [&plotted, &compared, plot, compare](const TraceSample& sample) {
+    sinks.trace_sample = [&plotted, compared, plot](const TraceSample& sample) {
       if (plot) plotted.Add(sample);
-      if (compare) compared.Add(sample);
+      if (compared != nullptr) compared->Add(sample);
     };
   }
   // A real-time loop does not spend its period on rewriting the report (about 0.4 ms, up to 3):
@@ -172,8 +182,9 @@ RunPipelineResult RunPipeline(const RunRequest& request, const RunSeams& seams) 
   if (!request.spec_path.empty()) outcome.report.set_spec_file(request.spec_path);
   // Calibrating at start and tabulating field maps happen before the first tick; the real-time
   // factor is the stepping loop's, and this is the rest.
-  outcome.report.set_setup_s(static_cast<double>(seams.wall_clock->NowNs() - setup_start_ns) / 1e9 -
-                             outcome.report.wall_s());
+  outcome.report.set_setup_s(
+      static_cast<double>(seams.wall_clock->NowNs() - setup_start_ns - reference_ns) / 1e9 -
+      outcome.report.wall_s());
   if (files) {
     auto plots =
         WriteRunPlots(plotted, run.config.envelopes, run.config.gripper.enabled, *request.out_dir);
@@ -184,7 +195,9 @@ RunPipelineResult RunPipeline(const RunRequest& request, const RunSeams& seams) 
     }
   }
   if (compare && RunCompleted(outcome.report)) {
-    CompareWithReference(request, seams, run, spec_directory, run_name, compared, outcome);
+    SetFidelityError(compared != nullptr ? compared->Finish()
+                                         : rig::Result<proto::FidelityError>(comparison.error()),
+                     seams, run_name, outcome);
   }
   if (files) {
     if (auto finished =

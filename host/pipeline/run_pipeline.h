@@ -1,9 +1,9 @@
 // One scenario run from its spec to its output folder, as `hilrig run` makes it: load and validate
-// the spec, resolve it, set up its film and DUT calibration (through the setup caches), run it,
-// compare its trace with the scene's reference, and write report.json, junit.xml, trace.csv,
-// can.log and the plots. The command line only parses arguments and prints the outcome; the bench's
-// run of a scene as shipped is the same pipeline without files. Time, the stop request and the
-// notes stream are injected.
+// the spec, resolve it, set up its film and DUT calibration (through the setup caches), make or
+// read the scene's reference, run it compared with that reference as it goes, and write
+// report.json, junit.xml, trace.csv, can.log and the plots. The command line only parses arguments
+// and prints the outcome; the bench's run of a scene as shipped is the same pipeline without files.
+// Time, the stop request and the notes stream are injected.
 #pragma once
 
 #include <atomic>

@@ -2,6 +2,10 @@
 
 namespace hilrig::host {
 
+ComparedSample ComparedColumnsOf(const TraceSample& sample) {
+  return {sample.time_s, sample.position_m, sample.grasp_force_n, sample.load_n};
+}
+
 void CapturedTrace::Add(const TraceSample& sample) {
   AddCompared(sample.time_s, sample.position_m, sample.grasp_force_n, sample.load_n);
 }

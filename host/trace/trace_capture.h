@@ -1,8 +1,9 @@
 // The few trace columns a run keeps in memory, from one RunSinks::trace_sample callback, for the
 // two things that read a run's trace after it. The comparison with a reference
-// (host/fidelity/trace_comparison.h) matches samples one by one, so CapturedTrace keeps its
-// columns at the full trace rate and grows with the run; it is made only when a reference
-// comparison will be. The plots beside the report (host/report/run_plots.h) need no more than a
+// (host/fidelity/trace_comparison.h) matches samples one by one; `hilrig run` does so as the run
+// goes, against the reference read from its cache entry, but the work-precision sweep compares
+// runs it keeps whole, so CapturedTrace keeps the compared columns at the full trace rate and
+// grows with the run. The plots beside the report (host/report/run_plots.h) need no more than a
 // plot has pixel columns, so PlottedTrace keeps each plotted signal decimated
 // (host/trace/decimated_series.h) and stays the same size however long the run.
 #pragma once
@@ -15,6 +16,16 @@
 
 namespace hilrig::host {
 
+// The compared columns of one trace sample: what a reference keeps of each of its samples.
+struct ComparedSample {
+  double time_s = 0;
+  Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
+  double grasp_force_n = 0;
+  double load_n = 0;
+};
+
+ComparedSample ComparedColumnsOf(const TraceSample& sample);
+
 struct CapturedTrace {
   std::vector<double> time_s;
   std::vector<Eigen::Vector3d> position_m;
@@ -25,6 +36,12 @@ struct CapturedTrace {
   void Add(const TraceSample& sample);
   void AddCompared(double time_s, const Eigen::Vector3d& position_m, double grasp_force_n,
                    double load_n);
+  void AddCompared(const ComparedSample& sample) {
+    AddCompared(sample.time_s, sample.position_m, sample.grasp_force_n, sample.load_n);
+  }
+  ComparedSample At(std::size_t i) const {
+    return {time_s[i], position_m[i], grasp_force_n[i], load_n[i]};
+  }
 };
 
 struct PlottedTrace {

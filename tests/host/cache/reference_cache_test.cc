@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -170,6 +171,85 @@ TEST(ReferenceCacheTest, AStoreRemovesOldTemporaryFilesOfItsOwnEntriesOnly) {
   EXPECT_FALSE(fs::exists(old_temporary));
   EXPECT_TRUE(fs::exists(young_temporary)) << "a writer may still be at it";
   EXPECT_TRUE(fs::exists(foreign_temporary)) << "not the temporary file of an entry";
+}
+
+// An entry written as its run goes reads back sample by sample, as a stored one does, and is
+// under its key only once committed.
+TEST(ReferenceCacheTest, AnEntryWrittenAsItGoesIsReadBackSampleBySample) {
+  const fs::path dir = FreshTestDir("reference_cache_");
+  const ReferenceCache cache(dir.string());
+  const CachedReference reference = ThreeSamples();
+  auto writer = cache.Begin("0123456789abcdef");
+  ASSERT_TRUE(writer) << writer.error().message;
+  for (std::size_t i = 0; i < reference.trace.size(); ++i)
+    writer.value().Add(reference.trace.At(i));
+  ASSERT_TRUE(writer.value().Finish(reference.wall_s));
+  EXPECT_FALSE(cache.Open("0123456789abcdef").has_value()) << "not committed yet";
+
+  ASSERT_TRUE(cache.Commit(writer.value()));
+  std::optional<ReferenceReader> reader = cache.Open("0123456789abcdef", 3);
+
+  ASSERT_TRUE(reader.has_value());
+  EXPECT_EQ(reader->size(), 3u);
+  EXPECT_EQ(reader->wall_s(), 12.5);
+  for (std::size_t i = 0; i < 3; ++i) {
+    const std::optional<ComparedSample> sample = reader->Next();
+    ASSERT_TRUE(sample.has_value());
+    EXPECT_EQ(sample->time_s, reference.trace.time_s[i]);
+    EXPECT_EQ(sample->position_m, reference.trace.position_m[i]);
+  }
+  EXPECT_FALSE(reader->Next().has_value());
+  EXPECT_FALSE(reader->failure().has_value());
+}
+
+// A reference run that stopped short (Ctrl-C) drops its writer: nothing is left under the key
+// and no file is left in the folder for a later run to trust.
+TEST(ReferenceCacheTest, AWriterDroppedBeforeItsCommitLeavesNothing) {
+  const fs::path dir = FreshTestDir("reference_cache_");
+  const ReferenceCache cache(dir.string());
+  {
+    auto writer = cache.Begin("0123456789abcdef");
+    ASSERT_TRUE(writer);
+    writer.value().Add(ThreeSamples().trace.At(0));
+  }
+
+  EXPECT_FALSE(cache.Open("0123456789abcdef").has_value());
+  EXPECT_TRUE(fs::is_empty(dir));
+}
+
+// A cut entry (a disk that filled, a copy that stopped) is a miss that says so, read whole or as
+// it goes: never a shorter reference.
+TEST(ReferenceCacheTest, ACutEntryIsAMissThatSaysSo) {
+  const fs::path dir = FreshTestDir("reference_cache_");
+  std::ostringstream notes;
+  const ReferenceCache cache(dir.string(), &notes);
+  ASSERT_TRUE(cache.Store("0123456789abcdef", ThreeSamples()).ok());
+  const fs::path path = dir / "0123456789abcdef.ref";
+  fs::resize_file(path, fs::file_size(path) - 48);
+
+  EXPECT_FALSE(cache.Open("0123456789abcdef").has_value());
+  EXPECT_FALSE(cache.Load("0123456789abcdef").has_value());
+  EXPECT_NE(notes.str().find(path.string() + ": the content is not as long as the header says"),
+            std::string::npos)
+      << notes.str();
+}
+
+// Without a cache the reference is written to a temporary file that no folder shows.
+TEST(ReferenceCacheTest, AnUnnamedWriterReadsBackWhatItWrote) {
+  auto writer = ReferenceWriter::Unnamed();
+  ASSERT_TRUE(writer) << writer.error().message;
+  const CachedReference reference = ThreeSamples();
+  for (std::size_t i = 0; i < reference.trace.size(); ++i)
+    writer.value().Add(reference.trace.At(i));
+  ASSERT_TRUE(writer.value().Finish(reference.wall_s));
+
+  auto entry = writer.value().entry().Reader();
+  ASSERT_TRUE(entry) << entry.error().message;
+  auto reader = ReferenceReader::Open(std::move(entry).value(), 3);
+
+  ASSERT_TRUE(reader) << reader.error().message;
+  EXPECT_EQ(reader.value().wall_s(), 12.5);
+  EXPECT_EQ(reader.value().Next()->time_s, 0.01);
 }
 
 TEST(ReferenceCacheTest, TheKeyChangesWithSpecSeedCalibrationAndCode) {

@@ -1,5 +1,6 @@
-// A run's memory does not grow with its simulated duration: `hilrig run --no-reference` of a
-// long hover peaks at the same resident size as a short one, give or take a few MiB. The runs are
+// A run's memory does not grow with its simulated duration: `hilrig run` of a long hover peaks at
+// the same resident size as a short one, give or take a few MiB, without a reference and with one
+// (made with a cold cache, read from a warm one). The runs are
 // child processes, so each one's peak resident size is its own (wait4's rusage).
 #include <fcntl.h>
 #include <gtest/gtest.h>
@@ -84,11 +85,11 @@ constexpr bool kAddressSanitizer = false;
 constexpr bool kAddressSanitizer = false;
 #endif
 
+constexpr const char* kNotTheRunsMemory =
+    "under AddressSanitizer the resident size is its shadow memory and quarantine, not the run's";
+
 TEST(CliMemoryTest, ALongRunPeaksAtTheResidentSizeOfAShortOne) {
-  if (kAddressSanitizer) {
-    GTEST_SKIP() << "under AddressSanitizer the resident size is its shadow memory and "
-                    "quarantine, not the run's";
-  }
+  if (kAddressSanitizer) GTEST_SKIP() << kNotTheRunsMemory;
   const fs::path dir = FreshTestDir("cli_memory");
   const std::string spec = WriteHoverSpec(dir).string();
   // 60 s is past the first flush of trace.csv's 1 MiB buffer and the plots' first merge of
@@ -111,6 +112,40 @@ TEST(CliMemoryTest, ALongRunPeaksAtTheResidentSizeOfAShortOne) {
   // The long run really ran its whole duration.
   EXPECT_NE(ReadFile(dir / "out_2000" / "report.json").find("\"simulated_s\": 2000"),
             std::string::npos);
+}
+
+// The comparison with the reference reads the reference from its cache entry as the run goes: it
+// used to keep both runs' compared columns, about 17 KB a simulated second (warm cache) and 22 KB
+// (cold), so 600 s peaked some 10 MiB above 60 s.
+TEST(CliMemoryTest, ALongRunComparedWithItsReferencePeaksAtTheSizeOfAShortOne) {
+  if (kAddressSanitizer) GTEST_SKIP() << kNotTheRunsMemory;
+  const fs::path dir = FreshTestDir("cli_memory_reference");
+  const std::string spec = WriteHoverSpec(dir).string();
+  const std::string cache = (dir / "reference_cache").string();
+  const auto run = [&](const std::string& duration_s, const std::string& out) {
+    return RunHilrigMeasured({"run", spec, "--reference-cache", cache, "--set",
+                              "simulation.duration_s=" + duration_s, "--out", (dir / out).string()},
+                             120);
+  };
+  const std::optional<ChildPeak> short_run = run("60", "short");
+  const std::optional<ChildPeak> long_cold = run("600", "long_cold");
+  const std::optional<ChildPeak> long_warm = run("600", "long_warm");
+  ASSERT_TRUE(short_run && long_cold && long_warm)
+      << "hilrig did not start or did not finish in time";
+  for (const ChildPeak& peak : {*short_run, *long_cold, *long_warm}) {
+    ASSERT_TRUE(WIFEXITED(peak.status) && WEXITSTATUS(peak.status) == 0);
+  }
+  EXPECT_GT(short_run->max_rss_kb, 0);
+  for (const ChildPeak& peak : {*long_cold, *long_warm}) {
+    EXPECT_LT(peak.max_rss_kb, short_run->max_rss_kb + 4 * 1024)
+        << "peak resident size: " << short_run->max_rss_kb << " KiB over 60 s, " << peak.max_rss_kb
+        << " KiB over 600 s";
+  }
+  // Both long runs were compared with the whole reference, the second one from the cache.
+  const std::string cold = ReadFile(dir / "long_cold" / "report.json");
+  const std::string warm = ReadFile(dir / "long_warm" / "report.json");
+  EXPECT_NE(cold.find("\"samples_compared\": \"60000\""), std::string::npos) << cold;
+  EXPECT_NE(warm.find("\"reference_cached\": true"), std::string::npos) << warm;
 }
 
 }  // namespace

@@ -127,5 +127,36 @@ TEST_F(FidelityErrorTest, TheSecondRunTakesTheReferenceFromTheCacheWithTheSameEr
   EXPECT_EQ(second.value().position_rms_m(), first.value().position_rms_m());
 }
 
+// The run is compared with its reference as it goes, reading the cache entry a block at a time.
+// An entry cut after it was checked (another process, a full disk) ends in an error naming it,
+// never in the error of a shorter reference.
+TEST_F(FidelityErrorTest, AReferenceEntryCutDuringTheRunIsAnErrorNotANumber) {
+  auto loaded = LoadScenario(std::string(HILRIG_SOURCE_DIR) + "/scenarios/hover.textproto");
+  ASSERT_TRUE(loaded.ok());
+  spec_ = TruncatedTo(loaded.value(), 20);  // 2000 samples: more than one block of the entry
+  spec_.mutable_models()->set_noise(proto::NOISE_OFF);
+  const FidelityChoice fidelity = {proto::INTEGRATOR_RK4, std::nullopt, 2, "tiles:32"};
+  const ReferenceCache cache(cache_dir_);
+  const ReferenceSource source = Source(fidelity, &cache, "code-a");
+  ASSERT_TRUE(ErrorOf(fidelity, source).ok());  // stores the entry
+  const ScenarioConfig chosen = Resolved(fidelity);
+  RunControl control;
+  control.wall_clock = &wall_clock_;
+  auto comparison = FidelityComparison::Start(chosen, spec_, "", source, control);
+  ASSERT_TRUE(comparison.ok()) << comparison.error().message;
+
+  for (const auto& entry : std::filesystem::directory_iterator(cache_dir_)) {
+    if (entry.path().extension() == ".ref") {
+      std::filesystem::resize_file(entry.path(), std::filesystem::file_size(entry.path()) / 2);
+    }
+  }
+  const CapturedRun run = RunCaptured(chosen, control);
+  for (std::size_t i = 0; i < run.trace.size(); ++i) comparison.value()->Add(run.trace.At(i));
+  auto error = comparison.value()->Finish();
+
+  ASSERT_FALSE(error.ok());
+  EXPECT_THAT(error.error().message, ::testing::HasSubstr("shorter than its header says"));
+}
+
 }  // namespace
 }  // namespace hilrig::host
