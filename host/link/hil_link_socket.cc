@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cstring>
 
+#include "host/link/fd_byte_stream.h"
 #include "host/link/poll_wait.h"
 #include "host/link/tcp_connect.h"
 
@@ -25,37 +26,38 @@ constexpr int kListenBacklog = 64;
 
 std::string ErrnoText(const char* what) { return std::string(what) + ": " + std::strerror(errno); }
 
-}  // namespace
-
-struct LinkConnection::Socket {
+struct TcpSocket {
   asio::io_context io;
   tcp::socket socket{io};
 };
+
+// The connected, non-blocking socket as the link's transport.
+std::unique_ptr<ByteStream> TcpStream(std::shared_ptr<TcpSocket> socket, const std::string& name) {
+  const int fd = socket->socket.native_handle();
+  return std::make_unique<FdByteStream>(fd, /*socket=*/true, name, std::move(socket));
+}
+
+}  // namespace
 
 struct LinkListener::Acceptor {
   asio::io_context io;
   tcp::acceptor acceptor{io};
 };
 
-LinkConnection::LinkConnection(std::unique_ptr<Socket> socket) : socket_(std::move(socket)) {}
+LinkConnection::LinkConnection(std::unique_ptr<ByteStream> stream, std::string peer)
+    : stream_(std::move(stream)), peer_(std::move(peer)) {}
 LinkConnection::~LinkConnection() = default;
 
 rig::Result<std::unique_ptr<LinkConnection>> LinkConnection::Connect(const std::string& host,
                                                                      std::uint16_t port,
                                                                      int timeout_ms) {
-  auto socket = std::make_unique<Socket>();
+  auto socket = std::make_shared<TcpSocket>();
   if (auto connected = ConnectWithin(socket->socket, host, port, timeout_ms, "link connect");
       !connected) {
     return connected.error();
   }
-  return std::unique_ptr<LinkConnection>(new LinkConnection(std::move(socket)));
-}
-
-std::string LinkConnection::peer() const {
-  boost::system::error_code error;
-  const tcp::endpoint remote = socket_->socket.remote_endpoint(error);
-  if (error) return "(disconnected)";
-  return remote.address().to_string() + ":" + std::to_string(remote.port());
+  return std::make_unique<LinkConnection>(TcpStream(std::move(socket), "link"),
+                                          host + ":" + std::to_string(port));
 }
 
 rig::Result<void> LinkConnection::Send(const proto::LinkMessage& message, int timeout_ms) {
@@ -68,30 +70,10 @@ rig::Result<void> LinkConnection::Send(const proto::LinkMessage& message, int ti
 
 rig::Result<void> LinkConnection::SendBytes(const std::string& bytes, int timeout_ms) {
   if (closed_) return rig::MakeError(rig::ErrorCode::kLinkClosed, "link closed by the peer");
-  const int fd = socket_->socket.native_handle();
-  const Deadline deadline = DeadlineIn(timeout_ms);
-  std::size_t done = 0;
-  while (done < bytes.size()) {
-    const ssize_t wrote =
-        ::send(fd, bytes.data() + done, bytes.size() - done, MSG_NOSIGNAL | MSG_DONTWAIT);
-    if (wrote > 0) {
-      done += static_cast<std::size_t>(wrote);
-      continue;
-    }
-    if (wrote < 0 && errno == EINTR) continue;
-    if (wrote < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
-      if (WaitFor(fd, POLLOUT, deadline) <= 0) {
-        return rig::MakeError(rig::ErrorCode::kTimeout, "link send timed out after " +
-                                                            std::to_string(timeout_ms) +
-                                                            " ms (the peer does not read)");
-      }
-      continue;
-    }
-    if (errno == EPIPE || errno == ECONNRESET) closed_ = true;
-    return rig::MakeError(closed_ ? rig::ErrorCode::kLinkClosed : rig::ErrorCode::kIo,
-                          ErrnoText("link send"));
-  }
-  return {};
+  auto sent = stream_->WriteAll(
+      std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()), timeout_ms);
+  if (!sent && sent.error().code == rig::ErrorCode::kLinkClosed) closed_ = true;
+  return sent;
 }
 
 rig::Error LinkReceiveError(const LinkReceived& received, std::string message) {
@@ -129,28 +111,24 @@ LinkReceived LinkConnection::FromDecoder() {
 
 LinkReceived LinkConnection::Receive(int timeout_ms) {
   const Deadline deadline = DeadlineIn(timeout_ms);
-  const int fd = socket_->socket.native_handle();
   std::array<std::uint8_t, 4096> chunk;
   while (true) {
     LinkReceived received = FromDecoder();
     if (received.status != LinkReceiveStatus::kTimeout) return received;
     if (closed_) return {LinkReceiveStatus::kClosed, {}, "link closed by the peer", {}};
-    const ssize_t got = ::recv(fd, chunk.data(), chunk.size(), MSG_DONTWAIT);
-    if (got > 0) {
-      decoder_.Feed(std::span<const std::uint8_t>(chunk.data(), static_cast<std::size_t>(got)));
-      continue;
+    const StreamRead got = stream_->ReadSome(chunk, MillisecondsLeft(deadline));
+    switch (got.status) {
+      case StreamStatus::kData:
+        decoder_.Feed(std::span<const std::uint8_t>(chunk.data(), got.bytes));
+        continue;
+      case StreamStatus::kClosed:
+        closed_ = true;
+        continue;  // frames already buffered are still delivered first
+      case StreamStatus::kTimeout:
+        return {};
+      case StreamStatus::kError:
+        return {LinkReceiveStatus::kSocketError, {}, got.error, {}};
     }
-    if (got == 0 || (got < 0 && errno == ECONNRESET)) {
-      closed_ = true;
-      continue;  // frames already buffered are still delivered first
-    }
-    if (errno == EINTR) continue;
-    if (errno != EAGAIN && errno != EWOULDBLOCK) {
-      return {LinkReceiveStatus::kSocketError, {}, ErrnoText("link receive"), {}};
-    }
-    const int ready = WaitFor(fd, POLLIN, deadline);
-    if (ready == 0) return {};
-    if (ready < 0) return {LinkReceiveStatus::kSocketError, {}, ErrnoText("link poll"), {}};
   }
 }
 
@@ -185,13 +163,17 @@ rig::Result<std::unique_ptr<LinkConnection>> LinkListener::Accept(int timeout_ms
   const Deadline deadline = DeadlineIn(timeout_ms);
   const int fd = acceptor_->acceptor.native_handle();
   while (true) {
-    auto socket = std::make_unique<LinkConnection::Socket>();
+    auto socket = std::make_shared<TcpSocket>();
     boost::system::error_code error;
     acceptor_->acceptor.accept(socket->socket, error);
     if (!error) {
       socket->socket.non_blocking(true, error);
       socket->socket.set_option(tcp::no_delay(true), error);
-      return std::unique_ptr<LinkConnection>(new LinkConnection(std::move(socket)));
+      const tcp::endpoint remote = socket->socket.remote_endpoint(error);
+      std::string peer = error ? "(disconnected)"
+                               : remote.address().to_string() + ":" + std::to_string(remote.port());
+      return std::make_unique<LinkConnection>(TcpStream(std::move(socket), "link"),
+                                              std::move(peer));
     }
     if (error != asio::error::would_block && error != asio::error::try_again &&
         error != asio::error::interrupted) {

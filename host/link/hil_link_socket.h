@@ -1,9 +1,11 @@
-// The HIL link's transport: one TCP connection between the runner and a DUT process, carrying the
-// length-delimited frames of host/link/hil_link_codec.h. The runner listens (on 127.0.0.1 unless
-// told otherwise, so the link is not reachable from the network), the DUT connects. Lockstep needs
-// blocking calls with a deadline (the runner's watchdog), and real-time pacing later needs a poll
-// that never blocks; both are here, built on poll(2) over the Asio socket's descriptor. Sends use
-// MSG_NOSIGNAL, so a peer that vanished shows as an error value, never as SIGPIPE.
+// The HIL link's connection: the length-delimited frames of host/link/hil_link_codec.h over a
+// ByteStream transport. Two transports carry it: one TCP connection between the runner and a DUT
+// process (the runner listens, on 127.0.0.1 unless told otherwise, so the link is not reachable
+// from the network, and the DUT connects), or the shared-memory rings of
+// host/link/shm_byte_stream.h for a DUT process the runner started on the same host. Lockstep
+// needs blocking calls with a deadline (the runner's watchdog), and real-time pacing needs a poll
+// that never blocks; both are here, whatever the transport. TCP sends use MSG_NOSIGNAL, so a peer
+// that vanished shows as an error value, never as SIGPIPE.
 //
 // Threading: one connection is used from one thread at a time.
 #pragma once
@@ -12,6 +14,7 @@
 #include <memory>
 #include <string>
 
+#include "host/link/byte_stream.h"
 #include "host/link/hil_link_codec.h"
 #include "rig/result.h"
 
@@ -19,11 +22,11 @@ namespace hilrig::host {
 
 // What a receive call ended with.
 enum class LinkReceiveStatus {
-  kMessage,    // `message` holds the next message
-  kTimeout,    // nothing complete arrived before the deadline (or, for Poll, nothing waiting)
-  kClosed,     // the peer closed the connection (or it was reset)
-  kLinkError,  // the decoder refused the bytes; `error` names it (oversized, malformed, ...)
-  kSocketError,
+  kMessage,      // `message` holds the next message
+  kTimeout,      // nothing complete arrived before the deadline (or, for Poll, nothing waiting)
+  kClosed,       // the peer closed the connection (or it was reset)
+  kLinkError,    // the decoder refused the bytes; `error` names it (oversized, malformed, ...)
+  kSocketError,  // the transport failed (a socket error, a corrupt shared-memory ring)
 };
 
 struct LinkReceived {
@@ -42,6 +45,8 @@ class LinkConnection {
   // Connects to host:port, waiting at most timeout_ms for the peer to accept.
   static rig::Result<std::unique_ptr<LinkConnection>> Connect(const std::string& host,
                                                               std::uint16_t port, int timeout_ms);
+  // The link over any transport; `peer` names the other end for logs ("127.0.0.1:4711").
+  LinkConnection(std::unique_ptr<ByteStream> stream, std::string peer);
   ~LinkConnection();
   LinkConnection(const LinkConnection&) = delete;
   LinkConnection& operator=(const LinkConnection&) = delete;
@@ -59,16 +64,13 @@ class LinkConnection {
   bool closed() const { return closed_; }
   const LinkCounters& counters() const { return decoder_.counters(); }
   std::uint64_t frames_sent() const { return frames_sent_; }
-  std::string peer() const;
+  const std::string& peer() const { return peer_; }
 
  private:
-  struct Socket;  // keeps Boost.Asio out of this header
-  explicit LinkConnection(std::unique_ptr<Socket> socket);
-  friend class LinkListener;
-
   LinkReceived FromDecoder();
 
-  std::unique_ptr<Socket> socket_;
+  std::unique_ptr<ByteStream> stream_;
+  std::string peer_;
   LinkDecoder decoder_;
   bool closed_ = false;
   std::uint64_t frames_sent_ = 0;
