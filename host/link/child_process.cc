@@ -71,9 +71,15 @@ rig::Result<pid_t> SpawnInOwnGroup(const std::vector<std::string>& argv,
 }  // namespace
 
 rig::Result<ChildProcess> ChildProcess::Spawn(const std::vector<std::string>& argv,
-                                              const std::vector<std::string>& environment) {
+                                              const std::vector<std::string>& environment,
+                                              const std::vector<int>& inherited_fds) {
   if (argv.empty()) return rig::MakeError("no program to start");
-  const rig::Result<pid_t> spawned = SpawnInOwnGroup(argv, environment, nullptr);
+  posix_spawn_file_actions_t actions;
+  ::posix_spawn_file_actions_init(&actions);
+  // dup2 onto itself clears close-on-exec in the child only (POSIX.1-2024, glibc 2.29).
+  for (const int fd : inherited_fds) ::posix_spawn_file_actions_adddup2(&actions, fd, fd);
+  const rig::Result<pid_t> spawned = SpawnInOwnGroup(argv, environment, &actions);
+  ::posix_spawn_file_actions_destroy(&actions);
   if (!spawned.ok()) return spawned.error();
   return ChildProcess(spawned.value());
 }

@@ -21,8 +21,11 @@ class ChildProcess {
   // Starts argv[0] (a path, not searched in PATH) with argv, in a process group of its own, with
   // this process's environment plus `environment` ("NAME=value" each, replacing a variable of the
   // same name): what only the child may know goes there, never in argv, which every user can read.
+  // The descriptors in `inherited_fds` stay open in the child under the same numbers (even when
+  // close-on-exec here); every other close-on-exec descriptor closes as usual.
   static rig::Result<ChildProcess> Spawn(const std::vector<std::string>& argv,
-                                         const std::vector<std::string>& environment = {});
+                                         const std::vector<std::string>& environment = {},
+                                         const std::vector<int>& inherited_fds = {});
   ChildProcess(ChildProcess&& other) noexcept;
   ChildProcess& operator=(ChildProcess&& other) noexcept;
   ChildProcess(const ChildProcess&) = delete;

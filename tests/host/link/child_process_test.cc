@@ -1,5 +1,6 @@
 #include "host/link/child_process.h"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <stdlib.h>
 #include <sys/wait.h>
@@ -21,6 +22,27 @@ TEST(ChildProcessTest, EnvironmentGoesToTheChildOnly) {
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
   EXPECT_STREQ(::getenv("HILRIG_CHILD_TEST_SECRET"), "parent");
   ::unsetenv("HILRIG_CHILD_TEST_SECRET");
+}
+
+int ExitStatusOf(ChildProcess& child) {
+  int status = 0;
+  EXPECT_EQ(::waitpid(child.pid(), &status, 0), child.pid());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// A close-on-exec descriptor reaches the child only when it is named to be inherited.
+TEST(ChildProcessTest, InheritsOnlyTheNamedDescriptors) {
+  int fds[2];
+  ASSERT_EQ(::pipe2(fds, O_CLOEXEC), 0);
+  const std::string probe = "test -e /proc/self/fd/" + std::to_string(fds[0]);
+  auto inherited = ChildProcess::Spawn({"/bin/sh", "-c", probe}, {}, {fds[0]});
+  ASSERT_TRUE(inherited.ok()) << inherited.error().message;
+  EXPECT_EQ(ExitStatusOf(inherited.value()), 0);
+  auto closed = ChildProcess::Spawn({"/bin/sh", "-c", probe});
+  ASSERT_TRUE(closed.ok()) << closed.error().message;
+  EXPECT_EQ(ExitStatusOf(closed.value()), 1);
+  ::close(fds[0]);
+  ::close(fds[1]);
 }
 
 TEST(RunCapturingOutputTest, KeepsStandardOutputAndTheExitStatus) {
