@@ -10,12 +10,15 @@
 #include <set>
 #include <span>
 
+#include "dut_emu/link_can_bus.h"
 #include "dut_emu/staged_can_bus.h"
 #include "host/dut/in_process_dut.h"
 #include "host/link/dut_config_codec.h"
 #include "host/link/hil_link_codec.h"
 #include "host/link/hil_link_socket.h"
+#include "host/link/shm_byte_stream.h"
 #include "rig/command_args.h"
+#include "rig/udp_bus.h"
 
 namespace hilrig::dut_emu {
 namespace {
@@ -37,9 +40,11 @@ std::chrono::nanoseconds RealtimeFrameWait(double control_period_s, int frame_wa
 // One session: the handshake, then message after message until the end.
 class Session {
  public:
+  // `link_bus`: the bus the frames of the step requests go to (owned by the bus given to Run);
+  // null when a bus carries them.
   Session(const DutEmuOptions& options, const std::atomic<bool>* stop, std::ostream& log,
-          std::unique_ptr<host::LinkConnection> link)
-      : options_(options), stop_(stop), log_(log), link_(std::move(link)) {}
+          std::unique_ptr<host::LinkConnection> link, LinkCanBus* link_bus)
+      : options_(options), stop_(stop), log_(log), link_(std::move(link)), link_bus_(link_bus) {}
 
   int Run(std::unique_ptr<rig::CanBus> bus);
 
@@ -53,6 +58,9 @@ class Session {
   std::optional<int> Handle(const proto::LinkMessage& message);
   std::optional<int> HandleStep(const proto::StepRequest& step);
   rig::Result<void> WaitForFrames(const proto::StepRequest& step);
+  // The frames a step request carries, onto link_bus_; fails on frames no bus expects or that do
+  // not decode.
+  rig::Result<void> DeliverCarriedFrames(const proto::StepRequest& step);
   // The command with what the DUT had consumed when computing it.
   proto::LinkMessage Answer(const host::ActuatorMessage& command) const;
 
@@ -61,7 +69,9 @@ class Session {
   std::ostream& log_;
   std::unique_ptr<host::LinkConnection> link_;
   host::LinkSequencer sequencer_;
-  StagedCanBus* bus_ = nullptr;  // owned by dut_
+  LinkCanBus* link_bus_;
+  std::vector<rig::CanFrame> carried_;  // reused: the frames of one step request
+  StagedCanBus* bus_ = nullptr;         // owned by dut_
   std::unique_ptr<host::InProcessDut> dut_;
   std::chrono::nanoseconds realtime_frame_wait_{0};
   // The sequence of the last message the DUT took on each stream (by DutInput alternative).
@@ -122,9 +132,10 @@ rig::Result<void> Session::Handshake(std::unique_ptr<rig::CanBus> bus) {
   auto setup = host::FromDutConfig(config.value().config());
   if (!setup) return rig::MakeError("bad firmware configuration: " + setup.error().message);
   // Every frame on the runner's UDP bus is announced; a real bus's frames go through as they come.
-  const UnannouncedFrames unannounced = options_.can.scheme == rig::CanBusUri::Scheme::kUdp
-                                            ? UnannouncedFrames::kEarly
-                                            : UnannouncedFrames::kPassThrough;
+  const UnannouncedFrames unannounced =
+      link_bus_ != nullptr || options_.can.scheme == rig::CanBusUri::Scheme::kUdp
+          ? UnannouncedFrames::kEarly
+          : UnannouncedFrames::kPassThrough;
   auto staged = std::make_unique<StagedCanBus>(std::move(bus), unannounced);
   bus_ = staged.get();
   dut_ = std::make_unique<host::InProcessDut>(setup.value().firmware, std::move(staged),
@@ -141,6 +152,7 @@ rig::Result<void> Session::WaitForFrames(const proto::StepRequest& step) {
                           std::to_string(expected) + " CAN frames but carries " +
                           std::to_string(step.can_frame_time_ns_size()) + " frame times");
   }
+  if (auto carried = DeliverCarriedFrames(step); !carried) return carried.error();
   bus_->Announce({step.can_frame_time_ns().data(), static_cast<std::size_t>(expected)});
   // The frames are already on their way over loopback; short naps until they are in, bounded.
   // Frames that came ahead of this request (a DUT that fell behind) are matched already.
@@ -162,6 +174,27 @@ rig::Result<void> Session::WaitForFrames(const proto::StepRequest& step) {
     return rig::MakeError("tick " + std::to_string(step.tick()) + ": " + std::to_string(arrived) +
                           " CAN frames arrived, the runner sent " + std::to_string(expected));
   }
+  return {};
+}
+
+rig::Result<void> Session::DeliverCarriedFrames(const proto::StepRequest& step) {
+  const std::string tick = "step request for tick " + std::to_string(step.tick());
+  if (link_bus_ == nullptr) {
+    if (step.can_frame_size() == 0) return {};
+    return rig::MakeError(tick + " carries CAN frames, but they reach this DUT on a bus");
+  }
+  if (static_cast<std::uint64_t>(step.can_frame_size()) != step.can_frames_sent()) {
+    return rig::MakeError(tick + " announces " + std::to_string(step.can_frames_sent()) +
+                          " CAN frames but carries " + std::to_string(step.can_frame_size()));
+  }
+  carried_.clear();
+  for (const std::string& datagram : step.can_frame()) {
+    auto decoded = rig::DecodeUdpCanDatagram(
+        {reinterpret_cast<const std::uint8_t*>(datagram.data()), datagram.size()});
+    if (!decoded) return rig::MakeError(tick + ": bad CAN frame: " + decoded.error().message);
+    carried_.push_back(decoded.value().frame);
+  }
+  link_bus_->Deliver(carried_);
   return {};
 }
 
@@ -263,39 +296,23 @@ int Session::Run(std::unique_ptr<rig::CanBus> bus) {
 }  // namespace
 
 const char* const kDutEmuUsage =
-    "usage: dut_emu --link HOST:PORT --can URI\n"
+    "usage: dut_emu (--link HOST:PORT --can URI | --link-shm FD [--can URI])\n"
     "               [--token-file PATH] [--frame-timeout-ms N]\n"
     "Connects to the runner's HIL link and runs the dut_fw controller behind it. It proves to\n"
     "the runner that it is the DUT with the runner's link token (32 hex digits), read from\n"
-    "--token-file or else from the HILRIG_LINK_TOKEN environment variable.\n"
+    "--token-file or else from the HILRIG_LINK_TOKEN environment variable. --link-shm FD is\n"
+    "the shared-memory link the runner hands its child (no token; without --can the CAN\n"
+    "frames ride in the link).\n"
     "Exit codes: 0 the runner said bye or a signal stopped it, 1 the link, the bus or the\n"
     "runner failed, 2 bad usage.\n";
 
-rig::Result<DutEmuOptions> ParseDutEmuArgs(const std::vector<std::string>& args) {
-  constexpr const char* kTestHooks[] = {"--test-garbage-at-tick", "--test-exit-at-tick",
-                                        "--test-silent-at-tick", "--test-wrong-tick-at-tick"};
-  std::set<std::string> allowed{"--link", "--can", "--frame-timeout-ms", "--token-file"};
-  allowed.insert(std::begin(kTestHooks), std::end(kTestHooks));
-  auto parsed = rig::ParseCliArgs(args, allowed);
-  if (!parsed) return parsed.error();
-  const rig::CliArgs& cli = parsed.value();
-  if (!cli.positional.empty()) return rig::MakeError("unexpected argument " + cli.positional[0]);
-  const std::string* link = cli.Option("--link");
-  const std::string* can = cli.Option("--can");
-  if (link == nullptr || can == nullptr) return rig::MakeError("--link and --can are required");
+namespace {
 
-  DutEmuOptions options;
-  const std::size_t colon = link->rfind(':');
-  if (colon == std::string::npos || colon == 0) {
-    return rig::MakeError("--link \"" + *link + "\": expected HOST:PORT");
-  }
-  auto port = rig::ParseNumber<std::uint16_t>(link->substr(colon + 1), "link port");
-  if (!port || port.value() == 0) return rig::MakeError("--link \"" + *link + "\": bad port");
-  options.link_host = link->substr(0, colon);
-  options.link_port = port.value();
-  auto spec = rig::ParseCanBusUri(*can);
-  if (!spec) return spec.error();
-  options.can = spec.value();
+constexpr const char* kTestHooks[] = {"--test-garbage-at-tick", "--test-exit-at-tick",
+                                      "--test-silent-at-tick", "--test-wrong-tick-at-tick"};
+
+// The options both link kinds take: the token file, the frame wait, the test hooks.
+rig::Result<DutEmuOptions> ParseCommonDutEmuArgs(const rig::CliArgs& cli, DutEmuOptions options) {
   if (const std::string* token_file = cli.Option("--token-file")) options.token_file = *token_file;
   if (const std::string* timeout = cli.Option("--frame-timeout-ms")) {
     auto ms = rig::ParseNumber<int>(*timeout, "--frame-timeout-ms");
@@ -314,6 +331,46 @@ rig::Result<DutEmuOptions> ParseDutEmuArgs(const std::vector<std::string>& args)
   return options;
 }
 
+}  // namespace
+
+rig::Result<DutEmuOptions> ParseDutEmuArgs(const std::vector<std::string>& args) {
+  std::set<std::string> allowed{"--link", "--link-shm", "--can", "--frame-timeout-ms",
+                                "--token-file"};
+  allowed.insert(std::begin(kTestHooks), std::end(kTestHooks));
+  auto parsed = rig::ParseCliArgs(args, allowed);
+  if (!parsed) return parsed.error();
+  const rig::CliArgs& cli = parsed.value();
+  if (!cli.positional.empty()) return rig::MakeError("unexpected argument " + cli.positional[0]);
+  const std::string* link = cli.Option("--link");
+  const std::string* link_shm = cli.Option("--link-shm");
+  const std::string* can = cli.Option("--can");
+  DutEmuOptions options;
+  if (link_shm != nullptr) {
+    if (link != nullptr) return rig::MakeError("--link and --link-shm exclude each other");
+    auto fd = rig::ParseNumber<int>(*link_shm, "--link-shm");
+    if (!fd || fd.value() < 0) return rig::MakeError("--link-shm \"" + *link_shm + "\": bad fd");
+    options.link_shm_fd = fd.value();
+    options.can_in_link = can == nullptr;
+  } else if (link == nullptr || can == nullptr) {
+    return rig::MakeError("--link and --can are required (or --link-shm FD)");
+  }
+  if (can != nullptr) {
+    auto spec = rig::ParseCanBusUri(*can);
+    if (!spec) return spec.error();
+    options.can = spec.value();
+  }
+  if (link == nullptr) return ParseCommonDutEmuArgs(cli, options);
+  const std::size_t colon = link->rfind(':');
+  if (colon == std::string::npos || colon == 0) {
+    return rig::MakeError("--link \"" + *link + "\": expected HOST:PORT");
+  }
+  auto port = rig::ParseNumber<std::uint16_t>(link->substr(colon + 1), "link port");
+  if (!port || port.value() == 0) return rig::MakeError("--link \"" + *link + "\": bad port");
+  options.link_host = link->substr(0, colon);
+  options.link_port = port.value();
+  return ParseCommonDutEmuArgs(cli, options);
+}
+
 rig::Result<host::LinkToken> LoadLinkToken(const DutEmuOptions& options,
                                            const char* environment_value) {
   if (!options.token_file.empty()) return host::ReadLinkTokenFile(options.token_file);
@@ -327,8 +384,29 @@ rig::Result<host::LinkToken> LoadLinkToken(const DutEmuOptions& options,
   return token;
 }
 
+namespace {
+
+// The link the options name: the inherited shared-memory mapping, or a TCP connection.
+rig::Result<std::unique_ptr<host::LinkConnection>> OpenLink(const DutEmuOptions& options) {
+  if (options.link_shm_fd < 0) {
+    return host::LinkConnection::Connect(options.link_host, options.link_port,
+                                         options.connect_timeout_ms);
+  }
+  auto stream = host::ShmByteStream::Attach(options.link_shm_fd, host::ShmSide::kDut);
+  if (!stream) return stream.error();
+  return std::make_unique<host::LinkConnection>(std::move(stream).value(), "runner (shm)");
+}
+
+}  // namespace
+
 int RunDutEmu(const DutEmuOptions& options, const std::atomic<bool>* stop_requested,
               std::ostream& log, std::unique_ptr<rig::CanBus> bus) {
+  LinkCanBus* link_bus = nullptr;
+  if (!bus && options.can_in_link) {
+    auto carried = std::make_unique<LinkCanBus>();
+    link_bus = carried.get();
+    bus = std::move(carried);
+  }
   if (!bus) {
     auto opened = rig::OpenCanBus(options.can);
     if (!opened) {
@@ -337,13 +415,12 @@ int RunDutEmu(const DutEmuOptions& options, const std::atomic<bool>* stop_reques
     }
     bus = std::move(opened).value();
   }
-  auto link = host::LinkConnection::Connect(options.link_host, options.link_port,
-                                            options.connect_timeout_ms);
+  auto link = OpenLink(options);
   if (!link) {
     log << "dut_emu: " << link.error().message << "\n";
     return kExitFailed;
   }
-  Session session(options, stop_requested, log, std::move(link).value());
+  Session session(options, stop_requested, log, std::move(link).value(), link_bus);
   return session.Run(std::move(bus));
 }
 

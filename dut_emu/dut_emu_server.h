@@ -3,7 +3,9 @@
 // the firmware configuration the runner sends (refused if any number is bad), and from then on
 // forwards each link message to an InProcessDut -- the very code the in-process run uses, not a
 // copy -- which reads the tactile sensors from a CAN bus of its own (the loopback UDP bus, or
-// a real bus on a bench, any rig::OpenCanBus opens). A StepRequest is answered with the
+// a real bus on a bench, any rig::OpenCanBus opens). On the shared-memory link (--link-shm, a
+// descriptor the runner handed down; no token) the frames ride in the step requests instead
+// (link_can_bus.h) and take the same path to the DUT from there. A StepRequest is answered with the
 // ActuatorCommand of that tick. In lockstep the request says how many CAN frames the runner put on
 // the bus for this step and when each finished arriving on the emulated bus; the server waits for
 // exactly those frames (the bus and the link are separate channels) and hands them to the DUT with
@@ -40,6 +42,11 @@ inline constexpr int kExitTestHook = 3;  // --test-exit-at-tick fired
 struct DutEmuOptions {
   std::string link_host = "127.0.0.1";
   std::uint16_t link_port = 0;
+  // --link-shm FD: the shared-memory link whose descriptor the runner handed down (instead of
+  // --link); -1: TCP. Nobody else can reach it, so it takes no link token.
+  int link_shm_fd = -1;
+  // --link-shm without --can: the CAN frames ride in the step requests, no bus carries them.
+  bool can_in_link = false;
   // What the hello proves to the runner (LoadLinkToken); without one the runner refuses the DUT.
   std::optional<host::LinkToken> link_token;
   std::string token_file;  // --token-file: where a DUT started by hand finds its token
@@ -60,7 +67,8 @@ struct DutEmuOptions {
 
 inline constexpr std::uint64_t kWrongTickOffset = 1'000'000;
 
-// argv[1..] of dut_emu: --link HOST:PORT --can URI [--token-file PATH] [--frame-timeout-ms N]
+// argv[1..] of dut_emu: (--link HOST:PORT --can URI | --link-shm FD [--can URI])
+// [--token-file PATH] [--frame-timeout-ms N]
 // [--test-garbage-at-tick T] [--test-exit-at-tick T] [--test-silent-at-tick T]
 // [--test-wrong-tick-at-tick T].
 rig::Result<DutEmuOptions> ParseDutEmuArgs(const std::vector<std::string>& args);

@@ -52,13 +52,16 @@ int main(int argc, char** argv) {
     std::cerr << "dut_emu: " << options.error().message << "\n" << hilrig::dut_emu::kDutEmuUsage;
     return hilrig::dut_emu::kExitUsage;
   }
-  auto token = hilrig::dut_emu::LoadLinkToken(options.value(),
-                                              std::getenv(hilrig::host::kLinkTokenEnvironment));
-  if (!token) {
-    std::cerr << "dut_emu: " << token.error().message << "\n";
-    return hilrig::dut_emu::kExitUsage;
+  // The inherited shared-memory link reaches nobody but this process: no token to prove.
+  if (options.value().link_shm_fd < 0) {
+    auto token = hilrig::dut_emu::LoadLinkToken(options.value(),
+                                                std::getenv(hilrig::host::kLinkTokenEnvironment));
+    if (!token) {
+      std::cerr << "dut_emu: " << token.error().message << "\n";
+      return hilrig::dut_emu::kExitUsage;
+    }
+    options.value().link_token = token.value();
   }
-  options.value().link_token = token.value();
   // Nothing this process starts needs the secret.
   ::unsetenv(hilrig::host::kLinkTokenEnvironment);
   static_assert(std::atomic<bool>::is_always_lock_free);

@@ -45,6 +45,8 @@ constexpr const char* kUsage =
     "      that open later are left out)\n"
     "      run options: --dut inproc|process (the DUT in this process, the default, or in\n"
     "      its own dut_emu process over the HIL link, lockstep) [--dut-timeout-s S]\n"
+    "      [--dut-link shm|tcp] (with --dut process: the link in shared memory, the default,\n"
+    "      or over TCP on loopback with the CAN frames on a loopback UDP bus)\n"
     "      --dut inproc-float (in this process, in single precision as on the target)\n"
     "      (how long a dut process may take to answer a tick; default 1, 10 for qemu)\n"
     "      [--realtime]\n"
@@ -179,6 +181,11 @@ rig::Result<DutFactory> ParseDutOptions(const CliArgs& cli, bool realtime) {
   if (timeout != nullptr && !process && !serial) {
     return rig::MakeError("--dut-timeout-s needs --dut process, qemu or serial:");
   }
+  const std::string* link = cli.Option("--dut-link");
+  if (link != nullptr && !process) return rig::MakeError("--dut-link needs --dut process");
+  if (link != nullptr && *link != "shm" && *link != "tcp") {
+    return rig::MakeError("--dut-link \"" + *link + "\": expected shm or tcp");
+  }
   // The in-process DUT sits on the runner's emulated bus; only a DUT process reaches another one.
   if (can != nullptr && !process) return rig::MakeError("--can " + *can + " needs --dut process");
   if (serial) {
@@ -202,6 +209,7 @@ rig::Result<DutFactory> ParseDutOptions(const CliArgs& cli, bool realtime) {
   if (single_precision) return SinglePrecisionDutFactory();
   if (!process) return DutFactory();
   ProcessDutOptions options;
+  if (link != nullptr && *link == "tcp") options.transport = DutLinkTransport::kTcp;
   if (can != nullptr) {
     if (auto uri = ParseDutCanBusUri(*can); !uri) {
       return rig::MakeError("--can: " + uri.error().message);
@@ -241,8 +249,8 @@ rig::Result<RunOptions> ParseRunOptions(std::vector<std::string> args) {
     return rig::MakeError("--reference and --no-reference contradict each other");
   }
   auto parsed = ParseCliArgs(
-      args, {"--out", "--seed", "--dut", "--dut-timeout-s", "--can", "--reference-cache",
-             "--rt-priority", "--target-image", "--duration-s", "--set"});
+      args, {"--out", "--seed", "--dut", "--dut-timeout-s", "--dut-link", "--can",
+             "--reference-cache", "--rt-priority", "--target-image", "--duration-s", "--set"});
   if (!parsed) return parsed.error();
   const CliArgs& cli = parsed.value();
   if (cli.positional.size() != 1) {

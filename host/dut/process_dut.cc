@@ -8,9 +8,8 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "host/link/dut_acceptor.h"
+#include "host/dut/process_dut_launch.h"
 #include "host/link/dut_config_codec.h"
-#include "host/link/link_token.h"
 #include "rig/number_text.h"
 #include "rig/udp_bus.h"
 
@@ -46,56 +45,6 @@ rig::Result<std::string> DutEmuPath(const ProcessDutOptions& options) {
     return rig::MakeError("no dut_emu executable at " + path + " (build the dut_emu target)");
   }
   return path;
-}
-
-// The address the child dials: the listening one, or loopback when listening on every address.
-std::string DialAddress(const std::string& listen_address) {
-  if (listen_address == "0.0.0.0") return "127.0.0.1";
-  if (listen_address == "::") return "::1";
-  return listen_address;
-}
-
-// Accepts connections until the child proves the link token in its hello, watching that it does
-// not die meanwhile; connections that do not prove it are refused and counted by `acceptor`.
-rig::Result<AcceptedDut> AcceptDut(DutAcceptor& acceptor, ChildProcess& child, int timeout_ms) {
-  // The start deadline is wall time by nature: it bounds how long the process may take.
-  const rig::SteadyClock clock;
-  const std::int64_t deadline_ns = clock.NowNs() + std::int64_t{timeout_ms} * 1'000'000;
-  while (true) {
-    if (std::optional<AcceptedDut> dut = acceptor.Poll(kPollSliceMs)) return std::move(*dut);
-    std::optional<std::string> failure;
-    if (auto exit = child.PollExit()) {
-      failure = "dut process " + *exit + " before proving the link token";
-    } else if (clock.NowNs() >= deadline_ns) {
-      failure = "the dut process did not prove the link token within " +
-                std::to_string(timeout_ms) + " ms";
-    }
-    if (!failure) continue;
-    acceptor.RefusePending();
-    if (acceptor.rejected_count() > 0) *failure += " (" + acceptor.RejectedSummary() + ")";
-    return rig::MakeError(*failure);
-  }
-}
-
-// The forwarder's end of the DUT's CAN bus, and the --can URI that gives dut_emu the other end.
-struct ForwardBus {
-  std::unique_ptr<rig::CanBus> bus;
-  std::string dut_uri;
-};
-
-rig::Result<ForwardBus> OpenForwardBus(const ProcessDutOptions& options) {
-  if (!options.can_uri.empty()) {
-    auto bus = options.open_can_bus ? options.open_can_bus(options.can_uri)
-                                    : rig::OpenCanBus(options.can_uri);
-    if (!bus) return bus.error();
-    return ForwardBus{std::move(bus).value(), options.can_uri};
-  }
-  // Node 0 of the UDP bus is the runner's forwarder; node 1's port is freed for the child.
-  auto udp = rig::OpenUdpBusGroup(2);
-  if (!udp) return rig::MakeError("UDP CAN bus for the dut: " + udp.error().message);
-  const std::uint16_t base_port = udp.value()[0]->local_port();
-  udp.value()[1].reset();
-  return ForwardBus{std::move(udp.value()[0]), "udp:" + std::to_string(base_port) + ":1:2"};
 }
 
 }  // namespace
@@ -169,24 +118,9 @@ rig::Result<void> ProcessDut::Start() {
   if (auto valid = ValidateProcessDutOptions(options_); !valid) return valid.error();
   auto path = DutEmuPath(options_);
   if (!path) return path.error();
-  auto listener = LinkListener::Listen(options_.listen_address, 0);
-  if (!listener) return listener.error();
-  auto forward_bus = OpenForwardBus(options_);
-  if (!forward_bus) return forward_bus.error();
-  auto token = NewLinkToken();
-  if (!token) return token.error();
-  std::vector<std::string> argv = {
-      path.value(), "--link",
-      DialAddress(options_.listen_address) + ":" + std::to_string(listener.value()->port()),
-      "--can", forward_bus.value().dut_uri};
-  argv.insert(argv.end(), options_.extra_args.begin(), options_.extra_args.end());
-  auto child =
-      ChildProcess::Spawn(argv, {std::string(kLinkTokenEnvironment) + "=" + token.value().Hex()});
-  if (!child) return child.error();
-  DutAcceptor acceptor(*listener.value(), token.value());
-  auto accepted = AcceptDut(acceptor, child.value(), Milliseconds(options_.start_timeout_s));
-  if (!accepted) return accepted.error();
-  std::unique_ptr<LinkConnection>& link = accepted.value().link;
+  auto launched = LaunchDut(path.value(), options_);
+  if (!launched) return launched.error();
+  std::unique_ptr<LinkConnection>& link = launched.value().link;
 
   // Only the proven DUT hears from the runner, the firmware included.
   proto::LinkMessage hello;
@@ -199,11 +133,11 @@ rig::Result<void> ProcessDut::Start() {
   for (const proto::LinkMessage* message : {&hello, &config}) {
     if (auto sent = link->Send(*message); !sent) return sent.error();
   }
-  child_ = std::move(child).value();
+  child_ = std::move(launched.value().child);
   link_ = std::move(link);
-  forward_bus_ = std::move(forward_bus.value().bus);
-  peers_refused_ = acceptor.rejected_count();
-  peers_refused_summary_ = acceptor.RejectedSummary();
+  forward_bus_ = std::move(launched.value().forward_bus);
+  peers_refused_ = launched.value().peers_refused;
+  peers_refused_summary_ = launched.value().peers_refused_summary;
   return {};
 }
 
@@ -223,8 +157,9 @@ ProcessDut::~ProcessDut() { Stop(); }
 
 std::string ProcessDut::description() const {
   if (!child_) return "dut_fw in a dut_emu process (not started)";
-  return "dut_fw in a dut_emu process (pid " + std::to_string(child_->pid()) +
-         ") over the HIL link, " + (latencies_ ? "real time" : "lockstep") +
+  return "dut_fw in a dut_emu process (pid " + std::to_string(child_->pid()) + ") over the " +
+         (options_.transport == DutLinkTransport::kSharedMemory ? "shared-memory" : "TCP") +
+         " HIL link, " + (latencies_ ? "real time" : "lockstep") +
          (options_.can_uri.empty() ? "" : ", CAN frames over " + options_.can_uri) +
          (peers_refused_summary_.empty() ? "" : "; " + peers_refused_summary_);
 }
@@ -345,10 +280,7 @@ rig::Result<void> ProcessDut::SendStepRequest(std::uint64_t tick, std::int64_t n
   step->set_can_frames_sent(frames_.size());
   step->set_realtime(realtime);
   for (const rig::TimedCanFrame& timed : frames_) {
-    // The sender time in the datagram is the arrival time too; the DUT takes it from the request.
-    if (auto sent = forward_bus_->Send(timed.frame, timed.time_ns); !sent) {
-      return Failed("forwarding a CAN frame to the dut: " + sent.error().message);
-    }
+    if (auto handed = HandOver(timed, *step); !handed) return handed.error();
     step->add_can_frame_time_ns(timed.time_ns);
     ++can_frames_forwarded_;
     if (latencies_) LogSend(latencies_->can, can_frames_forwarded_, wall_ns);
@@ -359,6 +291,23 @@ rig::Result<void> ProcessDut::SendStepRequest(std::uint64_t tick, std::int64_t n
   if (failure_) return *failure_;
   outstanding_.push_back({tick, wall_ns});
   last_requested_ = tick;
+  return {};
+}
+
+rig::Result<void> ProcessDut::HandOver(const rig::TimedCanFrame& timed, proto::StepRequest& step) {
+  // The sender time in the datagram is the arrival time too; the DUT takes it from the request.
+  if (!forward_bus_) {
+    if (auto valid = rig::ValidateFrame(timed.frame); !valid) {
+      return Failed("a CAN frame for the dut: " + valid.error().message);
+    }
+    std::array<std::uint8_t, rig::kUdpCanMaxDatagramBytes> datagram;
+    const std::size_t size = rig::EncodeUdpCanDatagram(timed.frame, timed.time_ns, datagram);
+    step.add_can_frame(datagram.data(), size);
+    return {};
+  }
+  if (auto sent = forward_bus_->Send(timed.frame, timed.time_ns); !sent) {
+    return Failed("forwarding a CAN frame to the dut: " + sent.error().message);
+  }
   return {};
 }
 

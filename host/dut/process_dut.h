@@ -1,8 +1,10 @@
-// The DUT as its own process: a DutPort that starts dut_emu, talks to it over the HIL link (TCP on
-// loopback) and hands it the tactile CAN frames over a loopback UDP CAN bus, in lockstep. Each
-// Step forwards the frames that reached the runner's "dut" endpoint since the last step, asks for
-// the tick's command (saying how many frames it forwarded and their arrival times, so the DUT
-// process sees exactly what the in-process DUT would) and waits for the answer under a watchdog:
+// The DUT as its own process: a DutPort that starts dut_emu and talks to it over the HIL link, in
+// lockstep. The link is shared memory by default (host/link/shm_byte_stream.h: a tick costs no
+// system call, and the tactile CAN frames ride in the step request), or TCP on loopback with the
+// frames on a loopback UDP CAN bus (DutLinkTransport::kTcp). Each Step hands over the frames that
+// reached the runner's "dut" endpoint since the last step, asks for the tick's command (saying how
+// many frames it forwarded and their arrival times, so the DUT process sees exactly what the
+// in-process DUT would) and waits for the answer under a watchdog:
 // no answer in time, a dead process, a closed link or a bad message end the run with an error that
 // says which. Stop (or the destructor) ends and reaps the process.
 //
@@ -28,6 +30,7 @@
 #include "host/link/child_process.h"
 #include "host/link/hil_link_codec.h"
 #include "host/link/hil_link_socket.h"
+#include "proto/hil_link.pb.h"
 #include "rig/can_bus.h"
 #include "rig/can_open.h"
 #include "rig/clock.h"
@@ -36,14 +39,21 @@
 
 namespace hilrig::host {
 
+// What carries the HIL link to the dut_emu process (host/dut/process_dut_launch.h).
+enum class DutLinkTransport {
+  kSharedMemory,  // memfd rings inherited by the child: same host, fastest, no token
+  kTcp,           // a TCP connection to listen_address, proven with the link token
+};
+
 struct ProcessDutOptions {
+  DutLinkTransport transport = DutLinkTransport::kSharedMemory;
   std::string dut_emu_path;  // empty: "dut_emu" next to the running executable
   // The watchdog: how long one Step waits for its answer (lockstep), or how long the oldest
   // unanswered request may wait in wall time (real time).
   double answer_timeout_s = 1.0;
-  double start_timeout_s = 10.0;  // for the process to connect and say hello
-  std::string listen_address = "127.0.0.1";
-  std::vector<std::string> extra_args;  // appended to dut_emu's command line (test hooks)
+  double start_timeout_s = 10.0;             // for the process to connect and say hello
+  std::string listen_address = "127.0.0.1";  // kTcp only
+  std::vector<std::string> extra_args;       // appended to dut_emu's command line (test hooks)
   // Set for real-time runs only (it must outlive the ProcessDut): the watchdog of PollCommand and
   // the response latencies read it, and sends never wait for the socket. Null: lockstep only; no
   // clock is read and RequestStep fails.
@@ -129,6 +139,8 @@ class ProcessDut final : public DutPort {
   std::string ProcessGone();
   // Forwards the frames that reached the runner's endpoint and sends the request for `tick`.
   rig::Result<void> SendStepRequest(std::uint64_t tick, std::int64_t now_ns, bool realtime);
+  // Puts one received frame on its way: into the request (no forward bus) or onto the bus.
+  rig::Result<void> HandOver(const rig::TimedCanFrame& timed, proto::StepRequest& step);
   rig::Result<ActuatorMessage> AwaitCommand(std::uint64_t tick);
   // A received message, judged: the command it carries (checked against the requests, latencies
   // recorded at `arrival_wall_ns`), or the failure it means. Not for kTimeout / kClosed.
@@ -147,7 +159,7 @@ class ProcessDut final : public DutPort {
   std::unique_ptr<LinkConnection> link_;  // set by Start
   bool stopped_ = false;
   std::unique_ptr<rig::CanBus> runner_bus_;
-  std::unique_ptr<rig::CanBus> forward_bus_;
+  std::unique_ptr<rig::CanBus> forward_bus_;  // null: the frames ride in the step requests
   ProcessDutOptions options_;
   LinkSequencer sequencer_;
   std::vector<rig::TimedCanFrame> frames_;

@@ -1,5 +1,5 @@
-// `hilrig run --dut inproc|inproc-float|process [--dut-timeout-s S] [--can URI]`: the options'
-// parsing and their errors. The full process run is covered by
+// `hilrig run --dut inproc|inproc-float|process [--dut-timeout-s S] [--dut-link shm|tcp]
+// [--can URI]`: the options' parsing and their errors. The full process run is covered by
 // tests/host/dut/process_dut_acceptance_test.cc, a bus named by --can by
 // tests/host/dut/process_dut_can_test.cc.
 #include <gtest/gtest.h>
@@ -22,6 +22,16 @@ TEST(CliDutOptionTest, UnknownDutModeExitsTwoNamingIt) {
       run.err.find("--dut \"remote\": expected inproc, inproc-float, process, qemu or serial:"),
       std::string::npos)
       << run.err;
+}
+
+TEST(CliDutOptionTest, DutLinkNeedsProcessModeAndAKnownTransport) {
+  const CliResult inproc = Cli({"run", kScenario, "--dut-link", "tcp"});
+  EXPECT_EQ(inproc.exit_code, kExitBadInput);
+  EXPECT_NE(inproc.err.find("--dut-link needs --dut process"), std::string::npos) << inproc.err;
+  const CliResult unknown = Cli({"run", kScenario, "--dut", "process", "--dut-link", "udp"});
+  EXPECT_EQ(unknown.exit_code, kExitBadInput);
+  EXPECT_NE(unknown.err.find("--dut-link \"udp\": expected shm or tcp"), std::string::npos)
+      << unknown.err;
 }
 
 TEST(CliDutOptionTest, TimeoutWithoutProcessModeExitsTwo) {

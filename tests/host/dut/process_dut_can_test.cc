@@ -50,6 +50,7 @@ TEST(ProcessDutCanTest, ForwardsTheRunnersFramesOverTheBusItsUriOpens) {
   bench.value()[1].reset();  // dut_emu's node
 
   ProcessDutOptions options;
+  options.transport = DutLinkTransport::kTcp;  // the wrapper knows the TCP command line
   options.dut_emu_path =
       WriteDutEmuWrapper(dir, "udp:" + std::to_string(bench_port) + ":1:2").string();
   options.can_uri = kBenchUri;

@@ -51,6 +51,7 @@ DutFactory IntrudedProcessDut(const std::string& mode) {
   return [mode](const ScenarioConfig& config, std::unique_ptr<rig::CanBus> bus,
                 double control_period_s) -> rig::Result<std::unique_ptr<DutPort>> {
     ProcessDutOptions options;
+    options.transport = DutLinkTransport::kTcp;  // the port an intruder can reach
     options.dut_emu_path = HILRIG_BIN_DIR "/link_intruder";
     options.extra_args = {"--intrude", mode};
     options.start_timeout_s = 3;

@@ -148,10 +148,25 @@ TEST_F(ProcessDutTest, DestructorEndsAndReapsTheProcess) {
   EXPECT_EQ(errno, ESRCH);
 }
 
-// `ps` shows every process's command line to every user; the token must not be there.
-TEST_F(ProcessDutTest, LinkTokenTravelsInTheChildsEnvironmentNotItsCommandLine) {
+// The shared-memory link is the default; the child reaches it by an inherited descriptor alone,
+// so it needs no token.
+TEST_F(ProcessDutTest, SharedMemoryLinkNeedsNoToken) {
   auto dut = Start();
   ASSERT_NE(dut, nullptr);
+  const std::string proc = "/proc/" + std::to_string(dut->pid());
+  EXPECT_EQ(ReadFile(proc + "/environ").find(kLinkTokenEnvironment), std::string::npos);
+  EXPECT_NE(ReadFile(proc + "/cmdline").find(std::string("--link-shm") + '\0'), std::string::npos);
+  EXPECT_NE(dut->description().find("shared-memory"), std::string::npos);
+}
+
+// `ps` shows every process's command line to every user; the token must not be there.
+TEST_F(ProcessDutTest, LinkTokenTravelsInTheChildsEnvironmentNotItsCommandLine) {
+  ProcessDutOptions options = TestOptions();
+  options.transport = DutLinkTransport::kTcp;
+  auto launched =
+      ProcessDut::Launch(HoverFirmware(), bus_.Connect("dut"), kControlPeriodS, options);
+  ASSERT_TRUE(launched.ok()) << launched.error().message;
+  std::unique_ptr<ProcessDut> dut = std::move(launched).value();
   const std::string proc = "/proc/" + std::to_string(dut->pid());
   const std::string environment = ReadFile(proc + "/environ");
   const std::string variable = std::string(kLinkTokenEnvironment) + "=";
