@@ -1,6 +1,7 @@
 #include "host/link/shm_byte_stream.h"
 
 #include <linux/futex.h>
+#include <sched.h>
 #include <signal.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
@@ -181,7 +182,12 @@ rig::Result<void> ShmByteStream::WriteAll(std::span<const std::uint8_t> bytes, i
   std::int64_t deadline_ns = -1;  // read from the clock only once the ring is full
   std::size_t done = 0;
   while (done < bytes.size()) {
-    const std::uint64_t read_pos = ring.read_pos.load(std::memory_order_acquire);
+    // The reader's index is read again only when the copy seen last leaves too little space:
+    // most writes then touch no cache line the reader wrote.
+    if (ring_bytes_ - (write_pos_ - seen_read_pos_) < bytes.size() - done) {
+      seen_read_pos_ = ring.read_pos.load(std::memory_order_acquire);
+    }
+    const std::uint64_t read_pos = seen_read_pos_;
     const std::uint64_t used = write_pos_ - read_pos;  // wraps huge when read_pos is ahead
     if (used > ring_bytes_) {
       return rig::MakeError(rig::ErrorCode::kIo,
@@ -223,7 +229,11 @@ StreamStatus ShmByteStream::WaitReadable(int timeout_ms) {
     for (int spins = 1;; ++spins) {
       if (has_data()) return StreamStatus::kData;
       Pause();
-      if (spins % kSpinChecksEvery == 0 && SteadyNs() - start_ns >= kShmSpinNs) break;
+      if (spins % kSpinChecksEvery != 0) continue;
+      const std::int64_t spun_ns = SteadyNs() - start_ns;
+      if (spun_ns >= kShmSpinNs) break;
+      // Past a round trip's worth the peer is likely waiting for a core, maybe this one.
+      if (spun_ns >= kShmPauseOnlyNs) ::sched_yield();
     }
   }
   const std::int64_t deadline_ns = start_ns + std::int64_t{timeout_ms} * 1'000'000;

@@ -4,12 +4,12 @@
 // host/link/hil_link_codec.h travel on it as on TCP. A lockstep tick costs a memcpy and an index
 // store each way, no system call: a writer publishes with a release store and wakes the reader
 // with a futex only when the reader said it sleeps; a reader spins (with a pause instruction)
-// for kShmSpinNs before it sleeps on the futex in slices, between which it checks that the peer
-// lives (its pid, stored in the mapping) so that a dead peer reads as a closed stream, never a
-// hang. The child reaches the mapping only through the descriptor it inherits at spawn, so no
-// other process can, and the link needs no token. Indices the peer wrote are checked before use:
-// a corrupt ring (a write index ahead by more than the capacity, a read index past the write
-// index) is a kError read or a kIo write, never a wild copy.
+// (yielding the core after a while) for kShmSpinNs before it sleeps on the futex in slices, between
+// which it checks that the peer lives (its pid, stored in the mapping) so that a dead peer reads as
+// a closed stream, never a hang. The child reaches the mapping only through the descriptor it
+// inherits at spawn, so no other process can, and the link needs no token. Indices the peer wrote
+// are checked before use: a corrupt ring (a write index ahead by more than the capacity, a read
+// index past the write index) is a kError read or a kIo write, never a wild copy.
 //
 // Threading: each end is used from one thread at a time; the two ends may live in different
 // threads or processes.
@@ -29,8 +29,11 @@ namespace hilrig::host {
 enum class ShmSide { kRunner = 0, kDut = 1 };
 
 // How long a reader that finds its ring empty spins before it sleeps on the futex: well above a
-// lockstep round trip (a few microseconds), well below a scheduler tick.
+// lockstep round trip (a few microseconds), well below a scheduler tick. The first
+// kShmPauseOnlyNs of it only pause; after that each check also yields the core, so that a peer
+// waiting for this very core (a busy host) runs instead of waiting out the spin.
 inline constexpr std::int64_t kShmSpinNs = 50'000;
+inline constexpr std::int64_t kShmPauseOnlyNs = 5'000;
 // Bytes per ring when the caller does not say: many ticks' worth of frames.
 inline constexpr std::size_t kShmDefaultRingBytes = std::size_t{1} << 18;
 
@@ -83,6 +86,7 @@ class ShmByteStream final : public ByteStream {
   ShmSide side_;
   std::uint64_t write_pos_ = 0;  // this end's copies of its own indices: never read back
   std::uint64_t read_pos_ = 0;
+  std::uint64_t seen_read_pos_ = 0;  // the peer's read index of the ring this end writes, as seen
   std::uint64_t sleeps_ = 0;
   std::uint64_t wakes_ = 0;
 };

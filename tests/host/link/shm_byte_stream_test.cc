@@ -167,7 +167,8 @@ TEST(ShmByteStream, AReadIndexAheadOfTheWriterIsACorruptRing) {
   ASSERT_TRUE(rogue.ok());
   ASSERT_TRUE(rogue.value()->WriteAll(Bytes(100, 0), 100).ok());
   ASSERT_EQ(ReadCount(*pair.dut, 100).size(), 100u);
-  auto sent = pair.runner->WriteAll(Bytes(10, 0), 100);  // its write index is still 0
+  // Its write index is still 0; the reader's index is consulted once the ring may be full.
+  auto sent = pair.runner->WriteAll(Bytes(kRingBytes + 1, 0), 100);
   ASSERT_FALSE(sent.ok());
   EXPECT_EQ(sent.error().code, rig::ErrorCode::kIo);
   EXPECT_NE(sent.error().message.find("corrupt ring"), std::string::npos);
