@@ -132,7 +132,8 @@ class ProcessDut final : public DutPort {
 
   // The sticky failure, or one for a DUT not started or stopped.
   rig::Result<void> CheckRunning();
-  void Forward(const proto::LinkMessage& message);
+  // Sends the message; in lockstep an input only queues, to go out with the step request.
+  void Forward(const proto::LinkMessage& message, bool input = false);
   // The first failure sticks: every later Step or poll reports it.
   rig::Error Failed(std::string message);
   rig::Error Failed(rig::Error error);

@@ -60,12 +60,26 @@ rig::Result<std::unique_ptr<LinkConnection>> LinkConnection::Connect(const std::
                                           host + ":" + std::to_string(port));
 }
 
-rig::Result<void> LinkConnection::Send(const proto::LinkMessage& message, int timeout_ms) {
+rig::Result<void> LinkConnection::Queue(const proto::LinkMessage& message) {
   auto frame = EncodeLinkFrame(message);
   if (!frame) return frame.error();
-  auto sent = SendBytes(frame.value(), timeout_ms);
-  if (sent) ++frames_sent_;
+  queued_ += frame.value();
+  ++frames_queued_;
+  return {};
+}
+
+rig::Result<void> LinkConnection::Flush(int timeout_ms) {
+  if (queued_.empty()) return {};
+  auto sent = SendBytes(queued_, timeout_ms);
+  queued_.clear();
+  if (sent) frames_sent_ += frames_queued_;
+  frames_queued_ = 0;
   return sent;
+}
+
+rig::Result<void> LinkConnection::Send(const proto::LinkMessage& message, int timeout_ms) {
+  if (auto queued = Queue(message); !queued) return queued.error();
+  return Flush(timeout_ms);
 }
 
 rig::Result<void> LinkConnection::SendBytes(const std::string& bytes, int timeout_ms) {

@@ -51,8 +51,14 @@ class LinkConnection {
   LinkConnection(const LinkConnection&) = delete;
   LinkConnection& operator=(const LinkConnection&) = delete;
 
-  // Encodes and writes the whole frame, waiting at most timeout_ms for the socket to take it.
+  // Encodes and writes the whole frame (after any queued ones), waiting at most timeout_ms for
+  // the transport to take it.
   rig::Result<void> Send(const proto::LinkMessage& message, int timeout_ms = 1000);
+  // Encodes the frame and keeps it for the next Send or Flush, so that a lockstep tick's inputs
+  // and its step request go out in one write. Fails only when the message cannot be encoded.
+  rig::Result<void> Queue(const proto::LinkMessage& message);
+  // Writes the queued frames, if any; fails like Send.
+  rig::Result<void> Flush(int timeout_ms = 1000);
   // Writes raw bytes as they are (test hooks that play a broken peer).
   rig::Result<void> SendBytes(const std::string& bytes, int timeout_ms = 1000);
   // The next message, waiting at most timeout_ms (0: do not wait).
@@ -73,6 +79,8 @@ class LinkConnection {
   std::string peer_;
   LinkDecoder decoder_;
   bool closed_ = false;
+  std::string queued_;  // encoded frames not written yet
+  std::uint64_t frames_queued_ = 0;
   std::uint64_t frames_sent_ = 0;
 };
 
