@@ -1,6 +1,7 @@
 #include "host/link/shm_byte_stream.h"
 
 #include <linux/futex.h>
+#include <poll.h>
 #include <sched.h>
 #include <signal.h>
 #include <sys/mman.h>
@@ -149,17 +150,28 @@ ShmByteStream::~ShmByteStream() {
   if (ring.reader_sleeping.exchange(0) != 0) Futex(ring.reader_sleeping, FUTEX_WAKE, 1, nullptr);
   ::munmap(mapping_, DataOffset() + 2 * ring_bytes_);
   ::close(fd_);
+  if (peer_pidfd_ >= 0) ::close(peer_pidfd_);
 }
 
 std::string ShmByteStream::name() const {
   return std::string("shm link (") + (side_ == ShmSide::kRunner ? "runner" : "dut") + " end)";
 }
 
-bool ShmByteStream::PeerAlive() const {
+bool ShmByteStream::PeerAlive() {
   if (mapping_->closed[Peer(side_)].load() != 0) return false;
   const std::int32_t pid = mapping_->pid[Peer(side_)].load();
   // Not attached yet counts as alive: the runner's watchdog covers a child that never attaches.
-  return pid <= 0 || ::kill(pid, 0) == 0 || errno != ESRCH;
+  if (pid <= 0) return true;
+  if (pid != peer_pid_) {
+    if (peer_pidfd_ >= 0) ::close(peer_pidfd_);
+    peer_pid_ = pid;
+    peer_pidfd_ = static_cast<int>(::syscall(SYS_pidfd_open, pid, 0));
+  }
+  // A pidfd turns readable when the process ends, even while nobody has reaped it (a zombie
+  // still answers kill); without pidfds (before Linux 5.3) kill is the probe.
+  if (peer_pidfd_ < 0) return ::kill(pid, 0) == 0 || errno != ESRCH;
+  pollfd ended{peer_pidfd_, POLLIN, 0};
+  return ::poll(&ended, 1, 0) == 0;
 }
 
 void ShmByteStream::Publish() {

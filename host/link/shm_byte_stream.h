@@ -73,8 +73,9 @@ class ShmByteStream final : public ByteStream {
 
  private:
   ShmByteStream(int fd, Mapping* mapping, std::size_t ring_bytes, ShmSide side);
-  // False when the peer closed its end or its process is gone (one kill(2) probe).
-  bool PeerAlive() const;
+  // False when the peer closed its end or its process ended (a poll of its pidfd, which sees a
+  // zombie too; kill(2) where pidfds are missing).
+  bool PeerAlive();
   // Waits for the read ring to hold data: kData, kTimeout or kClosed.
   StreamStatus WaitReadable(int timeout_ms);
   // Publishes write_pos_ and wakes the reader if it sleeps.
@@ -87,6 +88,8 @@ class ShmByteStream final : public ByteStream {
   std::uint64_t write_pos_ = 0;  // this end's copies of its own indices: never read back
   std::uint64_t read_pos_ = 0;
   std::uint64_t seen_read_pos_ = 0;  // the peer's read index of the ring this end writes, as seen
+  std::int32_t peer_pid_ = 0;        // whose pidfd peer_pidfd_ is
+  int peer_pidfd_ = -1;
   std::uint64_t sleeps_ = 0;
   std::uint64_t wakes_ = 0;
 };

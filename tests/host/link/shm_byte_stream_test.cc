@@ -147,6 +147,25 @@ TEST(ShmByteStream, APeerProcessThatDiedReadsAsClosed) {
   EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(1));
 }
 
+TEST(ShmByteStream, APeerProcessThatDiedUnreapedReadsAsClosed) {
+  auto runner = ShmByteStream::Create(kRingBytes);
+  ASSERT_TRUE(runner.ok());
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    auto dut = ShmByteStream::Attach(::dup(runner.value()->shared_fd()), ShmSide::kDut);
+    ::_exit(dut.ok() ? 0 : 1);
+  }
+  // Not reaped before the read: a zombie, which kill(pid, 0) would still find.
+  std::array<std::uint8_t, 16> out;
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_EQ(runner.value()->ReadSome(out, 5000).status, StreamStatus::kClosed);
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(1));
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  EXPECT_EQ(status, 0);
+}
+
 TEST(ShmByteStream, AWriteIndexMoreThanARingAheadIsACorruptRing) {
   Pair pair = MakePair();
   ASSERT_TRUE(pair.runner->WriteAll(Bytes(3000, 0), 100).ok());
