@@ -87,6 +87,12 @@ rig::Result<void> ValidateProcessDutOptions(const ProcessDutOptions& options) {
                           " s: must be positive, finite and at most an hour");
   }
   if (options.listen_address.empty()) return rig::MakeError("empty link listen address");
+  if (options.transport == DutLinkTransport::kSharedMemory &&
+      options.listen_address != ProcessDutOptions{}.listen_address) {
+    return rig::MakeError(
+        "link listen address " + options.listen_address +
+        ": a listen address is for the TCP link, the shared-memory link has none");
+  }
   if (!options.can_uri.empty()) {
     if (auto uri = ParseDutCanBusUri(options.can_uri); !uri) return uri.error();
   }

@@ -71,7 +71,8 @@ struct ProcessDutOptions {
 // the bus it names: the errors name the URI and why.
 rig::Result<rig::CanBusUri> ParseDutCanBusUri(const std::string& uri);
 
-// Checks the options: a positive finite timeout, an address, a bus the DUT process can share.
+// Checks the options: a positive finite timeout, an address (other than the default only on the
+// TCP link), a bus the DUT process can share.
 rig::Result<void> ValidateProcessDutOptions(const ProcessDutOptions& options);
 
 class ProcessDut final : public DutPort {

@@ -198,6 +198,17 @@ TEST(ProcessDutOptionsTest, RefusesBadTimeouts) {
   }
 }
 
+TEST(ProcessDutOptionsTest, ListenAddressIsForTheTcpLinkOnly) {
+  ProcessDutOptions options;
+  options.listen_address = "0.0.0.0";
+  auto refused = ValidateProcessDutOptions(options);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.error().message.find("a listen address is for the TCP link"),
+            std::string::npos);
+  options.transport = DutLinkTransport::kTcp;
+  EXPECT_TRUE(ValidateProcessDutOptions(options).ok());
+}
+
 // The runner with a DUT process that is killed mid-run: the run ends at once with a stop reason
 // that names the kill, and Finish still builds the whole report.
 TEST(ProcessDutRunTest, KilledDutEndsTheRunWithACompleteReport) {
