@@ -128,42 +128,49 @@ TEST(ShmByteStream, APeerThatClosedIsSeenAfterItsLastBytes) {
   EXPECT_EQ(sent.error().code, rig::ErrorCode::kLinkClosed);
 }
 
+// A child process that attaches the DUT end and dies without closing it, as a killed dut_emu
+// would; -1 when fork fails.
+pid_t ForkAPeerThatDies(const ShmByteStream& runner) {
+  const pid_t child = ::fork();
+  if (child == 0) {
+    auto dut = ShmByteStream::Attach(::dup(runner.shared_fd()), ShmSide::kDut);
+    ::_exit(dut.ok() ? 0 : 1);
+  }
+  return child;
+}
+
+// True when a read on `runner` reports the closed peer well before its timeout.
+bool ReadsClosedAtOnce(ShmByteStream& runner) {
+  std::array<std::uint8_t, 16> out;
+  const auto start = std::chrono::steady_clock::now();
+  const StreamStatus status = runner.ReadSome(out, 5000).status;
+  return status == StreamStatus::kClosed &&
+         std::chrono::steady_clock::now() - start < std::chrono::seconds(1);
+}
+
+int ExitStatusOf(pid_t child) {
+  int status = -1;
+  EXPECT_EQ(::waitpid(child, &status, 0), child);
+  return status;
+}
+
 TEST(ShmByteStream, APeerProcessThatDiedReadsAsClosed) {
   auto runner = ShmByteStream::Create(kRingBytes);
   ASSERT_TRUE(runner.ok());
-  const pid_t child = ::fork();
+  const pid_t child = ForkAPeerThatDies(*runner.value());
   ASSERT_GE(child, 0);
-  if (child == 0) {
-    // Attaches and dies without closing its end, as a killed dut_emu would.
-    auto dut = ShmByteStream::Attach(::dup(runner.value()->shared_fd()), ShmSide::kDut);
-    ::_exit(dut.ok() ? 0 : 1);
-  }
-  int status = 0;
-  ASSERT_EQ(::waitpid(child, &status, 0), child);
-  ASSERT_EQ(status, 0);
-  std::array<std::uint8_t, 16> out;
-  const auto start = std::chrono::steady_clock::now();
-  EXPECT_EQ(runner.value()->ReadSome(out, 5000).status, StreamStatus::kClosed);
-  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(1));
+  ASSERT_EQ(ExitStatusOf(child), 0);
+  EXPECT_TRUE(ReadsClosedAtOnce(*runner.value()));
 }
 
 TEST(ShmByteStream, APeerProcessThatDiedUnreapedReadsAsClosed) {
   auto runner = ShmByteStream::Create(kRingBytes);
   ASSERT_TRUE(runner.ok());
-  const pid_t child = ::fork();
+  const pid_t child = ForkAPeerThatDies(*runner.value());
   ASSERT_GE(child, 0);
-  if (child == 0) {
-    auto dut = ShmByteStream::Attach(::dup(runner.value()->shared_fd()), ShmSide::kDut);
-    ::_exit(dut.ok() ? 0 : 1);
-  }
   // Not reaped before the read: a zombie, which kill(pid, 0) would still find.
-  std::array<std::uint8_t, 16> out;
-  const auto start = std::chrono::steady_clock::now();
-  EXPECT_EQ(runner.value()->ReadSome(out, 5000).status, StreamStatus::kClosed);
-  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(1));
-  int status = 0;
-  ASSERT_EQ(::waitpid(child, &status, 0), child);
-  EXPECT_EQ(status, 0);
+  EXPECT_TRUE(ReadsClosedAtOnce(*runner.value()));
+  EXPECT_EQ(ExitStatusOf(child), 0);
 }
 
 TEST(ShmByteStream, AWriteIndexMoreThanARingAheadIsACorruptRing) {
