@@ -40,7 +40,8 @@ HallSensorNodes::HallSensorNodes(const HallSensorConfig& config, const EarthFiel
         config.stray_fields, [](const StrayFieldEvent& stray) { return stray.field_sensor_t; },
         [&](const StrayFieldEvent& stray) { return stray.node_id == params.node_id; });
     nodes_.push_back({&params, MakeTactileSensorConstants(params, SamplePeriodS(firmware)),
-                      InitialTactileSensorState(params, seed), firmware, std::move(stray_field_t)});
+                      InitialTactileSensorState(params, seed), PadFieldMemo{}, firmware,
+                      std::move(stray_field_t)});
   };
   if (config.tactile_enabled) {
     for (const TactileSensorParams& params : config.tactile) add(params);
@@ -61,11 +62,12 @@ void HallSensorNodes::TickNode(Node& node, const Eigen::Vector3d& pad_force_n,
     const double period_s = SamplePeriodS(node.firmware);
     if (period_s != node.constants.silicone.dt_s) {
       node.constants = MakeTactileSensorConstants(*node.params, period_s);
+      node.pad_memo.Reset();
     }
-    const TactileReading reading =
-        SampleTactileSensor(*node.params, node.constants, node.model, *film_, pad_force_n,
-                            attitude_world_body, earth_field_.field_world_t, config_.temperature_c,
-                            node.stray_field_t.At(static_cast<double>(now_ns) / 1e9));
+    const TactileReading reading = SampleTactileSensor(
+        *node.params, node.constants, node.model, *film_, pad_force_n, attitude_world_body,
+        earth_field_.field_world_t, config_.temperature_c,
+        node.stray_field_t.At(static_cast<double>(now_ns) / 1e9), &node.pad_memo);
     Send(node.firmware.TakeSample(now_ns, dut_fw::ChipConversion{reading.code, false}), now_ns);
   }
   if (node.firmware.StatusDue(now_ns)) {

@@ -48,6 +48,7 @@ class HallSensorNodes final : public DeviceEmulator {
     const TactileSensorParams* params;
     TactileSensorConstants constants;  // for the firmware's current sample period
     TactileSensorState model;
+    PadFieldMemo pad_memo;  // of params, constants and film_; reset with the constants
     dut_fw::SensorNode<> firmware;
     IntervalSumSchedule<Eigen::Vector3d> stray_field_t;  // the timeline's, at this node
   };

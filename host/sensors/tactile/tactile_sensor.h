@@ -64,17 +64,42 @@ struct TactileSensorConstants {
 };
 TactileSensorConstants MakeTactileSensorConstants(const TactileSensorParams& params, double dt_s);
 
+// An exact memo of one node's last silicone step and film field. The step and the field are pure
+// functions of the silicone state and the pad force for fixed parameters and film, so when both
+// are bit for bit those of the last sample (a pad at rest: zero force, the film already at its
+// rest pose) the last answer is the answer, and the Newton solve and the field are skipped. A
+// memo serves one (params, constants, film); Reset it when any of them changes.
+class PadFieldMemo {
+ public:
+  void Reset() { valid_ = false; }
+
+ private:
+  friend TactileReading SampleTactileSensor(const TactileSensorParams&,
+                                            const TactileSensorConstants&, TactileSensorState&,
+                                            const FilmFieldModel&, const Eigen::Vector3d&,
+                                            const Eigen::Quaterniond&, const Eigen::Vector3d&,
+                                            double, const Eigen::Vector3d&, PadFieldMemo*);
+  bool valid_ = false;
+  Eigen::Vector3d force_pad_n_ = Eigen::Vector3d::Zero();
+  SiliconeState silicone_before_;
+  SiliconeState silicone_after_;
+  FilmPose film_pose_;
+  Eigen::Vector3d film_field_t_ = Eigen::Vector3d::Zero();
+};
+
 // Advances the silicone by constants.silicone.dt_s under force_pad_n (pad frame, see
 // silicone_model.h) and samples the chip at the new film pose. With film_present false the force
 // and film model are ignored. `stray_field_sensor_t` is any other field at the chip (a tool or
 // magnet nearby), chip frame. `constants` must come from MakeTactileSensorConstants(params, ...).
+// With a `memo` (see PadFieldMemo) the reading is the same, bit for bit.
 TactileReading SampleTactileSensor(const TactileSensorParams& params,
                                    const TactileSensorConstants& constants,
                                    TactileSensorState& state, const FilmFieldModel& film,
                                    const Eigen::Vector3d& force_pad_n,
                                    const Eigen::Quaterniond& vehicle_attitude_world_body,
                                    const Eigen::Vector3d& earth_field_world_t, double temperature_c,
-                                   const Eigen::Vector3d& stray_field_sensor_t);
+                                   const Eigen::Vector3d& stray_field_sensor_t,
+                                   PadFieldMemo* memo = nullptr);
 
 // The same for a one-off sample after dt_s.
 TactileReading SampleTactileSensor(

@@ -136,5 +136,45 @@ TEST(TactileSensorTest, TheSameSeedAndNodeReproduceTheReadings) {
   EXPECT_TRUE(any_difference);
 }
 
+// A film field that counts its evaluations, to see the memo skip them.
+class CountingFilm : public FilmFieldModel {
+ public:
+  Eigen::Vector3d FieldAtChip(const FilmPose& pose) const override {
+    ++calls;
+    return DipoleFilm{}.FieldAtChip(pose);
+  }
+  mutable int calls = 0;
+};
+
+TEST(TactileSensorTest, ThePadMemoGivesTheSameReadingsAndSkipsAPadAtRest) {
+  const TactileSensorParams params;  // noise, drift and damping on
+  const TactileSensorConstants constants = MakeTactileSensorConstants(params, 1e-3);
+  TactileSensorState plain = InitialTactileSensorState(params, 5);
+  TactileSensorState memoized = plain;
+  PadFieldMemo memo;
+  const CountingFilm plain_film;
+  const CountingFilm memo_film;
+  const Eigen::Quaterniond level = Eigen::Quaterniond::Identity();
+  // At rest, pressed (the film moving sample after sample), released, at rest again, and -0.0.
+  for (int i = 0; i < 400; ++i) {
+    Eigen::Vector3d force = Eigen::Vector3d::Zero();
+    if (i >= 100 && i < 200) force = {0.1, 0.0, 2.0};
+    if (i >= 350) force.z() = -0.0;
+    const TactileReading a = SampleTactileSensor(params, constants, plain, plain_film, force, level,
+                                                 kEarthWorldT, 30, Eigen::Vector3d::Zero());
+    const TactileReading b =
+        SampleTactileSensor(params, constants, memoized, memo_film, force, level, kEarthWorldT, 30,
+                            Eigen::Vector3d::Zero(), &memo);
+    ASSERT_EQ(a.code, b.code) << i;
+    ASSERT_EQ(a.film_field_t, b.film_field_t) << i;
+    ASSERT_EQ(a.film_pose.centre_m, b.film_pose.centre_m) << i;
+    ASSERT_EQ(plain.silicone.displacement_m, memoized.silicone.displacement_m) << i;
+  }
+  EXPECT_EQ(plain_film.calls, 400);
+  // The first 100 samples at rest take one evaluation; the film moving after the press and the
+  // release (it relaxes towards rest for longer than the run) is evaluated every sample.
+  EXPECT_EQ(memo_film.calls, 301);
+}
+
 }  // namespace
 }  // namespace hilrig::host
