@@ -24,15 +24,18 @@ class RingBuffer {
     return slots_[head_];
   }
 
-  void push_back(const T& value) {
+  void push_back(const T& value) { AppendSlot() = value; }
+
+  // Appends a slot, holding whatever it held before, for the caller to fill in place: a value
+  // built from parts (a frame and its time) is written once instead of built and copied.
+  T& AppendSlot() {
     if (size_ == slots_.size()) Grow();
-    slots_[(head_ + size_) & (slots_.size() - 1)] = value;
-    ++size_;
+    return slots_[(head_ + size_++) & mask_];
   }
 
   void pop_front() {
     HILRIG_CHECK(!empty(), "pop_front() on an empty RingBuffer");
-    head_ = (head_ + 1) & (slots_.size() - 1);
+    head_ = (head_ + 1) & mask_;
     --size_;
   }
 
@@ -42,13 +45,15 @@ class RingBuffer {
   void Grow() {
     std::vector<T> bigger(std::max(kInitialCapacity, 2 * slots_.size()));
     for (std::size_t i = 0; i < size_; ++i) {
-      bigger[i] = std::move(slots_[(head_ + i) & (slots_.size() - 1)]);
+      bigger[i] = std::move(slots_[(head_ + i) & mask_]);
     }
     slots_.swap(bigger);
+    mask_ = slots_.size() - 1;
     head_ = 0;
   }
 
   std::vector<T> slots_;
+  std::size_t mask_ = 0;  // slots_.size() - 1, kept so that no access divides by sizeof(T)
   std::size_t head_ = 0;
   std::size_t size_ = 0;
 };

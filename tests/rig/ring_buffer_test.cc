@@ -16,6 +16,18 @@ std::vector<int> Drain(RingBuffer<int>& buffer) {
   return out;
 }
 
+TEST(RingBufferTest, SlotsFilledInPlaceKeepFifoOrderAcrossGrowthWhileWrapped) {
+  RingBuffer<int> buffer;
+  for (int i = 0; i < 12; ++i) buffer.AppendSlot() = i;
+  for (int i = 0; i < 10; ++i) buffer.pop_front();
+  for (int i = 12; i < 50; ++i) buffer.AppendSlot() = i;  // wraps, then grows twice
+
+  std::vector<int> expected;
+  for (int i = 10; i < 50; ++i) expected.push_back(i);
+  EXPECT_EQ(buffer.size(), expected.size());
+  EXPECT_EQ(Drain(buffer), expected);
+}
+
 TEST(RingBufferTest, KeepsFifoOrderAcrossGrowthWhileWrapped) {
   RingBuffer<int> buffer;
   for (int i = 0; i < 10; ++i) buffer.push_back(i);
