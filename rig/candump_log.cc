@@ -97,20 +97,35 @@ char* WriteTimestamp(std::int64_t time_ns, char* out) {
   return WriteMicrosPart(time.micros, WriteSecondsPart(time.seconds, out));
 }
 
-// A standard id has 3 hex digits (11 bits), an extended or error id 8.
-char* WriteId(const CanFrame& frame, char* out) {
+// "000#".."7FF#": a standard id's text and the separator, one table look-up per line.
+constexpr std::size_t kStandardIdChars = 4;
+constexpr std::array<char, (kMaxStandardId + 1)* kStandardIdChars> kStandardIdTexts = [] {
+  std::array<char, (kMaxStandardId + 1) * kStandardIdChars> texts{};
+  for (std::uint32_t id = 0; id <= kMaxStandardId; ++id) {
+    texts[kStandardIdChars * id] = kHexDigits[id >> 8];
+    texts[kStandardIdChars * id + 1] = kHexDigits[(id >> 4) & 0xF];
+    texts[kStandardIdChars * id + 2] = kHexDigits[id & 0xF];
+    texts[kStandardIdChars * id + 3] = '#';
+  }
+  return texts;
+}();
+
+// A standard id has 3 hex digits (11 bits), an extended or error id 8; then '#'. The frame is
+// valid, so a standard id is at most kMaxStandardId.
+char* WriteIdAndSeparator(const CanFrame& frame, char* out) {
   if (!frame.error && !frame.extended) {
-    *out++ = kHexDigits[(frame.id >> 8) & 0xF];
-    return WriteHexByte(frame.id & 0xFF, out);
+    std::memcpy(out, &kStandardIdTexts[kStandardIdChars * frame.id], kStandardIdChars);
+    return out + kStandardIdChars;
   }
   const std::uint32_t id = frame.error ? frame.id | kCanErrFlag : frame.id;
   for (int shift = 24; shift >= 0; shift -= 8) out = WriteHexByte((id >> shift) & 0xFF, out);
+  *out++ = '#';
   return out;
 }
 
+// The frame is valid (CheckLoggable), so its length fits the data array.
 char* WriteFrame(const CanFrame& frame, char* out) {
-  out = WriteId(frame, out);
-  *out++ = '#';
+  out = WriteIdAndSeparator(frame, out);
   if (frame.remote) {
     *out++ = 'R';
     if (frame.length > 0) *out++ = kHexDigits[frame.length];
@@ -121,7 +136,15 @@ char* WriteFrame(const CanFrame& frame, char* out) {
     *out++ = kHexDigits[(frame.bitrate_switch ? kFdFlagBrs : 0) |
                         (frame.error_state_indicator ? kFdFlagEsi : 0)];
   }
-  for (const std::uint8_t byte : frame.payload()) out = WriteHexByte(byte, out);
+  if (frame.length <= CanFrame::kMaxClassicPayload) {
+    // All eight bytes without a loop, then only the frame's length counts: the line buffer has
+    // room for 64 bytes and what follows the data is written over the rest.
+    for (std::size_t i = 0; i < CanFrame::kMaxClassicPayload; ++i) {
+      WriteHexByte(frame.data[i], out + 2 * i);
+    }
+    return out + 2 * std::size_t{frame.length};
+  }
+  for (std::size_t i = 0; i < frame.length; ++i) out = WriteHexByte(frame.data[i], out);
   return out;
 }
 

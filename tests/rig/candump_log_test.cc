@@ -177,6 +177,22 @@ TEST(CandumpLogWriterTest, WritesOneLinePerFrame) {
   EXPECT_EQ(writer.frames_written(), 2u);
 }
 
+// The line buffer is reused and eight data bytes are written whatever the length: a shorter
+// frame after a longer one must end at its own last byte, with the direction mark after it.
+TEST(CandumpLogWriterTest, AShortFrameAfterALongOneEndsAtItsOwnData) {
+  std::ostringstream out;
+  CandumpLogWriter writer(out, "can0", DirectionMark::kRxTx);
+
+  writer.Write(At(CanFrame::Classic(0x7FF, Counting(8)), 1'000));
+  writer.Write(At(CanFrame::Classic(0x000, Counting(1)), 2'000));
+  writer.Write(At(CanFrame::Classic(0x10A, {}), 3'000));
+
+  EXPECT_EQ(out.str(),
+            "(0000000000.000001) can0 7FF#1011121314151617 R\n"
+            "(0000000000.000002) can0 000#10 R\n"
+            "(0000000000.000003) can0 10A# R\n");
+}
+
 // The writer keeps the seconds digits of its last line; a line in another second, earlier or
 // later, must still carry its own.
 TEST(CandumpLogWriterTest, EachLineCarriesItsOwnSecondsAcrossSecondBoundaries) {
