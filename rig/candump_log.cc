@@ -148,10 +148,17 @@ char* WriteFrame(const CanFrame& frame, char* out) {
   return out;
 }
 
+// Out of line, so that the message's construction does not keep the check below from being
+// inlined into the per-frame path.
+[[noreturn, gnu::noinline]] void FailUnloggable(const CanFrame& frame) {
+  const std::string message =
+      "cannot log an invalid frame: " + ValidateFrame(frame).error().message;
+  check_internal::Fail("IsValidFrame(frame.frame)", message, __FILE__, __LINE__);
+}
+
 void CheckLoggable(const TimedCanFrame& frame) {
-  // The message is only built when the check fails.
-  HILRIG_CHECK(IsValidFrame(frame.frame),
-               "cannot log an invalid frame: " + ValidateFrame(frame.frame).error().message);
+  if (!IsValidFrame(frame.frame)) [[unlikely]]
+    FailUnloggable(frame.frame);
 }
 
 // " name ": the timestamp is fixed-width, so in a reused line buffer this never moves.
@@ -352,41 +359,58 @@ Result<std::pair<TimedCanFrame, std::string>> ParseCandumpLine(std::string_view 
   return parsed;
 }
 
+// At least this many characters of prefix_ are copied to start each line, a constant that
+// compiles to two vector moves: the prefix itself for names of up to 11 characters, the whole
+// prefix byte by byte for longer ones. Each line's buffer has room for it.
+constexpr std::size_t kPrefixCopyChars = 32;
+static_assert(kPrefixCopyChars <= MaxLineChars(0));
+
 CandumpLogWriter::CandumpLogWriter(std::ostream& out, std::string interface_name,
                                    DirectionMark mark)
     : out_(out),
       interface_name_(std::move(interface_name)),
       mark_(mark),
-      line_(MaxLineChars(interface_name_.size()) + 1, '\0') {
-  WriteInterfaceName(interface_name_, line_.data() + kTimestampChars);
+      prefix_(std::max(kPrefixCopyChars, kTimestampChars + 2 + interface_name_.size()), '\0') {
+  WriteInterfaceName(interface_name_, prefix_.data() + kTimestampChars);
 }
 
 // Straight into the stream's buffer: ostream::write would build a sentry (state test, tie flush)
-// per line for a stream nothing else writes to meanwhile. The stream's state still says whether
+// per call for a stream nothing else writes to meanwhile. The stream's state still says whether
 // the lines went out, set as ostream::write sets it: failbit for a stream that was not good,
-// badbit for a short write; a unitbuf stream is still flushed per line.
-// The line buffer keeps " name " from the constructor after the fixed-width timestamp, and the
-// seconds digits of the last line; only what changed is written per frame.
-void CandumpLogWriter::Write(const TimedCanFrame& frame) {
-  CheckLoggable(frame);
-  const SplitTime time = SplitTimestamp(frame.time_ns);
-  if (time.seconds != seconds_in_line_) {  // the seconds digits change once per second
-    WriteSecondsPart(time.seconds, line_.data());
-    seconds_in_line_ = time.seconds;
+// badbit for a short write; a unitbuf stream is still flushed.
+// Each line starts as a copy of the prefix (the seconds digits change once per second); only the
+// microseconds and what follows the name are written per frame.
+void CandumpLogWriter::WriteAll(std::span<const TimedCanFrame> frames) {
+  const std::size_t prefix_chars = kTimestampChars + 2 + interface_name_.size();
+  const std::size_t line_chars = MaxLineChars(interface_name_.size()) + 1;  // and the newline
+  if (lines_.size() < frames.size() * line_chars) lines_.resize(frames.size() * line_chars);
+  char* const begin = lines_.data();
+  char* end = begin;
+  for (const TimedCanFrame& frame : frames) {
+    CheckLoggable(frame);
+    const SplitTime time = SplitTimestamp(frame.time_ns);
+    if (time.seconds != seconds_in_prefix_) {
+      WriteSecondsPart(time.seconds, prefix_.data());
+      seconds_in_prefix_ = time.seconds;
+    }
+    if (prefix_chars <= kPrefixCopyChars) {
+      std::memcpy(end, prefix_.data(), kPrefixCopyChars);
+    } else {
+      std::memcpy(end, prefix_.data(), prefix_chars);
+    }
+    WriteMicrosPart(time.micros, end + kSecondsPartChars);
+    end = WriteLineTail(frame, mark_, end + prefix_chars);
+    *end++ = '\n';
   }
-  WriteMicrosPart(time.micros, line_.data() + kSecondsPartChars);
-  char* end =
-      WriteLineTail(frame, mark_, line_.data() + kTimestampChars + 2 + interface_name_.size());
-  *end++ = '\n';
-  const std::streamsize length = end - line_.data();
+  const std::streamsize length = end - begin;
   if (!out_.good()) {
     out_.setstate(std::ios_base::failbit);
-  } else if (out_.rdbuf()->sputn(line_.data(), length) != length) {
+  } else if (out_.rdbuf()->sputn(begin, length) != length) {
     out_.setstate(std::ios_base::badbit);
   } else if ((out_.flags() & std::ios_base::unitbuf) != 0) {
     out_.flush();  // what the sentry does on leaving, for streams like std::cerr
   }
-  ++frames_written_;
+  frames_written_ += frames.size();
 }
 
 std::uint64_t CandumpLogWriter::frames_written() const { return frames_written_; }

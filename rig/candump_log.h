@@ -16,6 +16,7 @@
 
 #include <cstdint>
 #include <ostream>
+#include <span>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -40,20 +41,25 @@ void AppendCandumpLine(const TimedCanFrame& frame, std::string_view interface_na
 // is ignored. Errors name what was wrong with the line, never quote it.
 Result<std::pair<TimedCanFrame, std::string>> ParseCandumpLine(std::string_view line);
 
-// Writes one line per frame to a stream it does not own; the line is built in a reused buffer.
+// Writes one line per frame to a stream it does not own; the lines are built in a reused buffer.
 class CandumpLogWriter {
  public:
   CandumpLogWriter(std::ostream& out, std::string interface_name = "can0",
                    DirectionMark mark = DirectionMark::kNone);
-  void Write(const TimedCanFrame& frame);
+  void Write(const TimedCanFrame& frame) { WriteAll(std::span(&frame, 1)); }
+  // The frames' lines in order, handed to the stream in one piece (a unitbuf stream is flushed
+  // once, after them). Aborts on an invalid frame, as Write does.
+  void WriteAll(std::span<const TimedCanFrame> frames);
   std::uint64_t frames_written() const;
 
  private:
   std::ostream& out_;
   std::string interface_name_;
   DirectionMark mark_;
-  std::string line_;  // sized once for the longest line; each line is written over the last
-  std::uint64_t seconds_in_line_ = UINT64_MAX;  // whose digits line_ holds; none at first
+  // The timestamp's seconds part and " name " of the last line, from which each line starts.
+  std::string prefix_;
+  std::uint64_t seconds_in_prefix_ = UINT64_MAX;  // whose digits prefix_ holds; none at first
+  std::string lines_;                             // grows to the longest batch, then is reused
   std::uint64_t frames_written_ = 0;
 };
 

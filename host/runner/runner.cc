@@ -350,10 +350,8 @@ void LockstepRunner::Impl::DrainCanLog(std::int64_t now_ns) {
   can_frames_logged_ += logged_frames_.size();
   if (!can_writer_) return;
   // In place: the frames are the logger's own copies, cleared before the next drain.
-  for (rig::TimedCanFrame& frame : logged_frames_) {
-    frame.time_ns += kCanLogEpochNs;
-    can_writer_->Write(frame);
-  }
+  for (rig::TimedCanFrame& frame : logged_frames_) frame.time_ns += kCanLogEpochNs;
+  can_writer_->WriteAll(logged_frames_);
 }
 
 void LockstepRunner::Impl::ReportProgress(std::int64_t now_ns) {

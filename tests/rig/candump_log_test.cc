@@ -193,6 +193,26 @@ TEST(CandumpLogWriterTest, AShortFrameAfterALongOneEndsAtItsOwnData) {
             "(0000000000.000003) can0 10A# R\n");
 }
 
+// A batch is the same text as its frames written one by one, for a short interface name (whose
+// prefix is copied as a fixed block) and a long one, across a second boundary.
+TEST(CandumpLogWriterTest, WriteAllWritesWhatWriteWritesFrameByFrame) {
+  const std::vector<TimedCanFrame> frames = {
+      At(StandardFrame(), 999'999'000), At(ExtendedFrame(), 1'000'000'000),
+      At(CanFrame::Classic(0x107, Counting(8)), 1'000'003'000), At(FdBrsFrame(), 2'500'000'000)};
+  for (const std::string name : {"can0", "a_very_long_interface_name0"}) {
+    std::ostringstream one_by_one;
+    std::ostringstream batched;
+    CandumpLogWriter single(one_by_one, name, DirectionMark::kRxTx);
+    CandumpLogWriter batch(batched, name, DirectionMark::kRxTx);
+    for (const TimedCanFrame& frame : frames) single.Write(frame);
+    batch.WriteAll(std::span(frames).first(1));
+    batch.WriteAll(std::span(frames).subspan(1));
+    EXPECT_EQ(batched.str(), one_by_one.str()) << name;
+    EXPECT_EQ(batch.frames_written(), frames.size());
+    EXPECT_NE(batched.str().find(name + " 107#1011121314151617 R\n"), std::string::npos);
+  }
+}
+
 // The writer keeps the seconds digits of its last line; a line in another second, earlier or
 // later, must still carry its own.
 TEST(CandumpLogWriterTest, EachLineCarriesItsOwnSecondsAcrossSecondBoundaries) {
