@@ -17,7 +17,7 @@ class RingBuffer {
  public:
   bool empty() const { return size_ == 0; }
   std::size_t size() const { return size_; }
-  std::size_t capacity() const { return slots_.size(); }
+  std::size_t capacity() const { return capacity_; }
 
   const T& front() const {
     HILRIG_CHECK(!empty(), "front() on an empty RingBuffer");
@@ -29,7 +29,7 @@ class RingBuffer {
   // Appends a slot, holding whatever it held before, for the caller to fill in place: a value
   // built from parts (a frame and its time) is written once instead of built and copied.
   T& AppendSlot() {
-    if (size_ == slots_.size()) Grow();
+    if (size_ == capacity_) Grow();
     return slots_[(head_ + size_++) & mask_];
   }
 
@@ -43,17 +43,20 @@ class RingBuffer {
   static constexpr std::size_t kInitialCapacity = 16;
 
   void Grow() {
-    std::vector<T> bigger(std::max(kInitialCapacity, 2 * slots_.size()));
+    std::vector<T> bigger(std::max(kInitialCapacity, 2 * capacity_));
     for (std::size_t i = 0; i < size_; ++i) {
       bigger[i] = std::move(slots_[(head_ + i) & mask_]);
     }
     slots_.swap(bigger);
-    mask_ = slots_.size() - 1;
+    capacity_ = slots_.size();
+    mask_ = capacity_ - 1;
     head_ = 0;
   }
 
   std::vector<T> slots_;
-  std::size_t mask_ = 0;  // slots_.size() - 1, kept so that no access divides by sizeof(T)
+  // slots_.size() and one less, kept so that no access divides by sizeof(T) to find the size.
+  std::size_t capacity_ = 0;
+  std::size_t mask_ = 0;
   std::size_t head_ = 0;
   std::size_t size_ = 0;
 };
