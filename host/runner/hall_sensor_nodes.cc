@@ -5,6 +5,7 @@
 #include <span>
 
 #include "host/sensors/tactile/memoized_film_field.h"
+#include "rig/check.h"
 
 namespace hilrig::host {
 namespace {
@@ -49,9 +50,18 @@ HallSensorNodes::HallSensorNodes(const HallSensorConfig& config, const EarthFiel
   add(config.reference);
 }
 
+// The frame is the one CanFrame::Classic(frame.id, payload) makes, written over the last one:
+// its bytes past the node frame's eight stay zero, those from len to eight are cleared.
 void HallSensorNodes::Send(const dut_fw::NodeFrame& frame, std::int64_t now_ns) {
-  const auto sent =
-      bus_->Send(rig::CanFrame::Classic(frame.id, std::span(frame.data.data(), frame.len)), now_ns);
+  static_assert(sizeof(frame.data) == rig::CanFrame::kMaxClassicPayload);
+  HILRIG_CHECK(frame.len <= frame.data.size(), "a node frame holds at most 8 bytes");
+  can_frame_.id = frame.id;
+  can_frame_.length = frame.len;
+  std::copy(frame.data.begin(), frame.data.end(), can_frame_.data.begin());
+  if (frame.len < frame.data.size()) [[unlikely]] {
+    std::fill(can_frame_.data.begin() + frame.len, can_frame_.data.begin() + frame.data.size(), 0);
+  }
+  const auto sent = bus_->Send(can_frame_, now_ns);
   // A full or bus-off bus loses the frame, as on the wire; the DUT sees the sequence gap.
   (sent.ok() ? frames_sent_ : frames_dropped_)++;
 }

@@ -18,6 +18,7 @@
 #include "host/sensors/tactile/film_field.h"
 #include "host/sensors/tactile/tactile_sensor.h"
 #include "rig/can_bus.h"
+#include "rig/can_frame.h"
 
 namespace hilrig::host {
 
@@ -62,6 +63,7 @@ class HallSensorNodes final : public DeviceEmulator {
   std::shared_ptr<const FilmFieldModel> film_;
   std::unique_ptr<rig::CanBus> bus_;
   std::vector<Node> nodes_;  // the tactile ones (when enabled), then the reference
+  rig::CanFrame can_frame_;  // the frame being sent, reused so it is not built from zero each time
   std::uint64_t frames_sent_ = 0;
   std::uint64_t frames_dropped_ = 0;
   // The earliest NextEventNs of the nodes: at the 1 kHz tick and 50 Hz samples a Tick before it

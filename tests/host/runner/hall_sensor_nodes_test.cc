@@ -107,5 +107,18 @@ TEST(HallSensorNodesTest, TactileNodeReadsWhatTheSensorModelGivesForOnePeriodSte
   EXPECT_EQ(node1, expected);
 }
 
+// The nodes reuse one frame for sending: each must still be the classic frame of its own bytes,
+// nothing of the one before past its length, status frames and samples alike.
+TEST(HallSensorNodesTest, EveryFrameSentIsTheClassicFrameOfItsOwnPayload) {
+  const std::vector<rig::TimedCanFrame> frames = RunNodes(ReferenceOnly(50), kMs, 1'100 * kMs);
+  ASSERT_GT(StatusFrames(frames), 0);
+  ASSERT_GT(Samples(frames).size(), 50u);
+  for (const rig::TimedCanFrame& timed : frames) {
+    const rig::CanFrame& frame = timed.frame;
+    EXPECT_EQ(frame, rig::CanFrame::Classic(frame.id, frame.payload()));
+    for (std::size_t i = frame.length; i < frame.data.size(); ++i) ASSERT_EQ(frame.data[i], 0);
+  }
+}
+
 }  // namespace
 }  // namespace hilrig::host
