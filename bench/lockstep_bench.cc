@@ -3,18 +3,16 @@
 // 1000x real time needs a tick under 1 µs.
 #include <benchmark/benchmark.h>
 
-#include <cstdlib>
 #include <sstream>
 
+#include "bench/shipped_scene.h"
 #include "dut_fw/flight_controller.h"
 #include "host/dut/firmware_config.h"
 #include "host/dut/in_process_dut.h"
 #include "host/plant/quadrotor.h"
 #include "host/runner/runner.h"
 #include "host/scenario/scenario_config.h"
-#include "host/scenario/scenario_loader.h"
 #include "host/sensors/imu_emulator.h"
-#include "host/setup/scene_setup.h"
 #include "rig/clock.h"
 #include "rig/emulated_bus.h"
 
@@ -22,21 +20,7 @@ namespace hilrig::host {
 namespace {
 
 // A shipped scenario, run for a day: its timeline is over early and the rest is steady state.
-ScenarioConfig LongRunOf(const std::string& scenario) {
-  auto spec =
-      LoadScenario(std::string(HILRIG_SOURCE_DIR) + "/scenarios/" + scenario + ".textproto");
-  if (!spec) {
-    std::fprintf(stderr, "%s\n", spec.error().message.c_str());
-    std::abort();
-  }
-  spec.value().mutable_simulation()->set_duration_s(86400);
-  ScenarioConfig config = ResolveScenario(spec.value(), std::nullopt);
-  if (auto calibrated = LoadTactileCalibration(config); !calibrated) {
-    std::fprintf(stderr, "%s\n", calibrated.error().message.c_str());
-    std::abort();
-  }
-  return config;
-}
+ScenarioConfig LongRunOf(const std::string& scenario) { return ShippedScene(scenario, 86400); }
 
 // One lockstep tick of `scenario` after `warm_up_s` of simulated time.
 void TickScenario(benchmark::State& state, const std::string& scenario, double warm_up_s) {
