@@ -18,6 +18,7 @@ class ImuDevice final : public DeviceEmulator {
 
  private:
   const ImuParams& params_;
+  const ImuNoiseScales scales_;
   ImuState state_;
   std::int64_t period_ns_;
   std::int64_t next_sample_ns_ = 0;

@@ -22,7 +22,22 @@ ImuState MakeImuState(const ImuParams& params, RandomStream rng) {
   return state;
 }
 
+ImuNoiseScales MakeImuNoiseScales(const ImuParams& params) {
+  const double sqrt_rate = std::sqrt(params.rate_hz);
+  return {params.gyro_noise_density_rad_s_sqrt_hz * sqrt_rate,
+          params.accel_noise_density_m_s2_sqrt_hz * sqrt_rate,
+          params.gyro_bias_random_walk_rad_s2_sqrt_hz / sqrt_rate,
+          params.accel_bias_random_walk_m_s3_sqrt_hz / sqrt_rate};
+}
+
 ImuReading SampleImu(const ImuParams& params, ImuState& state,
+                     const Eigen::Vector3d& angular_velocity_body_rad_s,
+                     const Eigen::Vector3d& specific_force_body_m_s2, std::int64_t time_ns) {
+  return SampleImu(params, MakeImuNoiseScales(params), state, angular_velocity_body_rad_s,
+                   specific_force_body_m_s2, time_ns);
+}
+
+ImuReading SampleImu(const ImuParams& params, const ImuNoiseScales& scales, ImuState& state,
                      const Eigen::Vector3d& angular_velocity_body_rad_s,
                      const Eigen::Vector3d& specific_force_body_m_s2, std::int64_t time_ns) {
   ImuReading reading;
@@ -32,7 +47,6 @@ ImuReading SampleImu(const ImuParams& params, ImuState& state,
     reading.accel_m_s2 = specific_force_body_m_s2;
     return reading;
   }
-  const double sqrt_rate = std::sqrt(params.rate_hz);
   // Draw order is fixed (gyro noise, accel noise, gyro walk, accel walk, x y z each): it is part
   // of the stream's reproducibility. One batch keeps the generator in registers for all twelve.
   std::array<double, 12> draws;
@@ -40,12 +54,12 @@ ImuReading SampleImu(const ImuParams& params, ImuState& state,
   const auto axes = [&draws](int first) {
     return Eigen::Vector3d(draws[first], draws[first + 1], draws[first + 2]);
   };
-  reading.gyro_rad_s = angular_velocity_body_rad_s + state.gyro_bias_rad_s +
-                       (params.gyro_noise_density_rad_s_sqrt_hz * sqrt_rate) * axes(0);
-  reading.accel_m_s2 = specific_force_body_m_s2 + state.accel_bias_m_s2 +
-                       (params.accel_noise_density_m_s2_sqrt_hz * sqrt_rate) * axes(3);
-  state.gyro_bias_rad_s += (params.gyro_bias_random_walk_rad_s2_sqrt_hz / sqrt_rate) * axes(6);
-  state.accel_bias_m_s2 += (params.accel_bias_random_walk_m_s3_sqrt_hz / sqrt_rate) * axes(9);
+  reading.gyro_rad_s =
+      angular_velocity_body_rad_s + state.gyro_bias_rad_s + scales.gyro_noise_rad_s * axes(0);
+  reading.accel_m_s2 =
+      specific_force_body_m_s2 + state.accel_bias_m_s2 + scales.accel_noise_m_s2 * axes(3);
+  state.gyro_bias_rad_s += scales.gyro_walk_rad_s * axes(6);
+  state.accel_bias_m_s2 += scales.accel_walk_m_s2 * axes(9);
   return reading;
 }
 

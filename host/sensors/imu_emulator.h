@@ -40,8 +40,22 @@ struct ImuReading {
   Eigen::Vector3d accel_m_s2 = Eigen::Vector3d::Zero();
 };
 
+// The standard deviations per sample that the params fix: the white noises' density * sqrt(rate)
+// and the walks' density / sqrt(rate). A device computes them once instead of per sample.
+struct ImuNoiseScales {
+  double gyro_noise_rad_s = 0;
+  double accel_noise_m_s2 = 0;
+  double gyro_walk_rad_s = 0;
+  double accel_walk_m_s2 = 0;
+};
+ImuNoiseScales MakeImuNoiseScales(const ImuParams& params);
+
 // reading = truth + bias + white noise; the biases then take one random-walk step.
 ImuReading SampleImu(const ImuParams& params, ImuState& state,
+                     const Eigen::Vector3d& angular_velocity_body_rad_s,
+                     const Eigen::Vector3d& specific_force_body_m_s2, std::int64_t time_ns);
+// The same with the scales made once by MakeImuNoiseScales(params): the same reading.
+ImuReading SampleImu(const ImuParams& params, const ImuNoiseScales& scales, ImuState& state,
                      const Eigen::Vector3d& angular_velocity_body_rad_s,
                      const Eigen::Vector3d& specific_force_body_m_s2, std::int64_t time_ns);
 

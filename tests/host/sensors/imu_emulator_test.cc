@@ -81,6 +81,26 @@ TEST(ImuEmulatorTest, ReadingsAreDeterministicPerSeed) {
   EXPECT_TRUE(any_different);
 }
 
+// A device makes the noise scales once; its readings are the per-sample computation's, bit for
+// bit, and draw the stream alike.
+TEST(ImuEmulatorTest, ScalesMadeOnceGiveTheSameReadings) {
+  ImuParams params;
+  params.rate_hz = 400;
+  const ImuNoiseScales scales = MakeImuNoiseScales(params);
+  EXPECT_EQ(scales.gyro_noise_rad_s, params.gyro_noise_density_rad_s_sqrt_hz * std::sqrt(400.0));
+  EXPECT_EQ(scales.accel_walk_m_s2, params.accel_bias_random_walk_m_s3_sqrt_hz / std::sqrt(400.0));
+  ImuState per_sample = MakeImuState(params, RandomStream::FromSeed(5, StreamId::kImu));
+  ImuState once = per_sample;
+  for (int i = 0; i < 100; ++i) {
+    const ImuReading a = SampleImu(params, per_sample, kRate, kSpecificForce, i);
+    const ImuReading b = SampleImu(params, scales, once, kRate, kSpecificForce, i);
+    ASSERT_EQ(a.gyro_rad_s, b.gyro_rad_s);
+    ASSERT_EQ(a.accel_m_s2, b.accel_m_s2);
+    ASSERT_EQ(per_sample.gyro_bias_rad_s, once.gyro_bias_rad_s);
+    ASSERT_EQ(per_sample.accel_bias_m_s2, once.accel_bias_m_s2);
+  }
+}
+
 TEST(ImuEmulatorTest, TurnOnBiasSpreadMatchesSigma) {
   const ImuParams params;
   double sum_sq = 0.0;
