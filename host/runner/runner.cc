@@ -141,6 +141,11 @@ class LockstepRunner::Impl {
   std::int64_t next_progress_wall_ns_ = kProgressPeriodNs;
   std::int64_t wall_start_ns_ = 0;
   std::uint64_t tick_ = 0;
+  // Countdowns to the next control tick (0: this one) and trace row (1: after this tick), and
+  // the control ticks taken: the schedule's moduli and quotient without a division per tick.
+  std::uint64_t ticks_to_control_ = 0;
+  std::uint64_t ticks_to_trace_ = 0;
+  std::uint64_t control_ticks_ = 0;
   std::uint64_t total_ticks_ = 0;
   bool ended_ = false;
 };
@@ -182,6 +187,7 @@ LockstepRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
   if (sinks.can_log != nullptr)
     can_writer_.emplace(*sinks.can_log, "can0", rig::DirectionMark::kRxTx);
   logged_frames_.reserve(64);
+  ticks_to_trace_ = static_cast<std::uint64_t>(config.trace_every_ticks);
   total_ticks_ = TotalTicks(config);
   wall_start_ns_ = control.wall_clock->NowNs();
   next_progress_wall_ns_ = wall_start_ns_ + kProgressPeriodNs;
@@ -386,14 +392,15 @@ bool LockstepRunner::Impl::Tick() {
 
 bool LockstepRunner::Impl::Step() {
   const std::int64_t now_ns = clock_.NowNs();
-  const auto control_every = static_cast<std::uint64_t>(config_.control_every_ticks);
-  const bool control_tick = tick_ % control_every == 0;
+  const bool control_tick = ticks_to_control_ == 0;
+  ticks_to_control_ = control_tick ? static_cast<std::uint64_t>(config_.control_every_ticks) - 1
+                                   : ticks_to_control_ - 1;
   if (pacer_ && control_tick && !TakeNewestCommand()) {
     ended_ = true;
     return false;
   }
   device_schedule_.Tick(now_ns, *plant_view_, *dut_);
-  if (control_tick && !ControlStep(tick_ / control_every, now_ns)) {
+  if (control_tick && !ControlStep(control_ticks_++, now_ns)) {
     ended_ = true;
     return false;
   }
@@ -408,7 +415,8 @@ bool LockstepRunner::Impl::Step() {
   }
   clock_.AdvanceNs(config_.physics_step_ns);
   ++tick_;
-  if (tick_ % static_cast<std::uint64_t>(config_.trace_every_ticks) == 0) {
+  if (--ticks_to_trace_ == 0) {
+    ticks_to_trace_ = static_cast<std::uint64_t>(config_.trace_every_ticks);
     DrainCanLog(clock_.NowNs());
     if (RecordTrace(clock_.NowNs())) ended_ = true;
   }

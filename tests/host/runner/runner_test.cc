@@ -180,6 +180,53 @@ TEST(RunnerTest, TraceHasOneRowPerTraceTick) {
   EXPECT_EQ(rows, 1 + 300);  // header + 100 Hz for 3 s
 }
 
+// A row every trace interval of ticks (1 kHz / 125 Hz: every 8), counted from the start.
+TEST(RunnerTest, TraceRowsFallEveryTraceIntervalOfTicks) {
+  const RunOutput output = RunToEnd(ConfigFrom(R"(name: "air"
+vehicle { initial_position_m { z: 1 } }
+simulation { duration_s: 0.1 trace_rate_hz: 125 }
+)"));
+  const auto rows = std::count(output.trace.begin(), output.trace.end(), '\n');
+  EXPECT_EQ(rows, 1 + 12);  // header + ticks 8, 16, ..., 96
+  EXPECT_THAT(output.trace, HasSubstr("\n0.008,"));
+  EXPECT_THAT(output.trace, HasSubstr("\n0.096,"));
+}
+
+// Records the control ticks the runner steps the DUT at, answering each with an idle command.
+class StepRecordingDut final : public DutPort {
+ public:
+  explicit StepRecordingDut(std::vector<std::pair<std::uint64_t, std::int64_t>>& steps)
+      : steps_(steps) {}
+  void Send(const DutInput&) override {}
+  rig::Result<ActuatorMessage> Step(std::uint64_t tick, std::int64_t now_ns) override {
+    steps_.emplace_back(tick, now_ns);
+    return ActuatorMessage{};
+  }
+  DutCounters counters() const override { return {}; }
+  std::string description() const override { return "step recorder"; }
+
+ private:
+  std::vector<std::pair<std::uint64_t, std::int64_t>>& steps_;
+};
+
+TEST(RunnerTest, ControlTicksComeEveryControlPeriodNumberedFromZero) {
+  const ScenarioConfig config = ConfigFrom(R"(name: "air"
+vehicle { initial_position_m { z: 1 } }
+simulation { duration_s: 0.01 control_rate_hz: 250 }
+)");
+  std::vector<std::pair<std::uint64_t, std::int64_t>> steps;
+  const rig::SimClock wall_clock;
+  RunControl control{.wall_clock = &wall_clock};
+  control.dut_factory = [&steps](const ScenarioConfig&, std::unique_ptr<rig::CanBus>,
+                                 double) -> rig::Result<std::unique_ptr<DutPort>> {
+    return std::unique_ptr<DutPort>(std::make_unique<StepRecordingDut>(steps));
+  };
+  EXPECT_EQ(RunScenario(config, {}, control).ticks(), 10u);
+  const std::vector<std::pair<std::uint64_t, std::int64_t>> expected = {
+      {0, 0}, {1, 4'000'000}, {2, 8'000'000}};
+  EXPECT_EQ(steps, expected);
+}
+
 TEST(RunnerTest, ReferenceMagnetometerFramesReachTheDutOverCan) {
   const RunOutput output = RunToEnd(ConfigFrom(kHoverInAir));
   // Node 7 for 3 s: samples at 50 Hz plus its status frame at 1 Hz.
