@@ -70,8 +70,7 @@ class Session {
   std::unique_ptr<host::LinkConnection> link_;
   host::LinkSequencer sequencer_;
   LinkCanBus* link_bus_;
-  std::vector<rig::CanFrame> carried_;  // reused: the frames of one step request
-  StagedCanBus* bus_ = nullptr;         // owned by dut_
+  StagedCanBus* bus_ = nullptr;  // owned by dut_
   std::unique_ptr<host::InProcessDut> dut_;
   std::chrono::nanoseconds realtime_frame_wait_{0};
   // The sequence of the last message the DUT took on each stream (by DutInput alternative).
@@ -178,23 +177,24 @@ rig::Result<void> Session::WaitForFrames(const proto::StepRequest& step) {
 }
 
 rig::Result<void> Session::DeliverCarriedFrames(const proto::StepRequest& step) {
-  const std::string tick = "step request for tick " + std::to_string(step.tick());
+  // Named only on failure: a step request comes every tick.
+  const auto refused = [&step](const std::string& why) {
+    return rig::MakeError("step request for tick " + std::to_string(step.tick()) + why);
+  };
   if (link_bus_ == nullptr) {
     if (step.can_frame_size() == 0) return {};
-    return rig::MakeError(tick + " carries CAN frames, but they reach this DUT on a bus");
+    return refused(" carries CAN frames, but they reach this DUT on a bus");
   }
   if (static_cast<std::uint64_t>(step.can_frame_size()) != step.can_frames_sent()) {
-    return rig::MakeError(tick + " announces " + std::to_string(step.can_frames_sent()) +
-                          " CAN frames but carries " + std::to_string(step.can_frame_size()));
+    return refused(" announces " + std::to_string(step.can_frames_sent()) +
+                   " CAN frames but carries " + std::to_string(step.can_frame_size()));
   }
-  carried_.clear();
   for (const std::string& datagram : step.can_frame()) {
     auto decoded = rig::DecodeUdpCanDatagram(
         {reinterpret_cast<const std::uint8_t*>(datagram.data()), datagram.size()});
-    if (!decoded) return rig::MakeError(tick + ": bad CAN frame: " + decoded.error().message);
-    carried_.push_back(decoded.value().frame);
+    if (!decoded) return refused(": bad CAN frame: " + decoded.error().message);
+    link_bus_->Deliver({&decoded.value().frame, 1});
   }
-  link_bus_->Deliver(carried_);
   return {};
 }
 
