@@ -38,6 +38,15 @@ for field in work_p50_cycles work_p99_cycles work_max_cycles flash_used_bytes ra
     { echo "FAIL: report.json has no target $field"; exit 1; }
 done
 
+# A lockstep step the board took without its announced sensor bytes is not comparable: say so
+# rather than report a tolerance miss.
+missing=$(grep -A1 '"name": "dut_bridge_bytes_missing"' "$work_dir/qemu/report.json" |
+  sed -n 's/.*"value": *\([0-9]*\).*/\1/p')
+if [[ ${missing:-0} != 0 ]]; then
+  echo "FAIL: the board stepped without $missing announced bridge bytes (dut_bridge_bytes_missing)"
+  exit 1
+fi
+
 "$bin_dir/hilrig" run "$spec" --dut inproc-float --no-reference "${cut[@]}" --out "$work_dir/float" \
   >"$work_dir/float.out" 2>&1 || { echo "FAIL: $scene with --dut inproc-float"; exit 1; }
 
