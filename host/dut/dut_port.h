@@ -28,6 +28,10 @@ struct DutCounters {
   // Tactile samples the front end could not turn into force (saturated, singular S(B), stale
   // reference, ...), summed over the six pads.
   std::uint64_t tactile_samples_flagged = 0;
+  // Sensor bytes the runner sent a DUT on a board for a lockstep step that the board stepped
+  // without (they came late or never): such a run's trace is not the lockstep trace. Only a DUT
+  // that receives its sensor samples over a line of its own can count them.
+  std::uint64_t sensor_bytes_missing = 0;
 
   // Counts one input sent to the DUT; the report counts the IMU and VIO streams only.
   void Count(const DutInput& input) {

@@ -331,6 +331,12 @@ std::vector<std::pair<std::string, double>> SerialDut::link_metrics() const {
   return metrics;
 }
 
+DutCounters SerialDut::counters() const {
+  DutCounters counters = counters_;
+  counters.sensor_bytes_missing = dut_counters_.bridge_bytes_missing();
+  return counters;
+}
+
 std::optional<TargetSummary> SerialDut::target() const {
   if (!target_info_) return std::nullopt;
   TargetSummary target;

@@ -80,7 +80,7 @@ class SerialDut final : public DutPort {
   rig::Result<ActuatorMessage> Step(std::uint64_t tick, std::int64_t now_ns) override;
   void RequestStep(std::uint64_t tick, std::int64_t now_ns) override;
   rig::Result<std::optional<ActuatorMessage>> PollCommand() override;
-  DutCounters counters() const override { return counters_; }
+  DutCounters counters() const override;
   std::string description() const override;
   std::vector<std::pair<std::string, double>> link_metrics() const override;
 

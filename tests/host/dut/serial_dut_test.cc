@@ -42,7 +42,8 @@ class ScriptedDut {
   std::set<std::uint64_t> flip_first_answer;      // ... arrives with a byte flipped
   std::set<std::uint64_t> garbage_before_answer;  // noise on the line before the answer
   std::uint32_t work_cycles = 0;
-  std::int64_t answer_delay_ns = 0;  // a slow line: a command leaves this long after its step
+  std::uint64_t bridge_bytes_missing = 0;  // the count its answers carry
+  std::int64_t answer_delay_ns = 0;        // a slow line: a command leaves this long after its step
   const rig::Clock* clock = nullptr;
 
   // What it saw.
@@ -135,6 +136,7 @@ class ScriptedDut {
     command->set_work_cycles(work_cycles + std::uint32_t(tick));
     command->mutable_counters()->set_frames_received(steps.size());
     command->mutable_counters()->set_steps_repeated(steps.size() - answered_.size());
+    command->mutable_counters()->set_bridge_bytes_missing(bridge_bytes_missing);
     if (first && flip_first_answer.count(tick)) {
       std::string payload;
       answer.SerializeToString(&payload);
@@ -479,6 +481,15 @@ TEST(SerialDutTest, ReportsTheWorkPerStepTheDutMeasured) {
   EXPECT_EQ(target->work_max_cycles, 1100u);
   EXPECT_EQ(rig.Metric("target_work_p99_cycles"), 1099);
   EXPECT_EQ(rig.Metric("dut_line_frames_received"), 100);
+}
+
+TEST(SerialDutTest, CountsTheSensorBytesTheBoardSteppedWithout) {
+  Rig rig([](ScriptedDut& dut) { dut.bridge_bytes_missing = 38; });
+  ASSERT_TRUE(rig.serial->Start());
+  EXPECT_EQ(rig.serial->counters().sensor_bytes_missing, 0u);
+  ASSERT_TRUE(rig.serial->Step(1, kPeriodNs));
+  EXPECT_EQ(rig.serial->counters().sensor_bytes_missing, 38u);
+  EXPECT_EQ(rig.Metric("dut_bridge_bytes_missing"), 38);
 }
 
 TEST(SerialDutTest, AnswersRealTimeRequestsByPollAndTimesOutTheOldest) {

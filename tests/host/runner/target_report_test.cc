@@ -6,6 +6,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <sstream>
+
 #include "host/runner/runner.h"
 #include "host/runner/timing_checks.h"
 #include "host/scenario/scenario_loader.h"
@@ -14,6 +16,7 @@ namespace hilrig::host {
 namespace {
 
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 // Answers every step with an idle command and reports `target`.
 class TargetDut final : public DutPort {
@@ -25,9 +28,11 @@ class TargetDut final : public DutPort {
     command.answers_sequence = tick;
     return command;
   }
-  DutCounters counters() const override { return {}; }
+  DutCounters counters() const override { return counters_; }
   std::string description() const override { return "target dut"; }
   std::optional<TargetSummary> target() const override { return target_; }
+
+  DutCounters counters_;
 
  private:
   std::optional<TargetSummary> target_;
@@ -46,7 +51,8 @@ TargetSummary Stm32(std::uint32_t p99_cycles) {
   return target;
 }
 
-proto::Report RunWith(std::optional<TargetSummary> target, const std::string& envelopes) {
+proto::Report RunWith(std::optional<TargetSummary> target, const std::string& envelopes,
+                      std::uint64_t sensor_bytes_missing = 0, std::ostream* notes = nullptr) {
   const auto spec = ParseScenario(R"(name: "air"
 vehicle { initial_position_m { z: 1 } }
 simulation { duration_s: 0.01 control_rate_hz: 500 }
@@ -57,11 +63,16 @@ simulation { duration_s: 0.01 control_rate_hz: 500 }
   const rig::SimClock wall_clock;
   RunControl control;
   control.wall_clock = &wall_clock;
-  control.dut_factory = [target](const ScenarioConfig&, std::unique_ptr<rig::CanBus>,
-                                 double) -> rig::Result<std::unique_ptr<DutPort>> {
-    return std::unique_ptr<DutPort>(std::make_unique<TargetDut>(target));
+  control.dut_factory = [target, sensor_bytes_missing](
+                            const ScenarioConfig&, std::unique_ptr<rig::CanBus>,
+                            double) -> rig::Result<std::unique_ptr<DutPort>> {
+    auto dut = std::make_unique<TargetDut>(target);
+    dut->counters_.sensor_bytes_missing = sensor_bytes_missing;
+    return std::unique_ptr<DutPort>(std::move(dut));
   };
-  return RunScenario(config, {}, control);
+  RunSinks sinks;
+  sinks.progress = notes;
+  return RunScenario(config, sinks, control);
 }
 
 TEST(TargetReportTest, ATargetDutsWorkIsReportedAgainstTheControlPeriod) {
@@ -134,6 +145,17 @@ TEST(TargetReportTest, TheSpecsTargetEnvelopesAreFractions) {
   ASSERT_FALSE(spec.ok());
   EXPECT_THAT(spec.error().message,
               HasSubstr("spec.textproto:2:10: target.work_p99_fraction_max: must be a fraction"));
+}
+
+TEST(TargetReportTest, ABoardThatSteppedWithoutItsSensorBytesIsWarnedOf) {
+  std::ostringstream notes;
+  const proto::Report report = RunWith(Stm32(33'600), "", 38, &notes);
+  EXPECT_THAT(notes.str(), HasSubstr("air: warning: the dut stepped without 38 sensor bytes"));
+  EXPECT_TRUE(report.passed());  // a real line may lose bytes: said, not failed
+
+  std::ostringstream quiet;
+  RunWith(Stm32(33'600), "", 0, &quiet);
+  EXPECT_THAT(quiet.str(), Not(HasSubstr("warning")));
 }
 
 }  // namespace
