@@ -161,12 +161,8 @@ class EmulatedEndpoint final : public CanBus {
   std::size_t Receive(std::int64_t now_ns, std::vector<TimedCanFrame>& out) override {
     medium_.AdvanceTo(now_ns);
     MaybeRestart(now_ns);
-    std::size_t appended = 0;
-    while (!rx_.empty() && rx_.front().time_ns <= now_ns) {
-      out.push_back(rx_.front());
-      rx_.pop_front();
-      ++appended;
-    }
+    const std::size_t appended =
+        rx_.PopFrontInto(out, [now_ns](const TimedCanFrame& f) { return f.time_ns <= now_ns; });
     counters_.frames_received += appended;
     return appended;
   }

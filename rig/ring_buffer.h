@@ -39,6 +39,21 @@ class RingBuffer {
     --size_;
   }
 
+  // Moves the leading values for which `take` holds to the end of `out`, in order, and returns
+  // how many. Never fails; O(taken) and at most two block copies into `out` (which allocates only
+  // if it has to grow), where a value at a time would check and copy each one separately.
+  template <typename Take>
+  std::size_t PopFrontInto(std::vector<T>& out, Take take) {
+    std::size_t taken = 0;
+    while (taken < size_ && take(slots_[(head_ + taken) & mask_])) ++taken;
+    const std::size_t first = std::min(taken, capacity_ - head_);  // up to the end of slots_
+    out.insert(out.end(), slots_.begin() + head_, slots_.begin() + head_ + first);
+    out.insert(out.end(), slots_.begin(), slots_.begin() + (taken - first));
+    head_ = (head_ + taken) & mask_;
+    size_ -= taken;
+    return taken;
+  }
+
  private:
   static constexpr std::size_t kInitialCapacity = 16;
 

@@ -40,6 +40,28 @@ TEST(RingBufferTest, KeepsFifoOrderAcrossGrowthWhileWrapped) {
   EXPECT_EQ(Drain(buffer), expected);
 }
 
+TEST(RingBufferTest, PopFrontIntoTakesTheLeadingRunAcrossTheWrapAndStopsAtTheFirstRefusal) {
+  RingBuffer<int> buffer;
+  for (int i = 0; i < 16; ++i) buffer.push_back(i);
+  for (int i = 0; i < 12; ++i) buffer.pop_front();
+  for (int i = 16; i < 24; ++i) buffer.push_back(i);  // 12..23, wrapped at 16 without growing
+  ASSERT_EQ(buffer.capacity(), 16u);
+
+  std::vector<int> out = {-1};
+  const auto below = [](int limit) { return [limit](int v) { return v < limit; }; };
+  EXPECT_EQ(buffer.PopFrontInto(out, below(20)), 8u);  // 12..19: four before the wrap, four after
+  EXPECT_EQ(out, (std::vector<int>{-1, 12, 13, 14, 15, 16, 17, 18, 19}));
+  EXPECT_EQ(buffer.PopFrontInto(out, below(0)), 0u);  // 20 is refused: nothing moves
+  buffer.push_back(5);                                // 20..23, 5: taking stops at 5's refusal
+  out.clear();
+  EXPECT_EQ(buffer.PopFrontInto(out, [](int v) { return v >= 20; }), 4u);
+  EXPECT_EQ(out, (std::vector<int>{20, 21, 22, 23}));
+  EXPECT_EQ(Drain(buffer), std::vector<int>{5});
+
+  RingBuffer<int> never_grown;
+  EXPECT_EQ(never_grown.PopFrontInto(out, below(100)), 0u);
+}
+
 TEST(RingBufferTest, SteadyTrafficDoesNotGrow) {
   RingBuffer<int> buffer;
   for (int i = 0; i < 10; ++i) buffer.push_back(i);
