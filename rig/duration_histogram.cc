@@ -1,7 +1,8 @@
 #include "rig/duration_histogram.h"
 
 #include <algorithm>
-#include <cmath>
+
+#include "rig/nearest_rank.h"
 
 namespace hilrig::rig {
 namespace {
@@ -29,10 +30,7 @@ void DurationHistogram::Add(std::int64_t duration_ns) {
 
 double DurationHistogram::QuantileS(double q) const {
   if (count_ == 0 || !(q >= 0)) return 0;
-  // The rank of the sample at quantile q (nearest-rank definition: the smallest sample with at
-  // least q of all samples at or below it).
-  const auto rank = std::max<std::uint64_t>(
-      1, static_cast<std::uint64_t>(std::ceil(std::min(q, 1.0) * static_cast<double>(count_))));
+  const std::uint64_t rank = NearestRank(q, count_);
   std::uint64_t seen = 0;
   for (std::size_t i = 0; i < kRegularBuckets; ++i) {
     seen += buckets_[i];

@@ -10,6 +10,8 @@
 #include <unordered_map>
 #include <utility>
 
+#include "rig/nearest_rank.h"
+
 namespace hilrig::host {
 namespace {
 
@@ -252,12 +254,7 @@ SortedSample::SortedSample(std::vector<double> values) : values_(std::move(value
 
 std::optional<double> SortedSample::Quantile(double q) const {
   if (values_.empty()) return std::nullopt;
-  const double clamped = std::isnan(q) ? 0.0 : std::clamp(q, 0.0, 1.0);
-  const double n = static_cast<double>(values_.size());
-  // The relative slack absorbs the binary rounding of q (a few 1e-16) and nothing a spec means.
-  const double rank = std::ceil(clamped * n * (1 - 1e-12));
-  const auto index = static_cast<std::size_t>(std::clamp(rank, 1.0, n)) - 1;
-  return values_[index];
+  return values_[rig::NearestRank(q, values_.size()) - 1];
 }
 
 std::optional<double> NearestRankQuantile(std::vector<double> values, double q) {

@@ -41,11 +41,8 @@ class SortedSample {
   // O(n log n). Cannot fail.
   explicit SortedSample(std::vector<double> values);
 
-  // The q-quantile by nearest rank: the smallest value with at least q of the values at or below
-  // it (q = 0: the minimum; q = 1: the maximum). q is clamped to [0, 1], a NaN q reads as 0; q·n
-  // within 1e-12 relative of a whole number counts as that number, so that the 0.07-quantile of
-  // 100 values is the 7th, as written, not the 8th that 0.07 · 100 rounds to in binary. Nothing
-  // when there are no values. O(1).
+  // The q-quantile by nearest rank (rig::NearestRank: q = 0 the minimum, q = 1 the maximum, the
+  // 0.07-quantile of 100 values the 7th). Nothing when there are no values. O(1).
   std::optional<double> Quantile(double q) const;
 
   std::size_t size() const { return values_.size(); }

@@ -52,5 +52,11 @@ TEST(ValueCountsTest, MatchesASortedCopyOfManyRepeatedSamples) {
   EXPECT_EQ(counts.count(), samples.size());
 }
 
+TEST(ValueCountsTest, AQuantileThatLandsOnARankIsThatRankNotTheNext) {
+  ValueCounts counts;
+  for (std::uint32_t value = 1; value <= 25; ++value) counts.Add(value);
+  EXPECT_EQ(counts.Quantile(0.28), 7u);  // 0.28 · 25 is 7.000000000000001 in doubles
+}
+
 }  // namespace
 }  // namespace hilrig::rig
