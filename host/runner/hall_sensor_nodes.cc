@@ -4,6 +4,7 @@
 #include <cmath>
 #include <span>
 
+#include "host/sensors/earth_field.h"
 #include "host/sensors/tactile/memoized_film_field.h"
 #include "rig/check.h"
 
@@ -67,7 +68,7 @@ void HallSensorNodes::Send(const dut_fw::NodeFrame& frame, std::int64_t now_ns) 
 }
 
 void HallSensorNodes::TickNode(Node& node, const Eigen::Vector3d& pad_force_n,
-                               const Eigen::Quaterniond& attitude_world_body, std::int64_t now_ns) {
+                               const Eigen::Vector3d& earth_field_body_t, std::int64_t now_ns) {
   if (node.firmware.SampleDue(now_ns)) {
     const double period_s = SamplePeriodS(node.firmware);
     if (period_s != node.constants.silicone.dt_s) {
@@ -75,9 +76,9 @@ void HallSensorNodes::TickNode(Node& node, const Eigen::Vector3d& pad_force_n,
       node.pad_memo.Reset();
     }
     const TactileReading reading = SampleTactileSensor(
-        *node.params, node.constants, node.model, *film_, pad_force_n, attitude_world_body,
-        earth_field_.field_world_t, config_.temperature_c,
-        node.stray_field_t.At(static_cast<double>(now_ns) / 1e9), &node.pad_memo);
+        *node.params, node.constants, node.model, *film_, pad_force_n, earth_field_body_t,
+        config_.temperature_c, node.stray_field_t.At(static_cast<double>(now_ns) / 1e9),
+        &node.pad_memo);
     Send(node.firmware.TakeSample(now_ns, dut_fw::ChipConversion{reading.code, false}), now_ns);
   }
   if (node.firmware.StatusDue(now_ns)) {
@@ -98,6 +99,9 @@ void HallSensorNodes::Tick(std::int64_t now_ns, const Eigen::Quaterniond& attitu
   // Only a node's own Take* calls move its schedule (the emulated nodes are sent no configuration
   // frames, the other thing that could), so nothing can fall due before this.
   if (now_ns < next_event_ns_) return;
+  // The attitude's part of Earth's field, shared by every node on the vehicle.
+  const Eigen::Vector3d earth_field_body_t =
+      EarthFieldInBodyFrame(attitude_world_body, earth_field_.field_world_t);
   std::int64_t next_event_ns = INT64_MAX;
   for (std::size_t i = 0; i < nodes_.size(); ++i) {
     // A node with nothing due (the others' slots, or a rate not dividing the tick) is skipped
@@ -105,7 +109,7 @@ void HallSensorNodes::Tick(std::int64_t now_ns, const Eigen::Quaterniond& attitu
     Node& node = nodes_[i];
     if (node.firmware.SampleDue(now_ns) || node.firmware.StatusDue(now_ns)) {
       const bool tactile = config_.tactile_enabled && i < pad_force_n.size();
-      TickNode(node, tactile ? pad_force_n[i] : Eigen::Vector3d::Zero(), attitude_world_body,
+      TickNode(node, tactile ? pad_force_n[i] : Eigen::Vector3d::Zero(), earth_field_body_t,
                now_ns);
     }
     next_event_ns = std::min(next_event_ns, node.firmware.NextEventNs());

@@ -55,7 +55,7 @@ class HallSensorNodes final : public DeviceEmulator {
   };
 
   void TickNode(Node& node, const Eigen::Vector3d& pad_force_n,
-                const Eigen::Quaterniond& attitude_world_body, std::int64_t now_ns);
+                const Eigen::Vector3d& earth_field_body_t, std::int64_t now_ns);
   void Send(const dut_fw::NodeFrame& frame, std::int64_t now_ns);
 
   const HallSensorConfig& config_;

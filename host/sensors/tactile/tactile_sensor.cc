@@ -29,15 +29,15 @@ TactileSensorConstants MakeTactileSensorConstants(const TactileSensorParams& par
   // Without a film the silicone is never stepped, so its parameters are not checked either.
   return {.silicone = params.film_present ? MakeSiliconeStep(params.silicone, dt_s)
                                           : SiliconeStep{.dt_s = dt_s},
-          .chip = MakeMlx90393Constants(params.chip)};
+          .chip = MakeMlx90393Constants(params.chip),
+          .sensor_from_body = SensorFromBody(params.mounting_body_from_sensor)};
 }
 
 TactileReading SampleTactileSensor(const TactileSensorParams& params,
                                    const TactileSensorConstants& constants,
                                    TactileSensorState& state, const FilmFieldModel& film,
                                    const Eigen::Vector3d& force_pad_n,
-                                   const Eigen::Quaterniond& vehicle_attitude_world_body,
-                                   const Eigen::Vector3d& earth_field_world_t, double temperature_c,
+                                   const Eigen::Vector3d& earth_field_body_t, double temperature_c,
                                    const Eigen::Vector3d& stray_field_sensor_t,
                                    PadFieldMemo* memo) {
   TactileReading reading;
@@ -64,8 +64,7 @@ TactileReading SampleTactileSensor(const TactileSensorParams& params,
     }
   }
   if (params.earth_field_enabled) {
-    reading.earth_field_sensor_t = EarthFieldInSensorFrame(
-        vehicle_attitude_world_body, params.mounting_body_from_sensor, earth_field_world_t);
+    reading.earth_field_sensor_t = constants.sensor_from_body * earth_field_body_t;
   }
   reading.stray_field_sensor_t = stray_field_sensor_t;
   reading.field_sensor_t =
@@ -83,9 +82,10 @@ TactileReading SampleTactileSensor(const TactileSensorParams& params, TactileSen
                                    const Eigen::Quaterniond& vehicle_attitude_world_body,
                                    const Eigen::Vector3d& earth_field_world_t, double temperature_c,
                                    double dt_s, const Eigen::Vector3d& stray_field_sensor_t) {
-  return SampleTactileSensor(params, MakeTactileSensorConstants(params, dt_s), state, film,
-                             force_pad_n, vehicle_attitude_world_body, earth_field_world_t,
-                             temperature_c, stray_field_sensor_t);
+  return SampleTactileSensor(
+      params, MakeTactileSensorConstants(params, dt_s), state, film, force_pad_n,
+      EarthFieldInBodyFrame(vehicle_attitude_world_body, earth_field_world_t), temperature_c,
+      stray_field_sensor_t);
 }
 
 }  // namespace hilrig::host

@@ -61,6 +61,7 @@ TactileSensorState InitialTactileSensorState(const TactileSensorParams& params,
 struct TactileSensorConstants {
   SiliconeStep silicone;
   Mlx90393Constants chip;
+  Eigen::Matrix3d sensor_from_body = Eigen::Matrix3d::Identity();  // SensorFromBody(mounting)
 };
 TactileSensorConstants MakeTactileSensorConstants(const TactileSensorParams& params, double dt_s);
 
@@ -77,8 +78,8 @@ class PadFieldMemo {
   friend TactileReading SampleTactileSensor(const TactileSensorParams&,
                                             const TactileSensorConstants&, TactileSensorState&,
                                             const FilmFieldModel&, const Eigen::Vector3d&,
-                                            const Eigen::Quaterniond&, const Eigen::Vector3d&,
-                                            double, const Eigen::Vector3d&, PadFieldMemo*);
+                                            const Eigen::Vector3d&, double, const Eigen::Vector3d&,
+                                            PadFieldMemo*);
   bool valid_ = false;
   Eigen::Vector3d force_pad_n_ = Eigen::Vector3d::Zero();
   SiliconeState silicone_before_;
@@ -91,13 +92,14 @@ class PadFieldMemo {
 // silicone_model.h) and samples the chip at the new film pose. With film_present false the force
 // and film model are ignored. `stray_field_sensor_t` is any other field at the chip (a tool or
 // magnet nearby), chip frame. `constants` must come from MakeTactileSensorConstants(params, ...).
-// With a `memo` (see PadFieldMemo) the reading is the same, bit for bit.
+// With a `memo` (see PadFieldMemo) the reading is the same, bit for bit. `earth_field_body_t` is
+// EarthFieldInBodyFrame(vehicle attitude, Earth's field), which every sensor on the vehicle
+// shares.
 TactileReading SampleTactileSensor(const TactileSensorParams& params,
                                    const TactileSensorConstants& constants,
                                    TactileSensorState& state, const FilmFieldModel& film,
                                    const Eigen::Vector3d& force_pad_n,
-                                   const Eigen::Quaterniond& vehicle_attitude_world_body,
-                                   const Eigen::Vector3d& earth_field_world_t, double temperature_c,
+                                   const Eigen::Vector3d& earth_field_body_t, double temperature_c,
                                    const Eigen::Vector3d& stray_field_sensor_t,
                                    PadFieldMemo* memo = nullptr);
 

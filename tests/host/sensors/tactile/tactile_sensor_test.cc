@@ -154,17 +154,17 @@ TEST(TactileSensorTest, ThePadMemoGivesTheSameReadingsAndSkipsAPadAtRest) {
   PadFieldMemo memo;
   const CountingFilm plain_film;
   const CountingFilm memo_film;
-  const Eigen::Quaterniond level = Eigen::Quaterniond::Identity();
+  const Eigen::Vector3d earth_body_t =
+      EarthFieldInBodyFrame(Eigen::Quaterniond::Identity(), kEarthWorldT);
   // At rest, pressed (the film moving sample after sample), released, at rest again, and -0.0.
   for (int i = 0; i < 400; ++i) {
     Eigen::Vector3d force = Eigen::Vector3d::Zero();
     if (i >= 100 && i < 200) force = {0.1, 0.0, 2.0};
     if (i >= 350) force.z() = -0.0;
-    const TactileReading a = SampleTactileSensor(params, constants, plain, plain_film, force, level,
-                                                 kEarthWorldT, 30, Eigen::Vector3d::Zero());
-    const TactileReading b =
-        SampleTactileSensor(params, constants, memoized, memo_film, force, level, kEarthWorldT, 30,
-                            Eigen::Vector3d::Zero(), &memo);
+    const TactileReading a = SampleTactileSensor(params, constants, plain, plain_film, force,
+                                                 earth_body_t, 30, Eigen::Vector3d::Zero());
+    const TactileReading b = SampleTactileSensor(params, constants, memoized, memo_film, force,
+                                                 earth_body_t, 30, Eigen::Vector3d::Zero(), &memo);
     ASSERT_EQ(a.code, b.code) << i;
     ASSERT_EQ(a.film_field_t, b.film_field_t) << i;
     ASSERT_EQ(a.film_pose.centre_m, b.film_pose.centre_m) << i;
