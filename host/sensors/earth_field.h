@@ -14,8 +14,8 @@ struct EarthField {
 
 // R_SB R_WB^T B_world = (R_WB R_BS)^T B_world, in two steps: the attitude's part, which every
 // sensor on the vehicle shares (so a tick rotates the field once for all its nodes), then the
-// mounting's, a fixed matrix per sensor. The one copy of this rotation, used by every Hall sensor
-// node, so that the DUT's geomagnetic compensation is tested against a single convention.
+// mounting's, a fixed matrix per sensor. The one convention of this rotation: the Hall sensor
+// nodes apply its two parts below, so the DUT's geomagnetic compensation is tested against it.
 Eigen::Vector3d EarthFieldInSensorFrame(const Eigen::Quaterniond& orientation_world_body,
                                         const Eigen::Quaterniond& mounting_body_sensor,
                                         const Eigen::Vector3d& field_world_t);
