@@ -95,7 +95,8 @@ void AddEnvelopeLines(const proto::PassRateChange& row, std::vector<std::string>
   lines.push_back(line + "pass " +
                   Arrow(RateText(row.base_met(), row.base_cases()),
                         RateText(row.candidate_met(), row.candidate_cases())) +
-                  "  p " + rig::NumberText(row.p_value()));
+                  "  p " + rig::NumberText(row.p_value()) +
+                  (row.expected_fail() ? "  (expected to fail: margins not graded)" : ""));
   if (row.quantile_size() == 0) return;
   std::string margins = "      margin";
   for (const auto& shift : row.quantile()) {

@@ -77,7 +77,9 @@ proto::PassRateChange EnvelopeRow(const proto::SweepEnvelopeStats& base,
   row.set_candidate_rate(candidate->pass_rate());
   row.set_p_value(FisherLowerTail(base.met(), base.cases(), candidate->met(), candidate->cases()));
   row.set_change(RateChange(row, tolerances));
-  AddQuantileShifts(base, *candidate, tolerances.margin_fraction(), row);
+  // An ablation has no "more room" to grade, as in a run's comparison: only its pass rate counts.
+  row.set_expected_fail(base.expected_fail() || candidate->expected_fail());
+  if (!row.expected_fail()) AddQuantileShifts(base, *candidate, tolerances.margin_fraction(), row);
   return row;
 }
 

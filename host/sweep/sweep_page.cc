@@ -123,8 +123,10 @@ std::string EnvelopeSection(const LoadedSweep& sweep, const proto::SweepSummary&
                       : stats.met() == stats.cases() ? Tone::kPass
                                                      : Tone::kFail;
     const proto::SweepMarginQuantiles& margin = stats.margin();
+    const std::string envelope =
+        stats.expected_fail() ? stats.envelope() + " (expect FAIL)" : stats.envelope();
     rows.push_back({TextCell(stats.scenario()),
-                    TextCell(stats.envelope()),
+                    TextCell(envelope),
                     TextCell(unit),
                     {HtmlText(MetText(stats)), Tone::kPlain, true, 1},
                     {HtmlText(Percent(stats.pass_rate())), tone, true, 1},

@@ -137,7 +137,8 @@ void CheckAxes(const proto::Sweep& sweep, const std::vector<SweepScenario>& scen
   }
 }
 
-// The names a criterion may refer to: every scenario's name, and every envelope of each.
+// The names a criterion may refer to: every scenario's name, and every envelope of each. A margin
+// criterion must name an envelope expected to pass: an ablation's margin is negative by design.
 void CheckCriteria(const proto::Sweep& sweep, const std::vector<SweepScenario>& scenarios,
                    const ProblemList& root) {
   if (sweep.criterion_size() == 0) root.AddHere("at least one criterion is required");
@@ -145,20 +146,28 @@ void CheckCriteria(const proto::Sweep& sweep, const std::vector<SweepScenario>& 
     const proto::Criterion& criterion = sweep.criterion(i);
     const ProblemList here = root.Element("criterion", i);
     bool scenario_found = criterion.scenario().empty();
-    bool envelope_found = criterion.envelope().empty();
+    bool any_named = false;
+    bool margin_graded = false;  // a named envelope is expected to pass, so it has room to grade
     for (const SweepScenario& scenario : scenarios) {
       if (!criterion.scenario().empty() && scenario.spec.name() != criterion.scenario()) continue;
       scenario_found = true;
       for (const proto::Envelope& envelope : scenario.spec.envelopes()) {
-        envelope_found = envelope_found || envelope.name() == criterion.envelope();
+        if (!criterion.envelope().empty() && envelope.name() != criterion.envelope()) continue;
+        any_named = true;
+        margin_graded = margin_graded || envelope.expect() != proto::FAIL;
       }
     }
+    const bool envelope_found = criterion.envelope().empty() || any_named;
     if (!scenario_found) {
       here.Add("scenario", "no scenario of the sweep is named \"" + criterion.scenario() + "\"");
     } else if (!envelope_found) {
       here.Add("envelope",
                "no envelope \"" + criterion.envelope() + "\" in " +
                    (criterion.scenario().empty() ? "the sweep's scenarios" : criterion.scenario()));
+    } else if (criterion.has_quantile() && any_named && !margin_graded) {
+      here.Add("quantile",
+               "every envelope the criterion names is expected to fail (expect: FAIL), so its "
+               "margin is negative by design; grade an ablation with min_pass_rate");
     }
     if (!criterion.has_min_pass_rate() && !criterion.has_quantile()) {
       here.AddHere("set min_pass_rate, quantile or both");

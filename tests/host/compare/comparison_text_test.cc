@@ -54,6 +54,24 @@ TEST(ComparisonTextTest, AnUncomparedTraceSaysWhy) {
               Contains("traces: not compared: no readable x/trace.csv"));
 }
 
+TEST(ComparisonTextTest, AnAblationsEnvelopeSaysItsMarginsAreNotGraded) {
+  proto::SweepComparison comparison;
+  proto::PassRateChange& row = *comparison.add_envelope();
+  row.set_scenario("bottle_ablation");
+  row.set_envelope("clear_of_ground");
+  row.set_base_met(4);
+  row.set_base_cases(4);
+  row.set_candidate_met(4);
+  row.set_candidate_cases(4);
+  row.set_p_value(1);
+  row.set_change(proto::SAME);
+  row.set_expected_fail(true);
+  const std::vector<std::string> lines = SweepComparisonLines(comparison);
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_THAT(lines[1], HasSubstr("bottle_ablation/clear_of_ground"));
+  EXPECT_THAT(lines[1], HasSubstr("(expected to fail: margins not graded)"));
+}
+
 TEST(ComparisonTextTest, TheVerdictStatesItsTolerances) {
   proto::CompareTolerances tolerances;
   tolerances.set_margin_fraction(0.1);

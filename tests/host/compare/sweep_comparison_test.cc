@@ -113,6 +113,32 @@ TEST(CompareSweepsTest, OnlyQuantilesWithEnoughCasesUnderThemGate) {
   EXPECT_THAT(comparison.reason(0), HasSubstr("the margin's q10 shrank beyond the tolerance"));
 }
 
+// An ablation's envelope has no room to lose, as in a run's comparison: a margin further outside
+// the bounds is not worse, and only the pass rate (failing as expected) is graded.
+TEST(CompareSweepsTest, AnEnvelopeExpectedToFailIsGradedByItsPassRateAlone) {
+  proto::SweepSummary base = Summary(100, 100);
+  base.mutable_envelope(0)->set_expected_fail(true);
+  base.mutable_envelope(0)->mutable_margin()->set_q10(-0.2);
+  proto::SweepSummary candidate = base;
+  candidate.mutable_envelope(0)->mutable_margin()->set_q10(-0.4);
+  const auto further_out = CompareSweeps(base, candidate, Tolerances());
+  EXPECT_FALSE(further_out.worse());
+  EXPECT_TRUE(further_out.envelope(0).expected_fail());
+  EXPECT_EQ(further_out.envelope(0).quantile_size(), 0);
+  // The same margins on an envelope expected to pass: the q10 lost all its room.
+  base.mutable_envelope(0)->set_expected_fail(false);
+  candidate.mutable_envelope(0)->set_expected_fail(false);
+  EXPECT_TRUE(CompareSweeps(base, candidate, Tolerances()).worse());
+  // An ablation that stops failing loses its pass rate.
+  base.mutable_envelope(0)->set_expected_fail(true);
+  candidate = Summary(0, 100);
+  candidate.mutable_envelope(0)->set_expected_fail(true);
+  candidate.mutable_check(0)->set_passed(true);
+  const auto stopped_failing = CompareSweeps(base, candidate, Tolerances());
+  EXPECT_EQ(stopped_failing.envelope(0).change(), proto::WORSE);
+  EXPECT_TRUE(stopped_failing.worse());
+}
+
 TEST(CompareSweepsTest, ALostCriterionOrEnvelopeOrAnUnfinishedSweepIsWorse) {
   proto::SweepSummary base = Summary(100, 100);
   AddStats(base, "altitude_error", 100, 100);

@@ -101,6 +101,16 @@ TEST(SweepPageTest, ShowsTheVerdictTheCriteriaThePassRatesAndAHistogramWithTheLi
   EXPECT_THAT(html, Not(HasSubstr("<script")));
 }
 
+TEST(SweepPageTest, AnAblationsEnvelopeSaysItIsExpectedToFail) {
+  LoadedSweep sweep = GraspSweep();
+  sweep.scenarios[0].spec.mutable_envelopes(0)->set_expect(proto::FAIL);
+  const std::string html =
+      Page(sweep, {Row(0, proto::SweepCaseResult::PASSED, 0.7, true)}, /*sweep_cases=*/1);
+  EXPECT_THAT(html, HasSubstr("<td>grasp</td><td>grasp_force (expect FAIL)</td><td>N</td>"));
+  EXPECT_THAT(Page(GraspSweep(), {Row(0, proto::SweepCaseResult::PASSED, 0.6, true)}, 1),
+              Not(HasSubstr("expect FAIL")));
+}
+
 TEST(SweepPageTest, AFailingCaseHasItsCommandEscapedAndALinkToItsRunFolder) {
   const LoadedSweep sweep = GraspSweep();
   const std::vector<proto::SweepCaseResult> results = {

@@ -84,6 +84,26 @@ criterion { envelope: "not_dropped" }
   }
 }
 
+// An ablation's envelopes are expected to fail, so their margins are negative by design: a margin
+// criterion must name at least one envelope expected to pass, and one that does is accepted.
+TEST(SweepSpecTest, AMarginCriterionNeedsAnEnvelopeExpectedToPass) {
+  const std::filesystem::path dir = FolderWithBottle("sweep_spec_ablation");
+  std::ofstream(dir / "ablation.textproto")
+      << kBottleSceneText
+      << "envelopes { name: \"holds\" signal: ALTITUDE_ERROR_M upper: 0.05 expect: FAIL }\n";
+  const auto load = [&](const std::string& criterion) {
+    return ParseSweep("name: \"ablation\"\nscenario: \"ablation.textproto\"\n" + criterion,
+                      "a.textproto", dir.string());
+  };
+  const auto named = load("criterion { envelope: \"holds\" quantile: 0.5 }\n");
+  ASSERT_FALSE(named.ok());
+  EXPECT_THAT(named.error().message,
+              HasSubstr("criterion[0].quantile: every envelope the criterion names is expected to "
+                        "fail (expect: FAIL)"));
+  EXPECT_TRUE(load("criterion { envelope: \"holds\" min_pass_rate: 0.9 }\n").ok());
+  EXPECT_TRUE(load("criterion { quantile: 0.5 }\n").ok());  // not_dropped is expected to pass
+}
+
 TEST(SweepSpecTest, RefusesAGridThatExpandsPastTheCaseLimit) {
   const std::filesystem::path dir = FolderWithBottle("sweep_spec_limit");
   auto sweep = ParseSweep(R"(name: "huge"

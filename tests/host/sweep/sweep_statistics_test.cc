@@ -433,6 +433,32 @@ TEST(GradeCriteriaTest, ACriterionMatchingNoEnvelopeFails) {
   }
 }
 
+// Scenario "a"'s "clearance" as an ablation's envelope: expected to fail, met when it fails, and
+// its margin negative whenever it is met.
+TEST(GradeCriteriaTest, AMarginCriterionPassesOverEnvelopesExpectedToFail) {
+  LoadedSweep sweep = TwoScenarios();
+  sweep.scenarios[0].spec.mutable_envelopes(1)->set_expect(proto::FAIL);
+  proto::Criterion every;
+  every.set_quantile(0.5);
+  every.set_min_pass_rate(0.5);
+  *sweep.spec.add_criterion() = every;
+  const SweepTally tally = TallySweep(sweep, CasesOfA(10, 10, [](int) { return -0.25; }));
+  EXPECT_TRUE(Tally(tally, "a", "clearance").stats.expected_fail());
+  EXPECT_FALSE(Tally(tally, "a", "not_dropped").stats.expected_fail());
+  std::vector<std::string> checked;
+  for (const proto::SweepCriterionCheck& check : GradeCriteria(sweep.spec, tally.envelopes)) {
+    checked.push_back(check.scenario() + "/" + check.envelope() + ":" +
+                      proto::SweepCriterionCheck::Kind_Name(check.kind()) + ":" +
+                      (check.passed() ? "passed" : "failed"));
+  }
+  // "clearance" is graded by its pass rate alone; "not_dropped" is expected to pass, and its
+  // margin of -0.25 fails it.
+  EXPECT_THAT(checked,
+              ElementsAre("a/not_dropped:PASS_RATE:passed", "a/not_dropped:MARGIN_QUANTILE:failed",
+                          "a/clearance:PASS_RATE:passed", "b/not_dropped:PASS_RATE:failed",
+                          "b/not_dropped:MARGIN_QUANTILE:failed"));
+}
+
 TEST(SummariseSweepTest, PassesOnlyWhenEveryCheckPasses) {
   LoadedSweep sweep = TwoScenarios();
   proto::Criterion of_a = PassRate("", 0.8);
