@@ -127,11 +127,25 @@ std::string HtmlBadge(const std::string& text, Tone tone) {
   return "<span class=\"badge " + std::string(ToneClass(tone)) + "\">" + HtmlText(text) + "</span>";
 }
 
+std::string HtmlLink(const std::string& relative_path, const std::string& text) {
+  // RFC 3986's unreserved characters and the path separator stay; every other byte is %XX.
+  constexpr const char* kHex = "0123456789ABCDEF";
+  std::string href;
+  for (const char c : relative_path) {
+    const auto byte = static_cast<unsigned char>(c);
+    const bool alnum = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9');
+    if (alnum || c == '-' || c == '.' || c == '_' || c == '~' || c == '/') {
+      href += c;
+    } else {
+      href += {'%', kHex[byte >> 4], kHex[byte & 0xF]};
+    }
+  }
+  return "<a href=\"" + HtmlText(href) + "\">" + HtmlText(text) + "</a>";
+}
+
 std::string HtmlFileLinks(const std::vector<std::string>& files) {
   std::string html = "<h2>Files</h2>\n<p>";
-  for (const std::string& file : files) {
-    html += "<a href=\"" + HtmlText(file) + "\">" + HtmlText(file) + "</a> ";
-  }
+  for (const std::string& file : files) html += HtmlLink(file, file) + " ";
   return html + "</p>\n";
 }
 

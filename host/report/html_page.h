@@ -48,6 +48,10 @@ std::string HtmlTable(const std::vector<std::string>& headers,
 // "<span class=\"badge pass\">PASS</span>": a verdict word in its colour; `text` is escaped.
 std::string HtmlBadge(const std::string& text, Tone tone);
 
+// `<a href="relative_path">text</a>`: the path percent-encoded (a name with a space or '#' still
+// links to its file) and escaped, the text escaped.
+std::string HtmlLink(const std::string& relative_path, const std::string& text);
+
 // A section "Files" with a relative link to each of `files` (the page's neighbours).
 std::string HtmlFileLinks(const std::vector<std::string>& files);
 

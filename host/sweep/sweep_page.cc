@@ -212,8 +212,7 @@ HtmlCell CaseCell(const proto::SweepCaseResult& row) {
   if (!CaseRan(row.outcome()) && row.outcome() != proto::SweepCaseResult::STOPPED) {
     return {index, Tone::kPlain, true, 1};
   }
-  const std::string page = CaseFolder("runs", row.index()) + "/index.html";
-  return {"<a href=\"" + HtmlText(page) + "\">" + index + "</a>", Tone::kPlain, true, 1};
+  return {HtmlLink(CaseFolder("runs", row.index()) + "/index.html", index), Tone::kPlain, true, 1};
 }
 
 std::string FailingSection(const LoadedSweep& sweep,

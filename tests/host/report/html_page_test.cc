@@ -54,7 +54,18 @@ TEST(HtmlPageTest, ACellCanSpanColumnsAndTheRowIsPaddedAfterIt) {
 TEST(HtmlPageTest, FileLinksAreRelativeAndEscaped) {
   EXPECT_EQ(HtmlFileLinks({"report.json", "a&b.csv"}),
             "<h2>Files</h2>\n<p><a href=\"report.json\">report.json</a> "
-            "<a href=\"a&amp;b.csv\">a&amp;b.csv</a> </p>\n");
+            "<a href=\"a%26b.csv\">a&amp;b.csv</a> </p>\n");
+}
+
+// A space, '#' or '?' in a file name would cut the link short or make it a query: every byte
+// outside the unreserved set and '/' is percent-encoded, the shown text only escaped.
+TEST(HtmlPageTest, ALinkPercentEncodesItsPath) {
+  EXPECT_EQ(HtmlLink("grasp #2/index.html", "grasp #2"),
+            "<a href=\"grasp%20%232/index.html\">grasp #2</a>");
+  EXPECT_EQ(HtmlLink("a?b<c>/x_y-z~1.html", "<a>"),
+            "<a href=\"a%3Fb%3Cc%3E/x_y-z~1.html\">&lt;a&gt;</a>");
+  EXPECT_EQ(HtmlLink("caf\xC3\xA9.html", "caf\xC3\xA9"),
+            "<a href=\"caf%C3%A9.html\">caf\xC3\xA9</a>");
 }
 
 TEST(HtmlPageTest, ABadgeCarriesItsToneAndEscapedText) {
