@@ -25,6 +25,7 @@
 #include "host/pipeline/run_pipeline.h"
 #include "host/report/report_files.h"
 #include "host/report/stop_reason.h"
+#include "host/report/suite_page.h"
 #include "host/scenario/scenario_loader.h"
 #include "rig/clock.h"
 #include "rig/folder_lock.h"
@@ -294,7 +295,8 @@ rig::Result<RunOptions> ParseRunOptions(std::vector<std::string> args) {
 struct ScenarioOutcome {
   std::string name;
   int exit_code = kExitBadInput;
-  bool ran = false;  // false: the run never started, its report is empty
+  bool ran = false;   // false: the run never started, its report is empty
+  std::string error;  // why it never started
   proto::Report report;
 };
 
@@ -321,6 +323,7 @@ ScenarioOutcome RunOneFile(const std::string& path, const fs::path& out_dir,
   if (const RunError* error = std::get_if<RunError>(&result)) {
     // A spec that cannot be read says so itself; the rest is the run's.
     io.err << (error->failure == RunFailure::kBadSpec ? "" : "hilrig: ") << error->message << "\n";
+    outcome.error = error->message;
     // Stopped in its set-up, the run fails as an interrupted run does; its input is not at fault.
     if (error->failure == RunFailure::kInterrupted) {
       outcome.exit_code = kExitCheckFailed;
@@ -360,17 +363,39 @@ void PrintRun(const ScenarioOutcome& outcome, const Streams& io) {
   io.out << FormatTimingLine(outcome.report) << std::endl;
 }
 
-std::string SummaryRow(const ScenarioOutcome& outcome) {
-  const char* verdict = outcome.exit_code == kExitPass       ? "PASS"
-                        : outcome.exit_code == kExitBadInput ? "INVALID"
-                                                             : "FAIL";
-  int met = 0;
-  for (const auto& result : outcome.report.envelopes()) met += result.meets_expectation() ? 1 : 0;
-  char row[200];
-  std::snprintf(row, sizeof(row), "%-28s %-8s %3d/%-3d %12.0fx  %s", outcome.name.c_str(), verdict,
-                met, outcome.report.envelopes_size(), outcome.report.real_time_factor(),
-                outcome.report.stop_reason().c_str());
+SuiteRow SuiteRowOf(const ScenarioOutcome& outcome, const fs::path& out_dir) {
+  SuiteRow row;
+  row.name = outcome.name;
+  row.verdict = outcome.exit_code == kExitPass       ? SuiteVerdict::kPass
+                : outcome.exit_code == kExitBadInput ? SuiteVerdict::kInvalid
+                                                     : SuiteVerdict::kFail;
+  for (const auto& result : outcome.report.envelopes()) {
+    row.envelopes_met += result.meets_expectation() ? 1 : 0;
+  }
+  row.envelopes = outcome.report.envelopes_size();
+  row.real_time_factor = outcome.report.real_time_factor();
+  row.stop_reason = outcome.report.stop_reason();
+  row.error = outcome.error;
+  std::error_code error;
+  row.has_page = fs::is_regular_file(out_dir / "index.html", error);
   return row;
+}
+
+std::string SummaryRow(const SuiteRow& row) {
+  char text[200];
+  std::snprintf(text, sizeof(text), "%-28s %-8s %3d/%-3d %12.0fx  %s", row.name.c_str(),
+                SuiteVerdictWord(row.verdict), row.envelopes_met, row.envelopes,
+                row.real_time_factor, row.stop_reason.c_str());
+  return text;
+}
+
+// DIR/index.html, written over after each scenario; a page that cannot be written is a warning,
+// never the end of the run.
+void WriteSuitePage(const std::string& folder, const fs::path& out_root,
+                    const std::vector<SuiteRow>& rows, std::size_t files, const Streams& io) {
+  const auto written =
+      WriteTextFile((out_root / "index.html").string(), SuitePageHtml(folder, rows, files));
+  if (!written) io.err << "hilrig run: warning: " << written.error().message << "\n";
 }
 
 int RunFolder(const RunOptions& options, const Streams& io) {
@@ -393,23 +418,29 @@ int RunFolder(const RunOptions& options, const Streams& io) {
   }
   const std::unique_ptr<ReferenceSetup> reference =
       options.reference ? MakeReferenceSetup(options.reference_cache_dir, io.err) : nullptr;
-  std::vector<ScenarioOutcome> outcomes;
+  std::vector<SuiteRow> rows;
+  int exit_code = kExitPass;
   for (const std::string& file : files) {
     if (io.stop_requested != nullptr && io.stop_requested->load()) break;
     io.out << "== " << file << "\n";
     const fs::path out_dir = out_root / fs::path(file).stem();
-    outcomes.push_back(
-        RunOneFile(file, out_dir, options, reference ? &reference->source : nullptr, io));
-    if (outcomes.back().ran) PrintRun(outcomes.back(), io);
+    const ScenarioOutcome outcome =
+        RunOneFile(file, out_dir, options, reference ? &reference->source : nullptr, io);
+    if (outcome.ran) PrintRun(outcome, io);
+    exit_code = std::max(exit_code, outcome.exit_code);
+    rows.push_back(SuiteRowOf(outcome, out_dir));
+    WriteSuitePage(options.target, out_root, rows, files.size(), io);
   }
-  int exit_code = kExitPass;
+  if (rows.empty()) WriteSuitePage(options.target, out_root, rows, files.size(), io);
   io.out << "\n"
          << "scenario                     verdict  checks   real-time  stop\n";
-  for (const ScenarioOutcome& outcome : outcomes) {
-    io.out << SummaryRow(outcome) << "\n";
-    exit_code = std::max(exit_code, outcome.exit_code);
+  for (const SuiteRow& row : rows) io.out << SummaryRow(row) << "\n";
+  if (rows.size() < files.size()) {
+    io.out << "INCOMPLETE (stopped): " << rows.size() << " of " << files.size()
+           << " scenario files ran\n";
+    exit_code = std::max(exit_code, kExitCheckFailed);
   }
-  if (outcomes.size() < files.size()) exit_code = std::max(exit_code, kExitCheckFailed);
+  io.out << "summary page: " << (out_root / "index.html").string() << "\n";
   return exit_code;
 }
 

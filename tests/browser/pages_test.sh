@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# The result pages in a real browser: makes a run folder (balloon_grasp, cut to 8 s) and a small
+# The result pages in a real browser: makes a run folder (balloon_grasp, cut to 8 s), a small
 # sweep folder (hover over 2 masses and 3 seeds, one envelope that always passes and one that
-# always fails), then opens each index.html in headless Chromium twice: --dump-dom, whose DOM must
+# always fails) and a folder run of two hover specs, then opens each index.html in headless Chromium twice: --dump-dom, whose DOM must
 # hold the tables, the inlined <svg> plots and the verdicts, load nothing and link only to files
 # that exist (tests/browser/page_check.py); and --screenshot, whose PNG must decode and not be
 # blank. Chromium's log must show no console message (the pages run no script, so any message is
@@ -102,6 +102,18 @@ check_page "$work/sweep/index.html" 2 "<h2>Criteria</h2>" "<h2>Envelopes</h2>" \
 # A failing case's folder has its own page, which the sweep's page links to.
 [[ -f $work/sweep/runs/case-0000000/index.html ]] || fail "no page in the failing case's folder"
 
+# A folder run's page: the same hover spec passing and, with a bound it cannot keep, failing,
+# in a file whose name needs percent-encoding in the link to its run folder.
+mkdir -p "$work/folder"
+cp "$work/hover.textproto" "$work/folder/hover.textproto"
+sed 's/upper: 0.05/upper: 1e-9/' "$work/hover.textproto" >"$work/folder/hover #2.textproto"
+folder_status=0
+"$hilrig" run "$work/folder" --out "$work/suite" >"$work/suite.out" 2>&1 || folder_status=$?
+((folder_status == 1)) ||
+  { echo "FAIL: the folder run exited $folder_status, not 1"; cat "$work/suite.out"; exit 1; }
+check_page "$work/suite/index.html" 0 "<h2>Scenarios</h2>" 'href="hover/index.html"' \
+  'href="hover%20%232/index.html"' '<span class="badge fail">FAIL</span>'
+
 # The log check can fail: a page with the same policy that tries to load an image.
 mkdir -p "$work/canary"
 cat >"$work/canary/index.html" <<'HTML'
@@ -114,4 +126,4 @@ browse "$work/canary/index.html" /dev/null "$work/canary.log" --dump-dom || true
   fail "a page that loads an image passes the log check: Chromium's log format changed?"
 
 ((failures == 0)) || exit 1
-echo "PASS: the run and sweep pages render in Chromium with their tables and plots, load nothing"
+echo "PASS: the run, sweep and folder-run pages render in Chromium with their tables and plots, load nothing"

@@ -183,6 +183,28 @@ envelopes { name: "grounded" signal: ALTITUDE_M upper: 0.01 }
   EXPECT_THAT(result.out, HasSubstr("a_good"));
   EXPECT_THAT(result.out, HasSubstr("INVALID"));
   EXPECT_TRUE(fs::exists(dir_ / "out" / "a_good" / "report.json"));
+  EXPECT_THAT(result.out, HasSubstr("summary page: " + (dir_ / "out" / "index.html").string()));
+  // The folder's page: each file's row, the one that ran linked to its own page.
+  const std::string page = ReadFile(dir_ / "out" / "index.html");
+  EXPECT_THAT(page, HasSubstr("<span class=\"badge fail\">FAIL</span>"));
+  EXPECT_THAT(page, HasSubstr("2 of 2 scenario files run, 1 passed"));
+  EXPECT_THAT(page, HasSubstr("<a href=\"a_good/index.html\">a_good</a>"));
+  EXPECT_THAT(page, HasSubstr("<td>b_bad</td><td class=\"fail\">INVALID</td>"
+                              "<td colspan=\"3\">did not run: "));
+}
+
+TEST_F(CliTest, AStoppedFolderRunSaysHowManyFilesRan) {
+  WriteSpec("a.textproto", "name: \"a\"\nsimulation { duration_s: 1 }\n");
+  WriteSpec("b.textproto", "name: \"b\"\nsimulation { duration_s: 1 }\n");
+  std::atomic<bool> stop{true};
+  std::ostringstream out, err;
+  const int exit_code =
+      RunCli({"run", dir_.string(), "--out", (dir_ / "out").string()}, out, err, &stop);
+  EXPECT_EQ(exit_code, kExitCheckFailed);
+  EXPECT_THAT(out.str(), HasSubstr("INCOMPLETE (stopped): 0 of 2 scenario files ran"));
+  const std::string page = ReadFile(dir_ / "out" / "index.html");
+  EXPECT_THAT(page, HasSubstr("<span class=\"badge neutral\">INCOMPLETE</span>"));
+  EXPECT_THAT(page, HasSubstr("0 of 2 scenario files run"));
 }
 
 TEST_F(CliTest, StopRequestEndsTheRunWithACompleteReport) {
