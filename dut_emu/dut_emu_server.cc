@@ -387,10 +387,11 @@ rig::Result<host::LinkToken> LoadLinkToken(const DutEmuOptions& options,
 namespace {
 
 // The link the options name: the inherited shared-memory mapping, or a TCP connection.
-rig::Result<std::unique_ptr<host::LinkConnection>> OpenLink(const DutEmuOptions& options) {
+rig::Result<std::unique_ptr<host::LinkConnection>> OpenLink(
+    const DutEmuOptions& options, const std::atomic<bool>* stop_requested) {
   if (options.link_shm_fd < 0) {
     return host::LinkConnection::Connect(options.link_host, options.link_port,
-                                         options.connect_timeout_ms);
+                                         options.connect_timeout_ms, stop_requested);
   }
   auto stream = host::ShmByteStream::Attach(options.link_shm_fd, host::ShmSide::kDut);
   if (!stream) return stream.error();
@@ -415,10 +416,11 @@ int RunDutEmu(const DutEmuOptions& options, const std::atomic<bool>* stop_reques
     }
     bus = std::move(opened).value();
   }
-  auto link = OpenLink(options);
+  auto link = OpenLink(options, stop_requested);
   if (!link) {
     log << "dut_emu: " << link.error().message << "\n";
-    return kExitFailed;
+    // A signal that asked us to stop is a clean end, as it is once the link is up.
+    return link.error().code == rig::ErrorCode::kInterrupted ? kExitOk : kExitFailed;
   }
   Session session(options, stop_requested, log, std::move(link).value(), link_bus);
   return session.Run(std::move(bus));

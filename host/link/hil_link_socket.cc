@@ -48,11 +48,12 @@ LinkConnection::LinkConnection(std::unique_ptr<ByteStream> stream, std::string p
     : stream_(std::move(stream)), peer_(std::move(peer)) {}
 LinkConnection::~LinkConnection() = default;
 
-rig::Result<std::unique_ptr<LinkConnection>> LinkConnection::Connect(const std::string& host,
-                                                                     std::uint16_t port,
-                                                                     int timeout_ms) {
+rig::Result<std::unique_ptr<LinkConnection>> LinkConnection::Connect(
+    const std::string& host, std::uint16_t port, int timeout_ms,
+    const std::atomic<bool>* stop_requested) {
   auto socket = std::make_shared<TcpSocket>();
-  if (auto connected = ConnectWithin(socket->socket, host, port, timeout_ms, "link connect");
+  if (auto connected =
+          ConnectWithin(socket->socket, host, port, timeout_ms, "link connect", stop_requested);
       !connected) {
     return connected.error();
   }

@@ -10,6 +10,7 @@
 // Threading: one connection is used from one thread at a time.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -42,9 +43,11 @@ rig::Error LinkReceiveError(const LinkReceived& received, std::string message);
 
 class LinkConnection {
  public:
-  // Connects to host:port, waiting at most timeout_ms for the peer to accept.
-  static rig::Result<std::unique_ptr<LinkConnection>> Connect(const std::string& host,
-                                                              std::uint16_t port, int timeout_ms);
+  // Connects to host:port, waiting at most timeout_ms for the peer to accept, and less when
+  // `stop_requested` (may be null) is set meanwhile (kInterrupted).
+  static rig::Result<std::unique_ptr<LinkConnection>> Connect(
+      const std::string& host, std::uint16_t port, int timeout_ms,
+      const std::atomic<bool>* stop_requested = nullptr);
   // The link over any transport; `peer` names the other end for logs ("127.0.0.1:4711").
   LinkConnection(std::unique_ptr<ByteStream> stream, std::string peer);
   ~LinkConnection();

@@ -16,6 +16,7 @@
 #include "host/link/dut_config_codec.h"
 #include "host/link/hil_link_socket.h"
 #include "rig/emulated_bus.h"
+#include "tests/support/full_listener.h"
 
 namespace hilrig::dut_emu {
 namespace {
@@ -344,6 +345,22 @@ TEST_F(DutEmuServerTest, RunnerThatRefusesTheDutIsAClearError) {
                             "comes from --token-file or HILRIG_LINK_TOKEN"),
             std::string::npos)
       << log_.str();
+}
+
+// Ctrl-C while the runner does not answer the connect ends dut_emu as a stop does once the link
+// is up, without waiting out the connect timeout.
+TEST(DutEmuConnectTest, AStopRequestWhileTheRunnerDoesNotAnswerEndsCleanly) {
+  host::FullListener full;
+  DutEmuOptions options;
+  options.link_port = full.port();
+  options.connect_timeout_ms = 60'000;
+  std::atomic<bool> stop{true};
+  rig::EmulatedBus bus;
+  std::ostringstream log;
+  EXPECT_EQ(RunDutEmu(options, &stop, log, bus.Connect("dut")), kExitOk);
+  EXPECT_NE(log.str().find("link connect to 127.0.0.1:" + std::to_string(full.port()) + " stopped"),
+            std::string::npos)
+      << log.str();
 }
 
 TEST(DutEmuArgsTest, ParsesTheWrongTickTestHook) {

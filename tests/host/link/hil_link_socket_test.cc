@@ -3,6 +3,12 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <chrono>
+#include <thread>
+
+#include "tests/support/full_listener.h"
+
 namespace hilrig::host {
 namespace {
 
@@ -135,6 +141,28 @@ TEST(HilLinkSocketTest, ConnectToAClosedPortFails) {
     port = listener->port();
   }
   EXPECT_FALSE(LinkConnection::Connect("127.0.0.1", port, kWaitMs).ok());
+}
+
+// A connect to a peer that does not answer ends at its timeout, not after the kernel's two minutes
+// of SYN retries, and sooner on a stop request: dut_emu's Ctrl-C does not wait out the timeout.
+TEST(HilLinkSocketTest, APendingConnectEndsAtItsTimeoutOrAStopRequest) {
+  FullListener full;
+  const auto pending = LinkConnection::Connect("127.0.0.1", full.port(), 100);
+  ASSERT_FALSE(pending.ok()) << "the accept queue did not fill: the connect was answered";
+  EXPECT_EQ(pending.error().code, rig::ErrorCode::kTimeout) << pending.error().message;
+  std::atomic<bool> stop{false};
+  std::thread stopper([&stop] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    stop = true;
+  });
+  const auto started = std::chrono::steady_clock::now();
+  const auto stopped = LinkConnection::Connect("127.0.0.1", full.port(), 60'000, &stop);
+  const auto waited = std::chrono::steady_clock::now() - started;
+  stopper.join();
+  ASSERT_FALSE(stopped.ok());
+  EXPECT_EQ(stopped.error().code, rig::ErrorCode::kInterrupted) << stopped.error().message;
+  EXPECT_NE(stopped.error().message.find("stopped"), std::string::npos);
+  EXPECT_LT(waited, std::chrono::seconds(10));  // a minute without the stop
 }
 
 TEST(HilLinkSocketTest, BadAddressIsRefused) {
