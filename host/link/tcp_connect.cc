@@ -46,12 +46,12 @@ rig::Result<void> ConnectWithin(tcp::socket& socket, const std::string& host, st
   const tcp::endpoint peer(address, port);
   const std::string where = what + " to " + host + ":" + std::to_string(port);
   if (socket.open(peer.protocol(), error)) return rig::MakeError(where + ": " + error.message());
-  // connect(2) on the descriptor itself: Asio's synchronous connect waits for the handshake
-  // with no timeout whatever the socket's mode, so a peer that drops the SYN held it for the
-  // kernel's two minutes of retries.
   socket.non_blocking(true, error);  // the link's reads and writes poll, and never block
   if (error) return rig::MakeError(where + ": " + error.message());
   const int fd = socket.native_handle();
+  // connect(2) on the descriptor itself: Asio's synchronous connect waits for the handshake
+  // with no timeout whatever the socket's mode, so a peer that drops the SYN held it for the
+  // kernel's two minutes of retries.
   const bool pending = ::connect(fd, peer.data(), static_cast<socklen_t>(peer.size())) != 0;
   if (pending && errno != EINPROGRESS) return rig::MakeError(where + ": " + std::strerror(errno));
   if (pending) {
