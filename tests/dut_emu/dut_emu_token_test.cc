@@ -9,6 +9,7 @@
 
 #include "dut_emu/dut_emu_server.h"
 #include "tests/support/test_files.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::dut_emu {
 namespace {
@@ -47,9 +48,8 @@ TEST(LoadLinkTokenTest, MalformedTokenNamesItsSourceNotItsValue) {
 
 TEST(DutEmuMainTest, WithoutATokenItExitsWithAUsageError) {
   const auto err = host::FreshTestDir("dut_emu_token_") / "err";
-  const std::string command = "env -u HILRIG_LINK_TOKEN " HILRIG_BIN_DIR
-                              "/dut_emu --link 127.0.0.1:9 --can udp:30000 2> " +
-                              err.string();
+  const std::string command = "env -u HILRIG_LINK_TOKEN " + ::hilrig::test_support::BinDir() +
+                              "/dut_emu --link 127.0.0.1:9 --can udp:30000 2> " + err.string();
   const int status = std::system(command.c_str());
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), kExitUsage);

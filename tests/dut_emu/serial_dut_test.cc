@@ -16,6 +16,7 @@
 #include "tests/support/serial_line_peer.h"
 #include "tests/support/serial_step_script.h"
 #include "tests/support/test_files.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::dut_emu {
 namespace {
@@ -166,7 +167,8 @@ TEST(SerialDutTest, ALineThatIsNoTerminalIsRefusedWithThePath) {
 // The executable: --serial needs no link token, and a bad spec is a usage error that says why.
 TEST(DutEmuSerialMainTest, TakesNoTokenAndRefusesABadSpecAsUsage) {
   const auto err = host::FreshTestDir("dut_emu_serial_") / "err";
-  const std::string dut_emu = "env -u HILRIG_LINK_TOKEN " HILRIG_BIN_DIR "/dut_emu --serial ";
+  const std::string dut_emu =
+      "env -u HILRIG_LINK_TOKEN " + ::hilrig::test_support::BinDir() + "/dut_emu --serial ";
   const int bad = std::system((dut_emu + "/dev/null,baud=7 2> " + err.string()).c_str());
   ASSERT_TRUE(WIFEXITED(bad));
   EXPECT_EQ(WEXITSTATUS(bad), kExitUsage);

@@ -18,6 +18,7 @@
 #include "host/setup/scene_setup.h"
 #include "tests/support/serial_dut_fakes.h"
 #include "tests/support/serial_step_script.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::dut_fw {
 namespace {
@@ -27,7 +28,8 @@ static_assert(kSerialLinkProtocolVersion == host::kHilLinkProtocolVersion);
 // The balloon grasp scene's firmware, its tactile front end calibrated (once per process).
 const host::DutFirmware& BalloonFirmware() {
   static const host::DutFirmware firmware = [] {
-    auto spec = host::LoadScenario(HILRIG_SOURCE_DIR "/scenarios/balloon_grasp.textproto");
+    auto spec = host::LoadScenario(::hilrig::test_support::SourceDir() +
+                                   "/scenarios/balloon_grasp.textproto");
     EXPECT_TRUE(spec.ok()) << spec.error().message;
     spec.value().mutable_models()->mutable_tactile()->set_field_fidelity("map:8");
     host::ScenarioConfig config = host::ResolveScenario(spec.value(), std::nullopt);

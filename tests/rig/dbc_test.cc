@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <string>
 
+#include "tests/support/test_paths.h"
+
 namespace hilrig::rig {
 namespace {
 
@@ -116,7 +118,7 @@ TEST(DbcTest, MissingFileIsAnError) {
 }
 
 TEST(DbcTest, AFolderIsRefusedNotReadAsAnEmptyDatabase) {
-  const std::string folder = HILRIG_SOURCE_DIR "/proto";
+  const std::string folder = ::hilrig::test_support::SourceDir() + "/proto";
   const Result<DbcDatabase> loaded = LoadDbcFile(folder);
   ASSERT_FALSE(loaded.ok());
   EXPECT_NE(loaded.error().message.find("cannot read " + folder + ": a folder"), std::string::npos)

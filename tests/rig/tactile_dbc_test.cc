@@ -11,6 +11,7 @@
 
 #include "rig/dbc.h"
 #include "rig/tactile_protocol.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::rig {
 namespace {
@@ -19,7 +20,8 @@ using SignalValues = std::map<std::string, double>;
 
 const DbcDatabase& Database() {
   static const DbcDatabase database = [] {
-    Result<DbcDatabase> loaded = LoadDbcFile(HILRIG_SOURCE_DIR "/proto/tactile.dbc");
+    Result<DbcDatabase> loaded =
+        LoadDbcFile(::hilrig::test_support::SourceDir() + "/proto/tactile.dbc");
     HILRIG_CHECK(loaded.ok(), loaded.ok() ? "" : loaded.error().message);
     return std::move(loaded).value();
   }();

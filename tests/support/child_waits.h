@@ -17,10 +17,11 @@
 #include "host/link/child_process.h"
 #include "rig/clock.h"
 #include "tests/support/test_files.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::host {
 
-inline std::string HilrigBinary() { return std::string(HILRIG_BIN_DIR) + "/hilrig"; }
+inline std::string HilrigBinary() { return ::hilrig::test_support::BinDir() + "/hilrig"; }
 
 // Runs `command` through /bin/sh (for its redirections), which execs it: the child's pid is the
 // command's.

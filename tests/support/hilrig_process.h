@@ -10,6 +10,7 @@
 #include <string>
 
 #include "tests/support/test_files.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::host {
 
@@ -22,7 +23,7 @@ struct ProcessResult {
 // (">/dev/full", "<file"); standard error is kept in `err_file` and returned.
 inline ProcessResult RunHilrig(const std::string& arguments,
                                const std::filesystem::path& err_file) {
-  const std::string command = "timeout -k 2 10 " + std::string(HILRIG_BIN_DIR) + "/hilrig " +
+  const std::string command = "timeout -k 2 10 " + ::hilrig::test_support::BinDir() + "/hilrig " +
                               arguments + " 2>" + err_file.string();
   const int status = std::system(command.c_str());
   const int exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);

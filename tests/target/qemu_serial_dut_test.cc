@@ -21,6 +21,7 @@
 #include "host/link/child_process.h"
 #include "tests/support/serial_line_peer.h"
 #include "tests/support/serial_step_script.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::dut_fw {
 namespace {
@@ -50,7 +51,7 @@ class QemuSerialDutTest : public ::testing::Test {
     std::filesystem::remove_all(dir_);
     std::filesystem::create_directories(dir_);
     const std::string build = "HILRIG_TARGET_BUILD_DIR=" + (dir_ / "build").string() + " " +
-                              HILRIG_SOURCE_DIR "/scripts/build-target -j1 >" +
+                              ::hilrig::test_support::SourceDir() + "/scripts/build-target -j1 >" +
                               (dir_ / "build.log").string() + " 2>&1";
     ASSERT_EQ(std::system(build.c_str()), 0) << ReadFile(dir_ / "build.log");
     image_ = dir_ / "build" / "dut_fw_stm32f405.elf";

@@ -9,6 +9,7 @@
 
 #include "host/cli/cli.h"
 #include "tests/support/cli_runner.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::host {
 namespace {
@@ -16,7 +17,7 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-const std::string kScenarios = std::string(HILRIG_SOURCE_DIR) + "/scenarios";
+const std::string kScenarios = ::hilrig::test_support::SourceDir() + "/scenarios";
 constexpr std::size_t kColumns = 20;
 
 std::vector<std::vector<std::string>> ReadCsv(const fs::path& path) {

@@ -10,6 +10,7 @@
 #include "proto/compare.pb.h"
 #include "tests/support/cli_runner.h"
 #include "tests/support/test_files.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::host {
 namespace {
@@ -18,7 +19,8 @@ namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 using ::testing::Not;
 
-const std::string kBalloon = HILRIG_SOURCE_DIR "/scenarios/balloon_grasp.textproto";
+const std::string kBalloon =
+    ::hilrig::test_support::SourceDir() + "/scenarios/balloon_grasp.textproto";
 // The shipped damping is 65 N s/rad; 4x makes the grasp force miss its band after 6 s.
 const std::string kWeakGrasp = "grasp_controller.damping=260";
 

@@ -5,11 +5,13 @@
 #include "host/cli/cli.h"
 #include "tests/support/cli_runner.h"
 #include "tests/support/test_files.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::host {
 namespace {
 
-const std::string kLoadRamp = HILRIG_SOURCE_DIR "/scenarios/load_ramp.textproto";
+const std::string kLoadRamp =
+    ::hilrig::test_support::SourceDir() + "/scenarios/load_ramp.textproto";
 
 TEST(CliDurationTest, AShortenedSceneRunsItsFirstSecondsAndPasses) {
   const std::string out = ::testing::TempDir() + "/cli_duration_short";

@@ -9,11 +9,12 @@
 #include "host/cli/cli.h"
 #include "tests/support/cli_runner.h"
 #include "tests/support/test_files.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::host {
 namespace {
 
-const std::string kScenario = HILRIG_SOURCE_DIR "/scenarios/hover.textproto";
+const std::string kScenario = ::hilrig::test_support::SourceDir() + "/scenarios/hover.textproto";
 
 TEST(CliDutOptionTest, UnknownDutModeExitsTwoNamingIt) {
   const CliResult run = Cli({"run", kScenario, "--dut", "remote"});

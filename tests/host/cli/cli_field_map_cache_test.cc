@@ -10,6 +10,7 @@
 #include <string>
 
 #include "tests/support/test_files.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::host {
 namespace {
@@ -41,7 +42,7 @@ envelopes { name: "alt" signal: ALTITUDE_M upper: 2 }
   // Runs the scene into out/<name>; true when hilrig exited 0.
   bool Run(const std::string& name) {
     const std::string command =
-        std::string(HILRIG_BIN_DIR) + "/hilrig run " + (dir_ / "pads.textproto").string() +
+        ::hilrig::test_support::BinDir() + "/hilrig run " + (dir_ / "pads.textproto").string() +
         " --no-reference --out " + (dir_ / "out" / name).string() + " --reference-cache " +
         (dir_ / "cache").string() + " > " + (dir_ / (name + ".log")).string() + " 2>&1";
     return std::system(command.c_str()) == 0;

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "tests/support/test_files.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::host {
 namespace {
@@ -32,7 +33,7 @@ struct ChildPeak {
 // `deadline_s`; nullopt when it could not be started or ran out of time.
 std::optional<ChildPeak> RunHilrigMeasured(const std::vector<std::string>& arguments,
                                            double deadline_s) {
-  const std::string binary = std::string(HILRIG_BIN_DIR) + "/hilrig";
+  const std::string binary = ::hilrig::test_support::BinDir() + "/hilrig";
   std::vector<char*> argv = {const_cast<char*>(binary.c_str())};
   for (const std::string& argument : arguments) argv.push_back(const_cast<char*>(argument.c_str()));
   argv.push_back(nullptr);

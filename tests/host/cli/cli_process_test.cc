@@ -11,6 +11,7 @@
 #include "host/cli/cli.h"
 #include "tests/support/hilrig_process.h"
 #include "tests/support/test_files.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::host {
 namespace {
@@ -18,7 +19,7 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-const std::string kHover = std::string(HILRIG_SOURCE_DIR) + "/scenarios/hover.textproto";
+const std::string kHover = ::hilrig::test_support::SourceDir() + "/scenarios/hover.textproto";
 constexpr const char* kStdoutFull =
     "hilrig: cannot write to standard output: No space left on device";
 

@@ -13,6 +13,7 @@
 #include "proto/report.pb.h"
 #include "tests/support/child_waits.h"
 #include "tests/support/test_files.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::host {
 namespace {
@@ -22,7 +23,8 @@ using ::testing::HasSubstr;
 
 // Hover for a day of simulated time, a trace row a second: minutes of wall time, a small trace.
 std::string LongHover() {
-  std::string spec = ReadFile(fs::path(HILRIG_SOURCE_DIR) / "scenarios" / "hover.textproto");
+  std::string spec =
+      ReadFile(fs::path(::hilrig::test_support::SourceDir()) / "scenarios" / "hover.textproto");
   const auto replace = [&spec](const std::string& from, const std::string& to) {
     const std::size_t at = spec.find(from);
     EXPECT_NE(at, std::string::npos) << from;
@@ -63,7 +65,8 @@ class CliRunFolderTest : public ::testing::Test {
 TEST_F(CliRunFolderTest, ARunKilledInAUsedFolderLeavesAnIncompleteReportNotTheOldPass) {
   const fs::path out = dir_ / "out";
   ChildProcess previous =
-      Start(fs::path(HILRIG_SOURCE_DIR) / "scenarios" / "hover.textproto", out, "previous.log");
+      Start(fs::path(::hilrig::test_support::SourceDir()) / "scenarios" / "hover.textproto", out,
+            "previous.log");
   ASSERT_EQ(WaitForExit(previous, 60), "exited with status 0") << ReadFile(dir_ / "previous.log");
   ASSERT_EQ(ReadReport(out / "report.json").stop_reason(), "completed");
   ASSERT_THAT(ReadFile(out / "junit.xml"), HasSubstr("failures=\"0\""));

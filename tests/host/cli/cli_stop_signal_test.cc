@@ -16,6 +16,7 @@
 #include "tests/support/child_waits.h"
 #include "tests/support/shared_calibration.h"
 #include "tests/support/test_files.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::host {
 namespace {
@@ -101,8 +102,8 @@ TEST_P(CliStopSignalTest, CalibrateStopsInTheMiddleOfAStageAndWritesNothing) {
 // the cache): 1 s of CPU is inside it. The run is cut short, fails as an interrupted run and its
 // folder says so.
 TEST_P(CliStopSignalTest, RunStopsWhileTabulatingAFieldMap) {
-  std::string spec =
-      ReadFile(fs::path(HILRIG_SOURCE_DIR) / "scenarios" / "tactile_hover.textproto");
+  std::string spec = ReadFile(fs::path(::hilrig::test_support::SourceDir()) / "scenarios" /
+                              "tactile_hover.textproto");
   const std::string level = "field_fidelity: \"tiles:8\"";
   ASSERT_NE(spec.find(level), std::string::npos);
   spec.replace(spec.find(level), level.size(), "field_fidelity: \"map:128\"");

@@ -10,6 +10,7 @@
 #include "tests/support/hilrig_process.h"
 #include "tests/support/hover_sweep.h"
 #include "tests/support/test_files.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::host {
 namespace {
@@ -125,9 +126,9 @@ TEST(CliSweepTest, FailsWhenTheCriteriaAreNotMetAndNamesACommandPerFailingCase) 
   std::string command = failing.substr(start, failing.find('\n', start) - start);
   EXPECT_THAT(command, HasSubstr(" --seed 2 --set vehicle.mass_kg=0.6 --no-reference --out "));
   command.replace(command.rfind("case-0000003"), 12, "again");
-  ASSERT_EQ(command.rfind(HILRIG_BIN_DIR, 0), 0u) << command;
+  ASSERT_EQ(command.rfind(::hilrig::test_support::BinDir(), 0), 0u) << command;
   const ProcessResult again =
-      RunHilrig(command.substr(std::string(HILRIG_BIN_DIR).size() + 8), dir / "again.err");
+      RunHilrig(command.substr(::hilrig::test_support::BinDir().size() + 8), dir / "again.err");
   EXPECT_EQ(again.exit_code, 1) << again.err;
   EXPECT_EQ(ReadFile(out / "runs" / "again" / "trace.csv"),
             ReadFile(out / "runs" / "case-0000003" / "trace.csv"));
@@ -184,7 +185,7 @@ TEST(CliSweepTest, AStoppedSweepKeepsAndMergesWhatFinished) {
       HoverSweepFolder("cli_sweep_stop", 0.05, 1000, "criterion { min_pass_rate: 0.5 }", 30);
   const fs::path out = dir / "out";
   const std::string command =
-      "timeout --foreground --preserve-status -s INT 1.5 " + std::string(HILRIG_BIN_DIR) +
+      "timeout --foreground --preserve-status -s INT 1.5 " + ::hilrig::test_support::BinDir() +
       "/hilrig sweep " + (dir / "sweep.textproto").string() + " --out " + out.string() +
       " --jobs 2 >" + (dir / "stop.out").string() + " 2>" + (dir / "stop.err").string();
   const int status = std::system(command.c_str());

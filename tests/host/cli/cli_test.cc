@@ -10,6 +10,7 @@
 #include "rig/candump_log.h"
 #include "tests/support/cli_runner.h"
 #include "tests/support/test_files.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::host {
 namespace {
@@ -18,7 +19,7 @@ namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 using ::testing::Not;
 
-const std::string kHover = std::string(HILRIG_SOURCE_DIR) + "/scenarios/hover.textproto";
+const std::string kHover = ::hilrig::test_support::SourceDir() + "/scenarios/hover.textproto";
 
 class CliTest : public ::testing::Test {
  protected:

@@ -11,6 +11,7 @@
 
 #include "tests/support/cli_runner.h"
 #include "tests/support/test_files.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::host {
 namespace {
@@ -19,7 +20,8 @@ namespace fs = std::filesystem;
 
 std::vector<std::string> ShippedScenes() {
   std::vector<std::string> scenes;
-  for (const auto& entry : fs::directory_iterator(fs::path(HILRIG_SOURCE_DIR) / "scenarios")) {
+  for (const auto& entry :
+       fs::directory_iterator(fs::path(::hilrig::test_support::SourceDir()) / "scenarios")) {
     if (entry.is_regular_file() && entry.path().extension() == ".textproto") {
       scenes.push_back(entry.path().stem().string());
     }
@@ -33,7 +35,8 @@ class ShippedScenarioTest : public ::testing::TestWithParam<std::string> {};
 TEST_P(ShippedScenarioTest, MeetsEveryExpectedVerdict) {
   const fs::path out = FreshTestDir("hilrig_shipped_" + GetParam() + "_");
   const std::string spec =
-      (fs::path(HILRIG_SOURCE_DIR) / "scenarios" / (GetParam() + ".textproto")).string();
+      (fs::path(::hilrig::test_support::SourceDir()) / "scenarios" / (GetParam() + ".textproto"))
+          .string();
 
   const CliResult run = Cli({"run", spec, "--no-reference", "--out", out.string()});
 

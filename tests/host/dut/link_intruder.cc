@@ -23,6 +23,7 @@
 #include "host/link/hil_link_codec.h"
 #include "host/link/hil_link_socket.h"
 #include "rig/udp_bus.h"
+#include "tests/support/test_paths.h"
 
 namespace {
 
@@ -41,7 +42,7 @@ struct Arguments {
 
 Arguments Parse(int argc, char** argv) {
   Arguments parsed;
-  parsed.dut_emu.push_back(HILRIG_BIN_DIR "/dut_emu");
+  parsed.dut_emu.push_back(::hilrig::test_support::BinDir() + "/dut_emu");
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     const std::string value = i + 1 < argc ? argv[i + 1] : "";

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "tests/support/test_files.h"
+#include "tests/support/test_paths.h"
 
 namespace {
 
@@ -18,10 +19,10 @@ namespace fs = std::filesystem;
 using hilrig::host::ReadFile;
 
 int RunHilrig(const fs::path& out_dir, const std::string& dut) {
-  const std::string command = std::string(HILRIG_BIN_DIR) + "/hilrig run " + HILRIG_SOURCE_DIR +
-                              "/scenarios/balloon_grasp.textproto --out " + out_dir.string() +
-                              " --dut " + dut + " --no-reference > " + (out_dir.string() + ".log") +
-                              " 2>&1";
+  const std::string command =
+      ::hilrig::test_support::BinDir() + "/hilrig run " + ::hilrig::test_support::SourceDir() +
+      "/scenarios/balloon_grasp.textproto --out " + out_dir.string() + " --dut " + dut +
+      " --no-reference > " + (out_dir.string() + ".log") + " 2>&1";
   return std::system(command.c_str());
 }
 

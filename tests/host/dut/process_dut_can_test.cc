@@ -18,6 +18,7 @@
 #include "rig/emulated_bus.h"
 #include "rig/udp_bus.h"
 #include "tests/support/test_files.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::host {
 namespace {
@@ -34,7 +35,8 @@ fs::path WriteDutEmuWrapper(const fs::path& dir, const std::string& dut_can_uri)
   std::ofstream(wrapper) << "#!/bin/sh\n"
                          << "printf '%s\\n' \"$@\" > '" << (dir / "argv").string() << "'\n"
                          << "link=\"$2\"\nshift 4\n"
-                         << "exec '" HILRIG_BIN_DIR "/dut_emu' --link \"$link\" --can '"
+                         << "exec '" + ::hilrig::test_support::BinDir() +
+                                "/dut_emu' --link \"$link\" --can '"
                          << dut_can_uri << "' \"$@\"\n";
   fs::permissions(wrapper, fs::perms::owner_all);
   return wrapper;

@@ -16,6 +16,7 @@
 #include "host/scenario/scenario_loader.h"
 #include "host/setup/scene_setup.h"
 #include "rig/clock.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::host {
 namespace {
@@ -27,10 +28,11 @@ struct RunOutput {
 
 // The hover scene, cut to 3 s: long enough for the intruder to act while the DUT runs.
 RunOutput RunHover(const DutFactory& dut_factory) {
-  const auto spec = LoadScenario(HILRIG_SOURCE_DIR "/scenarios/hover.textproto");
+  const auto spec =
+      LoadScenario(::hilrig::test_support::SourceDir() + "/scenarios/hover.textproto");
   EXPECT_TRUE(spec.ok()) << spec.error().message;
-  ScenarioConfig config =
-      ResolveScenario(spec.value(), std::nullopt, HILRIG_SOURCE_DIR "/scenarios");
+  ScenarioConfig config = ResolveScenario(spec.value(), std::nullopt,
+                                          ::hilrig::test_support::SourceDir() + "/scenarios");
   config.duration_s = 3;
   EXPECT_TRUE(LoadTactileCalibration(config).ok());
   std::ostringstream trace;
@@ -52,7 +54,7 @@ DutFactory IntrudedProcessDut(const std::string& mode) {
                 double control_period_s) -> rig::Result<std::unique_ptr<DutPort>> {
     ProcessDutOptions options;
     options.transport = DutLinkTransport::kTcp;  // the port an intruder can reach
-    options.dut_emu_path = HILRIG_BIN_DIR "/link_intruder";
+    options.dut_emu_path = ::hilrig::test_support::BinDir() + "/link_intruder";
     options.extra_args = {"--intrude", mode};
     options.start_timeout_s = 3;
     return std::unique_ptr<DutPort>(std::make_unique<ProcessDut>(

@@ -17,6 +17,7 @@
 #include "rig/clock.h"
 #include "rig/emulated_bus.h"
 #include "tests/support/dut_inputs.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::host {
 namespace {
@@ -74,7 +75,7 @@ class ProcessDutRealtimeTest : public ::testing::Test {
   std::unique_ptr<ProcessDut> Start(std::vector<std::string> extra_args = {},
                                     double control_period_s = kControlPeriodS) {
     ProcessDutOptions options;
-    options.dut_emu_path = HILRIG_BIN_DIR "/dut_emu";
+    options.dut_emu_path = ::hilrig::test_support::BinDir() + "/dut_emu";
     options.extra_args = std::move(extra_args);
     options.wall_clock = &wall_clock_;
     auto dut = ProcessDut::Launch(HoverFirmware(), bus_.Connect("dut"), control_period_s, options);
@@ -298,7 +299,7 @@ TEST_F(ProcessDutRealtimeTest, RequestingAnOldTickAgainIsRefused) {
 TEST(ProcessDutWithoutClockTest, RealTimeNeedsAWallClockAndLockstepMeasuresNothing) {
   rig::EmulatedBus bus;
   ProcessDutOptions options;
-  options.dut_emu_path = HILRIG_BIN_DIR "/dut_emu";
+  options.dut_emu_path = ::hilrig::test_support::BinDir() + "/dut_emu";
   auto dut = ProcessDut::Launch(HoverFirmware(), bus.Connect("dut"), kControlPeriodS, options);
   ASSERT_TRUE(dut.ok()) << dut.error().message;
   ASSERT_TRUE(dut.value()->Step(1, kTickNs).ok());

@@ -17,6 +17,7 @@
 #include "rig/clock.h"
 #include "rig/emulated_bus.h"
 #include "tests/support/test_files.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::host {
 namespace {
@@ -25,7 +26,7 @@ constexpr double kControlPeriodS = 1e-3;
 
 ProcessDutOptions TestOptions(std::vector<std::string> extra_args = {}) {
   ProcessDutOptions options;
-  options.dut_emu_path = HILRIG_BIN_DIR "/dut_emu";
+  options.dut_emu_path = ::hilrig::test_support::BinDir() + "/dut_emu";
   options.extra_args = std::move(extra_args);
   return options;
 }
@@ -212,10 +213,11 @@ TEST(ProcessDutOptionsTest, ListenAddressIsForTheTcpLinkOnly) {
 // The runner with a DUT process that is killed mid-run: the run ends at once with a stop reason
 // that names the kill, and Finish still builds the whole report.
 TEST(ProcessDutRunTest, KilledDutEndsTheRunWithACompleteReport) {
-  const auto spec = LoadScenario(HILRIG_SOURCE_DIR "/scenarios/hover.textproto");
+  const auto spec =
+      LoadScenario(::hilrig::test_support::SourceDir() + "/scenarios/hover.textproto");
   ASSERT_TRUE(spec.ok()) << spec.error().message;
-  ScenarioConfig config =
-      ResolveScenario(spec.value(), std::nullopt, HILRIG_SOURCE_DIR "/scenarios");
+  ScenarioConfig config = ResolveScenario(spec.value(), std::nullopt,
+                                          ::hilrig::test_support::SourceDir() + "/scenarios");
   ASSERT_TRUE(LoadTactileCalibration(config).ok());
   ProcessDut* process = nullptr;
   RunControl control;

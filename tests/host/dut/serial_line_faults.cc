@@ -25,6 +25,7 @@
 #include "rig/clock.h"
 #include "tests/support/child_waits.h"
 #include "tests/support/test_files.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::host {
 namespace {
@@ -37,10 +38,10 @@ constexpr const char* kExitedOk = "exited with status 0";
 // balloon_grasp's grasp (1.5 s), the force envelope's first seconds (from 6 s) and the lift (7 s).
 constexpr const char* kFirstTenSeconds = "--duration-s 10";
 
-std::string Bin(const std::string& name) { return std::string(HILRIG_BIN_DIR) + "/" + name; }
+std::string Bin(const std::string& name) { return ::hilrig::test_support::BinDir() + "/" + name; }
 
 std::string Scene(const std::string& name) {
-  return std::string(HILRIG_SOURCE_DIR) + "/scenarios/" + name + ".textproto";
+  return ::hilrig::test_support::SourceDir() + "/scenarios/" + name + ".textproto";
 }
 
 // What one direction of the link carried and what the null modem did to it.

@@ -9,6 +9,7 @@
 #include "host/link/firmware_check.h"
 #include "host/scenario/scenario_config.h"
 #include "host/scenario/scenario_loader.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::host {
 namespace {
@@ -16,7 +17,8 @@ namespace {
 ScenarioConfig Shipped(const std::string& path) {
   const auto spec = LoadScenario(path);
   EXPECT_TRUE(spec.ok()) << spec.error().message;
-  return ResolveScenario(spec.value(), std::nullopt, HILRIG_SOURCE_DIR "/scenarios");
+  return ResolveScenario(spec.value(), std::nullopt,
+                         ::hilrig::test_support::SourceDir() + "/scenarios");
 }
 
 // The flight and grasp parts of every shipped scene. The tactile part needs a calibration, which
@@ -24,7 +26,8 @@ ScenarioConfig Shipped(const std::string& path) {
 // check end to end.
 TEST(ShippedFirmwareTest, EveryShippedSceneFlightAndGraspFirmwarePasses) {
   int scenes = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(HILRIG_SOURCE_DIR "/scenarios")) {
+  for (const auto& entry :
+       std::filesystem::directory_iterator(::hilrig::test_support::SourceDir() + "/scenarios")) {
     if (entry.path().extension() != ".textproto") continue;
     ScenarioConfig config = Shipped(entry.path().string());
     config.hall_sensors.tactile_enabled = false;

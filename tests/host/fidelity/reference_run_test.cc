@@ -10,6 +10,7 @@
 #include "host/scenario/scenario_loader.h"
 #include "host/setup/scene_setup.h"
 #include "rig/clock.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::host {
 namespace {
@@ -17,7 +18,7 @@ namespace {
 class FidelityErrorTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    auto loaded = LoadScenario(std::string(HILRIG_SOURCE_DIR) + "/scenarios/hover.textproto");
+    auto loaded = LoadScenario(::hilrig::test_support::SourceDir() + "/scenarios/hover.textproto");
     ASSERT_TRUE(loaded.ok());
     spec_ = TruncatedTo(loaded.value(), 2);
     spec_.mutable_models()->set_noise(proto::NOISE_OFF);
@@ -131,7 +132,7 @@ TEST_F(FidelityErrorTest, TheSecondRunTakesTheReferenceFromTheCacheWithTheSameEr
 // An entry cut after it was checked (another process, a full disk) ends in an error naming it,
 // never in the error of a shorter reference.
 TEST_F(FidelityErrorTest, AReferenceEntryCutDuringTheRunIsAnErrorNotANumber) {
-  auto loaded = LoadScenario(std::string(HILRIG_SOURCE_DIR) + "/scenarios/hover.textproto");
+  auto loaded = LoadScenario(::hilrig::test_support::SourceDir() + "/scenarios/hover.textproto");
   ASSERT_TRUE(loaded.ok());
   spec_ = TruncatedTo(loaded.value(), 20);  // 2000 samples: more than one block of the entry
   spec_.mutable_models()->set_noise(proto::NOISE_OFF);

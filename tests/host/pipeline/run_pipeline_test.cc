@@ -17,6 +17,7 @@
 #include "host/scenario/scenario_loader.h"
 #include "rig/clock.h"
 #include "tests/support/test_files.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::host {
 namespace {
@@ -29,7 +30,7 @@ class RunPipelineTest : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = FreshTestDir("run_pipeline_");
-    auto hover = LoadScenario(std::string(HILRIG_SOURCE_DIR) + "/scenarios/hover.textproto");
+    auto hover = LoadScenario(::hilrig::test_support::SourceDir() + "/scenarios/hover.textproto");
     ASSERT_TRUE(hover.ok()) << hover.error().message;
     spec_ = TruncatedTo(hover.value(), 2);
     // The shipped envelopes judge the settled hover, after 2 s; this one judges the take-off.
@@ -207,7 +208,7 @@ TEST_F(RunPipelineTest, AStoppedRunIsNotComparedAndFails) {
 // set-up as an interrupted run, not as a set-up that could not be made.
 TEST_F(RunPipelineTest, AStopDuringTheCalibrationIsAnInterruptedRun) {
   RunRequest request;
-  request.spec_path = std::string(HILRIG_SOURCE_DIR) + "/scenarios/tactile_hover.textproto";
+  request.spec_path = ::hilrig::test_support::SourceDir() + "/scenarios/tactile_hover.textproto";
   const std::atomic<bool> stop{true};
 
   RunPipelineResult result = RunPipeline(request, {&wall_clock_, nullptr, &stop, &notes_});

@@ -14,6 +14,7 @@
 #include "host/scenario/scenario_loader.h"
 #include "host/setup/scene_setup.h"
 #include "host/trace/trace_sample.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::host {
 namespace {
@@ -52,7 +53,8 @@ double MaxDifference(const std::vector<double>& a, const std::vector<double>& b)
 }
 
 TEST(FloatDutTest, BalloonGraspInFloatMeetsTheEnvelopesAndTracksTheDoubleBuild) {
-  auto spec = LoadScenario(std::string(HILRIG_SOURCE_DIR) + "/scenarios/balloon_grasp.textproto");
+  auto spec =
+      LoadScenario(::hilrig::test_support::SourceDir() + "/scenarios/balloon_grasp.textproto");
   ASSERT_TRUE(spec.ok()) << spec.error().message;
   spec.value().mutable_models()->mutable_tactile()->set_field_fidelity("map:8");
   ScenarioConfig config = ResolveScenario(spec.value(), std::nullopt);

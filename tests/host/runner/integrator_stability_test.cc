@@ -14,6 +14,7 @@
 #include "host/runner/runner.h"
 #include "host/scenario/scenario_config.h"
 #include "host/scenario/scenario_loader.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::host {
 namespace {
@@ -217,7 +218,7 @@ TEST(VehicleFidelityRunTest, ModelListNamesIntegratorAndDormandPrinceTolerance) 
 class HoverWithIntegratorTest : public ::testing::TestWithParam<proto::Integrator> {};
 
 TEST_P(HoverWithIntegratorTest, HoverScenarioPassesItsEnvelopes) {
-  auto spec = LoadScenario(std::string(HILRIG_SOURCE_DIR) + "/scenarios/hover.textproto");
+  auto spec = LoadScenario(::hilrig::test_support::SourceDir() + "/scenarios/hover.textproto");
   ASSERT_TRUE(spec.ok()) << spec.error().message;
   proto::Scenario scenario = std::move(spec).value();
   scenario.mutable_models()->set_integrator(GetParam());

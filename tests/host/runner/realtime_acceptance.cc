@@ -20,6 +20,7 @@
 
 #include "proto/report.pb.h"
 #include "tests/support/test_files.h"
+#include "tests/support/test_paths.h"
 
 namespace {
 
@@ -54,7 +55,8 @@ double StealFraction(const std::optional<CpuTimes>& before, const std::optional<
 TEST(RealtimeAcceptanceTest, SixtySecondsOnTheBenchPassWithTimingFigures) {
   const fs::path out =
       fs::temp_directory_path() / ("hilrig_realtime_" + std::to_string(::getpid()));
-  const std::string command = std::string(HILRIG_BIN_DIR) + "/hilrig run " + HILRIG_SOURCE_DIR +
+  const std::string command = ::hilrig::test_support::BinDir() + "/hilrig run " +
+                              ::hilrig::test_support::SourceDir() +
                               "/scenarios/bench/realtime_60s.textproto --realtime --dut process" +
                               " --out " + out.string() + " > " + out.string() + ".log 2>&1";
 

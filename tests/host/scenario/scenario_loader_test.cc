@@ -3,6 +3,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "tests/support/test_paths.h"
+
 namespace hilrig::host {
 namespace {
 
@@ -26,7 +28,8 @@ TEST(ScenarioLoaderTest, AcceptsMinimalSpec) {
 }
 
 TEST(ScenarioLoaderTest, LoadsShippedHoverScenario) {
-  const auto result = LoadScenario(std::string(HILRIG_SOURCE_DIR) + "/scenarios/hover.textproto");
+  const auto result =
+      LoadScenario(::hilrig::test_support::SourceDir() + "/scenarios/hover.textproto");
   ASSERT_TRUE(result.ok()) << result.error().message;
   EXPECT_GE(result.value().envelopes_size(), 2);
 }

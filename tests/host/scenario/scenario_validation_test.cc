@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "host/scenario/scenario_loader.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::host {
 namespace {
@@ -36,7 +37,7 @@ TEST(ScenarioValidationTest, EveryShippedScenarioIsValid) {
   for (const char* name : {"balloon_grasp", "balloon_ablation", "load_ramp", "bottle_feedback",
                            "bottle_ablation", "objects"}) {
     const auto result =
-        LoadScenario(std::string(HILRIG_SOURCE_DIR) + "/scenarios/" + name + ".textproto");
+        LoadScenario(::hilrig::test_support::SourceDir() + "/scenarios/" + name + ".textproto");
     EXPECT_TRUE(result.ok()) << name << ": " << result.error().message;
   }
 }

@@ -7,6 +7,7 @@
 #include "host/scenario/scenario_config.h"
 #include "host/scenario/scenario_loader.h"
 #include "host/scenario/scenario_validation.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::host {
 namespace {
@@ -101,7 +102,7 @@ TEST(TimingValidationTest, LimitsResolveToWhatTheSpecSets) {
 
 TEST(TimingValidationTest, TheBenchScenarioIsValid) {
   const auto result =
-      LoadScenario(std::string(HILRIG_SOURCE_DIR) + "/scenarios/bench/realtime_60s.textproto");
+      LoadScenario(::hilrig::test_support::SourceDir() + "/scenarios/bench/realtime_60s.textproto");
   EXPECT_TRUE(result.ok()) << result.error().message;
 }
 

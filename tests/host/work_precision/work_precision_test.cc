@@ -11,6 +11,7 @@
 #include "host/scenario/scenario_loader.h"
 #include "host/setup/scene_setup.h"
 #include "rig/clock.h"
+#include "tests/support/test_paths.h"
 
 namespace hilrig::host {
 namespace {
@@ -186,7 +187,7 @@ TEST(PlanSweepTest, ASceneWithoutAFilmSweepsNoFieldLevels) {
 class SweepTimingTest : public ::testing::Test {
  protected:
   SceneResult Sweep(int timing_repeats) {
-    auto loaded = LoadScenario(std::string(HILRIG_SOURCE_DIR) + "/scenarios/hover.textproto");
+    auto loaded = LoadScenario(::hilrig::test_support::SourceDir() + "/scenarios/hover.textproto");
     EXPECT_TRUE(loaded.ok());
     SweepOptions options;
     options.quick = true;
@@ -228,7 +229,7 @@ TEST_F(SweepTimingTest, OneRepeatKeepsTheCapturedTiming) {
 class ShippedVerdictTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    auto loaded = LoadScenario(std::string(HILRIG_SOURCE_DIR) + "/scenarios/hover.textproto");
+    auto loaded = LoadScenario(::hilrig::test_support::SourceDir() + "/scenarios/hover.textproto");
     ASSERT_TRUE(loaded.ok());
     spec_ = loaded.value();
     proto::Envelope* still = spec_.add_envelopes();
