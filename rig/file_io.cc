@@ -81,6 +81,19 @@ Error WriteError(const std::string& path, int error_number) {
   return MakeError("cannot write " + path + ": " + Reason(error_number));
 }
 
+Result<int> OpenRegularFileForReading(const std::string& path) {
+  ScopedFd file{-1};
+  const auto size = OpenRegularFile(path, file);
+  if (!size) return size.error();
+  const int flags = ::fcntl(file.fd, F_GETFL);
+  if (flags < 0 || ::fcntl(file.fd, F_SETFL, flags & ~O_NONBLOCK) != 0) {
+    return MakeError("cannot read " + path + ": " + Reason(errno));
+  }
+  const int fd = file.fd;
+  file.fd = -1;
+  return fd;
+}
+
 Result<std::string> ReadRegularFile(const std::string& path, std::size_t max_bytes) {
   ScopedFd file{-1};
   const auto size = OpenRegularFile(path, file);
@@ -198,8 +211,28 @@ bool FdStreamBuf::Close() {
 
 Result<std::unique_ptr<OutputFile>> OutputFile::Create(const std::string& path,
                                                        std::size_t buffer_bytes) {
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0644);
-  if (fd < 0) return OpenError(path, errno);
+  // Non-blocking and without O_TRUNC until the descriptor is known to be a regular file: opening a
+  // FIFO for writing blocks until a reader comes, and truncating is for files only.
+  ScopedFd file{::open(path.c_str(),
+                       O_WRONLY | O_CREAT | O_NOFOLLOW | O_CLOEXEC | O_NONBLOCK | O_NOCTTY, 0644)};
+  if (file.fd < 0) {
+    // ENXIO: a FIFO that nobody reads.
+    if (errno == ENXIO) return MakeError("cannot write " + path + ": a FIFO, not a regular file");
+    return OpenError(path, errno);
+  }
+  struct stat status {};
+  if (::fstat(file.fd, &status) != 0) return WriteError(path, errno);
+  if (!S_ISREG(status.st_mode)) {
+    return MakeError("cannot write " + path + ": " + KindOf(status.st_mode) +
+                     ", not a regular file");
+  }
+  const int flags = ::fcntl(file.fd, F_GETFL);
+  if (flags < 0 || ::fcntl(file.fd, F_SETFL, flags & ~O_NONBLOCK) != 0 ||
+      ::ftruncate(file.fd, 0) != 0) {
+    return WriteError(path, errno);
+  }
+  const int fd = file.fd;
+  file.fd = -1;
   return std::unique_ptr<OutputFile>(new OutputFile(path, fd, buffer_bytes));
 }
 

@@ -30,6 +30,11 @@ Result<std::string> ReadRegularFile(const std::string& path, std::size_t max_byt
 // ReadRegularFile's checks: for telling what a file is by its header without reading it whole.
 Result<std::string> ReadRegularFileHead(const std::string& path, std::size_t max_bytes);
 
+// Opens the regular file at `path` for reading, as ReadRegularFile checks it (a FIFO, a device or
+// a folder is refused without blocking), and returns its descriptor in blocking mode,
+// close-on-exec; the caller closes it. The error names the path and what it is instead.
+Result<int> OpenRegularFileForReading(const std::string& path);
+
 // A random name for a temporary file beside `path`: "<path>.tmp-<16 hex digits>" from the
 // kernel's random source, so another local user cannot guess it and plant a link there first.
 std::string TemporaryNameBeside(const std::string& path);
@@ -69,7 +74,9 @@ class FdStreamBuf final : public std::streambuf {
 };
 
 // A file written as a stream (a trace, a CAN log) from inside a run: created or truncated without
-// following a symlink at its path (O_NOFOLLOW), buffered in `buffer_bytes` (a write system call
+// following a symlink at its path (O_NOFOLLOW), refused when something other than a regular file
+// is there (a FIFO would block the run until someone reads it, a device would swallow it; the
+// open never blocks), buffered in `buffer_bytes` (a write system call
 // costs tens of microseconds on a VM, and the stepping loop's wall time is the real-time factor).
 class OutputFile {
  public:

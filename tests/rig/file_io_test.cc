@@ -1,9 +1,13 @@
 #include "rig/file_io.h"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
+#include <cerrno>
 #include <filesystem>
+#include <ostream>
 #include <set>
 
 #include "tests/support/test_files.h"
@@ -129,13 +133,48 @@ TEST(OutputFileTest, DoesNotFollowAPlantedSymlink) {
   EXPECT_EQ(ReadFile(dir / "victim"), "precious");
 }
 
-TEST(OutputFileTest, AFullDeviceIsAnErrorNamingTheFileAndTheCause) {
-  auto file = OutputFile::Create("/dev/full", 64);
+// A disk that fills: the first failed write is kept with its cause (ENOSPC, as /dev/full gives
+// every write), and no later write hides it.
+TEST(FdStreamBufTest, AFullDiskKeepsTheCauseOfTheFirstFailedWrite) {
+  const int fd = ::open("/dev/full", O_WRONLY | O_CLOEXEC);
+  ASSERT_GE(fd, 0);
+  FdStreamBuf buffer(fd, 64);
+  std::ostream out(&buffer);
+  out << std::string(1000, 'x');
+  EXPECT_FALSE(buffer.Close());
+  EXPECT_EQ(buffer.error_number(), ENOSPC);
+  EXPECT_EQ(WriteError("trace.csv", buffer.error_number()).message,
+            "cannot write trace.csv: No space left on device");
+}
+
+// A FIFO where a trace goes would block the run until someone reads it; a device would swallow
+// the trace. Both are refused at once, the FIFO with or without a reader.
+TEST(OutputFileTest, RefusesAFifoAndADeviceWithoutBlocking) {
+  const fs::path dir = FreshTestDir("file_io_");
+  ASSERT_EQ(::mkfifo((dir / "trace.csv").c_str(), 0600), 0);
+  auto fifo = OutputFile::Create((dir / "trace.csv").string());
+  ASSERT_FALSE(fifo);
+  EXPECT_EQ(fifo.error().message,
+            "cannot write " + (dir / "trace.csv").string() + ": a FIFO, not a regular file");
+  const int reader = ::open((dir / "trace.csv").c_str(), O_RDONLY | O_NONBLOCK);
+  ASSERT_GE(reader, 0);
+  auto read_fifo = OutputFile::Create((dir / "trace.csv").string());
+  ::close(reader);
+  ASSERT_FALSE(read_fifo);
+  EXPECT_NE(read_fifo.error().message.find("a FIFO, not a regular file"), std::string::npos);
+  auto device = OutputFile::Create("/dev/null");
+  ASSERT_FALSE(device);
+  EXPECT_EQ(device.error().message, "cannot write /dev/null: a device, not a regular file");
+}
+
+TEST(OutputFileTest, TruncatesARegularFileItReplaces) {
+  const fs::path dir = FreshTestDir("file_io_");
+  Write(dir / "trace.csv", "an earlier, longer trace\n");
+  auto file = OutputFile::Create((dir / "trace.csv").string());
   ASSERT_TRUE(file) << file.error().message;
-  file.value()->stream() << std::string(1000, 'x');
-  auto closed = file.value()->Close();
-  ASSERT_FALSE(closed);
-  EXPECT_EQ(closed.error().message, "cannot write /dev/full: No space left on device");
+  file.value()->stream() << "t\n";
+  ASSERT_TRUE(file.value()->Close());
+  EXPECT_EQ(ReadFile(dir / "trace.csv"), "t\n");
 }
 
 }  // namespace

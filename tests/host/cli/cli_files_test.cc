@@ -2,6 +2,7 @@
 // scenario folder, an output path that is a file, links planted where outputs go.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -9,6 +10,7 @@
 
 #include "host/cli/cli.h"
 #include "tests/support/cli_runner.h"
+#include "tests/support/hilrig_process.h"
 #include "tests/support/test_files.h"
 
 namespace hilrig::host {
@@ -111,6 +113,23 @@ TEST_F(CliFilesTest, AnOutputThatCannotBeWrittenIsNamedWithTheCause) {
     EXPECT_EQ(result.exit_code, kExitBadInput) << file;
     EXPECT_THAT(result.err, HasSubstr("cannot write " + (out / file).string() + ": Is a directory"))
         << result.err;
+  }
+}
+
+// A FIFO where the trace or the CAN log goes would block the run until someone reads it: refused
+// at once, by name (a separate process, bounded, so a hang fails the test instead of hanging it).
+TEST_F(CliFilesTest, AFifoWhereATraceOrLogGoesIsRefusedAtOnce) {
+  const fs::path spec = Write(dir_ / "short.textproto", kShortSpec);
+  for (const char* file : {"trace.csv", "can.log"}) {
+    const fs::path out = dir_ / (std::string("fifo_") + file);
+    fs::create_directories(out);
+    ASSERT_EQ(::mkfifo((out / file).c_str(), 0600), 0);
+    const ProcessResult result =
+        RunHilrig("run " + spec.string() + " --no-reference --out " + out.string() + " >/dev/null",
+                  dir_ / (std::string(file) + ".err"));
+    EXPECT_EQ(result.exit_code, kExitBadInput) << result.err;
+    EXPECT_THAT(result.err, HasSubstr("cannot write " + (out / file).string() +
+                                      ": a FIFO, not a regular file"));
   }
 }
 
