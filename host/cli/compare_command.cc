@@ -1,6 +1,5 @@
 #include "host/cli/compare_command.h"
 
-#include <fstream>
 #include <optional>
 #include <tuple>
 
@@ -12,6 +11,7 @@
 #include "host/compare/trace_difference.h"
 #include "host/report/report_files.h"
 #include "proto/compare.pb.h"
+#include "rig/input_file.h"
 #include "rig/number_text.h"
 
 namespace hilrig::host {
@@ -93,13 +93,15 @@ rig::Result<proto::RunComparison> CompareRunFolders(const CompareOptions& option
   }
   proto::RunComparison comparison =
       CompareRuns(base.value(), candidate.value(), options.tolerances);
-  std::ifstream base_trace(RunTracePath(options.base_dir));
-  std::ifstream candidate_trace(RunTracePath(options.candidate_dir));
+  // Only regular files: a FIFO planted as a trace must not block the comparison.
+  auto base_trace = rig::InputFile::Open(RunTracePath(options.base_dir));
+  auto candidate_trace = rig::InputFile::Open(RunTracePath(options.candidate_dir));
   if (!base_trace || !candidate_trace) {
     comparison.mutable_trace()->set_problem(
-        "no readable " + RunTracePath(base_trace ? options.candidate_dir : options.base_dir));
+        (base_trace ? candidate_trace.error() : base_trace.error()).message);
   } else {
-    *comparison.mutable_trace() = CompareTraces(base_trace, candidate_trace, options.tolerances);
+    *comparison.mutable_trace() = CompareTraces(
+        base_trace.value()->stream(), candidate_trace.value()->stream(), options.tolerances);
   }
   return comparison;
 }

@@ -9,10 +9,15 @@
 #include <utility>
 #include <vector>
 
+#include "rig/bounded_line.h"
+
 namespace hilrig::host {
 namespace {
 
 constexpr const char* kTimeColumn = "time_s";
+// A trace row is a few hundred bytes (36 signals at 9 significant digits); a line far longer is not
+// a row, and is never held whole.
+constexpr std::size_t kMaxTraceLineBytes = std::size_t{1} << 16;
 
 std::vector<std::string> SplitHeader(const std::string& line) {
   std::vector<std::string> names;
@@ -62,9 +67,12 @@ void Tally(SignalTally& tally, double a, double b, double time_s,
     tally.max_abs = difference;
     tally.max_at_s = time_s;
   }
+  // A tolerance relative to an infinity would allow anything: a value that turns infinite (or
+  // NaN) where the other side stays finite, or changes sign at infinity, parts the traces.
+  const bool finite = std::isfinite(a) && std::isfinite(b);
   const double allowed =
       tolerances.trace_abs() + tolerances.trace_rel() * std::max(std::fabs(a), std::fabs(b));
-  if (!tally.diverges_at_s && !(difference <= allowed)) tally.diverges_at_s = time_s;
+  if (!tally.diverges_at_s && !(finite && difference <= allowed)) tally.diverges_at_s = time_s;
 }
 
 class TraceReader {
@@ -74,8 +82,8 @@ class TraceReader {
   // The header's names, or nothing (with `problem` set).
   std::optional<std::vector<std::string>> Header(std::string& problem) {
     std::string line;
-    if (!std::getline(in_, line) || line.empty()) {
-      problem = std::string("the ") + which_ + " trace has no header row";
+    if (!ReadLine(line, problem)) {
+      if (problem.empty()) problem = std::string("the ") + which_ + " trace has no header row";
       return std::nullopt;
     }
     auto names = SplitHeader(line);
@@ -91,7 +99,7 @@ class TraceReader {
   // `problem` says which line).
   bool Next(std::vector<double>& values, std::string& problem) {
     std::string line;
-    if (!std::getline(in_, line) || line.empty()) return false;
+    if (!ReadLine(line, problem)) return false;
     ++rows_;
     if (ParseRow(line, width_, values)) return true;
     problem = std::string("the ") + which_ + " trace's line " + std::to_string(rows_ + 1) +
@@ -100,18 +108,35 @@ class TraceReader {
   }
 
   // Counts the rows left, for the row totals.
-  void CountRest() {
+  void CountRest(std::string& problem) {
     std::string line;
-    while (std::getline(in_, line) && !line.empty()) ++rows_;
+    while (ReadLine(line, problem)) ++rows_;
   }
 
   std::uint64_t rows() const { return rows_; }
 
  private:
+  // The next non-empty line; false at the end, at an empty line, or (with `problem` set, unless
+  // one is set already) at a line past the cap or a read error.
+  bool ReadLine(std::string& line, std::string& problem) {
+    const rig::LineRead read = rig::ReadBoundedLine(in_, kMaxTraceLineBytes, line);
+    if (read == rig::LineRead::kLine) {
+      ++lines_;
+      return !line.empty();
+    }
+    if (read == rig::LineRead::kEnd || !problem.empty()) return false;
+    problem = std::string("the ") + which_ + " trace's line " + std::to_string(lines_ + 1) +
+              (read == rig::LineRead::kTooLong
+                   ? " is longer than " + std::to_string(kMaxTraceLineBytes) + " bytes"
+                   : std::string(" cannot be read"));
+    return false;
+  }
+
   std::istream& in_;
   const char* which_;
   std::size_t width_ = 0;
   std::uint64_t rows_ = 0;
+  std::uint64_t lines_ = 0;  // read whole, the header included
 };
 
 std::vector<SignalTally> MatchColumns(const std::vector<std::string>& base,
@@ -188,9 +213,9 @@ proto::TraceComparison CompareTraces(std::istream& base, std::istream& candidate
             tolerances);
     }
   }
+  base_reader.CountRest(problem);
+  candidate_reader.CountRest(problem);
   if (!problem.empty()) comparison.set_problem(problem);
-  base_reader.CountRest();
-  candidate_reader.CountRest();
   comparison.set_rows_compared(rows);
   comparison.set_base_rows(base_reader.rows());
   comparison.set_candidate_rows(candidate_reader.rows());

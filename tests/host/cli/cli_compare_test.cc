@@ -4,11 +4,13 @@
 // compare are refused with exit 2.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <fstream>
 
 #include "proto/compare.pb.h"
 #include "tests/support/cli_runner.h"
+#include "tests/support/hilrig_process.h"
 #include "tests/support/test_files.h"
 #include "tests/support/test_paths.h"
 
@@ -111,6 +113,25 @@ TEST(CliCompareTest, RefusesWhatItCannotCompare) {
   const CliResult damaged = Cli({"compare", run, (dir / "damaged").string()});
   EXPECT_EQ(damaged.exit_code, 0) << damaged.out;
   EXPECT_THAT(damaged.out, HasSubstr("stopped early: the candidate trace's line 3401 is not 36"));
+  // A FIFO or /dev/zero in place of a trace: named, never waited on or read without end (a
+  // process of its own, bounded, so a hang fails the test instead of hanging it).
+  for (const char* kind : {"fifo", "zero"}) {
+    const fs::path hostile = dir / kind;
+    fs::copy(run, hostile, fs::copy_options::recursive);
+    fs::remove(hostile / "trace.csv");
+    if (std::string(kind) == "fifo") {
+      ASSERT_EQ(::mkfifo((hostile / "trace.csv").c_str(), 0600), 0);
+    } else {
+      fs::create_symlink("/dev/zero", hostile / "trace.csv");
+    }
+    const ProcessResult compared =
+        RunHilrig("compare " + run + " " + hostile.string() + " >" + (dir / kind).string() + ".out",
+                  dir / (std::string(kind) + ".err"));
+    EXPECT_EQ(compared.exit_code, 0) << compared.err;
+    EXPECT_THAT(ReadFile(dir / (std::string(kind) + ".out")),
+                HasSubstr(std::string(kind) == "fifo" ? "a FIFO, not a regular file"
+                                                      : "a device, not a regular file"));
+  }
 }
 
 }  // namespace

@@ -117,5 +117,31 @@ TEST(CompareTracesTest, AnUnreadableTraceIsAProblemNotANumber) {
   EXPECT_THAT(narrow.problem(), HasSubstr("the base trace's line 2 is not 3 numbers"));
 }
 
+// A tolerance relative to an infinity allows anything; a value that turns infinite where the
+// other side stays finite parts the traces all the same.
+TEST(CompareTracesTest, AnInfinityAgainstANumberDivergesEvenWithARelativeTolerance) {
+  std::istringstream base("time_s,a,b\n0.01,1,inf\n0.02,1,1\n");
+  std::istringstream candidate("time_s,a,b\n0.01,inf,inf\n0.02,1,-inf\n");
+  proto::CompareTolerances loose;
+  loose.set_trace_abs(1e-6);
+  loose.set_trace_rel(0.5);
+  const auto comparison = CompareTraces(base, candidate, loose);
+  ASSERT_EQ(comparison.difference_size(), 2);
+  for (const auto& difference : comparison.difference()) {
+    EXPECT_TRUE(std::isinf(difference.max_abs_difference())) << difference.signal();
+    EXPECT_TRUE(difference.has_diverges_at_s()) << difference.signal();
+  }
+  EXPECT_DOUBLE_EQ(comparison.difference(0).diverges_at_s(), 0.01);  // a
+  EXPECT_DOUBLE_EQ(comparison.difference(1).diverges_at_s(), 0.02);  // b: +inf against -inf
+}
+
+// A line without an end (a file of one endless line, /dev/zero behind a name) is never held
+// whole: the comparison stops there with a problem.
+TEST(CompareTracesTest, ALineFarLongerThanARowEndsTheComparison) {
+  const auto comparison = Compare(kBase, "time_s,x_m,force_n\n" + std::string(1 << 20, '0'));
+  EXPECT_EQ(comparison.rows_compared(), 0u);
+  EXPECT_THAT(comparison.problem(), HasSubstr("the candidate trace's line 2 is longer than 65536"));
+}
+
 }  // namespace
 }  // namespace hilrig::host
