@@ -2,6 +2,7 @@
 
 #include <google/protobuf/text_format.h>
 #include <time.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -16,12 +17,15 @@
 #include "host/cli/sweep_slurm.h"
 #include "host/link/child_process.h"
 #include "host/sweep/case_run.h"
+#include "host/sweep/sweep_folder.h"
 #include "host/sweep/sweep_merge.h"
 #include "host/sweep/sweep_shard.h"
 #include "host/sweep/sweep_statistics.h"
 #include "rig/clock.h"
 #include "rig/file_io.h"
+#include "rig/folder_lock.h"
 #include "rig/number_text.h"
+#include "rig/printable_text.h"
 #include "rig/stop_request.h"
 
 namespace hilrig::host {
@@ -29,7 +33,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kResolvedSweepName = "sweep.textproto";
 constexpr int kMaxJobs = 256;
 // A Slurm array's default size: enough tasks to fill a partition of a few nodes, few enough that
 // each task's start is small next to its cases.
@@ -158,15 +161,9 @@ rig::Result<void> WriteResolvedSweep(const LoadedSweep& sweep, const std::string
                                   "# written by hilrig sweep: the sweep its shards run\n" + text);
 }
 
-// Shard files of an earlier sweep in DIR would mix into this one's merge.
-rig::Result<void> ClearShards(const std::string& out_dir) {
-  std::error_code error;
-  fs::remove_all(fs::path(out_dir) / "shards", error);
-  if (error) return rig::MakeError("cannot clear " + out_dir + "/shards: " + error.message());
-  return {};
-}
-
-// Counts the rows the running shards have written, reading only what is new each time.
+// Counts the rows the running shards have written, reading only what is new each time, at most
+// kMaxProgressReadBytes a file per poll. Only regular files are read, so a FIFO planted in shards/
+// cannot block the sweep; a partial line past the row cap is dropped (the merge names it).
 class ShardProgress {
  public:
   explicit ShardProgress(std::string out_dir) : folder_(fs::path(out_dir) / "shards") {}
@@ -182,11 +179,18 @@ class ShardProgress {
   std::uint64_t not_passed() const { return not_passed_; }
 
  private:
+  static constexpr std::size_t kMaxProgressReadBytes = std::size_t{1} << 20;
+  static constexpr std::size_t kMaxPartialBytes = std::size_t{1} << 20;
+
   void ReadNew(const std::string& path) {
-    std::ifstream in(path);
+    auto fd = rig::OpenRegularFileForReading(path);
+    if (!fd) return;
     auto& [offset, partial] = files_[path];
-    in.seekg(static_cast<std::streamoff>(offset));
-    std::string chunk((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::string chunk(kMaxProgressReadBytes, '\0');
+    const ssize_t got = ::pread(fd.value(), chunk.data(), chunk.size(), static_cast<off_t>(offset));
+    ::close(fd.value());
+    if (got <= 0) return;
+    chunk.resize(static_cast<std::size_t>(got));
     offset += chunk.size();
     partial += chunk;
     for (std::size_t newline = partial.find('\n'); newline != std::string::npos;
@@ -199,6 +203,7 @@ class ShardProgress {
       }
       partial.erase(0, newline + 1);
     }
+    if (partial.size() > kMaxPartialBytes) partial.clear();
   }
 
   fs::path folder_;
@@ -319,10 +324,22 @@ int PrintMerged(const LoadedSweep& sweep, const MergedSweep& merged, const std::
   }
   io.out << sweep.spec.name() << ": " << merged.finished << " of " << merged.cases << " cases, "
          << merged.not_passed << " not passed";
-  if (merged.bad_lines > 0) io.out << ", " << merged.bad_lines << " unreadable shard lines";
-  io.out << "; " << (fs::path(out_dir) / "summary.json").string() << "\n";
+  if (merged.bad_lines > 0) io.out << ", " << merged.bad_lines << " shard lines refused";
+  if (merged.conflicting_cases > 0) {
+    io.out << ", " << merged.conflicting_cases << " cases with conflicting rows";
+  }
+  if (merged.unreadable_files > 0) {
+    io.out << ", " << merged.unreadable_files << " unreadable shard files";
+  }
+  io.out << "; " << rig::PrintableText((fs::path(out_dir) / "summary.json").string()) << "\n";
+  for (const std::string& problem : merged.problems) {
+    io.err << sweep.spec.name() << ": " << rig::PrintableText(problem) << "\n";
+  }
   if (stopped || merged.finished < merged.cases) {
-    io.out << sweep.spec.name() << ": INCOMPLETE (" << (stopped ? "stopped" : "cases missing")
+    io.out << sweep.spec.name() << ": INCOMPLETE ("
+           << (stopped                                                ? "stopped"
+               : merged.finished + merged.bad_lines > merged.finished ? "cases missing or refused"
+                                                                      : "cases missing")
            << "): the criteria are not graded as met\n";
     return kExitCheckFailed;
   }
@@ -330,35 +347,120 @@ int PrintMerged(const LoadedSweep& sweep, const MergedSweep& merged, const std::
   return merged.criteria_met ? kExitPass : kExitCheckFailed;
 }
 
-// Submits the sweep to Slurm. Returns the exit code when the command ends here (submitted
-// without --wait, or refused); nothing when the merge job has ended and its results are to be
-// printed.
-std::optional<int> RunOnSlurm(const LoadedSweep& sweep, const SweepOptions& options,
-                              const std::string& hilrig, const CliStreams& io) {
+SlurmSweepJob MakeSlurmJob(const LoadedSweep& sweep, const SweepOptions& options,
+                           const std::string& hilrig) {
   SlurmSweepJob job;
   job.name = sweep.spec.name();
   job.hilrig = hilrig;
   job.out_dir = fs::absolute(options.out_dir).lexically_normal().string();
   if (job.out_dir.size() > 1 && job.out_dir.back() == '/') job.out_dir.pop_back();
-  const std::uint64_t cases = CaseCount(sweep);
-  job.shards = static_cast<std::uint32_t>(
-      std::min<std::uint64_t>(options.jobs_given ? options.jobs : kDefaultSlurmShards, cases));
+  job.shards = static_cast<std::uint32_t>(std::min<std::uint64_t>(
+      options.jobs_given ? options.jobs : kDefaultSlurmShards, CaseCount(sweep)));
   job.partition = options.partition;
   job.max_parallel = options.max_parallel;
   job.keep_runs = options.keep_runs;
-  auto submitted = SubmitSweepToSlurm(job, options.wait, io.stop_requested);
+  return job;
+}
+
+// What a sweep that runs (here or on Slurm) holds while it prepares: its folder's lock, the
+// checked Slurm job, the earlier sweep's outputs set aside.
+struct PreparedSweep {
+  rig::FolderLock lock;
+  std::optional<SlurmSweepJob> slurm_job;
+  std::string sbatch;
+  EarlierSweepAside earlier;
+};
+
+// Everything that can refuse the sweep, checked before the folder changes; then the folder is
+// locked, the earlier sweep's outputs set aside and this sweep's spec written. An error is the
+// message to print (exit 2); the folder is then as it was.
+rig::Result<PreparedSweep> PrepareSweep(LoadedSweep& sweep, const SweepOptions& options,
+                                        const rig::Result<std::string>& hilrig) {
+  if (!hilrig) return hilrig.error();
+  std::optional<SlurmSweepJob> job;
+  std::string sbatch;
+  if (options.slurm) {
+    job = MakeSlurmJob(sweep, options, hilrig.value());
+    auto checked = CheckSlurmJob(*job);
+    if (!checked) return checked.error();
+    sbatch = checked.value();
+  }
+  auto lock = rig::FolderLock::Acquire(options.out_dir);
+  if (!lock) return lock.error();
+  auto earlier = EarlierSweepAside::Move(options.out_dir);
+  if (!earlier) return earlier.error();
+  MakeScenarioPathsAbsolute(sweep);
+  if (auto written = WriteResolvedSweep(sweep, options.out_dir); !written.ok()) {
+    earlier.value().PutBack();
+    return written.error();
+  }
+  return PreparedSweep{std::move(lock).value(), std::move(job), std::move(sbatch),
+                       std::move(earlier).value()};
+}
+
+// Submits the prepared sweep to Slurm. Returns the exit code when the command ends here (submitted
+// without --wait, or refused); nothing when the merge job has ended and its results are to be
+// printed.
+std::optional<int> RunOnSlurm(const LoadedSweep& sweep, const SweepOptions& options,
+                              PreparedSweep& prepared, const CliStreams& io) {
+  const SlurmSweepJob& job = *prepared.slurm_job;
+  // The merge job takes the folder's lock itself, so this process lets it go once it has set the
+  // folder up: from submission to merge the folder is the cluster's.
+  { const rig::FolderLock released(std::move(prepared.lock)); }
+  auto submitted = SubmitSweepToSlurm(job, prepared.sbatch, options.wait, io.stop_requested);
   if (!submitted) {
+    prepared.earlier.PutBack();
     io.err << "hilrig sweep: " << submitted.error().message << "\n";
     return kExitBadInput;
   }
-  io.err << job.name << ": " << cases << " cases in " << job.shards << " array tasks: Slurm job "
-         << submitted.value().array_job_id << ", merge job " << submitted.value().merge_job_id
-         << " (scripts in " << job.out_dir << "/slurm/)\n";
+  prepared.earlier.Drop();
+  io.err << job.name << ": " << CaseCount(sweep) << " cases in " << job.shards
+         << " array tasks: Slurm job " << submitted.value().array_job_id << ", merge job "
+         << submitted.value().merge_job_id << " (scripts in " << job.out_dir << "/slurm/)\n";
   if (options.wait) return std::nullopt;
   io.out << job.name << ": submitted; the merged results appear in " << job.out_dir << " when job "
          << submitted.value().merge_job_id << " ends (hilrig sweep --merge " << job.out_dir
          << " prints them)\n";
   return kExitPass;
+}
+
+int RunOneShard(const LoadedSweep& sweep, const SweepOptions& opts, const CliStreams& io) {
+  std::error_code error;
+  fs::create_directories(opts.out_dir, error);
+  if (error) {
+    io.err << "hilrig sweep: cannot make " << opts.out_dir << ": " << error.message() << "\n";
+    return kExitBadInput;
+  }
+  const SetupCaches caches = MakeSetupCaches(opts.cache_dir, io.err);
+  const rig::SteadyClock clock;
+  auto ran =
+      RunShard(sweep, *opts.shard, opts.out_dir, MakeCaseSetup(sweep, opts, caches, clock, io));
+  if (!ran) {
+    io.err << "hilrig sweep: " << ran.error().message << "\n";
+    return kExitCheckFailed;
+  }
+  return kExitPass;
+}
+
+int MergeAndPrint(const LoadedSweep& sweep, const SweepOptions& opts,
+                  const std::string& hilrig_path, bool stopped, const CliStreams& io) {
+  auto merged = MergeSweep(sweep, opts.out_dir, hilrig_path);
+  if (!merged) {
+    io.err << "hilrig sweep: " << merged.error().message << "\n";
+    return kExitCheckFailed;
+  }
+  return PrintMerged(sweep, merged.value(), opts.out_dir, stopped, io);
+}
+
+// A merge writes the folder's results: not while a sweep or another merge is at it.
+int LockedMerge(const LoadedSweep& sweep, const SweepOptions& opts, const std::string& hilrig_path,
+                const CliStreams& io) {
+  auto lock = rig::FolderLock::Acquire(opts.out_dir);
+  if (!lock) {
+    io.err << "hilrig sweep: " << lock.error().message << "\n";
+    return kExitBadInput;
+  }
+  return MergeAndPrint(sweep, opts, hilrig_path, rig::StopRequested(io.stop_requested), io);
 }
 
 }  // namespace
@@ -372,60 +474,29 @@ int SweepCommand(const std::vector<std::string>& args, const CliStreams& io) {
     return kExitBadInput;
   }
   const SweepOptions& opts = options.value();
-  auto hilrig = HilrigExecutable();
+  const auto hilrig = HilrigExecutable();
   const std::string hilrig_path = hilrig ? hilrig.value() : "hilrig";
-  if (!opts.merge_only) {
-    std::error_code error;
-    fs::create_directories(opts.out_dir, error);
-    if (error) {
-      io.err << "hilrig sweep: cannot make " << opts.out_dir << ": " << error.message() << "\n";
-      return kExitBadInput;
-    }
+  // A shard runs inside a sweep that holds the folder (its parent, or a Slurm array's submitter).
+  if (opts.shard) return RunOneShard(sweep.value(), opts, io);
+  if (opts.merge_only) return LockedMerge(sweep.value(), opts, hilrig_path, io);
+  auto prepared = PrepareSweep(sweep.value(), opts, hilrig);
+  if (!prepared) {
+    io.err << "hilrig sweep: " << prepared.error().message << "\n";
+    return kExitBadInput;
   }
-  if (opts.shard) {
-    const SetupCaches caches = MakeSetupCaches(opts.cache_dir, io.err);
-    const rig::SteadyClock clock;
-    auto ran = RunShard(sweep.value(), *opts.shard, opts.out_dir,
-                        MakeCaseSetup(sweep.value(), opts, caches, clock, io));
-    if (!ran) {
-      io.err << "hilrig sweep: " << ran.error().message << "\n";
-      return kExitCheckFailed;
+  if (opts.slurm) {
+    if (const std::optional<int> ended = RunOnSlurm(sweep.value(), opts, prepared.value(), io)) {
+      return *ended;
     }
-    return kExitPass;
+    return LockedMerge(sweep.value(), opts, hilrig_path, io);
   }
-  bool stopped = false;
-  if (!opts.merge_only) {
-    MakeScenarioPathsAbsolute(sweep.value());
-    if (auto written = WriteResolvedSweep(sweep.value(), opts.out_dir); !written.ok()) {
-      io.err << "hilrig sweep: " << written.error().message << "\n";
-      return kExitBadInput;
-    }
-    if (auto cleared = ClearShards(opts.out_dir); !cleared.ok()) {
-      io.err << "hilrig sweep: " << cleared.error().message << "\n";
-      return kExitBadInput;
-    }
-    if (!hilrig) {
-      io.err << "hilrig sweep: " << hilrig.error().message << "\n";
-      return kExitBadInput;
-    }
-    if (opts.slurm) {
-      if (const std::optional<int> submitted = RunOnSlurm(sweep.value(), opts, hilrig_path, io)) {
-        return *submitted;
-      }
-    } else {
-      io.err << sweep.value().spec.name() << ": " << CaseCount(sweep.value()) << " cases in "
-             << opts.jobs << " shard" << (opts.jobs == 1 ? "" : "s") << "\n";
-      auto ran = RunShardProcesses(sweep.value(), opts, hilrig_path, io);
-      if (!ran) io.err << "hilrig sweep: " << ran.error().message << "\n";
-    }
-    stopped = rig::StopRequested(io.stop_requested);
-  }
-  auto merged = MergeSweep(sweep.value(), opts.out_dir, hilrig_path);
-  if (!merged) {
-    io.err << "hilrig sweep: " << merged.error().message << "\n";
-    return kExitCheckFailed;
-  }
-  return PrintMerged(sweep.value(), merged.value(), opts.out_dir, stopped, io);
+  io.err << sweep.value().spec.name() << ": " << CaseCount(sweep.value()) << " cases in "
+         << opts.jobs << " shard" << (opts.jobs == 1 ? "" : "s") << "\n";
+  prepared.value().earlier.Drop();
+  auto ran = RunShardProcesses(sweep.value(), opts, hilrig_path, io);
+  if (!ran) io.err << "hilrig sweep: " << ran.error().message << "\n";
+  const bool stopped = rig::StopRequested(io.stop_requested);
+  return MergeAndPrint(sweep.value(), opts, hilrig_path, stopped, io);
 }
 
 }  // namespace hilrig::host

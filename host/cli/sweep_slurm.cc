@@ -33,13 +33,23 @@ rig::Result<std::string> Submit(const std::string& sbatch, std::vector<std::stri
 
 }  // namespace
 
-rig::Result<SlurmSubmission> SubmitSweepToSlurm(const SlurmSweepJob& job, bool wait,
-                                                const std::atomic<bool>* stop_requested) {
+rig::Result<std::string> CheckSlurmJob(const SlurmSweepJob& job) {
   // #SBATCH lines are not shell: a space cuts the path, and % starts one of Slurm's patterns.
   if (job.out_dir.find_first_of(" \t\n%") != std::string::npos) {
     return rig::MakeError("--slurm: the output folder " + job.out_dir +
                           " has a space or a %, which #SBATCH --output cannot take");
   }
+  auto sbatch = FindInPath("sbatch");
+  if (!sbatch) {
+    return rig::MakeError("--slurm: " + sbatch.error().message +
+                          " (Slurm's client, Debian package slurm-client)");
+  }
+  return sbatch;
+}
+
+rig::Result<SlurmSubmission> SubmitSweepToSlurm(const SlurmSweepJob& job, const std::string& sbatch,
+                                                bool wait,
+                                                const std::atomic<bool>* stop_requested) {
   const fs::path folder = fs::path(job.out_dir) / "slurm";
   std::error_code error;
   fs::create_directories(folder, error);
@@ -50,18 +60,13 @@ rig::Result<SlurmSubmission> SubmitSweepToSlurm(const SlurmSweepJob& job, bool w
                                    std::pair{merge_script, MergeScript(job)}}) {
     if (auto written = rig::WriteFileAtomically(path, text); !written.ok()) return written.error();
   }
-  auto sbatch = FindInPath("sbatch");
-  if (!sbatch) {
-    return rig::MakeError("--slurm: " + sbatch.error().message +
-                          " (Slurm's client, Debian package slurm-client)");
-  }
   SlurmSubmission submission;
-  auto array = Submit(sbatch.value(), {}, shards_script, stop_requested);
+  auto array = Submit(sbatch, {}, shards_script, stop_requested);
   if (!array) return array.error();
   submission.array_job_id = array.value();
   std::vector<std::string> merge_options = {"--dependency=afterany:" + submission.array_job_id};
   if (wait) merge_options.push_back("--wait");
-  auto merge = Submit(sbatch.value(), merge_options, merge_script, stop_requested);
+  auto merge = Submit(sbatch, merge_options, merge_script, stop_requested);
   if (!merge) return merge.error();
   submission.merge_job_id = merge.value();
   return submission;

@@ -19,10 +19,13 @@ struct SlurmSubmission {
   std::string merge_job_id;
 };
 
-// Writes the scripts and submits them with the `sbatch` found in PATH. Fails, saying why, when
-// the output folder cannot be used by a batch script (a space or a % in its path), a script
-// cannot be written, sbatch is missing, or sbatch refuses a job (its output quoted).
-rig::Result<SlurmSubmission> SubmitSweepToSlurm(const SlurmSweepJob& job, bool wait,
-                                                const std::atomic<bool>* stop_requested);
+// What can be checked before the sweep changes anything in its folder: the folder's path can be
+// used by a batch script (no space or %), and `sbatch` is in PATH. Returns sbatch's path.
+rig::Result<std::string> CheckSlurmJob(const SlurmSweepJob& job);
+
+// Writes the scripts and submits them with `sbatch` (from CheckSlurmJob). Fails, saying why, when a
+// script cannot be written or sbatch refuses a job (its output quoted).
+rig::Result<SlurmSubmission> SubmitSweepToSlurm(const SlurmSweepJob& job, const std::string& sbatch,
+                                                bool wait, const std::atomic<bool>* stop_requested);
 
 }  // namespace hilrig::host

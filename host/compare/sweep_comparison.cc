@@ -129,6 +129,12 @@ std::string EnvelopeName(const std::string& scenario, const std::string& envelop
 }
 
 void GradeSweep(proto::SweepComparison& comparison) {
+  // An incomplete sweep on either side proves nothing about the other: never "not worse".
+  if (comparison.base_cases() < comparison.base_sweep_cases()) {
+    comparison.add_reason(
+        "the base sweep is incomplete: " + std::to_string(comparison.base_cases()) + " of " +
+        std::to_string(comparison.base_sweep_cases()) + " cases");
+  }
   if (comparison.candidate_cases() < comparison.candidate_sweep_cases()) {
     comparison.add_reason(
         "the candidate sweep is incomplete: " + std::to_string(comparison.candidate_cases()) +

@@ -1,6 +1,8 @@
 #include "host/sweep/sweep_merge.h"
 
+#include <algorithm>
 #include <filesystem>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <vector>
@@ -13,6 +15,7 @@
 #include "host/sweep/sweep_statistics.h"
 #include "rig/file_io.h"
 #include "rig/number_text.h"
+#include "rig/printable_text.h"
 
 namespace hilrig::host {
 namespace {
@@ -75,7 +78,9 @@ std::string FailingText(const LoadedSweep& sweep,
   for (const auto& [index, row] : rows) {
     if (row.outcome() == proto::SweepCaseResult::PASSED) continue;
     text << "# case " << index << " " << OutcomeName(row.outcome());
-    if (!row.detail().empty()) text << ": " << row.detail();
+    // The detail comes from the case's run (a stop reason may quote a spec's path): one line with
+    // every control character escaped, so that nothing in it runs when the file is run.
+    if (!row.detail().empty()) text << ": " << rig::PrintableText(row.detail());
     text << "\n" << ReproduceCommand(sweep, row, hilrig, runs_dir) << "\n";
   }
   return text.str();
@@ -132,37 +137,89 @@ std::string ReproduceCommand(const LoadedSweep& sweep, const proto::SweepCaseRes
   return command + " --no-reference --out " + ShellQuoted(CaseFolder(runs_dir, row.index()));
 }
 
+namespace {
+
+// What makes `row` not the result of its case (the case recomputed from the sweep spec), or
+// nothing when it may stand for it.
+std::optional<std::string> RowMismatch(const LoadedSweep& sweep, const SweepCaseSpace& cases,
+                                       const proto::SweepCaseResult& row) {
+  if (row.index() >= cases.case_count()) {
+    return "case " + std::to_string(row.index()) + " is not one of the sweep's " +
+           std::to_string(cases.case_count()) + " cases";
+  }
+  const SweepCase expected = cases.CaseAt(row.index());
+  const std::string label = "case " + std::to_string(row.index());
+  const proto::Scenario& scenario = sweep.scenarios[expected.scenario].spec;
+  if (row.scenario() != scenario.name()) return label + " is not of scenario " + scenario.name();
+  if (row.seed() != expected.seed) {
+    return label + " has seed " + std::to_string(row.seed()) + ", the sweep's " +
+           std::to_string(expected.seed);
+  }
+  if (!std::equal(row.value().begin(), row.value().end(), expected.values.begin(),
+                  expected.values.end())) {
+    return label + " has other axis values than the sweep's (" + CaseLabel(sweep, expected) + ")";
+  }
+  if (proto::SweepCaseResult::Outcome_IsValid(row.outcome()) == false ||
+      row.outcome() == proto::SweepCaseResult::OUTCOME_UNSPECIFIED) {
+    return label + " has no outcome";
+  }
+  std::set<std::string> names;
+  for (const proto::Envelope& envelope : scenario.envelopes()) names.insert(envelope.name());
+  bool all_met = true;
+  for (const auto& envelope : row.envelope()) {
+    if (names.count(envelope.name()) == 0) {
+      return label + " names an envelope its scenario does not have";
+    }
+    all_met = all_met && envelope.met();
+  }
+  if (row.outcome() == proto::SweepCaseResult::PASSED &&
+      (!all_met || row.envelope_size() != scenario.envelopes_size())) {
+    return label + " says passed without every envelope met";
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
 rig::Result<MergedSweep> MergeSweep(const LoadedSweep& sweep, const std::string& out_dir,
                                     const std::string& hilrig) {
   MergedSweep merged;
-  merged.cases = CaseCount(sweep);
-  auto rows = ReadShardRows(out_dir, &merged.bad_lines);
-  if (!rows) return rows.error();
-  // Rows of cases the sweep does not have (a shard of an earlier, larger sweep) are not its.
-  for (auto it = rows.value().begin(); it != rows.value().end();) {
-    it = it->first < merged.cases ? std::next(it) : rows.value().erase(it);
-  }
-  merged.finished = rows.value().size();
-  for (const auto& [index, row] : rows.value()) {
+  const SweepCaseSpace cases(sweep);
+  merged.cases = cases.case_count();
+  auto found = ReadShardRows(
+      out_dir, [&](const proto::SweepCaseResult& row) { return RowMismatch(sweep, cases, row); });
+  if (!found) return found.error();
+  merged.bad_lines = found.value().bad_lines;
+  merged.conflicting_cases = found.value().conflicting_cases.size();
+  merged.unreadable_files = found.value().unreadable_files;
+  merged.problems = std::move(found.value().problems);
+  auto& rows = found.value().rows;
+  merged.finished = rows.size();
+  for (const auto& [index, row] : rows) {
     if (row.outcome() != proto::SweepCaseResult::PASSED) ++merged.not_passed;
   }
   const std::filesystem::path folder(out_dir);
   const std::string runs_dir = (folder / "runs").string();
-  if (auto written =
-          rig::WriteFileAtomically((folder / "runs.csv").string(), RunsCsv(sweep, rows.value()));
+  if (auto written = rig::WriteFileAtomically((folder / "runs.csv").string(), RunsCsv(sweep, rows));
       !written.ok()) {
     return written.error();
   }
   if (auto written = rig::WriteFileAtomically((folder / "failing.txt").string(),
-                                              FailingText(sweep, rows.value(), hilrig, runs_dir));
+                                              FailingText(sweep, rows, hilrig, runs_dir));
       !written.ok()) {
     return written.error();
   }
   std::vector<proto::SweepCaseResult> results;
-  results.reserve(rows.value().size());
-  for (auto& [index, row] : rows.value()) results.push_back(std::move(row));
+  results.reserve(rows.size());
+  for (auto& [index, row] : rows) results.push_back(std::move(row));
   merged.summary = SummariseSweep(sweep, results);
   merged.summary.set_sweep_cases(merged.cases);
+  // The criteria hold for the sweep only when every case ran: a stopped sweep, a missing shard or
+  // a refused row leaves cases that could have failed.
+  merged.summary.set_complete(merged.finished == merged.cases);
+  merged.summary.set_passed(merged.summary.passed() && merged.summary.complete());
+  merged.summary.set_rows_refused(merged.bad_lines);
+  merged.summary.set_conflicting_cases(merged.conflicting_cases);
   auto json = SummaryJson(merged.summary);
   if (!json) return json.error();
   if (auto written = rig::WriteFileAtomically((folder / "summary.json").string(), json.value());
@@ -175,7 +232,7 @@ rig::Result<MergedSweep> MergeSweep(const LoadedSweep& sweep, const std::string&
       !written.ok()) {
     return written.error();
   }
-  merged.criteria_met = merged.finished == merged.cases && merged.summary.passed();
+  merged.criteria_met = merged.summary.passed();
   return merged;
 }
 

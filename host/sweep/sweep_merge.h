@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "host/sweep/sweep_spec.h"
 #include "proto/sweep.pb.h"
@@ -18,9 +19,12 @@
 namespace hilrig::host {
 
 struct MergedSweep {
-  std::uint64_t cases = 0;      // the sweep's
-  std::uint64_t finished = 0;   // rows found
-  std::uint64_t bad_lines = 0;  // shard lines that did not parse (a shard killed mid-line)
+  std::uint64_t cases = 0;              // the sweep's
+  std::uint64_t finished = 0;           // rows found
+  std::uint64_t bad_lines = 0;          // shard lines that stand for no case (ShardRows::bad_lines)
+  std::uint64_t conflicting_cases = 0;  // cases with two different rows: not finished
+  std::uint64_t unreadable_files = 0;   // shard files that could not be read
+  std::vector<std::string> problems;    // the first few of these, each with its file and line
   std::uint64_t not_passed = 0;
   bool criteria_met = false;    // every criterion passed over a complete sweep
   proto::SweepSummary summary;  // what summary.json holds
@@ -43,9 +47,10 @@ const char* OutcomeName(proto::SweepCaseResult::Outcome outcome);
 std::string ReproduceCommand(const LoadedSweep& sweep, const proto::SweepCaseResult& row,
                              const std::string& hilrig, const std::string& runs_dir);
 
-// Reads the shards under `out_dir` and writes runs.csv, failing.txt, summary.json and index.html
-// (sweep_page.h) there, each whole or not at all. Fails when a shard folder cannot be read or a
-// file cannot be written.
+// Reads the shards under `out_dir`, taking only rows that match their case as the sweep spec makes
+// it (scenario, seed, axis values, an outcome consistent with the envelopes), and writes runs.csv,
+// failing.txt, summary.json and index.html (sweep_page.h) there, each whole or not at all. Fails
+// when a shard folder cannot be read or a file cannot be written.
 rig::Result<MergedSweep> MergeSweep(const LoadedSweep& sweep, const std::string& out_dir,
                                     const std::string& hilrig);
 

@@ -5,11 +5,12 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
+#include <set>
 
 #include "host/sweep/sweep_cases.h"
 #include "rig/command_args.h"
 #include "rig/file_io.h"
+#include "rig/input_file.h"
 
 namespace hilrig::host {
 namespace {
@@ -92,8 +93,79 @@ rig::Result<proto::SweepCaseResult> ParseShardRow(const std::string& line) {
   return row;
 }
 
-rig::Result<std::map<std::uint64_t, proto::SweepCaseResult>> ReadShardRows(
-    const std::string& out_dir, std::uint64_t* bad_lines) {
+namespace {
+
+// The problems a merge names; the count says how many more there were.
+constexpr std::size_t kMaxNamedProblems = 20;
+
+void AddProblem(ShardRows& found, std::string problem) {
+  if (found.problems.size() < kMaxNamedProblems) found.problems.push_back(std::move(problem));
+}
+
+// The row without what measures the machine, for telling a re-run's row from a different result.
+std::string ResultBytes(proto::SweepCaseResult row) {
+  row.clear_real_time_factor();
+  row.clear_wall_s();
+  return row.SerializeAsString();
+}
+
+// Takes a row that passed the check: the first row of a case stands; the same result again is
+// taken once; a different one makes the case a conflict.
+void TakeRow(proto::SweepCaseResult row, const std::string& where, ShardRows& found,
+             std::set<std::uint64_t>& conflicting) {
+  const std::uint64_t index = row.index();
+  if (conflicting.count(index) != 0) return;
+  const auto [at, inserted] = found.rows.try_emplace(index, std::move(row));
+  if (inserted || ResultBytes(at->second) == ResultBytes(row)) return;
+  conflicting.insert(index);
+  found.rows.erase(at);
+  AddProblem(found, where + ": case " + std::to_string(index) +
+                        " has two different rows; neither is taken");
+}
+
+// A file that cannot be read (a FIFO or a device planted in shards/, a read error) is a problem of
+// the merge, not its end: its cases count as not finished.
+void ReadShardFile(const std::filesystem::path& file, const RowCheck& check, ShardRows& found,
+                   std::set<std::uint64_t>& conflicting) {
+  const std::string name = "shards/" + file.filename().string();
+  auto in = rig::InputFile::Open(file.string());
+  if (!in) {
+    ++found.unreadable_files;
+    AddProblem(found, name + ": " + in.error().message);
+    return;
+  }
+  std::string line;
+  for (std::uint64_t number = 1;; ++number) {
+    const rig::LineRead read = in.value()->ReadLine(kMaxRowBytes, line);
+    if (read == rig::LineRead::kEnd) return;
+    if (read == rig::LineRead::kReadError) {
+      ++found.unreadable_files;
+      AddProblem(found, name + ": " + in.value()->ReadError().message);
+      return;
+    }
+    const std::string where = name + ":" + std::to_string(number);
+    if (read == rig::LineRead::kTooLong) {
+      // The rest of the file is not read: the line has no end the reader could find cheaply.
+      ++found.bad_lines;
+      AddProblem(found, where + ": a line longer than " + std::to_string(kMaxRowBytes) +
+                            " bytes; the rest of the file is not read");
+      return;
+    }
+    rig::Result<proto::SweepCaseResult> row = ParseShardRow(line);
+    std::optional<std::string> refused =
+        row.ok() ? check(row.value()) : std::optional<std::string>(row.error().message);
+    if (refused) {
+      ++found.bad_lines;
+      AddProblem(found, where + ": " + *refused);
+      continue;
+    }
+    TakeRow(std::move(row).value(), where, found, conflicting);
+  }
+}
+
+}  // namespace
+
+rig::Result<ShardRows> ReadShardRows(const std::string& out_dir, const RowCheck& check) {
   namespace fs = std::filesystem;
   const fs::path folder = fs::path(out_dir) / "shards";
   std::vector<fs::path> files;
@@ -104,20 +176,11 @@ rig::Result<std::map<std::uint64_t, proto::SweepCaseResult>> ReadShardRows(
   }
   if (error) return rig::MakeError("cannot read " + folder.string() + ": " + error.message());
   std::sort(files.begin(), files.end());
-  std::map<std::uint64_t, proto::SweepCaseResult> rows;
-  for (const fs::path& file : files) {
-    std::ifstream in(file);
-    std::string line;
-    while (std::getline(in, line)) {
-      rig::Result<proto::SweepCaseResult> row = ParseShardRow(line);
-      if (!row.ok()) {
-        if (bad_lines != nullptr) ++*bad_lines;
-        continue;
-      }
-      rows[row.value().index()] = std::move(row).value();
-    }
-  }
-  return rows;
+  ShardRows found;
+  std::set<std::uint64_t> conflicting;
+  for (const fs::path& file : files) ReadShardFile(file, check, found, conflicting);
+  found.conflicting_cases.assign(conflicting.begin(), conflicting.end());
+  return found;
 }
 
 }  // namespace hilrig::host

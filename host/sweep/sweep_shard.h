@@ -9,7 +9,9 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "host/sweep/case_run.h"
 #include "host/sweep/sweep_spec.h"
@@ -44,10 +46,31 @@ rig::Result<std::uint64_t> RunShard(
 // longer than any row.
 rig::Result<proto::SweepCaseResult> ParseShardRow(const std::string& line);
 
-// Every case row in DIR/shards/*.jsonl, by index. A line that does not parse (the last line of a
-// shard that was killed while writing) is skipped and counted in `*bad_lines`. Fails when the
-// folder cannot be read. A case present twice (a shard run again) keeps its later row.
-rig::Result<std::map<std::uint64_t, proto::SweepCaseResult>> ReadShardRows(
-    const std::string& out_dir, std::uint64_t* bad_lines);
+// What the merge found in DIR/shards/*.jsonl.
+struct ShardRows {
+  std::map<std::uint64_t, proto::SweepCaseResult>
+      rows;  // by case index; conflicting cases left out
+  // Lines that stand for no case: not a row (a line cut by a kill, garbage, a line past the cap),
+  // or a row the check refused (its scenario, seed or values are not its case's).
+  std::uint64_t bad_lines = 0;
+  // Cases with two rows that differ in more than their timing (real_time_factor, wall_s): neither
+  // is taken, and the case counts as not finished.
+  std::vector<std::uint64_t> conflicting_cases;
+  // Shard files that could not be read (not a regular file, a read error): their cases count as
+  // not finished.
+  std::uint64_t unreadable_files = 0;
+  // "shards/shard-0001-of-0002.jsonl:3: <why>" for the first few bad lines and conflicts.
+  std::vector<std::string> problems;
+};
+
+// What is wrong with a row that parsed, or nothing when it may stand for its case.
+using RowCheck = std::function<std::optional<std::string>(const proto::SweepCaseResult& row)>;
+
+// Every case row in DIR/shards/*.jsonl that `check` accepts, by index. Only regular files are read
+// (a FIFO or a device in shards/ is refused by name, never waited on), a line at a time with a cap,
+// so a shard file that never ends costs its lines, never memory. A case written twice with the
+// same result (a shard run again) is taken once. Fails when the folder cannot be read; a file that
+// cannot be is counted and named.
+rig::Result<ShardRows> ReadShardRows(const std::string& out_dir, const RowCheck& check);
 
 }  // namespace hilrig::host

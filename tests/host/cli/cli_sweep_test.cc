@@ -203,6 +203,10 @@ TEST(CliSweepTest, AStoppedSweepKeepsAndMergesWhatFinished) {
   const std::string page = ReadFile(out / "index.html");
   EXPECT_THAT(page, HasSubstr("<span class=\"badge neutral\">INCOMPLETE</span>"));
   EXPECT_THAT(page, HasSubstr(std::to_string(rows) + " of 2000 cases finished"));
+  // Every finished case passed, and still the summary does not say the sweep did.
+  const std::string summary = ReadFile(out / "summary.json");
+  EXPECT_THAT(summary, HasSubstr("\"passed\": false"));
+  EXPECT_THAT(summary, HasSubstr("\"complete\": false"));
 }
 
 }  // namespace

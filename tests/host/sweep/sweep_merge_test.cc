@@ -3,9 +3,11 @@
 #include "host/sweep/sweep_merge.h"
 
 #include <gmock/gmock.h>
+#include <google/protobuf/util/json_util.h>
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <sstream>
 
 #include "tests/support/hover_sweep.h"
 
@@ -60,6 +62,105 @@ TEST(SweepMergeTest, TheReproducingCommandRunsTheCaseAlone) {
   EXPECT_EQ(command, "'/opt/hil rig/hilrig' run " + sweep.scenarios[0].path +
                          " --seed 7 --set vehicle.mass_kg=0.30000000000000004 --no-reference"
                          " --out /out/runs/case-0000012");
+}
+
+std::string JsonLine(const proto::SweepCaseResult& row) {
+  std::string json;
+  (void)google::protobuf::util::MessageToJsonString(row, &json);
+  return json + "\n";
+}
+
+// A passed row of hover case `index` (seed, mass as the sweep makes them), its envelope met.
+proto::SweepCaseResult PassedHoverRow(std::uint64_t index) {
+  const std::uint64_t seed = index % 2 + 1;
+  proto::SweepCaseResult row =
+      HoverRow(index, seed, index < 2 ? 0.5 : 0.6, proto::SweepCaseResult::PASSED);
+  auto* envelope = row.add_envelope();
+  envelope->set_name("altitude");
+  envelope->set_met(true);
+  return row;
+}
+
+// A sweep folder whose shard holds `lines`.
+std::filesystem::path ShardFolder(const std::string& name, const std::string& lines) {
+  const std::filesystem::path out = FreshTestDir(name);
+  std::filesystem::create_directories(out / "shards");
+  std::ofstream(out / "shards" / "shard-0001-of-0001.jsonl") << lines;
+  return out;
+}
+
+TEST(SweepMergeTest, EveryMatchingRowCountsAndTheSweepPasses) {
+  const LoadedSweep sweep = HoverSweep("sweep_merge_all");
+  std::string lines;
+  for (std::uint64_t index = 0; index < 4; ++index) lines += JsonLine(PassedHoverRow(index));
+  auto merged = MergeSweep(sweep, ShardFolder("sweep_merge_all_out", lines).string(), "hilrig");
+  ASSERT_TRUE(merged.ok()) << merged.error().message;
+  EXPECT_EQ(merged.value().finished, 4u);
+  EXPECT_TRUE(merged.value().summary.complete());
+  EXPECT_TRUE(merged.value().criteria_met);
+  EXPECT_TRUE(merged.value().summary.passed());
+}
+
+// Rows that do not match their case as the sweep spec makes it stand for no case: a forged
+// scenario, seed or value, an outcome its envelopes belie, a case the sweep does not have, an
+// empty object. The sweep is then incomplete, and never passes.
+TEST(SweepMergeTest, ForgedAndMismatchedRowsAreRefusedAndTheSweepDoesNotPass) {
+  const LoadedSweep sweep = HoverSweep("sweep_merge_forged");
+  proto::SweepCaseResult wrong_scenario = PassedHoverRow(0);
+  wrong_scenario.set_scenario("other");
+  proto::SweepCaseResult wrong_seed = PassedHoverRow(1);
+  wrong_seed.set_seed(7);
+  proto::SweepCaseResult wrong_value = PassedHoverRow(2);
+  wrong_value.set_value(0, 0.5);
+  proto::SweepCaseResult belied = PassedHoverRow(3);
+  belied.mutable_envelope(0)->set_met(false);
+  proto::SweepCaseResult beyond = PassedHoverRow(3);
+  beyond.set_index(4);
+  const std::string lines = JsonLine(wrong_scenario) + JsonLine(wrong_seed) +
+                            JsonLine(wrong_value) + JsonLine(belied) + JsonLine(beyond) + "{}\n";
+  const auto out = ShardFolder("sweep_merge_forged_out", lines);
+  auto merged = MergeSweep(sweep, out.string(), "hilrig");
+  ASSERT_TRUE(merged.ok()) << merged.error().message;
+  EXPECT_EQ(merged.value().finished, 0u);
+  EXPECT_EQ(merged.value().bad_lines, 6u);
+  EXPECT_FALSE(merged.value().criteria_met);
+  EXPECT_FALSE(merged.value().summary.passed());
+  EXPECT_FALSE(merged.value().summary.complete());
+  EXPECT_EQ(merged.value().summary.rows_refused(), 6u);
+  const auto& problems = merged.value().problems;
+  ASSERT_EQ(problems.size(), 6u);
+  EXPECT_THAT(problems[0], HasSubstr(":1: case 0 is not of scenario hover_sweep"));
+  EXPECT_THAT(problems[1], HasSubstr(":2: case 1 has seed 7, the sweep's 2"));
+  EXPECT_THAT(problems[2], HasSubstr(":3: case 2 has other axis values than the sweep's"));
+  EXPECT_THAT(problems[3], HasSubstr(":4: case 3 says passed without every envelope met"));
+  EXPECT_THAT(problems[4], HasSubstr(":5: case 4 is not one of the sweep's 4 cases"));
+  EXPECT_THAT(problems[5], HasSubstr(":6: case 0 is not of scenario hover_sweep"));
+  // runs.csv has no row for a refused line: its columns stay the header's.
+  EXPECT_EQ(ReadFile(out / "runs.csv").find("\n0,"), std::string::npos);
+}
+
+// A case's detail (a stop reason may quote a spec's path) is data in failing.txt: a line break in
+// it does not start a line that `bash failing.txt` would run.
+TEST(SweepMergeTest, FailingTxtRunsNothingButTheCasesCommands) {
+  const LoadedSweep sweep = HoverSweep("sweep_merge_inject");
+  proto::SweepCaseResult row = HoverRow(1, 2, 0.5, proto::SweepCaseResult::STOPPED);
+  row.set_detail("dut failed: x\ntouch /tmp/hilrig_injected\n\x1b[2J");
+  const auto out = ShardFolder("sweep_merge_inject_out", JsonLine(row));
+  auto merged = MergeSweep(sweep, out.string(), "/opt/hilrig");
+  ASSERT_TRUE(merged.ok()) << merged.error().message;
+  const std::string failing = ReadFile(out / "failing.txt");
+  EXPECT_THAT(
+      failing,
+      HasSubstr("# case 1 stopped: dut failed: x\\ntouch /tmp/hilrig_injected\\n\\x1b[2J\n"));
+  std::istringstream lines(failing);
+  std::string line;
+  int commands = 0;
+  while (std::getline(lines, line)) {
+    if (line.rfind("#", 0) == 0) continue;
+    EXPECT_EQ(line.rfind("/opt/hilrig run ", 0), 0u) << line;
+    ++commands;
+  }
+  EXPECT_EQ(commands, 1);
 }
 
 }  // namespace

@@ -4,8 +4,11 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <fstream>
+#include <optional>
+#include <vector>
 
 #include "tests/support/test_files.h"
 
@@ -57,28 +60,88 @@ TEST(ShardRowTest, RefusesACutLineAndGarbage) {
   EXPECT_THAT(huge.error().message, HasSubstr("longer than any case row"));
 }
 
+// Accepts every row that parsed.
+std::optional<std::string> AnyRow(const proto::SweepCaseResult&) { return std::nullopt; }
+
 TEST(ShardRowsTest, KeepsEveryWholeRowAndCountsACutLine) {
   const std::filesystem::path dir = FreshTestDir("shard_rows");
   std::filesystem::create_directories(dir / "shards");
   std::ofstream(dir / "shards" / "shard-0001-of-0002.jsonl")
       << "{\"index\":\"0\",\"scenario\":\"a\",\"outcome\":\"PASSED\"}\n"
-         "{\"index\":\"2\",\"scenario\":\"a\",\"outcome\":\"FAILED\"}\n";
-  // Killed while writing its second row; and a row of case 2 again, from a later run.
+         "{\"index\":\"2\",\"scenario\":\"a\",\"outcome\":\"FAILED\",\"wall_s\":1}\n";
+  // Killed while writing its second row; and case 2 again from a run again, its timing aside the
+  // same result: taken once.
   std::ofstream(dir / "shards" / "shard-0002-of-0002.jsonl")
       << "{\"index\":\"1\",\"scenario\":\"a\",\"outcome\":\"PASSED\"}\n"
          "{\"index\":\"3\",\"scen";
   std::ofstream(dir / "shards" / "shard-0003-of-0003.jsonl")
-      << "{\"index\":\"2\",\"scenario\":\"a\",\"outcome\":\"PASSED\"}\n";
+      << "{\"index\":\"2\",\"scenario\":\"a\",\"outcome\":\"FAILED\",\"wall_s\":2}\n";
   std::ofstream(dir / "shards" / "notes.txt") << "not a shard\n";
-  std::uint64_t bad_lines = 0;
-  auto rows = ReadShardRows(dir.string(), &bad_lines);
+  auto rows = ReadShardRows(dir.string(), AnyRow);
   ASSERT_TRUE(rows.ok()) << rows.error().message;
-  EXPECT_EQ(bad_lines, 1u);
-  ASSERT_EQ(rows.value().size(), 3u);
-  EXPECT_EQ(rows.value().at(2).outcome(), proto::SweepCaseResult::PASSED);
-  auto missing = ReadShardRows((dir / "nothing").string(), nullptr);
+  EXPECT_EQ(rows.value().bad_lines, 1u);
+  EXPECT_TRUE(rows.value().conflicting_cases.empty());
+  ASSERT_EQ(rows.value().rows.size(), 3u);
+  EXPECT_EQ(rows.value().rows.at(2).outcome(), proto::SweepCaseResult::FAILED);
+  ASSERT_EQ(rows.value().problems.size(), 1u);
+  EXPECT_THAT(rows.value().problems[0], HasSubstr("shards/shard-0002-of-0002.jsonl:2: "));
+  auto missing = ReadShardRows((dir / "nothing").string(), AnyRow);
   ASSERT_FALSE(missing.ok());
   EXPECT_THAT(missing.error().message, HasSubstr("nothing/shards"));
+}
+
+TEST(ShardRowsTest, TwoDifferentRowsOfOneCaseStandForNeither) {
+  const std::filesystem::path dir = FreshTestDir("shard_rows_conflict");
+  std::filesystem::create_directories(dir / "shards");
+  std::ofstream(dir / "shards" / "shard-0001-of-0001.jsonl")
+      << "{\"index\":\"0\",\"scenario\":\"a\",\"outcome\":\"FAILED\"}\n"
+         "{\"index\":\"0\",\"scenario\":\"a\",\"outcome\":\"PASSED\"}\n"
+         "{\"index\":\"0\",\"scenario\":\"a\",\"outcome\":\"FAILED\"}\n"
+         "{\"index\":\"1\",\"scenario\":\"a\",\"outcome\":\"PASSED\"}\n";
+  auto rows = ReadShardRows(dir.string(), AnyRow);
+  ASSERT_TRUE(rows.ok()) << rows.error().message;
+  EXPECT_EQ(rows.value().rows.count(0), 0u);  // not "the later one wins"
+  EXPECT_EQ(rows.value().rows.count(1), 1u);
+  EXPECT_EQ(rows.value().conflicting_cases, std::vector<std::uint64_t>{0});
+  ASSERT_FALSE(rows.value().problems.empty());
+  EXPECT_THAT(rows.value().problems[0], HasSubstr(":2: case 0 has two different rows"));
+}
+
+TEST(ShardRowsTest, ARowTheCheckRefusesStandsForNoCase) {
+  const std::filesystem::path dir = FreshTestDir("shard_rows_check");
+  std::filesystem::create_directories(dir / "shards");
+  std::ofstream(dir / "shards" / "shard-0001-of-0001.jsonl")
+      << "{}\n{\"index\":\"1\",\"scenario\":\"a\",\"outcome\":\"PASSED\"}\n";
+  auto rows = ReadShardRows(dir.string(), [](const proto::SweepCaseResult& row) {
+    return row.scenario() == "a" ? std::nullopt : std::optional<std::string>("not of a");
+  });
+  ASSERT_TRUE(rows.ok()) << rows.error().message;
+  EXPECT_EQ(rows.value().bad_lines, 1u);
+  ASSERT_EQ(rows.value().rows.size(), 1u);
+  EXPECT_EQ(rows.value().rows.count(0), 0u);  // the {} line does not stand for case 0
+  EXPECT_THAT(rows.value().problems[0], HasSubstr("shard-0001-of-0001.jsonl:1: not of a"));
+}
+
+// A FIFO or a device planted among the shards is named and skipped, never waited on or read
+// without end; a file of one endless line costs the cap, not the file.
+TEST(ShardRowsTest, AFifoADeviceAndAnEndlessLineAreRefusedWithoutHangingOrFillingMemory) {
+  const std::filesystem::path dir = FreshTestDir("shard_rows_hostile");
+  std::filesystem::create_directories(dir / "shards");
+  ASSERT_EQ(::mkfifo((dir / "shards" / "shard-0001-of-0004.jsonl").c_str(), 0600), 0);
+  std::filesystem::create_symlink("/dev/zero", dir / "shards" / "shard-0002-of-0004.jsonl");
+  std::ofstream(dir / "shards" / "shard-0003-of-0004.jsonl")
+      << std::string(std::size_t{3} << 20, 'x');
+  std::ofstream(dir / "shards" / "shard-0004-of-0004.jsonl")
+      << "{\"index\":\"3\",\"scenario\":\"a\",\"outcome\":\"PASSED\"}\n";
+  auto rows = ReadShardRows(dir.string(), AnyRow);
+  ASSERT_TRUE(rows.ok()) << rows.error().message;
+  EXPECT_EQ(rows.value().unreadable_files, 2u);
+  EXPECT_EQ(rows.value().bad_lines, 1u);
+  EXPECT_EQ(rows.value().rows.size(), 1u);
+  ASSERT_EQ(rows.value().problems.size(), 3u);
+  EXPECT_THAT(rows.value().problems[0], HasSubstr("a FIFO, not a regular file"));
+  EXPECT_THAT(rows.value().problems[1], HasSubstr("a device, not a regular file"));
+  EXPECT_THAT(rows.value().problems[2], HasSubstr("a line longer than 1048576 bytes"));
 }
 
 }  // namespace
