@@ -3,7 +3,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
-#include <spawn.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
@@ -45,26 +45,74 @@ std::string DescribeStatus(int status) {
   return "ended with wait status " + std::to_string(status);
 }
 
+// A descriptor the child gets under another number (or, `from` == `to`, keeps across exec).
+struct FdMove {
+  int from;
+  int to;
+};
+
+// The child's side of SpawnInOwnGroup, between fork and exec: async-signal-safe calls only. An
+// exec that fails writes its errno to `status_fd` for the parent.
+[[noreturn]] void BecomeChild(pid_t parent, char* const* args, char* const* variables,
+                              const std::vector<FdMove>& moves, int status_fd) {
+  // The child dies with this process, however it ends (a SIGKILL included), so that no DUT process
+  // or QEMU keeps running with its ports open, and no sweep shard keeps running cases. The
+  // setting survives exec; a parent that died before it took effect is caught by the check.
+  ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+  if (::getppid() != parent) ::_exit(127);
+  ::setpgid(0, 0);
+  for (const FdMove& move : moves) {
+    // dup2 clears close-on-exec on the new number; onto itself it does nothing, so clear it here.
+    if (move.from == move.to) {
+      ::fcntl(move.from, F_SETFD, 0);
+    } else {
+      ::dup2(move.from, move.to);
+    }
+  }
+  ::execve(args[0], args, variables);
+  const int error = errno;
+  (void)!::write(status_fd, &error, sizeof(error));
+  ::_exit(127);
+}
+
 // Starts argv[0] (a path; argv not empty) with argv, this process's environment plus
-// `environment` (as ChildEnvironment) and `file_actions` (null: none), in a process group of its
-// own: a Ctrl-C at the terminal reaches the harness, which then ends the child itself, instead of
-// both racing to stop. Fails when posix_spawn does; the error names the program.
+// `environment` (as ChildEnvironment) and the descriptors `moves`, in a process group of its own
+// (a Ctrl-C at the terminal reaches the harness, which then ends the child itself, instead of both
+// racing to stop) and bound to die with this process (PR_SET_PDEATHSIG). Fails, naming the
+// program, when it cannot be forked or exec'd (a missing or non-executable program).
 rig::Result<pid_t> SpawnInOwnGroup(const std::vector<std::string>& argv,
                                    const std::vector<std::string>& environment,
-                                   const posix_spawn_file_actions_t* file_actions) {
+                                   const std::vector<FdMove>& moves) {
   std::vector<char*> args;
   for (const std::string& arg : argv) args.push_back(const_cast<char*>(arg.c_str()));
   args.push_back(nullptr);
-  posix_spawnattr_t attributes;
-  ::posix_spawnattr_init(&attributes);
-  ::posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
-  ::posix_spawnattr_setpgroup(&attributes, 0);
   std::vector<char*> variables = ChildEnvironment(environment);
-  pid_t pid = -1;
-  const int error = ::posix_spawn(&pid, argv[0].c_str(), file_actions, &attributes, args.data(),
-                                  variables.data());
-  ::posix_spawnattr_destroy(&attributes);
-  if (error != 0) return rig::MakeError("cannot start " + argv[0] + ": " + std::strerror(error));
+  int status_pipe[2];
+  if (::pipe2(status_pipe, O_CLOEXEC) != 0) {
+    return rig::MakeError("cannot start " + argv[0] + ": pipe: " + std::strerror(errno));
+  }
+  const pid_t parent = ::getpid();
+  const pid_t pid = ::fork();
+  if (pid == 0) BecomeChild(parent, args.data(), variables.data(), moves, status_pipe[1]);
+  const int fork_error = errno;
+  ::close(status_pipe[1]);
+  if (pid < 0) {
+    ::close(status_pipe[0]);
+    return rig::MakeError("cannot start " + argv[0] + ": fork: " + std::strerror(fork_error));
+  }
+  // The pipe closes at a successful exec (close-on-exec) and brings the errno of a failed one.
+  int exec_error = 0;
+  ssize_t got = 0;
+  do {
+    got = ::read(status_pipe[0], &exec_error, sizeof(exec_error));
+  } while (got < 0 && errno == EINTR);
+  ::close(status_pipe[0]);
+  if (got == static_cast<ssize_t>(sizeof(exec_error))) {
+    int status = 0;
+    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    return rig::MakeError("cannot start " + argv[0] + ": " + std::strerror(exec_error));
+  }
   return pid;
 }
 
@@ -74,12 +122,9 @@ rig::Result<ChildProcess> ChildProcess::Spawn(const std::vector<std::string>& ar
                                               const std::vector<std::string>& environment,
                                               const std::vector<int>& inherited_fds) {
   if (argv.empty()) return rig::MakeError("no program to start");
-  posix_spawn_file_actions_t actions;
-  ::posix_spawn_file_actions_init(&actions);
-  // dup2 onto itself clears close-on-exec in the child only (POSIX.1-2024, glibc 2.29).
-  for (const int fd : inherited_fds) ::posix_spawn_file_actions_adddup2(&actions, fd, fd);
-  const rig::Result<pid_t> spawned = SpawnInOwnGroup(argv, environment, &actions);
-  ::posix_spawn_file_actions_destroy(&actions);
+  std::vector<FdMove> moves;
+  for (const int fd : inherited_fds) moves.push_back({fd, fd});
+  const rig::Result<pid_t> spawned = SpawnInOwnGroup(argv, environment, moves);
   if (!spawned.ok()) return spawned.error();
   return ChildProcess(spawned.value());
 }
@@ -144,11 +189,7 @@ rig::Result<CommandOutput> RunCapturingOutput(const std::vector<std::string>& ar
   if (::pipe2(pipe_fds, O_CLOEXEC) != 0) {
     return rig::MakeError("cannot start " + argv[0] + ": pipe: " + std::strerror(errno));
   }
-  posix_spawn_file_actions_t actions;
-  ::posix_spawn_file_actions_init(&actions);
-  ::posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], STDOUT_FILENO);
-  const rig::Result<pid_t> spawned = SpawnInOwnGroup(argv, {}, &actions);
-  ::posix_spawn_file_actions_destroy(&actions);
+  const rig::Result<pid_t> spawned = SpawnInOwnGroup(argv, {}, {{pipe_fds[1], STDOUT_FILENO}});
   ::close(pipe_fds[1]);
   if (!spawned.ok()) {
     ::close(pipe_fds[0]);

@@ -1,7 +1,8 @@
 // A child process the harness starts and owns (the DUT emulator of a multi-process run): spawned
-// without a shell, watched without blocking (so a watchdog can notice it died), and ended with
-// SIGTERM, then SIGKILL if it does not go, and always reaped. The platform part of the HIL link,
-// kept apart from the protocol (hil_link_codec) and the transport (hil_link_socket).
+// without a shell, bound to die with the harness, watched without blocking (so a watchdog can
+// notice it died), and ended with SIGTERM, then SIGKILL if it does not go, and always reaped. The
+// platform part of the HIL link, kept apart from the protocol (hil_link_codec) and the transport
+// (hil_link_socket).
 #pragma once
 
 #include <sys/types.h>
@@ -18,9 +19,12 @@ namespace hilrig::host {
 
 class ChildProcess {
  public:
-  // Starts argv[0] (a path, not searched in PATH) with argv, in a process group of its own, with
-  // this process's environment plus `environment` ("NAME=value" each, replacing a variable of the
-  // same name): what only the child may know goes there, never in argv, which every user can read.
+  // Starts argv[0] (a path, not searched in PATH) with argv, in a process group of its own, bound
+  // to be killed (SIGKILL) when the thread that started it ends, which in the single-threaded
+  // harness is when the harness ends, however it ends: a SIGKILLed hilrig leaves no QEMU, dut_emu
+  // or sweep shard behind. It gets this process's environment plus `environment` ("NAME=value"
+  // each, replacing a variable of the same name): what only the child may know goes there, never
+  // in argv, which every user can read.
   // The descriptors in `inherited_fds` stay open in the child under the same numbers (even when
   // close-on-exec here); every other close-on-exec descriptor closes as usual.
   static rig::Result<ChildProcess> Spawn(const std::vector<std::string>& argv,

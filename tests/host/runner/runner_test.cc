@@ -121,9 +121,9 @@ TEST(RunnerTest, EachFlushReportsTheSimulatedTimeItReached) {
   }
 }
 
-// A tick of a reference run takes up to a millisecond: a lockstep run looks at a stop request
-// every few hundred ticks, so Ctrl-C ends it within a fraction of a second.
-TEST(RunnerTest, AStopRequestEndsALockstepRunWithinAFewHundredTicks) {
+// A tick of a DUT on QEMU takes milliseconds of wall time: a lockstep run looks at a stop request
+// every tick, so Ctrl-C ends it at the next one whatever the DUT.
+TEST(RunnerTest, AStopRequestEndsALockstepRunAtTheNextTick) {
   ScenarioConfig config = ConfigFrom(kHoverInAir);
   config.duration_s = 40;
   const rig::SimClock wall_clock;
@@ -135,7 +135,7 @@ TEST(RunnerTest, AStopRequestEndsALockstepRunWithinAFewHundredTicks) {
   EXPECT_EQ(report.stop_reason(), "interrupted");
   EXPECT_EQ(report.stop_kind(), proto::STOP_INTERRUPTED);
   EXPECT_FALSE(report.passed());
-  EXPECT_LE(report.ticks(), 256u);
+  EXPECT_EQ(report.ticks(), 1u);
 }
 
 TEST(RunnerTest, RunsForItsDurationAndCompletes) {
