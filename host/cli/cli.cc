@@ -355,6 +355,9 @@ void PrintRun(const ScenarioOutcome& outcome, const Streams& io) {
   for (const proto::ObjectOutcome& object : outcome.report.objects()) {
     io.out << FormatObjectLine(object) << "\n";
   }
+  if (outcome.report.has_dut_faults()) {
+    io.out << FormatDutFaultLine(outcome.report.dut_faults()) << "\n";
+  }
   if (outcome.report.has_fidelity_error()) {
     io.out << FormatFidelityErrorLine(outcome.report.fidelity_error(),
                                       outcome.report.objects_size() > 0)

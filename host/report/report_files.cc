@@ -107,6 +107,12 @@ rig::Result<void> WriteJunitXml(const proto::Report& report, const std::string& 
   }
   AppendCheckCases(report, report.timing_checks(), "timing", cases, failures);
   AppendCheckCases(report, report.target_checks(), "target", cases, failures);
+  if (report.has_dut_faults()) {
+    ++failures;
+    cases << "    <testcase classname=\"" << EscapeXmlText(report.scenario())
+          << "\" name=\"dut commands finite\">\n      <failure message=\""
+          << EscapeXmlText(FormatDutFaultLine(report.dut_faults())) << "\"/>\n    </testcase>\n";
+  }
   if (!RunCompleted(report)) {
     ++failures;
     cases << "    <testcase classname=\"" << EscapeXmlText(report.scenario())
@@ -116,13 +122,20 @@ rig::Result<void> WriteJunitXml(const proto::Report& report, const std::string& 
           << "\"/>\n    </testcase>\n";
   }
   const int tests = report.envelopes_size() + report.timing_checks_size() +
-                    report.target_checks_size() + (!RunCompleted(report) ? 1 : 0);
+                    report.target_checks_size() + (report.has_dut_faults() ? 1 : 0) +
+                    (!RunCompleted(report) ? 1 : 0);
   std::ostringstream xml;
   xml << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
       << "<testsuites>\n  <testsuite name=\"" << EscapeXmlText(report.scenario()) << "\" tests=\""
       << tests << "\" failures=\"" << failures << "\" time=\"" << report.wall_s() << "\">\n"
       << cases.str() << "  </testsuite>\n</testsuites>\n";
   return WriteTextFile(path, xml.str());
+}
+
+std::string FormatDutFaultLine(const proto::DutFaults& faults) {
+  return "DUT FAULT  " + std::to_string(faults.non_finite_commands()) + " non-finite command" +
+         (faults.non_finite_commands() == 1 ? "" : "s") + " refused, the first at " +
+         FormatNumber(faults.first_at_s()) + " s (" + faults.first_field() + "): the run fails";
 }
 
 std::string FormatEnvelopeLine(const proto::EnvelopeResult& result) {

@@ -27,6 +27,10 @@ rig::Result<void> WriteJunitXml(const proto::Report& report, const std::string& 
 // "PASS  altitude_error  worst 0.0123 at 12.3 s  limit [-, 0.05]" (+ "(expected FAIL)" etc.).
 std::string FormatEnvelopeLine(const proto::EnvelopeResult& result);
 
+// "DUT FAULT  3 non-finite commands refused, the first at 2.01 s (rotor_thrust_n[0] = nan): the
+// run fails".
+std::string FormatDutFaultLine(const proto::DutFaults& faults);
+
 // "object balloon: burst at 12.3 s, destroyed, peak 0.46 N per pad".
 std::string FormatObjectLine(const proto::ObjectOutcome& outcome);
 

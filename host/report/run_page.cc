@@ -56,6 +56,10 @@ std::string RunTable(const proto::Report& report) {
   if (!report.timing().mode().empty()) {
     rows.push_back({TextCell("timing"), TextCell(report.timing().mode())});
   }
+  if (report.has_dut_faults()) {
+    rows.push_back(
+        {TextCell("DUT fault"), TextCell(FormatDutFaultLine(report.dut_faults()), Tone::kFail)});
+  }
   return "<h2>Run</h2>\n" + HtmlTable({"figure", "value"}, rows);
 }
 

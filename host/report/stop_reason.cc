@@ -24,6 +24,7 @@ constexpr StopRow kStopRows[] = {
     {StopReason::kNumericalInstability, proto::STOP_NUMERICAL_INSTABILITY,
      "numerical instability: ", true},
     {StopReason::kIncomplete, proto::STOP_INCOMPLETE, "incomplete", false},
+    {StopReason::kDutFault, proto::STOP_DUT_FAULT, "dut fault: ", true},
 };
 
 // The rows are in the enum's order.

@@ -19,6 +19,7 @@ enum class StopReason {
   kDutFailed,
   kNumericalInstability,
   kIncomplete,  // the run is still going, or was killed or failed on the way
+  kDutFault,    // the DUT commanded what the plant cannot take; the detail says what
 };
 
 struct RunStop {
@@ -27,7 +28,7 @@ struct RunStop {
 };
 
 // "completed", "aborted by envelope <detail>", "interrupted", "dut failed to start: <detail>",
-// "dut failed: <detail>", "numerical instability: <detail>", "incomplete".
+// "dut failed: <detail>", "numerical instability: <detail>", "incomplete", "dut fault: <detail>".
 std::string StopReasonText(const RunStop& stop);
 
 // A DUT's error ends the run as `failure` (kDutFailedToStart or kDutFailed) with its message,

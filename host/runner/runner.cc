@@ -12,6 +12,7 @@
 #include "host/dut/firmware_config.h"
 #include "host/dut/in_process_dut.h"
 #include "host/report/stop_reason.h"
+#include "host/runner/dut_faults.h"
 #include "host/runner/gripper_scene.h"
 #include "host/runner/model_list.h"
 #include "host/runner/realtime_pacer.h"
@@ -86,7 +87,7 @@ class LockstepRunner::Impl {
   bool Step();
   void PollWhileWaiting();
   bool TakeNewestCommand();
-  void ApplyCommand(ActuatorMessage&& command);
+  bool ApplyCommand(ActuatorMessage&& command);
   bool ControlStep(std::uint64_t control_tick, std::int64_t now_ns);
   void StepPlant(std::int64_t now_ns);
   bool PlantFinite() const;
@@ -137,6 +138,7 @@ class LockstepRunner::Impl {
   RunStop stop_;
   std::uint64_t can_frames_logged_ = 0;
   std::uint64_t non_finite_samples_ = 0;
+  DutFaultTally dut_faults_;
   std::int64_t next_progress_wall_ns_ = kProgressPeriodNs;
   std::int64_t wall_start_ns_ = 0;
   std::uint64_t tick_ = 0;
@@ -244,13 +246,24 @@ bool LockstepRunner::Impl::ControlStep(std::uint64_t control_tick, std::int64_t 
     stop_ = StopForDutError(command.error(), StopReason::kDutFailed);
     return false;
   }
-  ApplyCommand(std::move(command).value());
-  return true;
+  return ApplyCommand(std::move(command).value());
 }
 
-void LockstepRunner::Impl::ApplyCommand(ActuatorMessage&& command) {
+// A command the plant cannot take is refused and counted (dut_faults.h); false when the scene
+// stops the run at such a fault.
+bool LockstepRunner::Impl::ApplyCommand(ActuatorMessage&& command) {
+  if (std::optional<std::string> field = NonFiniteCommandField(command)) {
+    const double now_s = Seconds(clock_.NowNs());
+    if (config_.dut_fault_stops_run) {
+      stop_ = {StopReason::kDutFault,
+               "non-finite command " + *field + " at " + rig::NumberText(now_s) + " s"};
+    }
+    dut_faults_.Count(std::move(*field), now_s);
+    return !config_.dut_fault_stops_run;
+  }
   command_ = std::move(command);
   if (!command_.armed) command_.rotor_thrust_n.fill(0.0);
+  return true;
 }
 
 // Real time, between ticks: takes what the DUT has sent, so that its arrival is timed when it
@@ -273,9 +286,9 @@ bool LockstepRunner::Impl::TakeNewestCommand() {
     return false;
   }
   pacer_->CountControlTick(arrived_command_.has_value());
-  if (arrived_command_) ApplyCommand(std::move(*arrived_command_));
+  const bool applied = !arrived_command_ || ApplyCommand(std::move(*arrived_command_));
   arrived_command_.reset();
-  return true;
+  return applied;
 }
 
 // The gripper moves first, against the vehicle as it is, so that the vehicle step carries the held
@@ -509,6 +522,10 @@ proto::Report LockstepRunner::Impl::Finish() {
   }
   AppendTiming(report, passed);
   AppendTarget(report, passed);
+  if (const std::optional<proto::DutFaults> faults = dut_faults_.Report()) {
+    *report.mutable_dut_faults() = *faults;
+    passed = false;
+  }
   report.set_passed(passed);
   statistics_.AppendMetrics(report);
   const DutCounters counters = dut_ ? dut_->counters() : DutCounters();

@@ -164,6 +164,7 @@ void ResolveSimulation(const proto::Simulation& simulation, ScenarioConfig& conf
   config.can_bitrate_bps = Or(simulation.has_can_bitrate_bps(), simulation.can_bitrate_bps(), 1e6);
   config.plant_substeps = static_cast<int>(
       Or(simulation.has_plant_substeps(), simulation.plant_substeps(), std::uint32_t{1}));
+  config.dut_fault_stops_run = simulation.dut_fault() == proto::DUT_FAULT_STOP;
 }
 
 std::optional<double> OptionalOf(bool has, double value) {

@@ -128,6 +128,8 @@ struct ScenarioConfig {
   int trace_every_ticks = 10;
   int plant_substeps = 1;
   double can_bitrate_bps = 1e6;
+  // simulation.dut_fault: a non-finite DUT command stops the run (else the run goes on and fails).
+  bool dut_fault_stops_run = false;
 
   QuadrotorParams vehicle;
   ImuParams imu;

@@ -30,6 +30,9 @@ std::vector<StopCase> EveryStop() {
        proto::STOP_NUMERICAL_INSTABILITY,
        "numerical instability: the plant state is not finite after 1.5 s"},
       {{StopReason::kIncomplete, ""}, proto::STOP_INCOMPLETE, "incomplete"},
+      {{StopReason::kDutFault, "non-finite command servo_angle_rad = nan at 2 s"},
+       proto::STOP_DUT_FAULT,
+       "dut fault: non-finite command servo_angle_rad = nan at 2 s"},
   };
 }
 
