@@ -61,10 +61,12 @@ proto::EnvelopeResult EnvelopeCheck::Result(const EnvelopeProgress& progress) co
   proto::EnvelopeResult result;
   result.set_name(spec_.name);
   result.set_signal(spec_.signal);
-  const bool failed = progress.violated || progress.samples_checked == 0;
-  result.set_verdict(failed ? proto::FAIL : proto::PASS);
+  // An envelope that saw no sample proved nothing: it meets no expectation, FAIL included.
+  const bool evaluated = progress.samples_checked > 0;
+  result.set_verdict(progress.violated || !evaluated ? proto::FAIL : proto::PASS);
   result.set_expected(spec_.expect == EnvelopeVerdict::kFail ? proto::FAIL : proto::PASS);
-  result.set_meets_expectation(result.verdict() == result.expected());
+  result.set_meets_expectation(evaluated && result.verdict() == result.expected());
+  result.set_not_evaluated(!evaluated);
   result.set_worst_value(progress.worst_value);
   result.set_worst_at_s(progress.worst_at_s);
   if (spec_.lower) result.set_lower(*spec_.lower);

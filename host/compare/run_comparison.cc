@@ -115,6 +115,25 @@ const char* KindText(proto::CheckChange::Kind kind) {
   }
 }
 
+// A run that did not complete, or an envelope that saw no sample, proved nothing: comparing it can
+// never say "not worse".
+void AddUnprovenReasons(const proto::Report& base, const proto::Report& candidate,
+                        proto::RunComparison& comparison) {
+  for (const auto& [report, which] :
+       {std::pair{&base, "base"}, std::pair{&candidate, "candidate"}}) {
+    if (report->stop_kind() != proto::STOP_COMPLETED) {
+      comparison.add_reason(std::string("the ") + which + " run did not complete (" +
+                            report->stop_reason() + ")");
+    }
+  }
+  for (const auto& envelope : candidate.envelopes()) {
+    if (envelope.not_evaluated()) {
+      comparison.add_reason("envelope " + envelope.name() +
+                            ": not evaluated in the candidate (no samples in its window)");
+    }
+  }
+}
+
 void GradeRun(proto::RunComparison& comparison) {
   for (const auto& check : comparison.check()) {
     if (!CountsAsWorse(check.change())) continue;
@@ -156,6 +175,7 @@ proto::RunComparison CompareRuns(const proto::Report& base, const proto::Report&
         timing ? candidate.timing_checks() : candidate.target_checks(),
         [&](const auto* b, const auto* c) { return CheckRow(kind, b, c); }, comparison);
   }
+  AddUnprovenReasons(base, candidate, comparison);
   GradeRun(comparison);
   return comparison;
 }

@@ -38,7 +38,8 @@ FidelityChoice SceneFidelity(const proto::Scenario& spec);
 // `spec` with `fidelity` applied (integrator, tolerance, substeps, field fidelity).
 proto::Scenario WithFidelity(proto::Scenario spec, const FidelityChoice& fidelity);
 
-// `spec` cut to `duration_s`: timeline entries after it are dropped so the spec stays valid.
+// `spec` cut to `duration_s`: timeline entries after it are dropped so the spec stays valid; every
+// envelope stays (one whose window opens after the end is then reported as not evaluated).
 proto::Scenario TruncatedTo(proto::Scenario spec, double duration_s);
 
 }  // namespace hilrig::host

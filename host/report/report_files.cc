@@ -139,9 +139,11 @@ std::string FormatDutFaultLine(const proto::DutFaults& faults) {
 }
 
 std::string FormatEnvelopeLine(const proto::EnvelopeResult& result) {
-  std::string line = std::string(VerdictName(result.verdict())) + "  " + result.name();
+  std::string line =
+      (result.not_evaluated() ? std::string("NOT EVALUATED") : VerdictName(result.verdict())) +
+      "  " + result.name();
   if (result.samples_checked() == 0) {
-    line += "  no samples in its window";
+    line += "  no samples in its window (the run ended before it, or it was cut short)";
   } else {
     line += "  worst " + FormatNumber(result.worst_value()) + " at " +
             FormatNumber(result.worst_at_s()) + " s";

@@ -88,7 +88,9 @@ std::string EnvelopeTable(const proto::Report& report) {
   for (const proto::EnvelopeResult& result : report.envelopes()) {
     const std::string unit = SignalUnit(result.signal());
     std::vector<HtmlCell> row = {
-        TextCell(VerdictWord(result.verdict()), VerdictTone(result.verdict())),
+        result.not_evaluated()
+            ? TextCell("NOT EVALUATED", Tone::kFail)
+            : TextCell(VerdictWord(result.verdict()), VerdictTone(result.verdict())),
         TextCell(result.name()), TextCell(proto::Signal_Name(result.signal()))};
     if (result.samples_checked() == 0) {
       row.push_back(TextCell("no samples in its window"));

@@ -1,5 +1,7 @@
-// `hilrig run --duration-s S`: only the scene's first S seconds run, with the timeline entries and
-// envelopes that lie beyond them left out, so a shortened scene still has a verdict.
+// `hilrig run --duration-s S`: only the scene's first S seconds run, with the timeline entries that
+// lie beyond them left out. An envelope whose window opens after the end is not evaluated, and says
+// so on the terminal, in report.json and in junit.xml: a shortened run never passes on envelopes it
+// could not check.
 #include <gtest/gtest.h>
 
 #include "host/cli/cli.h"
@@ -13,15 +15,23 @@ namespace {
 const std::string kLoadRamp =
     ::hilrig::test_support::SourceDir() + "/scenarios/load_ramp.textproto";
 
-TEST(CliDurationTest, AShortenedSceneRunsItsFirstSecondsAndPasses) {
+TEST(CliDurationTest, AShortenedSceneNamesTheEnvelopesItCouldNotEvaluateAndDoesNotPass) {
   const std::string out = ::testing::TempDir() + "/cli_duration_short";
   const CliResult run =
       Cli({"run", kLoadRamp, "--duration-s", "18", "--no-reference", "--out", out});
-  ASSERT_EQ(run.exit_code, kExitPass) << run.out << run.err;
+  EXPECT_EQ(run.exit_code, kExitCheckFailed) << run.out << run.err;
   EXPECT_NE(run.out.find("18 s simulated"), std::string::npos) << run.out;
-  // The envelopes that open at 36 s are not in the shortened scene.
-  EXPECT_EQ(run.out.find("final_load"), std::string::npos) << run.out;
-  EXPECT_NE(run.out.find("initial_load"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("PASS  initial_load"), std::string::npos) << run.out;
+  // The envelopes that open at 36 s saw no sample.
+  EXPECT_NE(run.out.find("NOT EVALUATED  final_load  no samples in its window"), std::string::npos)
+      << run.out;
+  const std::string report = ReadFile(out + "/report.json");
+  EXPECT_NE(report.find("\"not_evaluated\": true"), std::string::npos) << report;
+  EXPECT_NE(report.find("\"passed\": false"), std::string::npos);
+  const std::string junit = ReadFile(out + "/junit.xml");
+  EXPECT_NE(junit.find("name=\"final_load\">\n      <failure message=\"NOT EVALUATED"),
+            std::string::npos)
+      << junit;
 }
 
 TEST(CliDurationTest, ADurationPastTheSceneRunsAllOfIt) {

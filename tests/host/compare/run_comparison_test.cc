@@ -129,5 +129,30 @@ TEST(CompareRunsTest, ATargetCheckThatNoLongerPassesIsWorse) {
   EXPECT_THAT(comparison.reason(0), HasSubstr("target check work_p99_fraction_max"));
 }
 
+// Runs that did not complete proved nothing: comparing them is never "not worse", even when both
+// stopped the same way.
+TEST(CompareRunsTest, TwoIncompleteRunsAreNotNotWorse) {
+  proto::Report incomplete = Passing();
+  incomplete.set_passed(false);
+  incomplete.set_stop_kind(proto::STOP_INCOMPLETE);
+  incomplete.set_stop_reason("incomplete");
+  const auto comparison = CompareRuns(incomplete, incomplete, Tolerances());
+  EXPECT_TRUE(comparison.worse());
+  EXPECT_THAT(comparison.reason(), ::testing::Contains(HasSubstr("the base run did not complete")));
+  EXPECT_THAT(comparison.reason(),
+              ::testing::Contains(HasSubstr("the candidate run did not complete (incomplete)")));
+}
+
+TEST(CompareRunsTest, AnEnvelopeNotEvaluatedInTheCandidateIsWorse) {
+  // Both runs cut short the same way: the same verdicts, and still nothing proved.
+  proto::Report cut = Passing();
+  cut.mutable_envelopes(1)->set_not_evaluated(true);
+  cut.mutable_envelopes(1)->set_meets_expectation(false);
+  const auto comparison = CompareRuns(cut, cut, Tolerances());
+  EXPECT_TRUE(comparison.worse());
+  EXPECT_THAT(comparison.reason(),
+              ::testing::Contains(HasSubstr("envelope altitude_error: not evaluated")));
+}
+
 }  // namespace
 }  // namespace hilrig::host
