@@ -9,6 +9,7 @@
 
 #include "dut_emu/dut_emu_server.h"
 #include "dut_emu/serial_dut.h"
+#include "rig/printable_text.h"
 
 namespace {
 
@@ -29,6 +30,14 @@ void InstallSignalHandlers() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // What dut_emu prints may quote its peer (a runner's bye reason, a device name): no control
+  // character reaches the terminal.
+  hilrig::rig::PrintableStreamBuf printable_stderr(std::cerr.rdbuf());
+  std::cerr.rdbuf(&printable_stderr);
+  struct RestoreStderr {
+    std::streambuf* original;
+    ~RestoreStderr() { std::cerr.rdbuf(original); }
+  } restore{printable_stderr.target()};
   const std::vector<std::string> args(argv, argv + argc);
   if (args.size() == 2 && (args[1] == "--help" || args[1] == "-h")) {
     std::cout << hilrig::dut_emu::kDutEmuUsage << hilrig::dut_emu::kSerialDutUsage;

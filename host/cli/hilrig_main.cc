@@ -14,6 +14,7 @@
 
 #include "host/cli/cli.h"
 #include "rig/file_io.h"
+#include "rig/printable_text.h"
 
 namespace {
 
@@ -46,10 +47,16 @@ int main(int argc, char** argv) {
   InstallStopHandlers();
   const std::vector<std::string> args(argv + 1, argv + argc);
   hilrig::rig::FdStreamBuf stdout_buffer(STDOUT_FILENO, StdoutBufferBytes());
-  std::ostream out(&stdout_buffer);
+  // What a command prints may quote what came from outside (a board's name, a peer's reason, a
+  // file name): neither stream lets a control character through to the terminal.
+  hilrig::rig::PrintableStreamBuf printable_stdout(&stdout_buffer);
+  hilrig::rig::PrintableStreamBuf printable_stderr(std::cerr.rdbuf());
+  std::ostream out(&printable_stdout);
+  std::ostream err(&printable_stderr);
+  err.setf(std::ios::unitbuf);
   // Reading standard input flushes what was printed first, so decode answers line by line.
   std::cin.tie(&out);
-  int exit_code = hilrig::host::RunCli(args, out, std::cerr, &stop_requested);
+  int exit_code = hilrig::host::RunCli(args, out, err, &stop_requested);
   // Output that never arrived (a full disk, a closed descriptor) is no success.
   out.flush();
   if (!stdout_buffer.Close() || !out) {

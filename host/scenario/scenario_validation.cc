@@ -453,6 +453,7 @@ std::vector<FieldProblem> ValidateScenario(const proto::Scenario& scenario) {
   // entries one by one: a spec past its sizes gets only those problems.
   if (!CheckSpecSizes(scenario, root)) return problems;
   CheckEveryScalar(scenario, root, NonFiniteProblem);
+  CheckEveryScalar(scenario, root, ControlCharacterProblem);
   if (scenario.name().empty()) {
     root.AddHere("name is required");
   } else if (auto problem = NameCharacterProblem(scenario.name())) {

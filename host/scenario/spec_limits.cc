@@ -5,6 +5,7 @@
 
 #include "host/scenario/scenario_config.h"
 #include "rig/number_text.h"
+#include "rig/printable_text.h"
 
 namespace hilrig::host {
 namespace {
@@ -87,6 +88,29 @@ void CheckMeanWindows(const proto::Scenario& scenario, const ProblemList& proble
       return;
     }
   }
+}
+
+std::optional<std::string> ControlCharacterProblem(const Message& message,
+                                                   const FieldDescriptor* field, int index) {
+  if (field->cpp_type() != FieldDescriptor::CPPTYPE_STRING) return std::nullopt;
+  const auto* reflection = message.GetReflection();
+  std::string scratch;
+  const std::string& text =
+      index < 0 ? reflection->GetStringReference(message, field, &scratch)
+                : reflection->GetRepeatedStringReference(message, field, index, &scratch);
+  const bool description = field == proto::Scenario::descriptor()->FindFieldByNumber(
+                                        proto::Scenario::kDescriptionFieldNumber);
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (description && (c == '\n' || c == '\t')) continue;
+    // A C1 control (U+0080 to U+009F) is two bytes in UTF-8.
+    const std::size_t width = c == 0xc2 ? 2 : 1;
+    if (!rig::IsPrintableText(std::string_view(text).substr(i, width))) {
+      return "byte " + std::to_string(i + 1) + " starts a control character (" +
+             rig::PrintableText(text.substr(i, width)) + ")";
+    }
+  }
+  return std::nullopt;
 }
 
 std::optional<std::string> NameCharacterProblem(std::string_view name) {

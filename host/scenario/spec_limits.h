@@ -41,6 +41,15 @@ bool CheckSpecSizes(const proto::Scenario& scenario, const ProblemList& problems
 // kMaxMeanWindowSamples.
 void CheckMeanWindows(const proto::Scenario& scenario, const ProblemList& problems);
 
+// What is wrong with a string field (or element `index` of a repeated one; -1 for a single one)
+// that holds a control character, or nothing: paths and names reach the terminal, the pages and
+// the commands a sweep writes for a shell, where a line break or an escape sequence would be taken
+// for more than text. Line breaks and tabs are allowed in a scenario's description alone. Any
+// other field: nothing.
+std::optional<std::string> ControlCharacterProblem(const google::protobuf::Message& message,
+                                                   const google::protobuf::FieldDescriptor* field,
+                                                   int index);
+
 // What is wrong with a name's characters (where, without quoting the name), or nothing.
 std::optional<std::string> NameCharacterProblem(std::string_view name);
 

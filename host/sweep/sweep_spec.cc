@@ -44,6 +44,10 @@ void CheckGrid(const proto::Grid& grid, const ProblemList& problems) {
   if (!grid.has_count() || grid.count() == 0 || grid.count() > kMaxAxisValues) {
     problems.Add("count", "must be in 1.." + std::to_string(kMaxAxisValues));
   }
+  if (Finite(grid.from()) && Finite(grid.to()) && !Finite(grid.to() - grid.from())) {
+    // Points between such ends are computed as from + t (to - from): the span must be a number.
+    problems.AddHere("from and to are too far apart: to - from is not a finite number");
+  }
   if (grid.log() && !(grid.from() > 0 && grid.to() > 0)) {
     problems.AddHere("a log grid needs from and to above 0");
   }
@@ -229,6 +233,8 @@ std::vector<FieldProblem> ValidateSweep(const proto::Sweep& sweep, const std::st
   } else if (auto problem = NameCharacterProblem(sweep.name())) {
     root.Add("name", std::move(*problem));
   }
+  // Paths and names reach failing.txt, the batch scripts and the terminal.
+  CheckEveryScalar(sweep, root, ControlCharacterProblem);
   scenarios = LoadScenarios(sweep, folder, root);
   if (sweep.has_seeds()) CheckSeeds(sweep.seeds(), root.Nested("seeds"));
   CheckAxes(sweep, scenarios, root);

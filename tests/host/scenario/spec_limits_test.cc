@@ -73,6 +73,24 @@ TEST(SpecLimitsTest, NamesHoldOnlyTextCharacters) {
               HasSubstr("envelopes[0].name: character 3 is not"));
 }
 
+// A path or other string with a control character would reach the terminal, the pages and the
+// commands failing.txt gives to a shell: refused where the spec is validated. The description
+// alone may hold line breaks and tabs.
+TEST(SpecLimitsTest, StringsWithControlCharactersAreRefused) {
+  const std::string injected =
+      "models { tactile { enabled: true calibration_file: \"a\\ntouch /tmp/x\" } }\n";
+  EXPECT_THAT(
+      ErrorOf(Spec("s", injected)),
+      HasSubstr("models.tactile.calibration_file: byte 2 starts a control character (\\n)"));
+  EXPECT_THAT(ErrorOf(Spec("s", "object { fixture: \"egg\\x1b[2J\" }\n")),
+              HasSubstr("object.fixture: byte 4 starts a control character (\\x1b)"));
+  EXPECT_THAT(ErrorOf(Spec("s", "object { fixture: \"egg\\302\\233\" }\n")),
+              HasSubstr("object.fixture: byte 4 starts a control character (\\xc2\\x9b)"));
+  EXPECT_TRUE(Accepted(Spec("s", "description: \"line one\\n\\tline two\"\n")));
+  EXPECT_THAT(ErrorOf(Spec("s", "description: \"bell\\a\"\n")),
+              HasSubstr("description: byte 5 starts a control character (\\x07)"));
+}
+
 TEST(SpecLimitsTest, TimelinePastItsBoundIsOneProblemAtTheFirstEntryPastIt) {
   proto::Scenario spec;
   spec.set_name("long");

@@ -117,6 +117,33 @@ criterion { min_pass_rate: 0.5 }
   EXPECT_THAT(sweep.error().message, HasSubstr("1e+07 cases: at most 1000000 per sweep"));
 }
 
+// Ends a double holds, whose span no double does: the points between them would not be numbers.
+TEST(SweepSpecTest, RefusesAGridWhoseSpanIsNotAFiniteNumber) {
+  const std::filesystem::path dir = FolderWithBottle("sweep_spec_span");
+  auto sweep = ParseSweep(R"(name: "wide"
+scenario: "bottle.textproto"
+axis { path: "object.mass_kg" grid { from: -1.7e308 to: 1.7e308 count: 3 } }
+criterion { min_pass_rate: 0.5 }
+)",
+                          "wide.textproto", dir.string());
+  ASSERT_FALSE(sweep.ok());
+  EXPECT_THAT(sweep.error().message,
+              HasSubstr("wide.textproto:3:31: axis[0].grid: from and to are too far apart"));
+}
+
+// A scenario path or axis path with a line break would reach failing.txt and the batch scripts.
+TEST(SweepSpecTest, RefusesPathsWithControlCharacters) {
+  const std::filesystem::path dir = FolderWithBottle("sweep_spec_control");
+  auto sweep = ParseSweep(R"(name: "control"
+scenario: "bottle.textproto\ntouch /tmp/x"
+criterion { min_pass_rate: 0.5 }
+)",
+                          "control.textproto", dir.string());
+  ASSERT_FALSE(sweep.ok());
+  EXPECT_THAT(sweep.error().message,
+              HasSubstr("control.textproto:2:1: scenario[0]: byte 17 starts a control character"));
+}
+
 TEST(SweepSpecTest, NeedsAScenarioAndACriterion) {
   auto sweep = ParseSweep("name: \"empty\"\n", "e.textproto", ".");
   ASSERT_FALSE(sweep.ok());
