@@ -99,10 +99,15 @@ rig::Result<void> CheckNumberField(const FieldDescriptor& field) {
   }
 }
 
+// A value comes as a double, which holds every whole number up to 2^53 exactly and no larger one
+// for sure: 2^64 - 1 reads as 2^64, which no uint64 holds (the cast would give 0). So a whole
+// number fits when it is in the type's range and at most 2^53 in size.
 template <typename Int>
 bool FitsInteger(double value) {
+  constexpr double kExactUpTo = 9007199254740992.0;                        // 2^53
+  const double below = std::ldexp(1.0, std::numeric_limits<Int>::digits);  // max + 1, exact
   return value == std::floor(value) && value >= double(std::numeric_limits<Int>::min()) &&
-         value <= double(std::numeric_limits<Int>::max());
+         value < below && std::abs(value) <= kExactUpTo;
 }
 
 // Why `value` does not fit `field`; nothing when it does.
@@ -118,13 +123,17 @@ std::optional<std::string> ValueProblem(const FieldDescriptor& field, double val
       if (!FitsInteger<std::int32_t>(value)) return "not a whole number in int32's range";
       return std::nullopt;
     case FieldDescriptor::CPPTYPE_INT64:
-      if (!FitsInteger<std::int64_t>(value)) return "not a whole number in int64's range";
+      if (!FitsInteger<std::int64_t>(value)) {
+        return "not a whole number in int64's range that a double holds exactly (|n| <= 2^53)";
+      }
       return std::nullopt;
     case FieldDescriptor::CPPTYPE_UINT32:
       if (!FitsInteger<std::uint32_t>(value)) return "not a whole number in uint32's range";
       return std::nullopt;
     case FieldDescriptor::CPPTYPE_UINT64:
-      if (!FitsInteger<std::uint64_t>(value)) return "not a whole number in uint64's range";
+      if (!FitsInteger<std::uint64_t>(value)) {
+        return "not a whole number in uint64's range that a double holds exactly (n <= 2^53)";
+      }
       return std::nullopt;
     case FieldDescriptor::CPPTYPE_BOOL:
       if (value != 0 && value != 1) return "a bool takes 0 or 1";

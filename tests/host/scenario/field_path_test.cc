@@ -83,6 +83,12 @@ TEST(FieldPathTest, RefusesWhatIsNoNumberOfTheSpecAndChangesNothing) {
   }
 }
 
+TEST(FieldPathTest, SetsTheLargestSeedADoubleHoldsExactly) {
+  proto::Scenario scenario = BottleScene();
+  ASSERT_TRUE(SetNumberAt(scenario, "seed", 9007199254740992.0).ok());
+  EXPECT_EQ(scenario.seed(), 9007199254740992u);
+}
+
 TEST(FieldPathTest, RefusesAValueTheFieldCannotHold) {
   const std::vector<std::tuple<std::string, double, std::string>> cases = {
       {"vehicle.mass_kg", std::nan(""), "not a finite number"},
@@ -91,6 +97,10 @@ TEST(FieldPathTest, RefusesAValueTheFieldCannotHold) {
       {"simulation.plant_substeps", -1, "not a whole number in uint32's range"},
       {"models.tactile.chip_noise", 0.5, "a bool takes 0 or 1"},
       {"models.noise", 7, "not a number of Noise"},
+      // 2^64 is no uint64 (its cast would run seed 0), and above 2^53 a double holds no whole
+      // number for sure.
+      {"seed", 18446744073709551616.0, "not a whole number in uint64's range"},
+      {"seed", 9007199254740994.0, "that a double holds exactly"},
   };
   for (const auto& [path, value, why] : cases) {
     proto::Scenario scenario = BottleScene();
