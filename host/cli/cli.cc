@@ -26,6 +26,8 @@
 #include "host/report/report_files.h"
 #include "host/report/stop_reason.h"
 #include "host/report/suite_page.h"
+#include "host/scenario/output_size.h"
+#include "host/scenario/scenario_config.h"
 #include "host/scenario/scenario_loader.h"
 #include "rig/clock.h"
 #include "rig/folder_lock.h"
@@ -504,6 +506,11 @@ int CheckCommand(const std::vector<std::string>& args, const Streams& io) {
     }
     io.out << args[i] << ": ok (" << spec.value().envelopes_size() << " envelopes, "
            << spec.value().simulation().duration_s() << " s)\n";
+    const ScenarioConfig config =
+        ResolveScenario(spec.value(), std::nullopt, fs::path(args[i]).parent_path().string());
+    if (const auto warning = OutputSizeWarning(config)) {
+      io.err << args[i] << ": warning: a run " << *warning << "\n";
+    }
   }
   return exit_code;
 }

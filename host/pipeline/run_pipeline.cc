@@ -9,6 +9,7 @@
 #include "host/report/run_plots.h"
 #include "host/report/stop_reason.h"
 #include "host/scenario/field_path.h"
+#include "host/scenario/output_size.h"
 #include "host/scenario/scenario_loader.h"
 #include "host/trace/trace_capture.h"
 #include "rig/file_io.h"
@@ -117,6 +118,9 @@ RunPipelineResult RunPipeline(const RunRequest& request, const RunSeams& seams) 
   if (!resolved) return RunError{RunFailure::kBadSpec, resolved.error().message};
   ResolvedSpec& run = resolved.value();
   const std::string run_name = request.spec_path.empty() ? run.spec.name() : request.spec_path;
+  if (const auto warning = OutputSizeWarning(run.config); warning && seams.notes != nullptr) {
+    *seams.notes << run_name << ": warning: this run " << *warning << "\n";
+  }
   const bool realtime = seams.realtime_clock != nullptr;
 
   std::optional<RunFiles> files;
