@@ -236,6 +236,7 @@ proto::LinkMessage Session::Answer(const host::ActuatorMessage& command) const {
   fields->set_can_frames_consumed(bus_->handed_over());
   fields->set_can_frame_waits_expired(frame_waits_expired_);
   fields->set_can_frames_dropped_foreign(bus_->counters().frames_dropped_foreign);
+  fields->set_can_frames_dropped_malformed(bus_->counters().frames_dropped_malformed);
   return answer;
 }
 

@@ -181,6 +181,16 @@ std::vector<std::pair<std::string, double>> ProcessDut::link_metrics() const {
   metrics.emplace_back("link_peers_refused", static_cast<double>(peers_refused_));
   metrics.emplace_back("dut_can_frames_dropped_foreign",
                        static_cast<double>(dut_frames_dropped_foreign_));
+  metrics.emplace_back("dut_can_frames_dropped_malformed",
+                       static_cast<double>(dut_frames_dropped_malformed_));
+  // The runner's end of the DUT's CAN bus drops what the DUT's end would: say so too.
+  if (forward_bus_) {
+    const rig::BusCounters bus = forward_bus_->counters();
+    metrics.emplace_back("link_can_frames_dropped_malformed",
+                         static_cast<double>(bus.frames_dropped_malformed));
+    metrics.emplace_back("link_can_frames_dropped_foreign",
+                         static_cast<double>(bus.frames_dropped_foreign));
+  }
   if (!latencies_) return metrics;  // lockstep reports stay as they were
   const auto d = [](std::uint64_t value) { return static_cast<double>(value); };
   metrics.emplace_back("link_commands_superseded", d(commands_superseded_));
@@ -462,6 +472,7 @@ void ProcessDut::RecordCoverage(const proto::ActuatorCommand& command,
                                 std::int64_t arrival_wall_ns) {
   dut_frame_waits_expired_ = command.can_frame_waits_expired();
   dut_frames_dropped_foreign_ = command.can_frames_dropped_foreign();
+  dut_frames_dropped_malformed_ = command.can_frames_dropped_malformed();
   if (!latencies_) return;
   for (std::size_t index = 0; index < kDutInputStreams; ++index) {
     if (auto taken = LastTakenSequence(command, index)) {

@@ -181,7 +181,8 @@ class ProcessDut final : public DutPort {
   std::uint64_t unrequested_answers_ = 0;
   std::uint64_t latency_samples_dropped_ = 0;
   std::uint64_t dut_frame_waits_expired_ = 0;
-  std::uint64_t dut_frames_dropped_foreign_ = 0;  // forged datagrams the DUT's bus dropped
+  std::uint64_t dut_frames_dropped_foreign_ = 0;    // forged datagrams the DUT's bus dropped
+  std::uint64_t dut_frames_dropped_malformed_ = 0;  // datagrams no frame could be read from
   // Connections to the link port that did not prove the token, and who they were.
   std::uint64_t peers_refused_ = 0;
   std::string peers_refused_summary_;

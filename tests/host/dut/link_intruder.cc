@@ -9,6 +9,8 @@
 //   --intrude datagram  stays silent on the link until the runner drops it (the DUT has proved
 //                       itself, so dut_emu's CAN port is bound), then sends a well-formed CAN frame
 //                       to dut_emu's UDP CAN port from a socket of its own.
+//   --intrude garbage   as datagram, but sends kGarbageDatagrams datagrams that are no frame at
+//                       all (a byte each: together far below a socket's receive buffer).
 // The intruder ends when the runner closes its connection, or after kIdleLimitMs without a word.
 #include <unistd.h>
 
@@ -31,6 +33,7 @@ using hilrig::host::LinkConnection;
 using hilrig::host::LinkReceiveStatus;
 
 constexpr int kIdleLimitMs = 10'000;
+constexpr int kGarbageDatagrams = 100;
 
 struct Arguments {
   std::vector<std::string> dut_emu;  // argv for the real dut_emu
@@ -85,6 +88,27 @@ void AnswerWithForgedCommands(LinkConnection& link) {
   }
 }
 
+// Waits until the runner drops the intruder's link connection (the DUT has proved itself and
+// bound its CAN port); false when it never does.
+bool WaitToBeDropped(LinkConnection& link) {
+  while (true) {
+    const hilrig::host::LinkReceived received = link.Receive(kIdleLimitMs);
+    if (received.status == LinkReceiveStatus::kTimeout) return false;
+    if (received.status != LinkReceiveStatus::kMessage) return true;
+  }
+}
+
+void SendGarbageOnceDropped(LinkConnection& link, std::uint16_t dut_can_port) {
+  if (!WaitToBeDropped(link)) return;
+  namespace asio = boost::asio;
+  asio::io_context io;
+  asio::ip::udp::socket socket(io, asio::ip::udp::endpoint(asio::ip::make_address("127.0.0.1"), 0));
+  const std::uint8_t garbage = 0xA5;
+  for (int i = 0; i < kGarbageDatagrams; ++i) {
+    socket.send_to(asio::buffer(&garbage, 1), {asio::ip::make_address("127.0.0.1"), dut_can_port});
+  }
+}
+
 void SendForgedFrameOnceDropped(LinkConnection& link, std::uint16_t dut_can_port) {
   while (true) {
     const hilrig::host::LinkReceived received = link.Receive(kIdleLimitMs);
@@ -119,6 +143,7 @@ int main(int argc, char** argv) {
     if (arguments.mode == "hello") AnswerWithForgedCommands(*link.value());
     if (arguments.mode == "datagram")
       SendForgedFrameOnceDropped(*link.value(), arguments.dut_can_port);
+    if (arguments.mode == "garbage") SendGarbageOnceDropped(*link.value(), arguments.dut_can_port);
     ::_exit(0);
   }
   link.value().reset();  // the connection is the intruder's alone

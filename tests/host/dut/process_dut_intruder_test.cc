@@ -106,5 +106,17 @@ TEST(ProcessDutIntruderTest, ForgedFrameOnTheDutsCanPortIsDroppedAndCounted) {
       << DutDescription(attacked.report);
 }
 
+// Datagrams that are no frame at all are dropped by the DUT's bus, and the report says how many:
+// a flood on the DUT's CAN port never passes unseen.
+TEST(ProcessDutIntruderTest, GarbageDatagramsOnTheDutsCanPortAreCountedInTheReport) {
+  const RunOutput in_process = RunHover({});
+  const RunOutput attacked = RunHover(IntrudedProcessDut("garbage"));
+  EXPECT_EQ(attacked.report.stop_reason(), "completed");
+  EXPECT_TRUE(attacked.trace_csv == in_process.trace_csv) << "trace.csv differs";
+  EXPECT_EQ(Metric(attacked.report, "dut_can_frames_dropped_malformed"), 100.0);
+  EXPECT_EQ(Metric(attacked.report, "dut_can_frames_dropped_foreign"), 0.0);
+  EXPECT_EQ(Metric(attacked.report, "link_can_frames_dropped_malformed"), 0.0);
+}
+
 }  // namespace
 }  // namespace hilrig::host
