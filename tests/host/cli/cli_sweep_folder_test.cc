@@ -38,14 +38,17 @@ bool WaitFor(int ms, Ready ready) {
   return ready();
 }
 
-// A sweep of 2000 cases of 30 s each, started as its own process into `out`: it runs far longer
-// than any test waits.
+// A sweep of 2000 cases of 30 s each, started as its own process into `out` and returned once both
+// its shards have opened their files: it runs far longer than any test waits.
 ChildProcess StartLongSweep(const fs::path& dir, const fs::path& out) {
   auto child = ChildProcess::Spawn({test_support::BinDir() + "/hilrig", "sweep",
                                     (dir / "sweep.textproto").string(), "--out", out.string(),
                                     "--jobs", "2"});
   EXPECT_TRUE(child.ok()) << child.error().message;
-  EXPECT_TRUE(WaitFor(10000, [&] { return fs::exists(out / "shards"); }));
+  EXPECT_TRUE(WaitFor(10000, [&] {
+    return fs::exists(out / "shards" / "shard-0001-of-0002.jsonl") &&
+           fs::exists(out / "shards" / "shard-0002-of-0002.jsonl");
+  }));
   return std::move(child).value();
 }
 
