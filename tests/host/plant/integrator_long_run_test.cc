@@ -2,7 +2,8 @@
 // momentum of a torque-free tumble, at flight rates and at ten times them) and that a closed-loop
 // hover under a swaying push neither drifts nor gains energy. Each bound says why it holds; the
 // measured values are stated beside them. The eight tumbling hours take about 3 s in a Release
-// build (Dormand-Prince's seven stages are most of it).
+// build (Dormand-Prince's seven stages are most of it); the sanitizer build runs a tenth of the
+// hour (tests/support/long_run.h).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,11 +15,13 @@
 #include "dut_fw/flight_controller.h"
 #include "host/plant/quadrotor.h"
 #include "host/plant/rigid_body.h"
+#include "tests/support/long_run.h"
 
 namespace hilrig::host {
 namespace {
 
-constexpr int kHourAtOneKilohertz = 3'600'000;
+// An hour at 1 kHz; a tenth of it in the sanitizer build (tests/support/long_run.h).
+constexpr int kHourAtOneKilohertz = test_support::kLongRunSteps;
 constexpr double kDt = 1e-3;
 
 struct TumbleHour {
@@ -152,7 +155,8 @@ HoverHour RunHoverHour(Integrator integrator) {
   reference.position_m = start;
   reference.yaw_rad = 0.3;
   const double hover_energy_j = params.body.mass_kg * params.gravity_m_s2 * start.z();
-  constexpr int kTicksPerMinute = 60'000;
+  // A sixtieth of the run: a minute of the hour.
+  constexpr int kTicksPerMinute = kHourAtOneKilohertz / 60;
   HoverHour hour;
   for (int i = 0; i < kHourAtOneKilohertz; ++i) {
     const std::int64_t now_ns = std::int64_t{i} * 1'000'000;
