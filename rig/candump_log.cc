@@ -153,7 +153,7 @@ char* WriteFrame(const CanFrame& frame, char* out) {
 [[noreturn, gnu::noinline]] void FailUnloggable(const CanFrame& frame) {
   const std::string message =
       "cannot log an invalid frame: " + ValidateFrame(frame).error().message;
-  check_internal::Fail("IsValidFrame(frame.frame)", message, __FILE__, __LINE__);
+  check_internal::Fail("IsValidFrame(frame.frame)", message, HILRIG_SOURCE_FILE, __LINE__);
 }
 
 void CheckLoggable(const TimedCanFrame& frame) {

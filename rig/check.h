@@ -7,6 +7,12 @@
 #include <cstdlib>
 #include <string_view>
 
+// The file a check names: its name alone (GCC's __FILE_NAME__), not __FILE__, which holds the
+// path the compiler was given. That path is absolute in one build and relative in another (the
+// compiler cache rewrites it so that clones share objects), and the programs must be the same
+// bytes however they were built.
+#define HILRIG_SOURCE_FILE __FILE_NAME__
+
 namespace hilrig::rig::check_internal {
 
 [[noreturn]] inline void Fail(std::string_view condition, std::string_view message,
@@ -20,9 +26,9 @@ namespace hilrig::rig::check_internal {
 
 }  // namespace hilrig::rig::check_internal
 
-#define HILRIG_CHECK(cond, msg)                                              \
-  do {                                                                       \
-    if (!(cond)) [[unlikely]] {                                              \
-      ::hilrig::rig::check_internal::Fail(#cond, (msg), __FILE__, __LINE__); \
-    }                                                                        \
+#define HILRIG_CHECK(cond, msg)                                                        \
+  do {                                                                                 \
+    if (!(cond)) [[unlikely]] {                                                        \
+      ::hilrig::rig::check_internal::Fail(#cond, (msg), HILRIG_SOURCE_FILE, __LINE__); \
+    }                                                                                  \
   } while (false)

@@ -72,7 +72,7 @@ class [[nodiscard]] Result {
  private:
   void CheckOk() const {
     if (!ok()) [[unlikely]] {
-      check_internal::Fail("ok()", error().message, __FILE__, __LINE__);
+      check_internal::Fail("ok()", error().message, HILRIG_SOURCE_FILE, __LINE__);
     }
   }
 
