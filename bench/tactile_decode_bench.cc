@@ -44,7 +44,7 @@ BENCHMARK(BM_ComputeS<float>);
 void BM_TactileSample(benchmark::State& state) {
   TactileProcessorParams<double> params;
   params.film = OurFilm<double>();
-  for (std::size_t n = 0; n < kTactileNodeCount; ++n) {
+  for (std::size_t n = 0; n < tactile_bus::kTactileNodeCount; ++n) {
     params.nodes[n].node_id = static_cast<std::uint8_t>(n + 1);
     params.nodes[n].gain_a = Vec3<double>(1.0, 1.0, 1.0);
   }

@@ -17,6 +17,7 @@
 
 #include "dut_fw/dut_core.h"
 #include "dut_fw/wire_codec.h"
+#include "proto/hil_link_tags.h"
 
 namespace hilrig::dut_fw {
 
@@ -67,8 +68,8 @@ struct DutConfigOnTarget {
 
 namespace dut_config_internal {
 
-// The switches below map field numbers to members one line per field, as the message reads
-// (clang-format would spread each over three lines).
+// The switches below map fields to members one line per field, as the message reads (clang-format
+// would spread each over three lines).
 
 // Keeps the first refusal; reads doubles and remembers whether any was not finite.
 template <typename S>
@@ -87,9 +88,11 @@ struct Decoding {
   Vec3<S> Vector(wire::Reader& outer) {
     wire::Reader reader = outer.Message();
     Vec3<S> out = Vec3<S>::Zero();
+    static_assert(proto_tags::Vector3::kY == proto_tags::Vector3::kX + 1 &&
+                  proto_tags::Vector3::kZ == proto_tags::Vector3::kX + 2);
     while (const auto tag = reader.Next()) {
-      if (tag->field >= 1 && tag->field <= 3) {
-        out[tag->field - 1] = Real(reader);
+      if (tag->field >= proto_tags::Vector3::kX && tag->field <= proto_tags::Vector3::kZ) {
+        out[tag->field - proto_tags::Vector3::kX] = Real(reader);
       }
     }
     if (!reader.ok()) Refuse(ConfigRefusal::kMalformed);
@@ -100,7 +103,7 @@ struct Decoding {
     std::array<double, 9> values{};
     std::size_t count = 0;
     while (const auto tag = reader.Next()) {
-      if (tag->field == 1) reader.AppendDoubles(values, count);
+      if (tag->field == proto_tags::Matrix3::kRowMajor) reader.AppendDoubles(values, count);
     }
     if (reader.error() == wire::WireError::kTooManyValues || (reader.ok() && count != 9)) {
       Refuse(ConfigRefusal::kMatrixSize);
@@ -134,42 +137,45 @@ void ZeroFlight(FlightControllerParams<S>& p) {
 
 template <typename S>
 void DecodeFlight(Decoding<S>& d, wire::Reader& outer, FlightControllerParams<S>& p) {
+  namespace field = proto_tags::FlightFirmware;
   ZeroFlight(p);
   wire::Reader r = outer.Message();
   while (const auto tag = r.Next()) {
     // clang-format off
     switch (tag->field) {
-      case 1: p.admittance.mass_kg = d.Vector(r); break;
-      case 2: p.admittance.damping_n_s_per_m = d.Vector(r); break;
-      case 3: p.admittance.stiffness_n_per_m = d.Vector(r); break;
-      case 4: p.position.kp_per_s2 = d.Vector(r); break;
-      case 5: p.position.kv_per_s = d.Vector(r); break;
-      case 6: p.position.mass_kg = d.Real(r); break;
-      case 7: p.position.gravity_m_s2 = d.Real(r); break;
-      case 8: p.position.max_tilt_rad = d.Real(r); break;
-      case 9: p.position.min_collective_thrust_n = d.Real(r); break;
-      case 10: p.position.max_collective_thrust_n = d.Real(r); break;
-      case 11: p.attitude.k_r_per_s = d.Vector(r); break;
-      case 12: p.attitude.k_p_nm_s = d.Vector(r); break;
-      case 13: p.attitude.k_i_nm = d.Vector(r); break;
-      case 14: p.attitude.k_d_nm_s2 = d.Vector(r); break;
-      case 15: p.attitude.max_rate_rad_s = d.Vector(r); break;
-      case 16: p.attitude.integral_limit_rad = d.Vector(r); break;
-      case 17: p.attitude.derivative_cutoff_hz = d.Real(r); break;
-      case 18: p.attitude.inertia_kg_m2 = d.Vector(r); break;
-      case 19: p.mixer.arm_length_m = d.Real(r); break;
-      case 20: p.mixer.torque_per_thrust_m = d.Real(r); break;
-      case 21: p.mixer.max_thrust_per_rotor_n = d.Real(r); break;
-      case 22: p.estimator.position_gain = d.Real(r); break;
-      case 23: p.estimator.velocity_gain = d.Real(r); break;
-      case 24: p.estimator.accel_bias_gain = d.Real(r); break;
-      case 25: p.estimator.attitude_gain = d.Real(r); break;
-      case 26: p.estimator.gyro_bias_gain = d.Real(r); break;
-      case 27: p.estimator.gravity_m_s2 = d.Real(r); break;
-      case 28: p.estimator.nominal_vio_period_s = d.Real(r); break;
-      case 29: p.estimator.max_gyro_bias_rad_s = d.Real(r); break;
-      case 30: p.estimator.max_accel_bias_m_s2 = d.Real(r); break;
-      case 31: p.load_feedforward = r.Bool(); break;
+      case field::kAdmittanceMassKg: p.admittance.mass_kg = d.Vector(r); break;
+      case field::kAdmittanceDampingNSPerM: p.admittance.damping_n_s_per_m = d.Vector(r); break;
+      case field::kAdmittanceStiffnessNPerM: p.admittance.stiffness_n_per_m = d.Vector(r); break;
+      case field::kPositionKpPerS2: p.position.kp_per_s2 = d.Vector(r); break;
+      case field::kPositionKvPerS: p.position.kv_per_s = d.Vector(r); break;
+      case field::kPositionMassKg: p.position.mass_kg = d.Real(r); break;
+      case field::kPositionGravityMS2: p.position.gravity_m_s2 = d.Real(r); break;
+      case field::kPositionMaxTiltRad: p.position.max_tilt_rad = d.Real(r); break;
+      case field::kPositionMinCollectiveThrustN:
+        p.position.min_collective_thrust_n = d.Real(r); break;
+      case field::kPositionMaxCollectiveThrustN:
+        p.position.max_collective_thrust_n = d.Real(r); break;
+      case field::kAttitudeKRPerS: p.attitude.k_r_per_s = d.Vector(r); break;
+      case field::kAttitudeKPNmS: p.attitude.k_p_nm_s = d.Vector(r); break;
+      case field::kAttitudeKINm: p.attitude.k_i_nm = d.Vector(r); break;
+      case field::kAttitudeKDNmS2: p.attitude.k_d_nm_s2 = d.Vector(r); break;
+      case field::kAttitudeMaxRateRadS: p.attitude.max_rate_rad_s = d.Vector(r); break;
+      case field::kAttitudeIntegralLimitRad: p.attitude.integral_limit_rad = d.Vector(r); break;
+      case field::kAttitudeDerivativeCutoffHz: p.attitude.derivative_cutoff_hz = d.Real(r); break;
+      case field::kAttitudeInertiaKgM2: p.attitude.inertia_kg_m2 = d.Vector(r); break;
+      case field::kMixerArmLengthM: p.mixer.arm_length_m = d.Real(r); break;
+      case field::kMixerTorquePerThrustM: p.mixer.torque_per_thrust_m = d.Real(r); break;
+      case field::kMixerMaxThrustPerRotorN: p.mixer.max_thrust_per_rotor_n = d.Real(r); break;
+      case field::kEstimatorPositionGain: p.estimator.position_gain = d.Real(r); break;
+      case field::kEstimatorVelocityGain: p.estimator.velocity_gain = d.Real(r); break;
+      case field::kEstimatorAccelBiasGain: p.estimator.accel_bias_gain = d.Real(r); break;
+      case field::kEstimatorAttitudeGain: p.estimator.attitude_gain = d.Real(r); break;
+      case field::kEstimatorGyroBiasGain: p.estimator.gyro_bias_gain = d.Real(r); break;
+      case field::kEstimatorGravityMS2: p.estimator.gravity_m_s2 = d.Real(r); break;
+      case field::kEstimatorNominalVioPeriodS: p.estimator.nominal_vio_period_s = d.Real(r); break;
+      case field::kEstimatorMaxGyroBiasRadS: p.estimator.max_gyro_bias_rad_s = d.Real(r); break;
+      case field::kEstimatorMaxAccelBiasMS2: p.estimator.max_accel_bias_m_s2 = d.Real(r); break;
+      case field::kLoadFeedforward: p.load_feedforward = r.Bool(); break;
       default:
         break;
     }
@@ -180,6 +186,7 @@ void DecodeFlight(Decoding<S>& d, wire::Reader& outer, FlightControllerParams<S>
 
 template <typename S>
 void DecodeTactileNode(Decoding<S>& d, wire::Reader& outer, TactileNodeConfig<S>& node) {
+  namespace field = proto_tags::TactileNodeFirmware;
   node = {0, Mat3<S>::Zero(), Mat3<S>::Zero(), Vec3<S>::Zero(), Vec3<S>::Zero()};
   wire::Reader r = outer.Message();
   bool rotation_seen = false;
@@ -187,22 +194,22 @@ void DecodeTactileNode(Decoding<S>& d, wire::Reader& outer, TactileNodeConfig<S>
   while (const auto tag = r.Next()) {
     // clang-format off
     switch (tag->field) {
-      case 1: {
+      case field::kNodeId: {
         const std::uint32_t id = r.Uint32();
         if (id > 255) d.Refuse(ConfigRefusal::kTactileNodeId);
         node.node_id = std::uint8_t(id);
         break;
       }
-      case 2:
+      case field::kRotationSensorFromReference:
         node.rotation_sensor_from_reference = d.Matrix(r);
         rotation_seen = true;
         break;
-      case 3:
+      case field::kRotationBodyFromSensor:
         node.rotation_body_from_sensor = d.Matrix(r);
         mounting_seen = true;
         break;
-      case 4: node.contact_normal_sensor = d.Vector(r); break;
-      case 5: node.gain_a = d.Vector(r); break;
+      case field::kContactNormalSensor: node.contact_normal_sensor = d.Vector(r); break;
+      case field::kGainA: node.gain_a = d.Vector(r); break;
       default:
         break;
     }
@@ -214,6 +221,7 @@ void DecodeTactileNode(Decoding<S>& d, wire::Reader& outer, TactileNodeConfig<S>
 
 template <typename S>
 void DecodeTactile(Decoding<S>& d, wire::Reader& outer, TactileProcessorParams<S>& p) {
+  namespace field = proto_tags::TactileFirmware;
   p.film = {S(0), S(0), S(0), S(0)};
   p.chip_setting = {0, 0};
   p.zeroing_samples = 0;
@@ -227,7 +235,7 @@ void DecodeTactile(Decoding<S>& d, wire::Reader& outer, TactileProcessorParams<S
   while (const auto tag = r.Next()) {
     // clang-format off
     switch (tag->field) {
-      case 1:
+      case field::kNodes:
         if (nodes == p.nodes.size()) {
           d.Refuse(ConfigRefusal::kTactileNodeCount);
           r.Skip();
@@ -236,16 +244,16 @@ void DecodeTactile(Decoding<S>& d, wire::Reader& outer, TactileProcessorParams<S
         }
         ++nodes;
         break;
-      case 2: p.film.k1 = d.Real(r); break;
-      case 3: p.film.c1 = d.Real(r); break;
-      case 4: p.film.k2 = d.Real(r); break;
-      case 5: p.film.c2 = d.Real(r); break;
-      case 6: gain_sel = r.Uint32(); break;
-      case 7: resolution = r.Uint32(); break;
-      case 8: p.zeroing_samples = r.Uint32(); break;
-      case 9: p.compensation_enabled = r.Bool(); break;
-      case 10: p.max_reference_age_ns = r.Int64(); break;
-      case 11: p.max_sample_age_ns = r.Int64(); break;
+      case field::kFilmK1: p.film.k1 = d.Real(r); break;
+      case field::kFilmC1: p.film.c1 = d.Real(r); break;
+      case field::kFilmK2: p.film.k2 = d.Real(r); break;
+      case field::kFilmC2: p.film.c2 = d.Real(r); break;
+      case field::kChipGainSel: gain_sel = r.Uint32(); break;
+      case field::kChipResolution: resolution = r.Uint32(); break;
+      case field::kZeroingSamples: p.zeroing_samples = r.Uint32(); break;
+      case field::kCompensationEnabled: p.compensation_enabled = r.Bool(); break;
+      case field::kMaxReferenceAgeNs: p.max_reference_age_ns = r.Int64(); break;
+      case field::kMaxSampleAgeNs: p.max_sample_age_ns = r.Int64(); break;
       default:
         break;
     }
@@ -260,7 +268,8 @@ void DecodeTactile(Decoding<S>& d, wire::Reader& outer, TactileProcessorParams<S
   unsigned ids_seen = 0;
   for (const TactileNodeConfig<S>& node : p.nodes) {
     const unsigned bit = 1u << (node.node_id & 31);
-    if (node.node_id < 1 || node.node_id > kTactileNodeCount || (ids_seen & bit) != 0) {
+    if (node.node_id < 1 || node.node_id > tactile_bus::kTactileNodeCount ||
+        (ids_seen & bit) != 0) {
       d.Refuse(ConfigRefusal::kTactileNodeId);
     }
     ids_seen |= bit;
@@ -274,24 +283,25 @@ void DecodeTactile(Decoding<S>& d, wire::Reader& outer, TactileProcessorParams<S
 // +inf; every other must be finite.
 template <typename S>
 void DecodeGrasp(Decoding<S>& d, wire::Reader& outer, GraspAdmittanceParams<S>& p) {
+  namespace field = proto_tags::GraspFirmware;
   p = {S(0), S(0), S(0), S(0), S(0), false, S(0), S(0)};
   wire::Reader r = outer.Message();
   while (const auto tag = r.Next()) {
     // clang-format off
     switch (tag->field) {
-      case 1: p.mass = d.Real(r); break;
-      case 2: p.damping = d.Real(r); break;
-      case 3: p.stiffness = d.Real(r); break;
-      case 4: p.open_angle_rad = d.Real(r); break;
-      case 5: p.closed_angle_rad = d.Real(r); break;
-      case 6: p.force_feedback = r.Bool(); break;
-      case 7: {
+      case field::kMass: p.mass = d.Real(r); break;
+      case field::kDamping: p.damping = d.Real(r); break;
+      case field::kStiffness: p.stiffness = d.Real(r); break;
+      case field::kOpenAngleRad: p.open_angle_rad = d.Real(r); break;
+      case field::kClosedAngleRad: p.closed_angle_rad = d.Real(r); break;
+      case field::kForceFeedback: p.force_feedback = r.Bool(); break;
+      case field::kServoMaxRateRadS: {
         const double rate = r.Double();
         if (std::isnan(rate) || (std::isinf(rate) && rate < 0)) d.non_finite = true;
         p.servo_max_rate_rad_s = S(rate);
         break;
       }
-      case 8: p.servo_settle_s = d.Real(r); break;
+      case field::kServoSettleS: p.servo_settle_s = d.Real(r); break;
       default:
         break;
     }
@@ -306,6 +316,7 @@ void DecodeGrasp(Decoding<S>& d, wire::Reader& outer, GraspAdmittanceParams<S>& 
 // refusal `out` holds whatever was read and must not be used. O(message bytes), no allocation.
 template <typename S>
 ConfigRefusal DecodeDutConfig(std::span<const std::uint8_t> bytes, DutConfigOnTarget<S>& out) {
+  namespace field = proto_tags::DutConfig;
   using dut_config_internal::Decoding;
   Decoding<S> d;
   out.control_period_s = 0;
@@ -317,20 +328,21 @@ ConfigRefusal DecodeDutConfig(std::span<const std::uint8_t> bytes, DutConfigOnTa
   while (const auto tag = r.Next()) {
     // clang-format off
     switch (tag->field) {
-      case 2:
+      case field::kFlight:
         dut_config_internal::DecodeFlight(d, r, out.params.flight);
         flight_seen = true;
         break;
-      case 3:
+      case field::kTactile:
         out.params.tactile.emplace();
         dut_config_internal::DecodeTactile(d, r, *out.params.tactile);
         break;
-      case 4:
+      case field::kGrasp:
         dut_config_internal::DecodeGrasp(d, r, out.params.grasp);
         grasp_seen = true;
         break;
-      case 5: out.params.external_force_in_position_loop = r.Bool(); break;
-      case 6: out.control_period_s = r.Double(); break;
+      case field::kExternalForceInPositionLoop:
+        out.params.external_force_in_position_loop = r.Bool(); break;
+      case field::kControlPeriodS: out.control_period_s = r.Double(); break;
       default:
         break;  // the header, and fields this DUT does not know
     }

@@ -67,12 +67,13 @@ class DutCore {
     grasp_command_ = grasp;
   }
 
-  // A sensor node's sample; node kReferenceNodeId is the unloaded reference magnetometer.
+  // A sensor node's sample; node tactile_bus::kReferenceNodeId is the unloaded reference
+  // magnetometer.
   void OnSensorSample(std::uint8_t node_id, const std::array<std::uint16_t, 3>& codes,
                       std::uint8_t sequence, bool saturated, std::int64_t time_ns) {
     if (!tactile_params_) return;
     summary_dirty_ = true;
-    if (node_id == kReferenceNodeId) {
+    if (node_id == tactile_bus::kReferenceNodeId) {
       OnReferenceSample(*tactile_params_, tactile_state_, codes, sequence, saturated, time_ns);
     } else {
       OnTactileSample(*tactile_params_, tactile_state_, node_id, codes, sequence, saturated,

@@ -2,9 +2,9 @@
 // result becomes a sample frame, the 1 Hz status frame, the configuration commands, forwarding of
 // frames from further down the daisy chain, and the UART bridge through which any one node streams
 // every frame it sees. The wire layout is the tactile bus protocol of proto/TACTILE_PROTOCOL.md;
-// rig/tactile_protocol.h is the host's codec for the same frames. dut_fw may not depend on rig, so
-// the constants are repeated here, and tests/rig/tactile_protocol_test.cc decodes this node's
-// frames with the rig codec to keep the two from drifting apart.
+// rig/tactile_protocol.h is the host's codec for the same frames. Both take the protocol's numbers
+// from protocol/tactile_bus.h, and tests/rig/tactile_protocol_test.cc decodes this node's frames
+// with the rig codec.
 //
 // Like the rest of dut_fw this is portable C++ with no heap, no exceptions and no I/O: the MCU's
 // main loop reads the chip and the CAN/UART peripherals and hands the results in, with the time of
@@ -18,45 +18,13 @@
 #include <optional>
 
 #include "dut_fw/mlx90393.h"
+#include "protocol/tactile_bus.h"
 
 namespace hilrig::dut_fw {
 
-// The protocol constants, mirrored from rig/tactile_protocol.h (see the cross-check test).
-namespace node_protocol {
-
-inline constexpr std::uint16_t kConfigBaseId = 0x080;  // +0 is broadcast
-inline constexpr std::uint16_t kSampleBaseId = 0x100;
-inline constexpr std::uint16_t kStatusBaseId = 0x180;
-inline constexpr std::uint8_t kFirstNodeId = 1;
-inline constexpr std::uint8_t kLastNodeId = 7;  // 7 is the reference magnetometer
-inline constexpr std::uint8_t kMinConfigLength = 2;
-
-inline constexpr std::uint8_t kSampleSaturated = 1u << 0;
-inline constexpr std::uint8_t kSampleConversionError = 1u << 1;
-inline constexpr std::uint8_t kSampleStale = 1u << 2;
-inline constexpr std::uint8_t kSampleTare = 1u << 3;
-
-inline constexpr std::uint8_t kFlagChipError = 1u << 0;
-inline constexpr std::uint8_t kFlagConfigPending = 1u << 1;
-inline constexpr std::uint8_t kFlagCommandRejected = 1u << 2;
-inline constexpr std::uint8_t kFlagTarePending = 1u << 3;
-inline constexpr std::uint8_t kFlagForwardOverflow = 1u << 4;
-
-inline constexpr std::uint8_t kCommandSetRate = 1;
-inline constexpr std::uint8_t kCommandSetGain = 2;
-inline constexpr std::uint8_t kCommandSetResolution = 3;
-inline constexpr std::uint8_t kCommandZero = 4;
-inline constexpr std::uint8_t kCommandReset = 5;
-
-inline constexpr std::array<std::uint16_t, 11> kRateHzByCode = {0,   1,   10,  20,  25,  50,
-                                                                100, 200, 250, 500, 1000};
-inline constexpr std::uint8_t kFirmwareVersion = 0x10;  // 1.0: major nibble, minor nibble
-
-}  // namespace node_protocol
-
 constexpr std::optional<std::uint8_t> RateCodeFromHz(std::uint16_t rate_hz) {
-  for (std::size_t code = 0; code < node_protocol::kRateHzByCode.size(); ++code) {
-    if (node_protocol::kRateHzByCode[code] == rate_hz) return std::uint8_t(code);
+  for (std::size_t code = 0; code < tactile_bus::kRateHzByCode.size(); ++code) {
+    if (tactile_bus::kRateHzByCode[code] == rate_hz) return std::uint8_t(code);
   }
   return std::nullopt;
 }
@@ -182,7 +150,7 @@ constexpr std::int16_t ChipTemperatureCentiC(std::uint16_t temperature_word) {
 constexpr NodeFrame PackSampleFrame(std::uint8_t node_id, const std::array<std::uint16_t, 3>& code,
                                     std::uint8_t sequence, std::uint8_t status) {
   NodeFrame frame;
-  frame.id = std::uint16_t(node_protocol::kSampleBaseId + node_id);
+  frame.id = std::uint16_t(tactile_bus::kSampleBaseId + node_id);
   frame.len = 8;
   for (std::size_t axis = 0; axis < 3; ++axis) {
     frame.data[2 * axis] = std::uint8_t(code[axis] & 0xFF);
@@ -206,12 +174,12 @@ struct NodeSample {
 // The sample in `frame`; nullopt for every other frame (status, commands, other ids) and for a
 // sample id with the wrong length, which rig/tactile_protocol.h rejects the same way.
 constexpr std::optional<NodeSample> UnpackSampleFrame(const NodeFrame& frame) {
-  if (frame.id < node_protocol::kSampleBaseId + node_protocol::kFirstNodeId ||
-      frame.id > node_protocol::kSampleBaseId + node_protocol::kLastNodeId || frame.len != 8) {
+  if (frame.id < tactile_bus::kSampleBaseId + tactile_bus::kFirstNodeId ||
+      frame.id > tactile_bus::kSampleBaseId + tactile_bus::kLastNodeId || frame.len != 8) {
     return std::nullopt;
   }
   NodeSample sample;
-  sample.node_id = std::uint8_t(frame.id - node_protocol::kSampleBaseId);
+  sample.node_id = std::uint8_t(frame.id - tactile_bus::kSampleBaseId);
   for (std::size_t axis = 0; axis < 3; ++axis) {
     sample.code[axis] = std::uint16_t(frame.data[2 * axis] | (frame.data[2 * axis + 1] << 8));
   }
@@ -280,19 +248,19 @@ class SensorNode {
     }
     chip_error_ = !conversion.has_value();
     std::array<std::uint16_t, 3> code = last_code_;
-    std::uint8_t status = std::uint8_t(last_status_ | node_protocol::kSampleStale);
+    std::uint8_t status = std::uint8_t(last_status_ | tactile_bus::kSampleStale);
     if (conversion) {
       code = conversion->code;  // as read, even when the chip flagged an error
-      status = AnyAxisSaturated(code, applied_.resolution) ? node_protocol::kSampleSaturated : 0;
+      status = AnyAxisSaturated(code, applied_.resolution) ? tactile_bus::kSampleSaturated : 0;
       if (conversion->error) {
-        status |= node_protocol::kSampleConversionError;
+        status |= tactile_bus::kSampleConversionError;
       } else {
         last_code_ = code;
         last_status_ = status;
       }
     }
     if (tare_pending_) {
-      status |= node_protocol::kSampleTare;
+      status |= tactile_bus::kSampleTare;
       tare_pending_ = false;
     }
     return PackSampleFrame(node_id_, code, sequence_++, status);
@@ -321,8 +289,8 @@ class SensorNode {
   // frame was a command for this node or for all nodes (a rejected command answers too, with
   // kFlagCommandRejected, so the host learns about it without waiting a second).
   constexpr std::optional<NodeFrame> OnBusFrame(const NodeFrame& frame, std::int64_t now_ns) {
-    if (frame.id != node_protocol::kConfigBaseId &&
-        frame.id != node_protocol::kConfigBaseId + node_id_) {
+    if (frame.id != tactile_bus::kConfigBaseId &&
+        frame.id != tactile_bus::kConfigBaseId + node_id_) {
       return std::nullopt;
     }
     command_rejected_ = !ApplyCommand(frame, now_ns);
@@ -359,28 +327,28 @@ class SensorNode {
   // Length and argument checks happen before anything changes, so a rejected command has no
   // effect at all.
   constexpr bool ApplyCommand(const NodeFrame& frame, std::int64_t now_ns) {
-    if (frame.len < node_protocol::kMinConfigLength || frame.len > 8) return false;
+    if (frame.len < tactile_bus::kConfigMinLength || frame.len > 8) return false;
     const std::uint8_t argument = frame.data[1];
     switch (frame.data[0]) {
-      case node_protocol::kCommandSetRate: {
+      case tactile_bus::kCommandSetRate: {
         if (frame.len < 3) return false;
         const auto rate_hz = std::uint16_t(frame.data[1] | (frame.data[2] << 8));
         if (!RateCodeFromHz(rate_hz)) return false;
         sample_schedule_.Start(rate_hz, now_ns);
         return true;
       }
-      case node_protocol::kCommandSetGain:
+      case tactile_bus::kCommandSetGain:
         if (argument > kMlx90393MaxGainSel) return false;
         requested_.gain_sel = argument;
         return true;
-      case node_protocol::kCommandSetResolution:
+      case tactile_bus::kCommandSetResolution:
         if (argument > kMlx90393MaxResolution) return false;
         requested_.resolution = argument;
         return true;
-      case node_protocol::kCommandZero:
+      case tactile_bus::kCommandZero:
         tare_pending_ = true;
         return true;
-      case node_protocol::kCommandReset:
+      case tactile_bus::kCommandReset:
         Reset(now_ns);
         return true;
       default:
@@ -390,11 +358,11 @@ class SensorNode {
 
   constexpr std::uint8_t Flags() const {
     std::uint8_t flags = 0;
-    if (chip_error_) flags |= node_protocol::kFlagChipError;
-    if (config_pending()) flags |= node_protocol::kFlagConfigPending;
-    if (command_rejected_) flags |= node_protocol::kFlagCommandRejected;
-    if (tare_pending_) flags |= node_protocol::kFlagTarePending;
-    if (forward_overflow_) flags |= node_protocol::kFlagForwardOverflow;
+    if (chip_error_) flags |= tactile_bus::kFlagChipError;
+    if (config_pending()) flags |= tactile_bus::kFlagConfigPending;
+    if (command_rejected_) flags |= tactile_bus::kFlagCommandRejected;
+    if (tare_pending_) flags |= tactile_bus::kFlagTarePending;
+    if (forward_overflow_) flags |= tactile_bus::kFlagForwardOverflow;
     return flags;
   }
 
@@ -402,7 +370,7 @@ class SensorNode {
   constexpr NodeFrame MakeStatus() {
     const Mlx90393Setting& reported = applied_;
     NodeFrame frame;
-    frame.id = std::uint16_t(node_protocol::kStatusBaseId + node_id_);
+    frame.id = std::uint16_t(tactile_bus::kStatusBaseId + node_id_);
     frame.len = 8;
     const auto temperature_bits = std::uint16_t(temperature_centi_c_);
     frame.data = {std::uint8_t(temperature_bits & 0xFF),
@@ -412,7 +380,7 @@ class SensorNode {
                   reported.resolution,
                   RateCodeFromHz(sample_schedule_.rate_hz()).value_or(0),
                   rx_errors_,
-                  node_protocol::kFirmwareVersion};
+                  tactile_bus::kFirmwareVersion};
     forward_overflow_ = false;
     return frame;
   }

@@ -29,12 +29,14 @@
 #include "dut_fw/line_framing.h"
 #include "dut_fw/sensor_node.h"
 #include "dut_fw/wire_codec.h"
+#include "proto/hil_link_tags.h"
 
 namespace hilrig::dut_fw {
 
-// The HIL link's protocol version (host/dut/hil_messages.h kHilLinkProtocolVersion; dut_fw may not
-// include the host, so tests/dut_fw/serial_dut_session_test.cc checks the two agree).
-inline constexpr std::uint32_t kSerialLinkProtocolVersion = 1;
+// The HIL link's protocol version, proto/hil_link.proto's LinkProtocol (as the host's
+// kHilLinkProtocolVersion).
+inline constexpr std::uint32_t kSerialLinkProtocolVersion =
+    proto_tags::LinkProtocol::kLinkProtocolVersion;
 // How long the bridge line may stay quiet before the announced bytes count as lost. Generous on
 // purpose: a board emulated under QEMU reads this clock in virtual time while QEMU's I/O thread,
 // starved on a busy host, can hold the bytes back for tens of milliseconds, and a lockstep step
@@ -109,16 +111,6 @@ struct SerialDutCounterValues {
 enum class SerialDutPhase : std::uint8_t { kAwaitHello, kAwaitConfig, kRunning };
 
 namespace serial_link_internal {
-
-// LinkMessage payload field numbers (proto/hil_link.proto).
-inline constexpr std::uint32_t kHello = 5;
-inline constexpr std::uint32_t kConfig = 6;
-inline constexpr std::uint32_t kBye = 8;
-inline constexpr std::uint32_t kSerialStep = 9;
-inline constexpr std::uint32_t kSerialCommand = 10;
-inline constexpr std::uint32_t kTargetInfo = 11;
-inline constexpr std::uint64_t kRoleRunner = 1;
-inline constexpr std::uint64_t kRoleDut = 2;
 
 // The largest message the DUT sends: a SerialCommand with every field is about 170 bytes.
 inline constexpr std::size_t kMaxReplyBytes = 320;
@@ -216,13 +208,13 @@ class SerialDutSession {
       return;
     }
     switch (kind) {
-      case in::kHello:
+      case proto_tags::LinkMessage::kHello:
         return OnHello(body);
-      case in::kConfig:
+      case proto_tags::LinkMessage::kConfig:
         return OnConfig(body);
-      case in::kBye:
+      case proto_tags::LinkMessage::kBye:
         return Reset(SerialDutPhase::kAwaitHello);
-      case in::kSerialStep:
+      case proto_tags::LinkMessage::kSerialStep:
         return OnStep(body, start_cycles);
       default:
         return;  // messages for a DUT on TCP, or from a newer runner: not ours to answer
@@ -240,10 +232,10 @@ class SerialDutSession {
     std::uint64_t version = 0;
     std::uint64_t role = 0;
     while (const auto tag = hello.Next()) {
-      if (tag->field == 1) version = HeaderVersion(hello.Message());
-      if (tag->field == 2) role = hello.Varint();
+      if (tag->field == proto_tags::Hello::kHeader) version = HeaderVersion(hello.Message());
+      if (tag->field == proto_tags::Hello::kRole) role = hello.Varint();
     }
-    if (!hello.ok() || role != serial_link_internal::kRoleRunner) {
+    if (!hello.ok() || role != proto_tags::Hello::Role::kRunner) {
       ++messages_malformed_;
       return;
     }
@@ -258,10 +250,11 @@ class SerialDutSession {
     }
     Reset(SerialDutPhase::kAwaitConfig);
     Writer w = BeginReply();
-    const auto nested = w.BeginMessage(serial_link_internal::kHello);
+    const auto nested = w.BeginMessage(proto_tags::LinkMessage::kHello);
     PutHeader(w);
-    w.Varint(2, serial_link_internal::kRoleDut);
-    if (!target_.name.empty()) w.Bytes(3, serial_link_internal::Bytes(target_.name));
+    w.Varint(proto_tags::Hello::kRole, proto_tags::Hello::Role::kDut);
+    if (!target_.name.empty())
+      w.Bytes(proto_tags::Hello::kName, serial_link_internal::Bytes(target_.name));
     w.EndMessage(nested);
     SendReply(w);
   }
@@ -269,7 +262,7 @@ class SerialDutSession {
   static std::uint64_t HeaderVersion(Reader header) {
     std::uint64_t version = 0;
     while (const auto tag = header.Next()) {
-      if (tag->field == 1) version = header.Varint();
+      if (tag->field == proto_tags::LinkHeader::kProtocolVersion) version = header.Varint();
     }
     return version;
   }
@@ -291,13 +284,14 @@ class SerialDutSession {
     last_tick_.reset();
     phase_ = SerialDutPhase::kRunning;
     Writer w = BeginReply();
-    const auto nested = w.BeginMessage(serial_link_internal::kTargetInfo);
+    namespace info = proto_tags::TargetInfo;
+    const auto nested = w.BeginMessage(proto_tags::LinkMessage::kTargetInfo);
     PutHeader(w);
-    if (!target_.board.empty()) w.Bytes(2, serial_link_internal::Bytes(target_.board));
-    PutNonZero(w, 3, target_.core_clock_hz);
-    PutNonZero(w, 4, target_.flash_used_bytes);
-    PutNonZero(w, 5, target_.ram_used_bytes);
-    PutNonZero(w, 6, target_.stack_bytes);
+    if (!target_.board.empty()) w.Bytes(info::kBoard, serial_link_internal::Bytes(target_.board));
+    PutNonZero(w, info::kCoreClockHz, target_.core_clock_hz);
+    PutNonZero(w, info::kFlashUsedBytes, target_.flash_used_bytes);
+    PutNonZero(w, info::kRamUsedBytes, target_.ram_used_bytes);
+    PutNonZero(w, info::kStackBytes, target_.stack_bytes);
     w.EndMessage(nested);
     SendReply(w);
   }
@@ -334,21 +328,22 @@ class SerialDutSession {
                 bool apply, std::int64_t now_ns) {
     Reader r(body);
     bool inputs_ok = true;
+    namespace serial_step = proto_tags::SerialStep;
     while (const auto tag = r.Next()) {
       switch (tag->field) {
-        case 1:
+        case serial_step::kTick:
           step.tick = r.Varint();
           break;
-        case 2:
+        case serial_step::kNowOffsetNs:
           step.now_offset_ns = r.SInt64();
           break;
-        case 3:
+        case serial_step::kInputs:
           inputs_ok = ReadInput(r.Message(), apply, now_ns) && inputs_ok;
           break;
-        case 4:
+        case serial_step::kBridgeBytes:
           step.bridge_bytes = r.Uint32();
           break;
-        case 5:
+        case serial_step::kRealtime:
           step.realtime = r.Bool();
           break;
         default:
@@ -361,9 +356,12 @@ class SerialDutSession {
   bool ReadInput(Reader input, bool apply, std::int64_t now_ns) {
     bool ok = true;
     while (const auto tag = input.Next()) {
-      if (tag->field == 1) ok = ReadImu(input.Message(), apply, now_ns) && ok;
-      if (tag->field == 2) ok = ReadVio(input.Message(), apply, now_ns) && ok;
-      if (tag->field == 3) ok = ReadSetpoint(input.Message(), apply) && ok;
+      if (tag->field == proto_tags::SerialInput::kImu)
+        ok = ReadImu(input.Message(), apply, now_ns) && ok;
+      if (tag->field == proto_tags::SerialInput::kVio)
+        ok = ReadVio(input.Message(), apply, now_ns) && ok;
+      if (tag->field == proto_tags::SerialInput::kSetpoint)
+        ok = ReadSetpoint(input.Message(), apply) && ok;
     }
     return input.ok() && ok;
   }
@@ -373,8 +371,8 @@ class SerialDutSession {
     std::size_t count = 0;
     std::int64_t offset_ns = 0;
     while (const auto tag = imu.Next()) {
-      if (tag->field == 1) imu.AppendFloats(values, count);
-      if (tag->field == 2) offset_ns = imu.SInt64();
+      if (tag->field == proto_tags::SerialImu::kGyroAccel) imu.AppendFloats(values, count);
+      if (tag->field == proto_tags::SerialImu::kTimeOffsetNs) offset_ns = imu.SInt64();
     }
     if (!imu.ok() || count != values.size()) return false;
     if (apply) {
@@ -392,9 +390,10 @@ class SerialDutSession {
     std::size_t wxyz_count = 0;
     std::int64_t offset_ns = 0;
     while (const auto tag = vio.Next()) {
-      if (tag->field == 1) offset_ns = vio.SInt64();
-      if (tag->field == 2) vio.AppendFloats(position, position_count);
-      if (tag->field == 3) vio.AppendFloats(wxyz, wxyz_count);
+      if (tag->field == proto_tags::SerialVio::kCaptureOffsetNs) offset_ns = vio.SInt64();
+      if (tag->field == proto_tags::SerialVio::kPositionM)
+        vio.AppendFloats(position, position_count);
+      if (tag->field == proto_tags::SerialVio::kOrientationWxyz) vio.AppendFloats(wxyz, wxyz_count);
     }
     if (!vio.ok() || position_count != 3 || wxyz_count != 4) return false;
     if (apply) {
@@ -410,23 +409,29 @@ class SerialDutSession {
     std::array<std::size_t, 3> counts{};
     Reference<S> reference = reference_;
     GraspCommand<S> grasp = grasp_;
+    namespace setpoint_field = proto_tags::SerialSetpoint;
+    // The three vectors are fields one after the other: position, velocity, acceleration.
+    static_assert(setpoint_field::kVelocityMS == setpoint_field::kPositionM + 1 &&
+                  setpoint_field::kAccelerationMS2 == setpoint_field::kPositionM + 2);
     while (const auto tag = setpoint.Next()) {
       switch (tag->field) {
-        case 1:
-        case 2:
-        case 3:
-          setpoint.AppendFloats(vectors[tag->field - 1], counts[tag->field - 1]);
+        case setpoint_field::kPositionM:
+        case setpoint_field::kVelocityMS:
+        case setpoint_field::kAccelerationMS2: {
+          const std::uint32_t vector = tag->field - setpoint_field::kPositionM;
+          setpoint.AppendFloats(vectors[vector], counts[vector]);
           break;
-        case 4:
+        }
+        case setpoint_field::kYawRad:
           reference.yaw_rad = S(setpoint.Float());
           break;
-        case 5:
+        case setpoint_field::kGraspRegulate:
           grasp.mode = setpoint.Bool() ? GraspMode::kForce : GraspMode::kOpen;
           break;
-        case 6:
+        case setpoint_field::kGraspForceN:
           grasp.force_n = S(setpoint.Float());
           break;
-        case 7:
+        case setpoint_field::kGraspReferenceAngleRad:
           grasp.reference_angle_rad = S(setpoint.Float());
           break;
         default:
@@ -488,7 +493,7 @@ class SerialDutSession {
     const std::optional<NodeSample> sample = UnpackSampleFrame(*frame);
     if (!sample) return;  // status frames and other nodes' commands
     core_->OnSensorSample(sample->node_id, sample->code, sample->sequence,
-                          (sample->status & node_protocol::kSampleSaturated) != 0, now_ns);
+                          (sample->status & tactile_bus::kSampleSaturated) != 0, now_ns);
   }
 
   // Sends the command for `tick` and returns the work_cycles it carries: `work_cycles` plus, when
@@ -498,17 +503,18 @@ class SerialDutSession {
                             std::uint32_t work_cycles,
                             std::optional<std::uint32_t> since = std::nullopt) {
     Writer w = BeginReply();
-    const auto nested = w.BeginMessage(serial_link_internal::kSerialCommand);
-    PutNonZero(w, 1, tick);
+    namespace command = proto_tags::SerialCommand;
+    const auto nested = w.BeginMessage(proto_tags::LinkMessage::kSerialCommand);
+    PutNonZero(w, command::kAnswersTick, tick);
     std::array<float, 4> thrust{};
     for (std::size_t i = 0; i < thrust.size(); ++i) thrust[i] = float(out.rotor_thrust_n[i]);
-    w.PackedFloats(2, thrust);
-    if (out.armed) w.Bool(3, true);
-    PutNonZeroFloat(w, 4, float(out.servo_angle_rad));
-    w.PackedFloats(5, Floats(out.estimated_position_m));
-    if (out.tactile_ready) w.Bool(6, true);
-    PutNonZeroFloat(w, 7, float(out.grasp_force_estimate_n));
-    w.PackedFloats(8, Floats(out.external_force_world_n));
+    w.PackedFloats(command::kRotorThrustN, thrust);
+    if (out.armed) w.Bool(command::kArmed, true);
+    PutNonZeroFloat(w, command::kServoAngleRad, float(out.servo_angle_rad));
+    w.PackedFloats(command::kEstimatedPositionM, Floats(out.estimated_position_m));
+    if (out.tactile_ready) w.Bool(command::kTactileReady, true);
+    PutNonZeroFloat(w, command::kGraspForceEstimateN, float(out.grasp_force_estimate_n));
+    w.PackedFloats(command::kExternalForceWorldN, Floats(out.external_force_world_n));
     std::array<float, 18> pads{};
     bool any_pad = false;
     for (std::size_t i = 0; i < out.tactile_force_sensor_n.size(); ++i) {
@@ -517,9 +523,9 @@ class SerialDutSession {
         any_pad = any_pad || pads[3 * i + axis] != 0.f;
       }
     }
-    if (any_pad) w.PackedFloats(9, pads);
+    if (any_pad) w.PackedFloats(command::kTactileForceSensorN, pads);
     if (since) work_cycles += cycles_.Cycles() - *since;
-    PutNonZero(w, 10, work_cycles);
+    PutNonZero(w, command::kWorkCycles, work_cycles);
     const SerialDutCounterValues now = counters();
     if (now != counters_sent_) {
       PutCounters(w, now);
@@ -535,12 +541,19 @@ class SerialDutSession {
   }
 
   static void PutCounters(Writer& w, const SerialDutCounterValues& c) {
-    const auto nested = w.BeginMessage(11);
-    const std::uint64_t values[] = {
-        c.frames_received,      c.frames_bad_checksum, c.frames_malformed, c.frames_oversize,
-        c.steps_repeated,       c.steps_skipped,       c.bridge_frames,    c.bridge_bad_frames,
-        c.bridge_bytes_missing, c.uart_overruns,       c.rx_ring_drops};
-    for (std::uint32_t i = 0; i < 11; ++i) PutNonZero(w, i + 1, values[i]);
+    namespace counter = proto_tags::SerialDutCounters;
+    const auto nested = w.BeginMessage(proto_tags::SerialCommand::kCounters);
+    PutNonZero(w, counter::kFramesReceived, c.frames_received);
+    PutNonZero(w, counter::kFramesBadChecksum, c.frames_bad_checksum);
+    PutNonZero(w, counter::kFramesMalformed, c.frames_malformed);
+    PutNonZero(w, counter::kFramesOversize, c.frames_oversize);
+    PutNonZero(w, counter::kStepsRepeated, c.steps_repeated);
+    PutNonZero(w, counter::kStepsSkipped, c.steps_skipped);
+    PutNonZero(w, counter::kBridgeFrames, c.bridge_frames);
+    PutNonZero(w, counter::kBridgeBadFrames, c.bridge_bad_frames);
+    PutNonZero(w, counter::kBridgeBytesMissing, c.bridge_bytes_missing);
+    PutNonZero(w, counter::kUartOverruns, c.uart_overruns);
+    PutNonZero(w, counter::kRxRingDrops, c.rx_ring_drops);
     w.EndMessage(nested);
   }
 
@@ -553,18 +566,18 @@ class SerialDutSession {
   }
 
   void PutHeader(Writer& w) {
-    const auto nested = w.BeginMessage(1);
-    w.Varint(1, kSerialLinkProtocolVersion);
-    PutNonZero(w, 2, sequence_++);
+    const auto nested = w.BeginMessage(proto_tags::Hello::kHeader);  // every header is field 1
+    w.Varint(proto_tags::LinkHeader::kProtocolVersion, kSerialLinkProtocolVersion);
+    PutNonZero(w, proto_tags::LinkHeader::kSequence, sequence_++);
     w.EndMessage(nested);
   }
 
   // Bye{error, reason}, the reason the concatenation of up to four parts.
   void SendBye(std::string_view a, std::string_view b, std::string_view c, std::string_view d) {
     Writer w = BeginReply();
-    const auto nested = w.BeginMessage(serial_link_internal::kBye);
+    const auto nested = w.BeginMessage(proto_tags::LinkMessage::kBye);
     PutHeader(w);
-    w.Bool(2, true);
+    w.Bool(proto_tags::Bye::kError, true);
     std::array<std::uint8_t, 128> reason{};
     std::size_t length = 0;
     for (const std::string_view part : {a, b, c, d}) {
@@ -572,7 +585,7 @@ class SerialDutSession {
         if (length < reason.size()) reason[length++] = std::uint8_t(ch);
       }
     }
-    w.Bytes(3, std::span<const std::uint8_t>(reason.data(), length));
+    w.Bytes(proto_tags::Bye::kReason, std::span<const std::uint8_t>(reason.data(), length));
     w.EndMessage(nested);
     SendReply(w);
   }

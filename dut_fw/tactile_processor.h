@@ -46,11 +46,9 @@
 #include "dut_fw/mlx90393.h"
 #include "dut_fw/tactile_decoding.h"
 #include "dut_fw/types.h"
+#include "protocol/tactile_bus.h"
 
 namespace hilrig::dut_fw {
-
-inline constexpr std::size_t kTactileNodeCount = 6;
-inline constexpr std::uint8_t kReferenceNodeId = 7;
 
 template <typename S>
 struct TactileNodeConfig {
@@ -63,7 +61,7 @@ struct TactileNodeConfig {
 
 template <typename S>
 struct TactileProcessorParams {
-  std::array<TactileNodeConfig<S>, kTactileNodeCount> nodes;
+  std::array<TactileNodeConfig<S>, tactile_bus::kTactileNodeCount> nodes;
   // Zero by default: every decode is then singular and flagged, so forgetting the film's
   // calibration cannot pass for a working sensor (nor silently fall back to the paper's film).
   FilmConstants<S> film{S(0), S(0), S(0), S(0)};
@@ -97,7 +95,7 @@ struct TactileNodeState {
 
 template <typename S>
 struct TactileProcessorState {
-  std::array<TactileNodeState<S>, kTactileNodeCount> nodes;
+  std::array<TactileNodeState<S>, tactile_bus::kTactileNodeCount> nodes;
   FieldReading<S> reference{Vec3<S>::Zero(), false, false};
   std::int64_t reference_time_ns = 0;
   bool has_reference = false;
@@ -158,7 +156,7 @@ inline bool AcceptSequence(std::uint8_t sequence, std::uint8_t& last, bool& has_
 template <typename S>
 int FindTactileNode(const TactileProcessorParams<S>& params, NoDeduce<std::uint8_t> node_id) {
   if (node_id == 0) return -1;
-  for (std::size_t i = 0; i < kTactileNodeCount; ++i) {
+  for (std::size_t i = 0; i < tactile_bus::kTactileNodeCount; ++i) {
     if (params.nodes[i].node_id == node_id) return int(i);
   }
   return -1;
@@ -180,7 +178,7 @@ bool TactileParamsValid(const TactileProcessorParams<S>& params) {
   }
   unsigned seen = 0;
   for (const TactileNodeConfig<S>& node : params.nodes) {
-    if (node.node_id < 1 || node.node_id > kTactileNodeCount) return false;
+    if (node.node_id < 1 || node.node_id > tactile_bus::kTactileNodeCount) return false;
     const unsigned bit = 1u << node.node_id;
     if (seen & bit) return false;
     seen |= bit;
@@ -299,7 +297,7 @@ TactileSummary<S> SummarizeTactile(const TactileProcessorParams<S>& params,
                                    NoDeduce<std::int64_t> now_ns) {
   TactileSummary<S> summary;
   bool all_ready = true;
-  for (std::size_t i = 0; i < kTactileNodeCount; ++i) {
+  for (std::size_t i = 0; i < tactile_bus::kTactileNodeCount; ++i) {
     const TactileNodeConfig<S>& config = params.nodes[i];
     const TactileNodeState<S>& node = state.nodes[i];
     const bool fresh = node.zeroed && node.has_force &&

@@ -53,7 +53,7 @@ constexpr std::int64_t ZigZagDecode(std::uint64_t value) {
 }
 
 // Reads one message (or a nested message's bytes). Usage:
-//   while (auto tag = reader.Next()) switch (tag->field) { case 1: x = reader.Float(); ... }
+//   while (auto tag = reader.Next()) switch (tag->field) { case proto_tags::M::kX: ...; }
 //   if (reader.error() != WireError::kNone) ...
 class Reader {
  public:

@@ -13,10 +13,11 @@ bool HasFlag(std::uint8_t status, std::uint8_t flag) { return (status & flag) !=
 // A rejected frame of a node's kind is either too long/short or, for config, a bad command.
 bool HasWrongLength(TactileFrameKind kind, const CanFrame& frame) {
   if (kind == TactileFrameKind::kConfig) {
-    return frame.length < kTactileConfigMinLength || frame.length > kTactileConfigMaxLength;
+    return frame.length < tactile_bus::kConfigMinLength ||
+           frame.length > tactile_bus::kConfigMaxLength;
   }
-  return frame.length !=
-         (kind == TactileFrameKind::kSample ? kTactileSampleLength : kTactileStatusLength);
+  return frame.length != (kind == TactileFrameKind::kSample ? tactile_bus::kSampleLength
+                                                            : tactile_bus::kStatusLength);
 }
 
 }  // namespace
@@ -56,9 +57,9 @@ void TactileLinkMonitor::CountRejected(TactileFrameKind kind, TactileNodeCounter
 void TactileLinkMonitor::CountSample(const TactileSample& sample) {
   TactileNodeCounters& counters = nodes_[sample.node_id];
   ++counters.samples;
-  if (HasFlag(sample.status, kSampleStatusStale)) ++counters.stale;
-  if (HasFlag(sample.status, kSampleStatusSaturated)) ++counters.saturated;
-  if (HasFlag(sample.status, kSampleStatusConversionError)) ++counters.conversion_errors;
+  if (HasFlag(sample.status, tactile_bus::kSampleStale)) ++counters.stale;
+  if (HasFlag(sample.status, tactile_bus::kSampleSaturated)) ++counters.saturated;
+  if (HasFlag(sample.status, tactile_bus::kSampleConversionError)) ++counters.conversion_errors;
 
   SequenceTracker& tracker = sequences_[sample.node_id];
   if (tracker.seen) {
@@ -77,7 +78,7 @@ void TactileLinkMonitor::CountSample(const TactileSample& sample) {
 void TactileLinkMonitor::CountCommand(const TactileConfigCommand& command) {
   ++nodes_[command.node_id].commands;
   if (command.command != TactileCommand::kReset) return;
-  if (command.node_id == kTactileBroadcastNodeId) {
+  if (command.node_id == tactile_bus::kBroadcastNodeId) {
     sequences_.fill(SequenceTracker{});
   } else {
     sequences_[command.node_id] = SequenceTracker{};
@@ -109,10 +110,10 @@ TactileNodeCounters TactileLinkMonitor::Totals() const {
 }
 
 std::ostream& operator<<(std::ostream& out, const TactileLinkMonitor& monitor) {
-  for (std::uint8_t id = 0; id <= kReferenceNodeId; ++id) {
+  for (std::uint8_t id = 0; id <= tactile_bus::kReferenceNodeId; ++id) {
     const TactileNodeCounters& n = monitor.node(id);
     if (n.frames == 0) continue;
-    out << (id == kTactileBroadcastNodeId ? "broadcast" : "node " + std::to_string(id))
+    out << (id == tactile_bus::kBroadcastNodeId ? "broadcast" : "node " + std::to_string(id))
         << ": frames " << n.frames << ", samples " << n.samples << ", statuses " << n.statuses
         << ", commands " << n.commands << ", wrong dlc " << n.wrong_dlc << ", bad commands "
         << n.bad_commands << ", gaps " << n.sequence_gaps << " (" << n.lost_samples

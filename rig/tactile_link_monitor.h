@@ -32,9 +32,9 @@ struct TactileNodeCounters {
   std::uint64_t sequence_gaps = 0;      // jumps in the sample sequence
   std::uint64_t lost_samples = 0;       // sequence numbers skipped by those jumps
   std::uint64_t duplicates = 0;         // the same sequence twice in a row
-  std::uint64_t stale = 0;              // samples flagged kSampleStatusStale
-  std::uint64_t saturated = 0;          // samples flagged kSampleStatusSaturated
-  std::uint64_t conversion_errors = 0;  // samples flagged kSampleStatusConversionError
+  std::uint64_t stale = 0;              // samples flagged tactile_bus::kSampleStale
+  std::uint64_t saturated = 0;          // samples flagged tactile_bus::kSampleSaturated
+  std::uint64_t conversion_errors = 0;  // samples flagged tactile_bus::kSampleConversionError
 
   friend bool operator==(const TactileNodeCounters&, const TactileNodeCounters&) = default;
 };
@@ -68,7 +68,7 @@ class TactileLinkMonitor {
   void CountCommand(const TactileConfigCommand& command);
   void CountRejected(TactileFrameKind kind, TactileNodeCounters& counters, const CanFrame& frame);
 
-  static constexpr std::size_t kAddressCount = kReferenceNodeId + 1;
+  static constexpr std::size_t kAddressCount = tactile_bus::kReferenceNodeId + 1;
   std::array<TactileNodeCounters, kAddressCount> nodes_{};
   std::array<SequenceTracker, kAddressCount> sequences_{};
   TactileBusCounters bus_;

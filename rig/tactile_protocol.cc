@@ -12,11 +12,11 @@ constexpr std::uint8_t kMaxGainSel = 7;
 constexpr std::uint8_t kMaxResolution = 3;
 
 bool IsSensorNode(std::uint32_t node_id) {
-  return node_id >= kFirstTactileNodeId && node_id <= kReferenceNodeId;
+  return node_id >= tactile_bus::kFirstNodeId && node_id <= tactile_bus::kReferenceNodeId;
 }
 
 bool IsConfigTarget(std::uint32_t node_id) {
-  return node_id == kTactileBroadcastNodeId || IsSensorNode(node_id);
+  return node_id == tactile_bus::kBroadcastNodeId || IsSensorNode(node_id);
 }
 
 void PutUint16Le(std::uint16_t value, std::uint8_t* out) {
@@ -58,8 +58,8 @@ Result<void> CheckNodeFrame(const CanFrame& frame, TactileFrameKind classified,
   if (classified == TactileFrameKind::kNotClassicData) return FlagError(what, frame);
   if (classified != kind) {
     return MakeError(std::string("tactile ") + what + ": id " + Hex(frame.id) + " is outside the " +
-                     what + " ids " + Hex(base_id + kFirstTactileNodeId) + ".." +
-                     Hex(base_id + kReferenceNodeId));
+                     what + " ids " + Hex(base_id + tactile_bus::kFirstNodeId) + ".." +
+                     Hex(base_id + tactile_bus::kReferenceNodeId));
   }
   if (frame.length != length) {
     return MakeError(Prefix(what, frame) + "expected " + std::to_string(length) + " bytes, got " +
@@ -113,12 +113,12 @@ bool IsKnownCommand(std::uint8_t command) {
 // The decoders below take Classify(frame) as `kind`.
 Result<TactileSample> DecodeSampleOfKind(const CanFrame& frame, TactileFrameKind kind) {
   if (Result<void> checked = CheckNodeFrame(frame, kind, TactileFrameKind::kSample, "sample",
-                                            kTactileSampleBaseId, kTactileSampleLength);
+                                            tactile_bus::kSampleBaseId, tactile_bus::kSampleLength);
       !checked) {
     return checked.error();
   }
   TactileSample sample;
-  sample.node_id = static_cast<std::uint8_t>(frame.id - kTactileSampleBaseId);
+  sample.node_id = static_cast<std::uint8_t>(frame.id - tactile_bus::kSampleBaseId);
   for (int axis = 0; axis < 3; ++axis) sample.code[axis] = GetUint16Le(&frame.data[2 * axis]);
   sample.sequence = frame.data[6];
   sample.status = frame.data[7];
@@ -127,12 +127,12 @@ Result<TactileSample> DecodeSampleOfKind(const CanFrame& frame, TactileFrameKind
 
 Result<TactileStatus> DecodeStatusOfKind(const CanFrame& frame, TactileFrameKind kind) {
   if (Result<void> checked = CheckNodeFrame(frame, kind, TactileFrameKind::kStatus, "status",
-                                            kTactileStatusBaseId, kTactileStatusLength);
+                                            tactile_bus::kStatusBaseId, tactile_bus::kStatusLength);
       !checked) {
     return checked.error();
   }
   TactileStatus status;
-  status.node_id = static_cast<std::uint8_t>(frame.id - kTactileStatusBaseId);
+  status.node_id = static_cast<std::uint8_t>(frame.id - tactile_bus::kStatusBaseId);
   status.temperature_centi_c = static_cast<std::int16_t>(GetUint16Le(&frame.data[0]));
   status.flags = frame.data[2];
   status.gain_sel = frame.data[3];
@@ -147,17 +147,18 @@ Result<TactileConfigCommand> DecodeConfigOfKind(const CanFrame& frame, TactileFr
   if (kind == TactileFrameKind::kNotClassicData) return FlagError("config", frame);
   if (kind != TactileFrameKind::kConfig) {
     return MakeError("tactile config: id " + Hex(frame.id) + " is outside the config ids " +
-                     Hex(kTactileConfigBaseId) + ".." +
-                     Hex(kTactileConfigBaseId + kReferenceNodeId));
+                     Hex(tactile_bus::kConfigBaseId) + ".." +
+                     Hex(tactile_bus::kConfigBaseId + tactile_bus::kReferenceNodeId));
   }
-  if (frame.length < kTactileConfigMinLength || frame.length > kTactileConfigMaxLength) {
+  if (frame.length < tactile_bus::kConfigMinLength ||
+      frame.length > tactile_bus::kConfigMaxLength) {
     return BadCommand(frame, "expected 2..8 bytes, got " + std::to_string(frame.length));
   }
   if (!IsKnownCommand(frame.data[0])) {
     return BadCommand(frame, "command " + std::to_string(frame.data[0]) + " is unknown");
   }
   TactileConfigCommand command;
-  command.node_id = static_cast<std::uint8_t>(frame.id - kTactileConfigBaseId);
+  command.node_id = static_cast<std::uint8_t>(frame.id - tactile_bus::kConfigBaseId);
   command.command = static_cast<TactileCommand>(frame.data[0]);
   if (Result<void> args = DecodeCommandArguments(frame, command); !args) return args.error();
   return command;
@@ -166,26 +167,29 @@ Result<TactileConfigCommand> DecodeConfigOfKind(const CanFrame& frame, TactileFr
 }  // namespace
 
 std::optional<std::uint8_t> TactileRateCodeFromHz(std::uint16_t rate_hz) {
-  for (std::size_t code = 0; code < kTactileRateHzByCode.size(); ++code) {
-    if (kTactileRateHzByCode[code] == rate_hz) return static_cast<std::uint8_t>(code);
+  for (std::size_t code = 0; code < tactile_bus::kRateHzByCode.size(); ++code) {
+    if (tactile_bus::kRateHzByCode[code] == rate_hz) return static_cast<std::uint8_t>(code);
   }
   return std::nullopt;
 }
 
 std::optional<std::uint16_t> TactileRateHzFromCode(std::uint8_t rate_code) {
-  if (rate_code >= kTactileRateHzByCode.size()) return std::nullopt;
-  return kTactileRateHzByCode[rate_code];
+  if (rate_code >= tactile_bus::kRateHzByCode.size()) return std::nullopt;
+  return tactile_bus::kRateHzByCode[rate_code];
 }
 
 TactileFrameKind Classify(const CanFrame& frame) {
   if (!IsClassicData(frame)) return TactileFrameKind::kNotClassicData;
-  if (frame.id >= kTactileConfigBaseId && IsConfigTarget(frame.id - kTactileConfigBaseId)) {
+  if (frame.id >= tactile_bus::kConfigBaseId &&
+      IsConfigTarget(frame.id - tactile_bus::kConfigBaseId)) {
     return TactileFrameKind::kConfig;
   }
-  if (frame.id > kTactileSampleBaseId && IsSensorNode(frame.id - kTactileSampleBaseId)) {
+  if (frame.id > tactile_bus::kSampleBaseId &&
+      IsSensorNode(frame.id - tactile_bus::kSampleBaseId)) {
     return TactileFrameKind::kSample;
   }
-  if (frame.id > kTactileStatusBaseId && IsSensorNode(frame.id - kTactileStatusBaseId)) {
+  if (frame.id > tactile_bus::kStatusBaseId &&
+      IsSensorNode(frame.id - tactile_bus::kStatusBaseId)) {
     return TactileFrameKind::kStatus;
   }
   return TactileFrameKind::kUnknownId;
@@ -198,11 +202,11 @@ std::optional<std::uint8_t> TactileNodeOf(const CanFrame& frame) {
 std::optional<std::uint8_t> TactileNodeOf(const CanFrame& frame, TactileFrameKind kind) {
   switch (kind) {
     case TactileFrameKind::kConfig:
-      return static_cast<std::uint8_t>(frame.id - kTactileConfigBaseId);
+      return static_cast<std::uint8_t>(frame.id - tactile_bus::kConfigBaseId);
     case TactileFrameKind::kSample:
-      return static_cast<std::uint8_t>(frame.id - kTactileSampleBaseId);
+      return static_cast<std::uint8_t>(frame.id - tactile_bus::kSampleBaseId);
     case TactileFrameKind::kStatus:
-      return static_cast<std::uint8_t>(frame.id - kTactileStatusBaseId);
+      return static_cast<std::uint8_t>(frame.id - tactile_bus::kStatusBaseId);
     default:
       return std::nullopt;
   }
@@ -210,16 +214,16 @@ std::optional<std::uint8_t> TactileNodeOf(const CanFrame& frame, TactileFrameKin
 
 CanFrame EncodeTactileSample(const TactileSample& sample) {
   HILRIG_CHECK(IsSensorNode(sample.node_id), "sample node id must be 1..7");
-  std::array<std::uint8_t, kTactileSampleLength> bytes{};
+  std::array<std::uint8_t, tactile_bus::kSampleLength> bytes{};
   for (int axis = 0; axis < 3; ++axis) PutUint16Le(sample.code[axis], &bytes[2 * axis]);
   bytes[6] = sample.sequence;
   bytes[7] = sample.status;
-  return CanFrame::Classic(kTactileSampleBaseId + sample.node_id, bytes);
+  return CanFrame::Classic(tactile_bus::kSampleBaseId + sample.node_id, bytes);
 }
 
 CanFrame EncodeTactileStatus(const TactileStatus& status) {
   HILRIG_CHECK(IsSensorNode(status.node_id), "status node id must be 1..7");
-  std::array<std::uint8_t, kTactileStatusLength> bytes{};
+  std::array<std::uint8_t, tactile_bus::kStatusLength> bytes{};
   PutUint16Le(static_cast<std::uint16_t>(status.temperature_centi_c), &bytes[0]);
   bytes[2] = status.flags;
   bytes[3] = status.gain_sel;
@@ -227,12 +231,12 @@ CanFrame EncodeTactileStatus(const TactileStatus& status) {
   bytes[5] = status.rate_code;
   bytes[6] = status.rx_error_count;
   bytes[7] = status.firmware_version;
-  return CanFrame::Classic(kTactileStatusBaseId + status.node_id, bytes);
+  return CanFrame::Classic(tactile_bus::kStatusBaseId + status.node_id, bytes);
 }
 
 CanFrame EncodeTactileConfig(const TactileConfigCommand& command) {
   HILRIG_CHECK(IsConfigTarget(command.node_id), "config node id must be 0 (broadcast) or 1..7");
-  std::array<std::uint8_t, kTactileConfigMaxLength> bytes{};
+  std::array<std::uint8_t, tactile_bus::kConfigMaxLength> bytes{};
   bytes[0] = static_cast<std::uint8_t>(command.command);
   switch (command.command) {
     case TactileCommand::kSetRate:
@@ -253,7 +257,7 @@ CanFrame EncodeTactileConfig(const TactileConfigCommand& command) {
     default:
       HILRIG_CHECK(false, "unknown tactile command");
   }
-  return CanFrame::Classic(kTactileConfigBaseId + command.node_id, bytes);
+  return CanFrame::Classic(tactile_bus::kConfigBaseId + command.node_id, bytes);
 }
 
 Result<TactileSample> DecodeTactileSample(const CanFrame& frame) {

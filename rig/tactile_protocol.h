@@ -2,13 +2,10 @@
 // and the host exchange, and the one codec in rig/ that knows their byte layout. proto/tactile.dbc
 // states the same layout for other tools (tests/rig/tactile_dbc_test.cc keeps the two in step) and
 // proto/TACTILE_PROTOCOL.md explains it. dut_fw/sensor_node.h is the node side of the same
-// protocol; it repeats the constants because dut_fw may not depend on rig, and the cross-check
-// test in tests/rig/tactile_protocol_test.cc decodes the node's frames with this codec.
-//
-// All ids are standard 11-bit ids, and a lower id wins arbitration, so configuration commands
-// (0x080 + node) beat samples (0x100 + node), which beat the 1 Hz status frames (0x180 + node),
-// and within a kind node 1 beats node 7. Multi-byte fields are little-endian. Decoders never abort
-// on what arrives from a bus: every malformed frame comes back as an Error that names the problem.
+// protocol; both take the protocol's numbers from protocol/tactile_bus.h, and the cross-check test
+// in tests/rig/tactile_protocol_test.cc decodes the node's frames with this codec. Multi-byte
+// fields are little-endian. Decoders never abort on what arrives from a bus: every malformed frame
+// comes back as an Error that names the problem.
 #pragma once
 
 #include <array>
@@ -16,43 +13,14 @@
 #include <optional>
 #include <variant>
 
+#include "protocol/tactile_bus.h"
 #include "rig/can_frame.h"
 #include "rig/result.h"
 
 namespace hilrig::rig {
 
-inline constexpr std::uint8_t kFirstTactileNodeId = 1;
-inline constexpr std::uint8_t kLastTactileNodeId = 6;
-inline constexpr std::uint8_t kReferenceNodeId = 7;
-inline constexpr std::uint8_t kTactileBroadcastNodeId = 0;  // config commands only
-
-inline constexpr std::uint32_t kTactileConfigBaseId = 0x080;  // host -> node; +0 is broadcast
-inline constexpr std::uint32_t kTactileSampleBaseId = 0x100;  // node -> bus, one per sample
-inline constexpr std::uint32_t kTactileStatusBaseId = 0x180;  // node -> bus, 1 Hz and on command
-
-inline constexpr std::uint8_t kTactileSampleLength = 8;
-inline constexpr std::uint8_t kTactileStatusLength = 8;
-inline constexpr std::uint8_t kTactileConfigMinLength = 2;
-inline constexpr std::uint8_t kTactileConfigMaxLength = 8;
-
-// Sample status bits. Bits the decoder does not know are passed through, so newer node firmware
-// does not break an older host.
-inline constexpr std::uint8_t kSampleStatusSaturated = 1u << 0;        // an axis at a rail
-inline constexpr std::uint8_t kSampleStatusConversionError = 1u << 1;  // chip flagged ERROR
-inline constexpr std::uint8_t kSampleStatusStale = 1u << 2;  // chip did not answer: last result
-inline constexpr std::uint8_t kSampleStatusTare = 1u << 3;   // first sample after a zero request
-
-// Status-frame flag bits.
-inline constexpr std::uint8_t kNodeFlagChipError = 1u << 0;        // last chip transaction failed
-inline constexpr std::uint8_t kNodeFlagConfigPending = 1u << 1;    // accepted, not yet on chip
-inline constexpr std::uint8_t kNodeFlagCommandRejected = 1u << 2;  // last command was invalid
-inline constexpr std::uint8_t kNodeFlagTarePending = 1u << 3;      // tare mark not yet sent
-inline constexpr std::uint8_t kNodeFlagForwardOverflow = 1u << 4;  // daisy-chain drop since last
-
-// The node's sample rates. The set-rate command carries Hz, the status frame the code; a rate not
-// in this table is rejected, so host and node never disagree about what rate is running.
-inline constexpr std::array<std::uint16_t, 11> kTactileRateHzByCode = {0,   1,   10,  20,  25,  50,
-                                                                       100, 200, 250, 500, 1000};
+// The protocol's numbers (ids, lengths, status bits, flags, rates) are protocol/tactile_bus.h's.
+// A rate's code from its Hz (one of tactile_bus::kRateHzByCode), and back.
 std::optional<std::uint8_t> TactileRateCodeFromHz(std::uint16_t rate_hz);
 std::optional<std::uint16_t> TactileRateHzFromCode(std::uint8_t rate_code);
 
@@ -89,23 +57,24 @@ struct TactileStatus {
   std::uint8_t flags = 0;                // kNodeFlag* bits
   std::uint8_t gain_sel = 0;             // MLX90393 GAIN_SEL in use, 0..7
   std::uint8_t resolution = 0;           // MLX90393 RES_XYZ in use, 0..3
-  std::uint8_t rate_code = 0;            // index into kTactileRateHzByCode
+  std::uint8_t rate_code = 0;            // index into tactile_bus::kRateHzByCode
   std::uint8_t rx_error_count = 0;       // frames the node rejected, saturating at 255
   std::uint8_t firmware_version = 0;     // major in the high nibble, minor in the low
 
   friend bool operator==(const TactileStatus&, const TactileStatus&) = default;
 };
 
+// The configuration commands (tactile_bus::kCommand*).
 enum class TactileCommand : std::uint8_t {
-  kSetRate = 1,        // u16 rate_hz, one of kTactileRateHzByCode
-  kSetGain = 2,        // u8 gain_sel, 0..7
-  kSetResolution = 3,  // u8 resolution, 0..3
-  kZero = 4,           // tare: the node marks its next sample with kSampleStatusTare
-  kReset = 5,          // defaults restored, sequence restarts at 0
+  kSetRate = tactile_bus::kCommandSetRate,
+  kSetGain = tactile_bus::kCommandSetGain,
+  kSetResolution = tactile_bus::kCommandSetResolution,
+  kZero = tactile_bus::kCommandZero,
+  kReset = tactile_bus::kCommandReset,
 };
 
 struct TactileConfigCommand {
-  std::uint8_t node_id = 0;  // 1..7, or kTactileBroadcastNodeId for all nodes
+  std::uint8_t node_id = 0;  // 1..7, or tactile_bus::kBroadcastNodeId for all nodes
   TactileCommand command = TactileCommand::kZero;
   std::uint16_t rate_hz = 0;    // kSetRate only
   std::uint8_t gain_sel = 0;    // kSetGain only

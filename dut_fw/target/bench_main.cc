@@ -47,9 +47,10 @@ void FeedInputs(fw::DutCore<float>& core, std::uint32_t step, std::int64_t now_n
   }
   if (step % 20 == 0) {
     const auto sequence = std::uint8_t(step / 20);
-    core.OnSensorSample(fw::kReferenceNodeId, {40, 65500, 200}, sequence, false, now_ns);
+    core.OnSensorSample(hilrig::tactile_bus::kReferenceNodeId, {40, 65500, 200}, sequence, false,
+                        now_ns);
     const bool loaded = step > 200;
-    for (std::uint8_t node = 1; node <= fw::kTactileNodeCount; ++node) {
+    for (std::uint8_t node = 1; node <= hilrig::tactile_bus::kTactileNodeCount; ++node) {
       const std::uint16_t z = loaded ? std::uint16_t(9000 + 100 * node) : std::uint16_t(8000);
       core.OnSensorSample(node, {std::uint16_t(300 + node), 65000, z}, sequence, false, now_ns);
     }

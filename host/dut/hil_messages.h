@@ -11,9 +11,13 @@
 #include <utility>
 #include <variant>
 
+#include "proto/hil_link_tags.h"
+
 namespace hilrig::host {
 
-inline constexpr std::uint32_t kHilLinkProtocolVersion = 1;
+// proto/hil_link.proto's LinkProtocol, through the generated header of its numbers.
+inline constexpr std::uint32_t kHilLinkProtocolVersion =
+    proto_tags::LinkProtocol::kLinkProtocolVersion;
 
 struct LinkStamp {
   std::uint64_t sequence = 0;  // per stream, from 0, without gaps

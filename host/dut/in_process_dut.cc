@@ -61,7 +61,7 @@ void BasicInProcessDut<S>::DrainBus(std::int64_t now_ns) {
     if (sample == nullptr) continue;  // status frames and other hosts' commands
     ++counters_.sensor_samples;
     core_.OnSensorSample(sample->node_id, sample->code, sample->sequence,
-                         (sample->status & rig::kSampleStatusSaturated) != 0, timed.time_ns);
+                         (sample->status & tactile_bus::kSampleSaturated) != 0, timed.time_ns);
   }
 }
 

@@ -104,8 +104,8 @@ void CheckTactile(const dut_fw::TactileProcessorParams<double>& p, Checker& c) {
     const dut_fw::TactileNodeConfig<double>& node = p.nodes[i];
     const std::string name = "tactile.nodes[" + std::to_string(i) + "]";
     const std::string id = name + ".node_id is " + std::to_string(node.node_id);
-    if (node.node_id < 1 || node.node_id > dut_fw::kTactileNodeCount) {
-      c.Fail(id + ": must lie in [1, " + std::to_string(dut_fw::kTactileNodeCount) + "]");
+    if (node.node_id < 1 || node.node_id > tactile_bus::kTactileNodeCount) {
+      c.Fail(id + ": must lie in [1, " + std::to_string(tactile_bus::kTactileNodeCount) + "]");
     } else if ((ids_seen & (1u << node.node_id)) != 0) {
       c.Fail(id + ": used by an earlier node");
     } else {

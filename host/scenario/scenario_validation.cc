@@ -148,7 +148,7 @@ void CheckSensors(const proto::Models& models, double physics_rate_hz,
   const proto::Tactile& tactile = models.tactile();
   const ProblemList hall = problems.Nested("tactile");
   if (tactile.has_node_rate_hz()) {
-    const auto& rates = dut_fw::node_protocol::kRateHzByCode;
+    const auto& rates = tactile_bus::kRateHzByCode;
     if (std::find(rates.begin() + 1, rates.end(), tactile.node_rate_hz()) == rates.end()) {
       hall.Add("node_rate_hz",
                "must be a rate the node firmware supports (1, 10, 20, 25, 50, 100, "

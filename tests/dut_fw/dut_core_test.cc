@@ -43,8 +43,8 @@ void FeedImuAndVio(DutCore<double>& core, std::int64_t now_ns) {
 
 void FeedPads(DutCore<double>& core, const std::array<std::uint16_t, 3>& codes,
               std::uint8_t sequence, std::int64_t now_ns) {
-  core.OnSensorSample(kReferenceNodeId, kReferenceCodes, sequence, false, now_ns);
-  for (std::uint8_t node = 1; node <= kTactileNodeCount; ++node) {
+  core.OnSensorSample(tactile_bus::kReferenceNodeId, kReferenceCodes, sequence, false, now_ns);
+  for (std::uint8_t node = 1; node <= tactile_bus::kTactileNodeCount; ++node) {
     core.OnSensorSample(node, codes, sequence, false, now_ns);
   }
 }

@@ -11,7 +11,7 @@
 namespace hilrig::dut_fw {
 namespace {
 
-namespace np = node_protocol;
+namespace np = tactile_bus;
 
 constexpr std::int64_t kMs = 1'000'000;
 constexpr std::int64_t kSecond = 1'000'000'000;

@@ -23,8 +23,6 @@
 namespace hilrig::dut_fw {
 namespace {
 
-static_assert(kSerialLinkProtocolVersion == host::kHilLinkProtocolVersion);
-
 // The balloon grasp scene's firmware, its tactile front end calibrated (once per process).
 const host::DutFirmware& BalloonFirmware() {
   static const host::DutFirmware firmware = [] {

@@ -305,7 +305,7 @@ TYPED_TEST(TactileProcessorTest, UnknownNodeIsCountedAndIgnored) {
   TactileProcessorState<S> state;
   const auto codes = Encode(kFilmT);
 
-  OnTactileSample(params, state, kReferenceNodeId, codes, 0, false, 0);
+  OnTactileSample(params, state, tactile_bus::kReferenceNodeId, codes, 0, false, 0);
   OnTactileSample(params, state, 0, codes, 0, false, 0);
   OnTactileSample(params, state, 42, codes, 0, false, 0);
 

@@ -84,17 +84,18 @@ TEST(TactileDbcTest, ListsHostAndSevenNodes) {
 }
 
 TEST(TactileDbcTest, HasOneMessagePerNodeAndKindAndNothingElse) {
-  for (std::uint8_t node = kFirstTactileNodeId; node <= kReferenceNodeId; ++node) {
+  for (std::uint8_t node = tactile_bus::kFirstNodeId; node <= tactile_bus::kReferenceNodeId;
+       ++node) {
     const std::string suffix = "_N" + std::to_string(node);
     const std::string transmitter = "Node" + std::to_string(node);
-    EXPECT_EQ(Message(kTactileSampleBaseId + node).name, "TactileSample" + suffix);
-    EXPECT_EQ(Message(kTactileSampleBaseId + node).transmitter, transmitter);
-    EXPECT_EQ(Message(kTactileStatusBaseId + node).name, "TactileStatus" + suffix);
-    EXPECT_EQ(Message(kTactileStatusBaseId + node).transmitter, transmitter);
-    EXPECT_EQ(Message(kTactileConfigBaseId + node).name, "TactileConfig" + suffix);
-    EXPECT_EQ(Message(kTactileConfigBaseId + node).transmitter, "Host");
+    EXPECT_EQ(Message(tactile_bus::kSampleBaseId + node).name, "TactileSample" + suffix);
+    EXPECT_EQ(Message(tactile_bus::kSampleBaseId + node).transmitter, transmitter);
+    EXPECT_EQ(Message(tactile_bus::kStatusBaseId + node).name, "TactileStatus" + suffix);
+    EXPECT_EQ(Message(tactile_bus::kStatusBaseId + node).transmitter, transmitter);
+    EXPECT_EQ(Message(tactile_bus::kConfigBaseId + node).name, "TactileConfig" + suffix);
+    EXPECT_EQ(Message(tactile_bus::kConfigBaseId + node).transmitter, "Host");
   }
-  EXPECT_EQ(Message(kTactileConfigBaseId).name, "TactileConfig_All");
+  EXPECT_EQ(Message(tactile_bus::kConfigBaseId).name, "TactileConfig_All");
   EXPECT_EQ(Database().messages.size(), 1u + 3u * 7u);
   for (const DbcMessage& message : Database().messages) {
     EXPECT_FALSE(message.extended) << message.name;
@@ -119,7 +120,8 @@ TEST(TactileDbcTest, SignalsOfOneLayoutDoNotOverlap) {
 
 TEST(TactileDbcTest, RandomSamplesReadTheSameThroughTheDbc) {
   std::mt19937 rng(11);
-  for (std::uint8_t node = kFirstTactileNodeId; node <= kReferenceNodeId; ++node) {
+  for (std::uint8_t node = tactile_bus::kFirstNodeId; node <= tactile_bus::kReferenceNodeId;
+       ++node) {
     for (int trial = 0; trial < 200; ++trial) {
       TactileSample sample;
       sample.node_id = node;
@@ -128,17 +130,17 @@ TEST(TactileDbcTest, RandomSamplesReadTheSameThroughTheDbc) {
       sample.status = static_cast<std::uint8_t>(rng() & 0x0F);  // the defined bits
 
       const SignalValues values =
-          ReadSignals(Message(kTactileSampleBaseId + node), EncodeTactileSample(sample));
+          ReadSignals(Message(tactile_bus::kSampleBaseId + node), EncodeTactileSample(sample));
 
       ExpectSignals(values,
                     {{"X_code", sample.code[0]},
                      {"Y_code", sample.code[1]},
                      {"Z_code", sample.code[2]},
                      {"Sequence", sample.sequence},
-                     {"Saturated", Bit(sample.status, kSampleStatusSaturated)},
-                     {"ConversionError", Bit(sample.status, kSampleStatusConversionError)},
-                     {"Stale", Bit(sample.status, kSampleStatusStale)},
-                     {"Tare", Bit(sample.status, kSampleStatusTare)}},
+                     {"Saturated", Bit(sample.status, tactile_bus::kSampleSaturated)},
+                     {"ConversionError", Bit(sample.status, tactile_bus::kSampleConversionError)},
+                     {"Stale", Bit(sample.status, tactile_bus::kSampleStale)},
+                     {"Tare", Bit(sample.status, tactile_bus::kSampleTare)}},
                     "node " + std::to_string(node));
     }
   }
@@ -146,7 +148,8 @@ TEST(TactileDbcTest, RandomSamplesReadTheSameThroughTheDbc) {
 
 TEST(TactileDbcTest, RandomStatusesReadTheSameThroughTheDbc) {
   std::mt19937 rng(12);
-  for (std::uint8_t node = kFirstTactileNodeId; node <= kReferenceNodeId; ++node) {
+  for (std::uint8_t node = tactile_bus::kFirstNodeId; node <= tactile_bus::kReferenceNodeId;
+       ++node) {
     for (int trial = 0; trial < 200; ++trial) {
       TactileStatus status;
       status.node_id = node;
@@ -154,20 +157,20 @@ TEST(TactileDbcTest, RandomStatusesReadTheSameThroughTheDbc) {
       status.flags = static_cast<std::uint8_t>(rng() & 0x1F);
       status.gain_sel = static_cast<std::uint8_t>(rng() % 8);
       status.resolution = static_cast<std::uint8_t>(rng() % 4);
-      status.rate_code = static_cast<std::uint8_t>(rng() % kTactileRateHzByCode.size());
+      status.rate_code = static_cast<std::uint8_t>(rng() % tactile_bus::kRateHzByCode.size());
       status.rx_error_count = static_cast<std::uint8_t>(rng());
       status.firmware_version = static_cast<std::uint8_t>(rng());
 
       const SignalValues values =
-          ReadSignals(Message(kTactileStatusBaseId + node), EncodeTactileStatus(status));
+          ReadSignals(Message(tactile_bus::kStatusBaseId + node), EncodeTactileStatus(status));
 
       ExpectSignals(values,
                     {{"Temperature", status.temperature_centi_c * 0.01},
-                     {"ChipError", Bit(status.flags, kNodeFlagChipError)},
-                     {"ConfigPending", Bit(status.flags, kNodeFlagConfigPending)},
-                     {"CommandRejected", Bit(status.flags, kNodeFlagCommandRejected)},
-                     {"TarePending", Bit(status.flags, kNodeFlagTarePending)},
-                     {"ForwardOverflow", Bit(status.flags, kNodeFlagForwardOverflow)},
+                     {"ChipError", Bit(status.flags, tactile_bus::kFlagChipError)},
+                     {"ConfigPending", Bit(status.flags, tactile_bus::kFlagConfigPending)},
+                     {"CommandRejected", Bit(status.flags, tactile_bus::kFlagCommandRejected)},
+                     {"TarePending", Bit(status.flags, tactile_bus::kFlagTarePending)},
+                     {"ForwardOverflow", Bit(status.flags, tactile_bus::kFlagForwardOverflow)},
                      {"GainSel", status.gain_sel},
                      {"Resolution", status.resolution},
                      {"RateCode", status.rate_code},
@@ -180,7 +183,8 @@ TEST(TactileDbcTest, RandomStatusesReadTheSameThroughTheDbc) {
 
 TEST(TactileDbcTest, RandomCommandsReadTheSameThroughTheDbc) {
   std::mt19937 rng(13);
-  for (std::uint8_t node = kTactileBroadcastNodeId; node <= kReferenceNodeId; ++node) {
+  for (std::uint8_t node = tactile_bus::kBroadcastNodeId; node <= tactile_bus::kReferenceNodeId;
+       ++node) {
     for (int trial = 0; trial < 200; ++trial) {
       TactileConfigCommand command;
       command.node_id = node;
@@ -188,7 +192,7 @@ TEST(TactileDbcTest, RandomCommandsReadTheSameThroughTheDbc) {
       SignalValues expected = {{"Command", double(static_cast<std::uint8_t>(command.command))}};
       switch (command.command) {
         case TactileCommand::kSetRate:
-          command.rate_hz = kTactileRateHzByCode[rng() % kTactileRateHzByCode.size()];
+          command.rate_hz = tactile_bus::kRateHzByCode[rng() % tactile_bus::kRateHzByCode.size()];
           expected["RateHz"] = command.rate_hz;
           break;
         case TactileCommand::kSetGain:
@@ -204,7 +208,7 @@ TEST(TactileDbcTest, RandomCommandsReadTheSameThroughTheDbc) {
       }
 
       const SignalValues values =
-          ReadSignals(Message(kTactileConfigBaseId + node), EncodeTactileConfig(command));
+          ReadSignals(Message(tactile_bus::kConfigBaseId + node), EncodeTactileConfig(command));
 
       ExpectSignals(values, expected, "node " + std::to_string(node));
     }

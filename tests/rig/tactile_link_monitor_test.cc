@@ -92,10 +92,12 @@ TEST(TactileLinkMonitorTest, ResetCommandRestartsSequenceTracking) {
 TEST(TactileLinkMonitorTest, CountsStatusFlagsOfSamples) {
   TactileLinkMonitor monitor;
 
-  ASSERT_TRUE(monitor.Observe(SampleFrame(6, 0, kSampleStatusStale)).ok());
-  ASSERT_TRUE(monitor.Observe(SampleFrame(6, 1, kSampleStatusSaturated)).ok());
-  ASSERT_TRUE(
-      monitor.Observe(SampleFrame(6, 2, kSampleStatusConversionError | kSampleStatusStale)).ok());
+  ASSERT_TRUE(monitor.Observe(SampleFrame(6, 0, tactile_bus::kSampleStale)).ok());
+  ASSERT_TRUE(monitor.Observe(SampleFrame(6, 1, tactile_bus::kSampleSaturated)).ok());
+  ASSERT_TRUE(monitor
+                  .Observe(SampleFrame(
+                      6, 2, tactile_bus::kSampleConversionError | tactile_bus::kSampleStale))
+                  .ok());
 
   EXPECT_EQ(monitor.node(6).stale, 2u);
   EXPECT_EQ(monitor.node(6).saturated, 1u);

@@ -56,11 +56,11 @@ inline std::vector<NodeFrame> NodeFramesAt(std::uint64_t tick) {
   std::vector<NodeFrame> frames;
   if (tick % 4 != 0) return frames;
   const auto sequence = std::uint8_t(tick / 4);
-  frames.push_back(PackSampleFrame(kReferenceNodeId, {40, 65500, 200}, sequence, 0));
-  for (std::uint8_t node = 1; node <= kTactileNodeCount; ++node) {
+  frames.push_back(PackSampleFrame(tactile_bus::kReferenceNodeId, {40, 65500, 200}, sequence, 0));
+  for (std::uint8_t node = 1; node <= tactile_bus::kTactileNodeCount; ++node) {
     const auto z = std::uint16_t(tick > 300 ? 9000 + 100 * node : 8000);
     frames.push_back(PackSampleFrame(node, {std::uint16_t(300 + node), 65000, z}, sequence,
-                                     node == 3 ? node_protocol::kSampleSaturated : 0));
+                                     node == 3 ? tactile_bus::kSampleSaturated : 0));
   }
   return frames;
 }
@@ -132,7 +132,7 @@ class DirectDut {
     for (const NodeFrame& frame : NodeFramesAt(tick)) {
       const NodeSample sample = *UnpackSampleFrame(frame);
       core_.OnSensorSample(sample.node_id, sample.code, sample.sequence,
-                           sample.status == node_protocol::kSampleSaturated, now_ns);
+                           sample.status == tactile_bus::kSampleSaturated, now_ns);
     }
     return core_.Step(now_ns, S(kPeriodS));
   }

@@ -75,6 +75,9 @@ forbid host/sweep host/cli/
 forbid host/compare host/cli/ host/runner/ host/pipeline/ host/sweep/ host/fidelity/ host/dut/
 # The DUT process is the firmware behind the link on a bus: none of the harness's command line.
 forbid dut_emu host/cli/ host/runner/ host/scenario/
+# The firmware builds for the target: its own headers, the protocols' numbers, nothing else.
+check dut_fw protocol/ proto/hil_link_tags.h
+check protocol
 
 # Fewer includes than a floor means the folders moved and the rules check nothing.
 readonly min_checked=100

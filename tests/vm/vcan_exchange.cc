@@ -48,8 +48,8 @@ std::vector<TimedCanFrame> ReceiveFrames(SocketCanBus& bus, std::size_t count) {
 
 int Run(const std::string& interface, int rounds) {
   Result<std::unique_ptr<SocketCanBus>> nodes = OpenSocketCan(interface);
-  const std::array<CanFilter, 1> sample_ids = {
-      CanFilter{.id = kTactileSampleBaseId, .mask = 0x7F0, .extended = false, .inverted = false}};
+  const std::array<CanFilter, 1> sample_ids = {CanFilter{
+      .id = tactile_bus::kSampleBaseId, .mask = 0x7F0, .extended = false, .inverted = false}};
   Result<std::unique_ptr<SocketCanBus>> dut =
       OpenSocketCan(interface, {.filters = {sample_ids.begin(), sample_ids.end()}});
   if (!nodes.ok() || !dut.ok()) {
@@ -64,23 +64,25 @@ int Run(const std::string& interface, int rounds) {
   std::int64_t last_ns = 0;
   std::uint64_t samples_decoded = 0;
   for (int round = 0; round < rounds; ++round) {
-    for (std::uint8_t node = kFirstTactileNodeId; node <= kReferenceNodeId; ++node) {
+    for (std::uint8_t node = tactile_bus::kFirstNodeId; node <= tactile_bus::kReferenceNodeId;
+         ++node) {
       const CanFrame frame = EncodeTactileSample(SampleFor(node, round));
       if (Result<void> sent = node_bus.Send(frame, 0); !sent) {
         std::printf("vcan_exchange: send failed: %s\n", sent.error().message.c_str());
         return 1;
       }
     }
-    const std::vector<TimedCanFrame> samples = ReceiveFrames(dut_bus, kReferenceNodeId);
-    if (samples.size() != kReferenceNodeId) {
+    const std::vector<TimedCanFrame> samples =
+        ReceiveFrames(dut_bus, tactile_bus::kReferenceNodeId);
+    if (samples.size() != tactile_bus::kReferenceNodeId) {
       std::printf("vcan_exchange: round %d: DUT received %zu of %d sample frames\n", round,
-                  samples.size(), kReferenceNodeId);
+                  samples.size(), tactile_bus::kReferenceNodeId);
       return 1;
     }
     for (std::size_t i = 0; i < samples.size(); ++i) {
       std::printf("RX dut   %s\n", FormatCandumpLine(samples[i], interface).c_str());
       const Result<TactileSample> decoded = DecodeTactileSample(samples[i].frame);
-      const auto expected_node = static_cast<std::uint8_t>(kFirstTactileNodeId + i);
+      const auto expected_node = static_cast<std::uint8_t>(tactile_bus::kFirstNodeId + i);
       if (!decoded.ok() || !(decoded.value() == SampleFor(expected_node, round))) {
         std::printf("vcan_exchange: round %d node %d: frame does not decode to what was sent\n",
                     round, expected_node);

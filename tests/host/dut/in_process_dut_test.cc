@@ -73,7 +73,7 @@ TEST_F(InProcessDutTest, CommandAnswersTheTickItWasAskedFor) {
 
 TEST_F(InProcessDutTest, DecodesSensorFramesAndCountsCorruptOnes) {
   rig::TactileSample sample;
-  sample.node_id = rig::kReferenceNodeId;
+  sample.node_id = tactile_bus::kReferenceNodeId;
   ASSERT_TRUE(node_->Send(rig::EncodeTactileSample(sample), 0).ok());
   const std::uint8_t short_payload[3] = {1, 2, 3};
   ASSERT_TRUE(node_->Send(rig::CanFrame::Classic(0x107, short_payload), 0).ok());

@@ -19,7 +19,7 @@ constexpr std::int64_t kMs = 1'000'000;
 HallSensorConfig ReferenceOnly(double rate_hz) {
   HallSensorConfig config;
   config.node_rate_hz = rate_hz;
-  config.reference.node_id = rig::kReferenceNodeId;
+  config.reference.node_id = tactile_bus::kReferenceNodeId;
   config.reference.film_present = false;
   return config;
 }
@@ -64,7 +64,7 @@ TEST(HallSensorNodesTest, FiftyHertzNodeSendsEverySlotOfASecondAtOneKilohertzTic
   const std::vector<rig::TactileSample> samples = Samples(frames);
   ASSERT_EQ(samples.size(), 50u);  // slots at 0, 20, ..., 980 ms
   for (std::size_t i = 0; i < samples.size(); ++i) {
-    EXPECT_EQ(samples[i].node_id, rig::kReferenceNodeId);
+    EXPECT_EQ(samples[i].node_id, tactile_bus::kReferenceNodeId);
     EXPECT_EQ(samples[i].sequence, i);
   }
   EXPECT_EQ(StatusFrames(frames), 1);  // at 0 s; the next is due at 1 s
