@@ -61,8 +61,8 @@ inline constexpr std::uint8_t kProtLocCrcSequence = 0x08;
 // A frame matches a filter if ((frame.id ^ id) & mask) == 0 and, when match_extended is set,
 // frame.extended == extended, and, when match_remote is set, frame.remote == remote; `inverted`
 // negates the whole match. This is exactly Linux's can_filter with CAN_EFF_FLAG / CAN_RTR_FLAG in
-// can_mask and CAN_INV_FILTER in can_id (see ToKernelFilter). The defaults keep the flags of a
-// plain {id, mask} filter as before: EFF compared, RTR ignored.
+// can_mask and CAN_INV_FILTER in can_id (see ToKernelFilter). The defaults make it a plain
+// {id, mask} filter: EFF compared, RTR ignored.
 //
 // Like SocketCAN, a frame passes if any filter matches (and is delivered once). Unlike a raw
 // socket, an empty list accepts everything (the kernel would accept nothing; a SocketCAN backend

@@ -8,6 +8,10 @@
 
 namespace hilrig::rig {
 
+// `time_ns` in seconds. Divides rather than multiplies by 1e-9, so that whole milliseconds come
+// out as 0.03, not 0.030000000000000002 (traces print them). O(1); cannot fail.
+constexpr double SecondsFromNs(std::int64_t time_ns) { return static_cast<double>(time_ns) / 1e9; }
+
 class Clock {
  public:
   virtual ~Clock() = default;

@@ -6,6 +6,8 @@
 
 namespace hilrig::rig {
 
+std::string SecondsText(double seconds) { return NumberText(seconds) + " s"; }
+
 std::string NumberText(double value) {
   // The sign of a NaN says nothing, and printf would show it ("-nan").
   if (!std::isfinite(value)) return std::isnan(value) ? "nan" : (value > 0 ? "inf" : "-inf");

@@ -10,6 +10,9 @@ namespace hilrig::rig {
 
 std::string NumberText(double value);
 
+// A duration in messages: NumberText and " s" ("0.2 s", "1e-05 s").
+std::string SecondsText(double seconds);
+
 // Numbers in files a program reads back (a sweep's runs.csv): "3.5", "0.20345678912345678", the
 // shortest text that reads back as the same double.
 std::string ExactNumber(double value);

@@ -13,6 +13,7 @@
 
 #include "host/dut/hil_messages.h"
 #include "rig/duration_histogram.h"
+#include "rig/metric.h"
 #include "rig/result.h"
 
 namespace hilrig::host {
@@ -94,9 +95,10 @@ class DutPort {
   virtual DutCounters counters() const = 0;
   virtual std::string description() const = 0;
 
-  // Named counters of the link to the DUT (messages, named link errors, ...) for the run report;
-  // a DUT without a link has none.
-  virtual std::vector<std::pair<std::string, double>> link_metrics() const { return {}; }
+  // The link's figures for the run report, each with its unit (messages and named link errors
+  // counted, a target's clock in Hz, its memory in bytes, its work in cycles); a DUT without a
+  // link has none.
+  virtual std::vector<rig::Metric> link_metrics() const { return {}; }
 
   // The target the DUT runs on; nullopt for a DUT on the host, or one not started.
   virtual std::optional<TargetSummary> target() const { return std::nullopt; }

@@ -26,12 +26,6 @@ constexpr std::int64_t kLinkClosedGraceNs = 200'000'000;
 // Bounds one poll's work on a DUT that floods the link.
 constexpr int kMaxEventsPerPoll = 4096;
 
-std::string Seconds(double seconds) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%g s", seconds);
-  return text;
-}
-
 int Milliseconds(double seconds) { return static_cast<int>(std::ceil(seconds * 1000)); }
 
 rig::Result<std::string> DutEmuPath(const ProcessDutOptions& options) {
@@ -170,10 +164,9 @@ std::string ProcessDut::description() const {
          (peers_refused_summary_.empty() ? "" : "; " + peers_refused_summary_);
 }
 
-std::vector<std::pair<std::string, double>> ProcessDut::link_metrics() const {
+std::vector<rig::Metric> ProcessDut::link_metrics() const {
   if (!link_) return {};
-  std::vector<std::pair<std::string, double>> metrics =
-      LinkCounterMetrics(link_->counters(), "link_rx_");
+  std::vector<rig::Metric> metrics = LinkCounterMetrics(link_->counters(), "link_rx_");
   metrics.emplace_back("link_tx_messages", static_cast<double>(link_->frames_sent()));
   metrics.emplace_back("link_commands_received", static_cast<double>(commands_received_));
   metrics.emplace_back("link_can_frames_forwarded", static_cast<double>(can_frames_forwarded_));
@@ -191,7 +184,7 @@ std::vector<std::pair<std::string, double>> ProcessDut::link_metrics() const {
     metrics.emplace_back("link_can_frames_dropped_foreign",
                          static_cast<double>(bus.frames_dropped_foreign));
   }
-  if (!latencies_) return metrics;  // lockstep reports stay as they were
+  if (!latencies_) return metrics;  // the rest measure real-time pacing, which lockstep has none of
   const auto d = [](std::uint64_t value) { return static_cast<double>(value); };
   metrics.emplace_back("link_commands_superseded", d(commands_superseded_));
   metrics.emplace_back("link_requests_skipped", d(requests_skipped_));
@@ -384,9 +377,10 @@ rig::Result<void> ProcessDut::CheckAlive(std::int64_t now_wall_ns) {
   const auto timeout_ns = static_cast<std::int64_t>(options_.answer_timeout_s * 1e9);
   if (now_wall_ns - oldest.wall_ns <= timeout_ns) return {};
   ++watchdog_timeouts_;
-  return Failed(rig::MakeError(rig::ErrorCode::kTimeout,
-                               "dut did not answer for " + Seconds(options_.answer_timeout_s) +
-                                   " (tick " + std::to_string(oldest.tick) + ")"));
+  return Failed(
+      rig::MakeError(rig::ErrorCode::kTimeout, "dut did not answer for " +
+                                                   rig::SecondsText(options_.answer_timeout_s) +
+                                                   " (tick " + std::to_string(oldest.tick) + ")"));
 }
 
 rig::Result<ActuatorMessage> ProcessDut::AwaitCommand(std::uint64_t tick) {
@@ -410,9 +404,9 @@ rig::Result<ActuatorMessage> ProcessDut::AwaitCommand(std::uint64_t tick) {
   }
   ++watchdog_timeouts_;
   if (auto exit = child_->PollExit()) return Failed("dut process " + *exit);
-  return Failed(rig::MakeError(rig::ErrorCode::kTimeout, "dut did not answer tick " +
-                                                             std::to_string(tick) + " within " +
-                                                             Seconds(options_.answer_timeout_s)));
+  return Failed(rig::MakeError(rig::ErrorCode::kTimeout,
+                               "dut did not answer tick " + std::to_string(tick) + " within " +
+                                   rig::SecondsText(options_.answer_timeout_s)));
 }
 
 rig::Result<ActuatorMessage> ProcessDut::TakeCommand(const LinkReceived& received,

@@ -104,7 +104,7 @@ class ProcessDut final : public DutPort {
   std::vector<StreamLatency> response_latencies() const override;
   DutCounters counters() const override { return counters_; }
   std::string description() const override;
-  std::vector<std::pair<std::string, double>> link_metrics() const override;
+  std::vector<rig::Metric> link_metrics() const override;
 
   // -1 before Start.
   pid_t pid() const { return child_ ? child_->pid() : -1; }

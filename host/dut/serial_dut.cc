@@ -28,8 +28,6 @@ int MillisecondsUntil(std::int64_t now_ns, std::int64_t deadline_ns) {
   return static_cast<int>(std::max<std::int64_t>(0, (deadline_ns - now_ns + 999'999) / 1'000'000));
 }
 
-std::string Seconds(double seconds) { return rig::NumberText(seconds) + " s"; }
-
 template <typename Repeated>
 void SetFloats(Repeated* out, std::initializer_list<double> values) {
   out->Clear();
@@ -205,7 +203,8 @@ rig::Result<void> SerialDut::Exchange(
       if (auto exit = EmulatorExit()) return rig::MakeError("the dut's emulator " + *exit);
       return rig::MakeError(rig::ErrorCode::kTimeout,
                             "the dut did not answer the " + std::string(waiting_for) + " within " +
-                                Seconds(options_.start_timeout_s) + " on " + lines_.link->name());
+                                rig::SecondsText(options_.start_timeout_s) + " on " +
+                                lines_.link->name());
     }
     if (now_ns >= resend_ns) {
       // Each hello opens a session: lead with a delimiter to end any frame the DUT half holds.
@@ -286,10 +285,10 @@ std::string SerialDut::description() const {
   return text;
 }
 
-std::vector<std::pair<std::string, double>> SerialDut::link_metrics() const {
+std::vector<rig::Metric> SerialDut::link_metrics() const {
   if (!link_) return {};
   const auto d = [](std::uint64_t value) { return static_cast<double>(value); };
-  std::vector<std::pair<std::string, double>> metrics = LineLinkMetrics(link_->counters(), "line_");
+  std::vector<rig::Metric> metrics = LineLinkMetrics(link_->counters(), "line_");
   for (const auto& [name, value] : {std::pair{"line_hellos_sent", hellos_sent_},
                                     {"line_configs_sent", configs_sent_},
                                     {"line_steps_sent", steps_sent_},
@@ -302,7 +301,7 @@ std::vector<std::pair<std::string, double>> SerialDut::link_metrics() const {
                                     {"bridge_frames_sent", bridge_frames_},
                                     {"bridge_bytes_sent", bridge_bytes_sent_},
                                     {"bridge_frames_dropped", bridge_frames_dropped_}}) {
-    metrics.emplace_back(name, d(value));
+    metrics.push_back(rig::CountMetric(name, value));
   }
   const proto::SerialDutCounters& dut = dut_counters_;
   for (const auto& [name, value] : {std::pair{"dut_line_frames_received", dut.frames_received()},
@@ -316,17 +315,18 @@ std::vector<std::pair<std::string, double>> SerialDut::link_metrics() const {
                                     {"dut_bridge_bytes_missing", dut.bridge_bytes_missing()},
                                     {"dut_uart_overruns", dut.uart_overruns()},
                                     {"dut_rx_ring_drops", dut.rx_ring_drops()}}) {
-    metrics.emplace_back(name, d(value));
+    metrics.push_back(rig::CountMetric(name, value));
   }
   if (const std::optional<TargetSummary> target = this->target()) {
-    metrics.emplace_back("target_work_steps", d(target->steps_measured));
-    metrics.emplace_back("target_work_p50_cycles", d(target->work_p50_cycles));
-    metrics.emplace_back("target_work_p99_cycles", d(target->work_p99_cycles));
-    metrics.emplace_back("target_work_max_cycles", d(target->work_max_cycles));
-    metrics.emplace_back("target_core_clock_hz", d(target->core_clock_hz));
-    metrics.emplace_back("target_flash_used_bytes", d(target->flash_used_bytes));
-    metrics.emplace_back("target_ram_used_bytes", d(target->ram_used_bytes));
-    metrics.emplace_back("target_stack_bytes", d(target->stack_bytes));
+    using rig::Unit;
+    metrics.push_back({"target_work_steps", d(target->steps_measured), Unit::kCount});
+    metrics.push_back({"target_work_p50_cycles", d(target->work_p50_cycles), Unit::kCycles});
+    metrics.push_back({"target_work_p99_cycles", d(target->work_p99_cycles), Unit::kCycles});
+    metrics.push_back({"target_work_max_cycles", d(target->work_max_cycles), Unit::kCycles});
+    metrics.push_back({"target_core_clock_hz", d(target->core_clock_hz), Unit::kHertz});
+    metrics.push_back({"target_flash_used_bytes", d(target->flash_used_bytes), Unit::kBytes});
+    metrics.push_back({"target_ram_used_bytes", d(target->ram_used_bytes), Unit::kBytes});
+    metrics.push_back({"target_stack_bytes", d(target->stack_bytes), Unit::kBytes});
   }
   return metrics;
 }
@@ -515,7 +515,7 @@ rig::Result<ActuatorMessage> SerialDut::AwaitCommand(const proto::LinkMessage& s
   if (auto exit = EmulatorExit()) return Failed("the dut's emulator " + *exit);
   return Failed(rig::MakeError(rig::ErrorCode::kTimeout,
                                "the dut did not answer tick " + std::to_string(tick) + " within " +
-                                   Seconds(options_.answer_timeout_s) + " (" +
+                                   rig::SecondsText(options_.answer_timeout_s) + " (" +
                                    std::to_string(step_retries_) + " step retries so far)"));
 }
 
@@ -595,7 +595,7 @@ rig::Result<std::optional<ActuatorMessage>> SerialDut::PollCommand() {
     ++watchdog_timeouts_;
     return Failed(rig::MakeError(rig::ErrorCode::kTimeout,
                                  "the dut did not answer for " +
-                                     Seconds(options_.answer_timeout_s) + " (tick " +
+                                     rig::SecondsText(options_.answer_timeout_s) + " (tick " +
                                      std::to_string(outstanding_.front().tick) + ")"));
   }
   return newest;

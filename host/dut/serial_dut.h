@@ -82,7 +82,7 @@ class SerialDut final : public DutPort {
   rig::Result<std::optional<ActuatorMessage>> PollCommand() override;
   DutCounters counters() const override;
   std::string description() const override;
-  std::vector<std::pair<std::string, double>> link_metrics() const override;
+  std::vector<rig::Metric> link_metrics() const override;
 
   // The DUT's TargetInfo and the work per step its commands reported; nullopt before the DUT
   // took the configuration.

@@ -174,8 +174,8 @@ std::optional<LinkErrorKind> LinkErrorKindOf(const rig::Error& error) {
   return static_cast<LinkErrorKind>(error.subcode);
 }
 
-std::vector<std::pair<std::string, double>> LinkCounterMetrics(const LinkCounters& counters,
-                                                               const std::string& prefix) {
+std::vector<rig::Metric> LinkCounterMetrics(const LinkCounters& counters,
+                                            const std::string& prefix) {
   const auto d = [](std::uint64_t value) { return static_cast<double>(value); };
   return {{prefix + "messages", d(counters.messages)},
           {prefix + "bytes", d(counters.bytes)},

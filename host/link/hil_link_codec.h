@@ -18,6 +18,7 @@
 
 #include "host/dut/hil_messages.h"
 #include "proto/hil_link.pb.h"
+#include "rig/metric.h"
 #include "rig/result.h"
 
 namespace hilrig::host {
@@ -66,8 +67,8 @@ struct LinkCounters {
 };
 
 // Named report metrics ("<prefix>messages", "<prefix>malformed", ...), for DutPort::link_metrics.
-std::vector<std::pair<std::string, double>> LinkCounterMetrics(const LinkCounters& counters,
-                                                               const std::string& prefix);
+std::vector<rig::Metric> LinkCounterMetrics(const LinkCounters& counters,
+                                            const std::string& prefix);
 
 // The frame for `message`: varint length, then the message. Fails if the message is larger than
 // max_message_bytes.

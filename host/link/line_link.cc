@@ -4,8 +4,8 @@
 
 namespace hilrig::host {
 
-std::vector<std::pair<std::string, double>> LineLinkMetrics(const LineLinkCounters& counters,
-                                                            const std::string& prefix) {
+std::vector<rig::Metric> LineLinkMetrics(const LineLinkCounters& counters,
+                                         const std::string& prefix) {
   const auto d = [](std::uint64_t value) { return static_cast<double>(value); };
   return {{prefix + "frames_sent", d(counters.frames_sent)},
           {prefix + "bytes_sent", d(counters.bytes_sent)},

@@ -15,6 +15,7 @@
 #include "dut_fw/line_framing.h"
 #include "host/link/byte_stream.h"
 #include "proto/hil_link.pb.h"
+#include "rig/metric.h"
 #include "rig/result.h"
 
 namespace hilrig::host {
@@ -30,8 +31,8 @@ struct LineLinkCounters {
 };
 
 // Named report metrics ("<prefix>frames_sent", ...), for DutPort::link_metrics.
-std::vector<std::pair<std::string, double>> LineLinkMetrics(const LineLinkCounters& counters,
-                                                            const std::string& prefix);
+std::vector<rig::Metric> LineLinkMetrics(const LineLinkCounters& counters,
+                                         const std::string& prefix);
 
 enum class LineReceiveStatus {
   kMessage,  // `message` holds the next message

@@ -527,8 +527,9 @@ GraspSceneConstants MakeGraspSceneConstants(const GraspSceneParams& params) {
     ox = std::cos(params.frame.first_azimuth_rad);
     oy = std::sin(params.frame.first_azimuth_rad);
   }
-  // Rotating the first outward vector by 60 deg per pad (rather than six sin/cos) is how these
-  // were always derived; kept so the imbalance rounds as before.
+  // The first outward vector rotated by 60 deg per pad, not six sin/cos: two products a pad, and
+  // the pads' directions (and so the residual imbalance of their forces) rounded one way for
+  // every scene.
   const double c60 = 0.5;
   const double s60 = std::sqrt(3.0) / 2.0;
   for (int i = 0; i < kGripperPadCount; ++i) {

@@ -27,7 +27,8 @@ Tone VerdictTone(proto::Verdict verdict) {
 
 const char* VerdictWord(proto::Verdict verdict) { return verdict == proto::PASS ? "PASS" : "FAIL"; }
 
-std::string Seconds(double value) { return PageNumber(value) + " s"; }
+// A duration on the page: PageNumber's digits and " s".
+std::string PageSeconds(double value) { return PageNumber(value) + " s"; }
 
 std::string Heading(const proto::Report& report) {
   const PageVerdict verdict = RunVerdict(report);
@@ -35,7 +36,7 @@ std::string Heading(const proto::Report& report) {
                      HtmlBadge(verdict.word, verdict.tone) + "</h1>\n<p class=\"sub\">";
   if (!report.spec_file().empty()) html += HtmlText(report.spec_file()) + " &middot; ";
   html += "seed " + std::to_string(report.seed()) + " &middot; " + HtmlText(report.stop_reason()) +
-          " at " + HtmlText(Seconds(report.simulated_s())) + " simulated</p>\n";
+          " at " + HtmlText(PageSeconds(report.simulated_s())) + " simulated</p>\n";
   return html;
 }
 

@@ -38,7 +38,7 @@ class DeviceEmulator {
   // Runs the device's events due at `now_ns` and returns the time of its next event.
   virtual std::int64_t Tick(std::int64_t now_ns, const PlantView& plant, DutPort& dut) = 0;
   // Named counters for the run report.
-  virtual std::vector<std::pair<std::string, double>> metrics() const { return {}; }
+  virtual std::vector<rig::Metric> metrics() const { return {}; }
   // Timeline entries the device has stepped over (a device that follows the scene's timeline), each
   // at most once over a run.
   virtual std::uint64_t timeline_entries_stepped() const { return 0; }

@@ -122,9 +122,9 @@ std::int64_t HallSensorNodes::Tick(std::int64_t now_ns, const PlantView& plant, 
   return next_event_ns_;
 }
 
-std::vector<std::pair<std::string, double>> HallSensorNodes::metrics() const {
-  return {{"hall_node_frames_sent", static_cast<double>(frames_sent_)},
-          {"hall_node_frames_dropped", static_cast<double>(frames_dropped_)}};
+std::vector<rig::Metric> HallSensorNodes::metrics() const {
+  return {rig::CountMetric("hall_node_frames_sent", frames_sent_),
+          rig::CountMetric("hall_node_frames_dropped", frames_dropped_)};
 }
 
 }  // namespace hilrig::host

@@ -35,7 +35,7 @@ class HallSensorNodes final : public DeviceEmulator {
   // The same, as a device: the vehicle's attitude and the pad forces from the plant's view.
   std::int64_t Tick(std::int64_t now_ns, const PlantView& plant, DutPort& dut) override;
   // "hall_node_frames_sent", "hall_node_frames_dropped".
-  std::vector<std::pair<std::string, double>> metrics() const override;
+  std::vector<rig::Metric> metrics() const override;
   std::uint64_t timeline_entries_stepped() const override { return stray_field_pieces_stepped(); }
 
   std::uint64_t frames_sent() const { return frames_sent_; }

@@ -5,7 +5,7 @@
 namespace hilrig::host {
 namespace {
 
-double Seconds(std::int64_t time_ns) { return static_cast<double>(time_ns) / 1e9; }
+using rig::SecondsFromNs;
 
 proto::StreamLatency ToProto(const StreamLatency& latency) {
   proto::StreamLatency stream;
@@ -65,7 +65,7 @@ proto::Timing RealtimePacer::Figures(const std::vector<StreamLatency>& latencies
   proto::Timing timing;
   timing.set_mode("realtime");
   timing.set_ticks(ticks_);
-  timing.set_period_s(Seconds(settings_.period_ns));
+  timing.set_period_s(SecondsFromNs(settings_.period_ns));
   const rig::DurationSummary period = period_.Summary();
   timing.set_loop_period_p50_s(period.p50_s);
   timing.set_loop_period_p99_s(period.p99_s);
@@ -74,7 +74,7 @@ proto::Timing RealtimePacer::Figures(const std::vector<StreamLatency>& latencies
   const rig::DurationSummary lateness = lateness_.Summary();
   timing.set_lateness_p99_s(lateness.p99_s);
   timing.set_lateness_max_s(lateness.max_s);
-  timing.set_late_threshold_s(Seconds(settings_.late_threshold_ns));
+  timing.set_late_threshold_s(SecondsFromNs(settings_.late_threshold_ns));
   timing.set_late_ticks(late_ticks_);
   timing.set_stalls(stalls_);
   const rig::DurationSummary work = work_.Summary();

@@ -31,28 +31,27 @@ void RunStatistics::Add(const TraceSample& sample) {
 }
 
 void RunStatistics::AppendMetrics(proto::Report& report) const {
-  const auto append = [&](const std::string& name, const Accumulator& accumulator,
-                          const std::string& unit) {
-    AddMetric(report, name + "_rms", accumulator.Rms(), unit);
-    AddMetric(report, name + "_max", accumulator.max, unit);
+  using rig::Unit;
+  const auto append = [&](const std::string& name, const Accumulator& accumulator, Unit unit) {
+    AddMetric(report, {name + "_rms", accumulator.Rms(), unit});
+    AddMetric(report, {name + "_max", accumulator.max, unit});
   };
-  append("position_error", position_error_m_, "m");
-  append("horizontal_error", horizontal_error_m_, "m");
-  append("altitude_error", altitude_error_m_, "m");
-  append("tilt", tilt_deg_, "deg");
+  append("position_error", position_error_m_, Unit::kMetres);
+  append("horizontal_error", horizontal_error_m_, Unit::kMetres);
+  append("altitude_error", altitude_error_m_, Unit::kMetres);
+  append("tilt", tilt_deg_, Unit::kDegrees);
   if (!grasp_scene_ || grasp_estimate_error_n_.count == 0) return;
-  append("grasp_force_tracking_error", grasp_tracking_error_n_, "N");
-  append("grasp_force_estimate_error", grasp_estimate_error_n_, "N");
-  append("load_estimate_error", load_estimate_error_n_, "N");
-  AddMetric(report, "grasp_force_peak", grasp_force_peak_n_, "N");
+  append("grasp_force_tracking_error", grasp_tracking_error_n_, Unit::kNewtons);
+  append("grasp_force_estimate_error", grasp_estimate_error_n_, Unit::kNewtons);
+  append("load_estimate_error", load_estimate_error_n_, Unit::kNewtons);
+  AddMetric(report, {"grasp_force_peak", grasp_force_peak_n_, Unit::kNewtons});
 }
 
-void AddMetric(proto::Report& report, const std::string& name, double value,
-               const std::string& unit) {
-  proto::Metric* metric = report.add_metrics();
-  metric->set_name(name);
-  metric->set_value(value);
-  metric->set_unit(unit);
+void AddMetric(proto::Report& report, const rig::Metric& metric) {
+  proto::Metric* added = report.add_metrics();
+  added->set_name(metric.name);
+  added->set_value(metric.value);
+  added->set_unit(rig::UnitSymbol(metric.unit));
 }
 
 }  // namespace hilrig::host

@@ -8,6 +8,7 @@
 
 #include "host/trace/trace_sample.h"
 #include "proto/report.pb.h"
+#include "rig/metric.h"
 
 namespace hilrig::host {
 
@@ -39,7 +40,7 @@ class RunStatistics {
   double grasp_force_peak_n_ = 0;
 };
 
-void AddMetric(proto::Report& report, const std::string& name, double value,
-               const std::string& unit);
+// Appends `metric` to the report, its unit as its symbol (rig::UnitSymbol).
+void AddMetric(proto::Report& report, const rig::Metric& metric);
 
 }  // namespace hilrig::host

@@ -61,13 +61,11 @@ rig::EmulatedBusConfig BusConfigFor(const ScenarioConfig& config) {
   return bus;
 }
 
-// Divides rather than multiplies by 1e-9 so that whole milliseconds print as 0.03, not
-// 0.030000000000000002.
-double Seconds(std::int64_t time_ns) { return static_cast<double>(time_ns) / 1e9; }
+using rig::SecondsFromNs;
 
 // The period the DUT is configured with, and the target's work is held to.
 double ControlPeriodS(const ScenarioConfig& config) {
-  return Seconds(config.physics_step_ns) * static_cast<double>(config.control_every_ticks);
+  return SecondsFromNs(config.physics_step_ns) * static_cast<double>(config.control_every_ticks);
 }
 
 }  // namespace
@@ -163,7 +161,7 @@ LockstepRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
           config.disturbances, [](const DisturbanceCommand& d) { return d.force_world_n; })),
       devices_(MakeSceneDevices(config, bus_)),
       plant_substep_(MakeQuadrotorStepSize(
-          config.vehicle, Seconds(config.physics_step_ns) / config.plant_substeps)),
+          config.vehicle, SecondsFromNs(config.physics_step_ns) / config.plant_substeps)),
       statistics_(config.gripper.enabled) {
   if (control.realtime_clock != nullptr) {
     pacer_.emplace(*control.realtime_clock,
@@ -223,11 +221,11 @@ void LockstepRunner::Impl::StopDut() {
 }
 
 bool LockstepRunner::Impl::ControlStep(std::uint64_t control_tick, std::int64_t now_ns) {
-  current_reference_ = reference_.Evaluate(Seconds(now_ns));
+  current_reference_ = reference_.Evaluate(SecondsFromNs(now_ns));
   if (gripper_) {
-    const GripperCommand grasp = gripper_->CommandAt(Seconds(now_ns));
+    const GripperCommand grasp = gripper_->CommandAt(SecondsFromNs(now_ns));
     if (grasp.regulate != grasp_command_.regulate || grasp.force_n != grasp_command_.force_n) {
-      grasp_command_since_s_ = Seconds(now_ns);
+      grasp_command_since_s_ = SecondsFromNs(now_ns);
     }
     grasp_command_ = grasp;
   }
@@ -253,7 +251,7 @@ bool LockstepRunner::Impl::ControlStep(std::uint64_t control_tick, std::int64_t 
 // stops the run at such a fault.
 bool LockstepRunner::Impl::ApplyCommand(ActuatorMessage&& command) {
   if (std::optional<std::string> field = NonFiniteCommandField(command)) {
-    const double now_s = Seconds(clock_.NowNs());
+    const double now_s = SecondsFromNs(clock_.NowNs());
     if (config_.dut_fault_stops_run) {
       stop_ = {StopReason::kDutFault,
                "non-finite command " + *field + " at " + rig::NumberText(now_s) + " s"};
@@ -294,11 +292,11 @@ bool LockstepRunner::Impl::TakeNewestCommand() {
 // The gripper moves first, against the vehicle as it is, so that the vehicle step carries the held
 // object's mass and the contacts' force of this tick.
 void LockstepRunner::Impl::StepPlant(std::int64_t now_ns) {
-  const double dt_s = Seconds(config_.physics_step_ns);
-  Eigen::Vector3d force_world_n = disturbance_force_n_.At(Seconds(now_ns));
+  const double dt_s = SecondsFromNs(config_.physics_step_ns);
+  Eigen::Vector3d force_world_n = disturbance_force_n_.At(SecondsFromNs(now_ns));
   Payload payload;
   if (gripper_) {
-    gripper_->Step(Seconds(now_ns), command_.servo_angle_rad, plant_, dt_s);
+    gripper_->Step(SecondsFromNs(now_ns), command_.servo_angle_rad, plant_, dt_s);
     force_world_n += gripper_->forces().force_on_vehicle_world_n;
     payload = gripper_->payload();
   }
@@ -331,7 +329,7 @@ void LockstepRunner::Impl::FillGraspTrace(TraceSample& sample) const {
 
 bool LockstepRunner::Impl::RecordTrace(std::int64_t now_ns) {
   TraceSample sample;
-  sample.time_s = Seconds(now_ns);
+  sample.time_s = SecondsFromNs(now_ns);
   sample.position_m = plant_.body.position_m;
   sample.reference_m = reference_.Evaluate(sample.time_s).position_m;
   sample.velocity_m_s = plant_.body.velocity_m_s;
@@ -380,12 +378,12 @@ void LockstepRunner::Impl::ReportProgress(std::int64_t now_ns) {
   // few wall seconds, so a process that is killed or dies keeps all but its last seconds.
   if (sinks_.trace_csv != nullptr) sinks_.trace_csv->flush();
   if (sinks_.can_log != nullptr) sinks_.can_log->flush();
-  if (sinks_.flushed) sinks_.flushed(Seconds(now_ns));
+  if (sinks_.flushed) sinks_.flushed(SecondsFromNs(now_ns));
   if (sinks_.progress == nullptr) return;
-  *sinks_.progress << config_.name << ": " << Seconds(now_ns) << " / " << config_.duration_s
+  *sinks_.progress << config_.name << ": " << SecondsFromNs(now_ns) << " / " << config_.duration_s
                    << " s simulated, real-time factor "
-                   << rig::FactorText(Seconds(now_ns) /
-                                      std::max(1e-9, Seconds(wall_ns - wall_start_ns_)));
+                   << rig::FactorText(SecondsFromNs(now_ns) /
+                                      std::max(1e-9, SecondsFromNs(wall_ns - wall_start_ns_)));
   if (pacer_) {
     *sinks_.progress << ", late ticks " << pacer_->late_ticks() << ", dut commands missed "
                      << pacer_->dut_commands_missed();
@@ -420,8 +418,8 @@ bool LockstepRunner::Impl::Step() {
   if (!PlantFinite()) {
     // A step size or model the integrator cannot hold: say so and stop, instead of carrying NaN
     // through the trace.
-    stop_ = {StopReason::kNumericalInstability,
-             "the plant state is not finite after " + rig::NumberText(Seconds(now_ns)) + " s"};
+    stop_ = {StopReason::kNumericalInstability, "the plant state is not finite after " +
+                                                    rig::NumberText(SecondsFromNs(now_ns)) + " s"};
     ended_ = true;
     return false;
   }
@@ -451,13 +449,14 @@ bool LockstepRunner::Impl::Step() {
 void LockstepRunner::Impl::AppendBusMetrics(std::int64_t now_ns, proto::Report& report) {
   bus_.AdvanceTo(now_ns);
   const rig::EmulatedBusStats stats = bus_.stats();
-  AddMetric(report, "can_bus_load", now_ns > 0 ? stats.LoadOver(now_ns) : 0.0, "fraction");
+  AddMetric(report,
+            {"can_bus_load", now_ns > 0 ? stats.LoadOver(now_ns) : 0.0, rig::Unit::kFraction});
   for (const rig::IdQueueingStats& id : stats.queueing_by_id) {
     char name[64];
     std::snprintf(name, sizeof(name), "can_queueing_%s_0x%03X", "max_s", id.id);
-    AddMetric(report, name, Seconds(id.max_queueing_ns), "s");
+    AddMetric(report, {name, SecondsFromNs(id.max_queueing_ns), rig::Unit::kSeconds});
     std::snprintf(name, sizeof(name), "can_queueing_%s_0x%03X", "mean_s", id.id);
-    AddMetric(report, name, Seconds(id.mean_queueing_ns()), "s");
+    AddMetric(report, {name, SecondsFromNs(id.mean_queueing_ns()), rig::Unit::kSeconds});
   }
 }
 
@@ -470,7 +469,7 @@ void LockstepRunner::Impl::AppendTiming(proto::Report& report, bool& passed) con
   } else {
     timing.set_mode("lockstep");
     timing.set_ticks(tick_);
-    timing.set_period_s(Seconds(config_.physics_step_ns));
+    timing.set_period_s(SecondsFromNs(config_.physics_step_ns));
   }
   for (proto::TimingCheckResult& check : GradeTiming(config_.timing, timing)) {
     passed = passed && check.passed();
@@ -510,9 +509,9 @@ proto::Report LockstepRunner::Impl::Finish() {
   report.set_scenario(config_.name);
   report.set_seed(config_.seed);
   SetStop(stop_, report);
-  report.set_simulated_s(Seconds(now_ns));
-  report.set_wall_s(Seconds(wall_ns));
-  report.set_real_time_factor(wall_ns > 0 ? Seconds(now_ns) / Seconds(wall_ns) : 0.0);
+  report.set_simulated_s(SecondsFromNs(now_ns));
+  report.set_wall_s(SecondsFromNs(wall_ns));
+  report.set_real_time_factor(wall_ns > 0 ? SecondsFromNs(now_ns) / SecondsFromNs(wall_ns) : 0.0);
   report.set_ticks(ticks);
   report.set_can_frames_logged(can_frames_logged_);
   bool passed = stop_.reason == StopReason::kCompleted;
@@ -530,35 +529,36 @@ proto::Report LockstepRunner::Impl::Finish() {
   statistics_.AppendMetrics(report);
   const DutCounters counters = dut_ ? dut_->counters() : DutCounters();
   WarnOfMissingSensorBytes(counters);
-  AddMetric(report, "dut_imu_messages", static_cast<double>(counters.imu_messages), "count");
-  AddMetric(report, "dut_vio_messages", static_cast<double>(counters.vio_messages), "count");
-  AddMetric(report, "dut_can_frames_received", static_cast<double>(counters.can_frames_received),
-            "count");
-  AddMetric(report, "dut_can_frames_rejected", static_cast<double>(counters.can_frames_rejected),
-            "count");
-  AddMetric(report, "dut_sensor_samples", static_cast<double>(counters.sensor_samples), "count");
-  AddMetric(report, "dut_sensor_samples_lost", static_cast<double>(counters.sensor_samples_lost),
-            "count");
-  AddMetric(report, "dut_tactile_samples_flagged",
-            static_cast<double>(counters.tactile_samples_flagged), "count");
+  for (const rig::Metric& metric :
+       {rig::CountMetric("dut_imu_messages", counters.imu_messages),
+        rig::CountMetric("dut_vio_messages", counters.vio_messages),
+        rig::CountMetric("dut_can_frames_received", counters.can_frames_received),
+        rig::CountMetric("dut_can_frames_rejected", counters.can_frames_rejected),
+        rig::CountMetric("dut_sensor_samples", counters.sensor_samples),
+        rig::CountMetric("dut_sensor_samples_lost", counters.sensor_samples_lost),
+        rig::CountMetric("dut_tactile_samples_flagged", counters.tactile_samples_flagged)}) {
+    AddMetric(report, metric);
+  }
   if (dut_) {
-    for (const auto& [name, value] : dut_->link_metrics()) AddMetric(report, name, value, "count");
+    for (const rig::Metric& metric : dut_->link_metrics()) AddMetric(report, metric);
   }
   AppendBusMetrics(now_ns, report);
-  AddMetric(report, "ground_impacts", plant_.ground_impacts, "count");
-  AddMetric(report, "non_finite_trace_samples", static_cast<double>(non_finite_samples_), "count");
+  AddMetric(report, {"ground_impacts", double(plant_.ground_impacts), rig::Unit::kCount});
+  AddMetric(report, rig::CountMetric("non_finite_trace_samples", non_finite_samples_));
   for (const DeviceEmulator* device : device_schedule_.devices()) {
-    for (const auto& [name, value] : device->metrics()) AddMetric(report, name, value, "count");
+    for (const rig::Metric& metric : device->metrics()) AddMetric(report, metric);
   }
   if (gripper_) {
     for (const proto::ObjectOutcome& outcome : gripper_->Outcomes())
       *report.add_objects() = outcome;
-    AddMetric(report, "grasp_elastic_energy_peak", gripper_->peak_elastic_energy_j(), "J");
-    AddMetric(report, "grasp_elastic_energy_bound", gripper_->elastic_energy_bound_j(), "J");
-    AddMetric(report, "grasp_pad_release_ticks", static_cast<double>(gripper_->pad_release_ticks()),
-              "count");
-    AddMetric(report, "grasp_unbalanced_horizontal_force_max",
-              gripper_->unbalanced_horizontal_max_n(), "N");
+    using rig::Unit;
+    AddMetric(report,
+              {"grasp_elastic_energy_peak", gripper_->peak_elastic_energy_j(), Unit::kJoules});
+    AddMetric(report,
+              {"grasp_elastic_energy_bound", gripper_->elastic_energy_bound_j(), Unit::kJoules});
+    AddMetric(report, rig::CountMetric("grasp_pad_release_ticks", gripper_->pad_release_ticks()));
+    AddMetric(report, {"grasp_unbalanced_horizontal_force_max",
+                       gripper_->unbalanced_horizontal_max_n(), Unit::kNewtons});
   }
   AppendModelList(config_, dut_ ? dut_->description() : "none (failed to start)", report);
   return report;

@@ -56,7 +56,7 @@ rig::Result<std::optional<ActuatorMessage>> PollUntilAnswer(ProcessDut& dut,
 }
 
 double Metric(const ProcessDut& dut, const std::string& name) {
-  for (const auto& [metric, value] : dut.link_metrics()) {
+  for (const auto& [metric, value, unit] : dut.link_metrics()) {
     if (metric == name) return value;
   }
   return -1;

@@ -108,7 +108,7 @@ TEST_F(ProcessDutTest, SilentDutTripsTheWatchdog) {
   EXPECT_EQ(command.error().message, "dut did not answer tick 3 within 0.2 s");
   EXPECT_EQ(command.error().code, rig::ErrorCode::kTimeout);
   bool counted = false;
-  for (const auto& [name, value] : dut->link_metrics()) {
+  for (const auto& [name, value, unit] : dut->link_metrics()) {
     if (name == "link_watchdog_timeouts") counted = value == 1.0;
   }
   EXPECT_TRUE(counted);
@@ -124,7 +124,7 @@ TEST_F(ProcessDutTest, GarbageAnswerIsRejectedAndCounted) {
   EXPECT_EQ(command.error().code, rig::ErrorCode::kLinkProtocol);
   EXPECT_EQ(LinkErrorKindOf(command.error()), LinkErrorKind::kMalformed);
   double malformed = -1;
-  for (const auto& [name, value] : dut->link_metrics()) {
+  for (const auto& [name, value, unit] : dut->link_metrics()) {
     if (name == "link_rx_malformed") malformed = value;
   }
   EXPECT_EQ(malformed, 1.0);

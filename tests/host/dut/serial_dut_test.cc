@@ -207,12 +207,14 @@ struct Rig {
                                          opener, options);
   }
 
-  double Metric(const std::string& name) const {
-    for (const auto& [key, value] : serial->link_metrics()) {
-      if (key == name) return value;
+  double Metric(const std::string& name) const { return MetricNamed(name).value; }
+  rig::Unit UnitOf(const std::string& name) const { return MetricNamed(name).unit; }
+  rig::Metric MetricNamed(const std::string& name) const {
+    for (const rig::Metric& metric : serial->link_metrics()) {
+      if (metric.name == name) return metric;
     }
     ADD_FAILURE() << "no metric " << name;
-    return -1;
+    return {name, -1, rig::Unit::kCount};
   }
 };
 
@@ -246,6 +248,10 @@ TEST(SerialDutTest, RepeatsTheHelloUntilTheDutAnswersThenKeepsItsTarget) {
   EXPECT_NE(rig.serial->description().find("stm32f405"), std::string::npos);
   EXPECT_EQ(rig.Metric("line_hellos_sent"), 3);
   EXPECT_EQ(rig.Metric("target_core_clock_hz"), 168e6);
+  // Each figure carries the unit it was measured in, not "count" for all.
+  EXPECT_EQ(rig.UnitOf("line_hellos_sent"), rig::Unit::kCount);
+  EXPECT_EQ(rig.UnitOf("target_core_clock_hz"), rig::Unit::kHertz);
+  EXPECT_EQ(rig.UnitOf("target_flash_used_bytes"), rig::Unit::kBytes);
   rig.serial->Stop();
   rig.dut->Serve();
   EXPECT_TRUE(rig.dut->said_bye);

@@ -307,7 +307,7 @@ TEST(HilLinkCodecTest, CounterMetricsAreNamedWithThePrefix) {
   counters.duplicates = 3;
   const auto metrics = LinkCounterMetrics(counters, "link_rx_");
   bool found = false;
-  for (const auto& [name, value] : metrics) {
+  for (const auto& [name, value, unit] : metrics) {
     if (name == "link_rx_duplicates") {
       found = true;
       EXPECT_EQ(value, 3.0);

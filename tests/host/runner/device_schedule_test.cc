@@ -17,7 +17,6 @@ namespace hilrig::host {
 namespace {
 
 using ::testing::ElementsAre;
-using ::testing::Pair;
 
 constexpr std::int64_t kMs = 1'000'000;
 
@@ -35,7 +34,7 @@ class PeriodicDevice final : public DeviceEmulator {
     next_ns_ += period_ns_;
     return next_ns_;
   }
-  std::vector<std::pair<std::string, double>> metrics() const override {
+  std::vector<rig::Metric> metrics() const override {
     return {{name_ + "_ticks", static_cast<double>(ticks_ns.size())}};
   }
 
@@ -110,7 +109,10 @@ TEST(DeviceScheduleTest, DevicesTickInTheOrderTheyWereAddedAndOnlyWhenDue) {
   schedule.Initialize(plant, dut);
   for (std::int64_t now_ns = 0; now_ns <= 6 * kMs; now_ns += kMs) schedule.Tick(now_ns, plant, dut);
   EXPECT_THAT(order, ElementsAre("a", "b", "a", "b", "a", "a", "b"));
-  EXPECT_THAT(every_2ms.metrics(), ElementsAre(Pair("a_ticks", 4)));
+  ASSERT_EQ(every_2ms.metrics().size(), 1u);
+  EXPECT_EQ(every_2ms.metrics()[0].name, "a_ticks");
+  EXPECT_EQ(every_2ms.metrics()[0].value, 4);
+  EXPECT_EQ(every_2ms.metrics()[0].unit, rig::Unit::kCount);
 }
 
 }  // namespace
