@@ -20,15 +20,21 @@ bool IsName(const FieldDescriptor* field) {
              proto::Envelope::descriptor()->FindFieldByNumber(proto::Envelope::kNameFieldNumber);
 }
 
+// The string field's text (element `index` of a repeated one; -1 for a single one); `scratch` may
+// hold it.
+const std::string& TextOf(const Message& message, const FieldDescriptor* field, int index,
+                          std::string& scratch) {
+  const auto* reflection = message.GetReflection();
+  return index < 0 ? reflection->GetStringReference(message, field, &scratch)
+                   : reflection->GetRepeatedStringReference(message, field, index, &scratch);
+}
+
 // Only the length is named: the text may be megabytes.
 std::optional<std::string> TextSizeProblem(const Message& message, const FieldDescriptor* field,
                                            int index) {
   if (field->cpp_type() != FieldDescriptor::CPPTYPE_STRING) return std::nullopt;
-  const auto* reflection = message.GetReflection();
   std::string scratch;
-  const std::string& text =
-      index < 0 ? reflection->GetStringReference(message, field, &scratch)
-                : reflection->GetRepeatedStringReference(message, field, index, &scratch);
+  const std::string& text = TextOf(message, field, index, scratch);
   if (IsName(field)) {
     if (text.size() <= kMaxNameChars) return std::nullopt;
     return "a name may hold at most " + std::to_string(kMaxNameChars) + " characters, got " +
@@ -93,11 +99,8 @@ void CheckMeanWindows(const proto::Scenario& scenario, const ProblemList& proble
 std::optional<std::string> ControlCharacterProblem(const Message& message,
                                                    const FieldDescriptor* field, int index) {
   if (field->cpp_type() != FieldDescriptor::CPPTYPE_STRING) return std::nullopt;
-  const auto* reflection = message.GetReflection();
   std::string scratch;
-  const std::string& text =
-      index < 0 ? reflection->GetStringReference(message, field, &scratch)
-                : reflection->GetRepeatedStringReference(message, field, index, &scratch);
+  const std::string& text = TextOf(message, field, index, scratch);
   const bool description = field == proto::Scenario::descriptor()->FindFieldByNumber(
                                         proto::Scenario::kDescriptionFieldNumber);
   for (std::size_t i = 0; i < text.size(); ++i) {

@@ -12,13 +12,7 @@ bin_dir=$2
 source "$(dirname "$0")/target_image.sh"
 require_tools qemu-system-arm arm-none-eabi-g++ pgrep
 
-work_dir=$(mktemp -d)
-run_pid=
-cleanup() {
-  [[ -n $run_pid ]] && kill -9 "$run_pid" 2>/dev/null || true
-  rm -rf "$work_dir"
-}
-trap cleanup EXIT
+make_work_dir_for_a_run
 target_images "$source_dir" "$work_dir/build"
 
 # True while PID is a process that has not ended (a zombie has ended: only its entry is left).

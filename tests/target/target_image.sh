@@ -2,6 +2,14 @@
 # the ones the target_image fixture built fresh for this ctest run, or, for a test run by hand,
 # images built in a fresh tree of the test's own (never an image some other build left behind).
 
+# Sets work_dir to a fresh folder, removed at exit together with the run whose pid is in run_pid
+# (killed if it still runs), for the tests that start `hilrig run` in the background.
+make_work_dir_for_a_run() {
+  work_dir=$(mktemp -d)
+  run_pid=
+  trap '[[ -n $run_pid ]] && kill -9 "$run_pid" 2>/dev/null; rm -rf "$work_dir"' EXIT
+}
+
 # Exits 77 (ctest's skip) naming the first tool in "$@" that is not installed.
 require_tools() {
   local tool
