@@ -121,7 +121,7 @@ struct SeriesSeed {
   // search starts where the last grasp step solved) returns it instead of converging again to the
   // same answer. Only valid for the object and pad it was solved for, like the seed itself.
   bool has_solve = false;
-  SeriesContact solve;
+  SeriesContact solve{};
 };
 
 struct GraspState {
