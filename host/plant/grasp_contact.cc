@@ -21,31 +21,6 @@ constexpr double kImbalanceGain = 2.0 / kGripperPadCount;
 
 bool PositiveFinite(double value) { return std::isfinite(value) && value > 0; }
 
-// The handful of checks the per-tick paths need (no strings, no allocation); ValidateGraspScene
-// gives the messages.
-bool SceneUsable(const GraspSceneParams& p) {
-  const ObjectParams& o = p.object;
-  return PositiveFinite(o.half_width_m) && PositiveFinite(o.stiffness) && o.exponent >= 1.0 &&
-         o.exponent <= 3.0 && o.stiffening_length_m > 0 && std::isfinite(o.friction_static) &&
-         o.friction_static >= 0 && std::isfinite(o.friction_kinetic) && o.friction_kinetic >= 0 &&
-         PositiveFinite(p.frame.open_radius_m) && PositiveFinite(p.frame.closing_m_per_rad) &&
-         std::isfinite(p.frame.height_m) && std::isfinite(p.frame.first_azimuth_rad) &&
-         PositiveFinite(p.pad_stiffness_n_per_m.x()) &&
-         PositiveFinite(p.pad_stiffness_n_per_m.y()) &&
-         PositiveFinite(p.pad_stiffness_n_per_m.z()) && std::isfinite(p.pad_stiffening_per_m2) &&
-         p.pad_stiffening_per_m2 >= 0 && std::isfinite(p.stand_height_m) &&
-         PositiveFinite(p.pad_half_height_m);
-}
-
-// What the series solve itself needs, for the servo load's inner loop; StepGrasp checks the rest.
-bool ContactUsable(const GraspSceneParams& p) {
-  const ObjectParams& o = p.object;
-  return PositiveFinite(o.half_width_m) && PositiveFinite(o.stiffness) && o.exponent >= 1.0 &&
-         o.exponent <= 3.0 && o.stiffening_length_m > 0 &&
-         PositiveFinite(p.pad_stiffness_n_per_m.z()) && p.pad_stiffening_per_m2 >= 0 &&
-         std::isfinite(p.pad_stiffening_per_m2);
-}
-
 bool HasObject(GraspMode mode) {
   return mode == GraspMode::kOnStand || mode == GraspMode::kHeld || mode == GraspMode::kSliding;
 }
@@ -519,8 +494,7 @@ SeriesSeed SeedOf(const SeriesContact& contact, double overlap_m) {
 
 GraspSceneConstants MakeGraspSceneConstants(const GraspSceneParams& params) {
   GraspSceneConstants constants;
-  constants.scene_usable = SceneUsable(params);
-  constants.contact_usable = ContactUsable(params);
+  constants.scene_usable = ValidateGraspScene(params).ok();
   double ox = 1.0;
   double oy = 0.0;
   if (std::isfinite(params.frame.first_azimuth_rad)) {
@@ -545,7 +519,9 @@ GraspSceneConstants MakeGraspSceneConstants(const GraspSceneParams& params) {
 double SymmetricNormalForce(const GraspSceneParams& params, const GraspState& state,
                             double angle_rad, double* indentation_m) {
   if (indentation_m != nullptr) *indentation_m = 0.0;
-  if (!HasObject(state.mode) || !std::isfinite(angle_rad) || !ContactUsable(params)) return 0.0;
+  if (!HasObject(state.mode) || !std::isfinite(angle_rad) || !ValidateGraspScene(params).ok()) {
+    return 0.0;
+  }
   const double overlap = params.object.half_width_m - PadSurfaceRadius(params.frame, angle_rad);
   const SeriesContact c =
       SolveSeriesContact(params.object, params.pad_stiffness_n_per_m.z(),
@@ -562,7 +538,7 @@ GraspServoLoad::GraspServoLoad(const GraspSceneParams& params, const GraspSceneC
                                const GraspState& state)
     : params_(params),
       state_(state),
-      loads_(HasObject(state.mode) && constants.contact_usable),
+      loads_(HasObject(state.mode) && constants.scene_usable),
       seed_(state.contact_seed) {}
 
 double GraspServoLoad::TorqueAt(double angle_rad) const {

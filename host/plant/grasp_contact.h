@@ -213,8 +213,9 @@ SeriesSeed SeedOf(const SeriesContact& contact, double overlap_m);
 // stepping many ticks keeps it next to the params and recomputes it whenever it changes them)
 // instead of once or several times per tick.
 struct GraspSceneConstants {
-  bool scene_usable = false;    // the checks of ValidateGraspScene the steps rely on
-  bool contact_usable = false;  // what the series solve needs (the servo load's inner loop)
+  // ValidateGraspScene passes: the one check of the params, whose success path neither allocates
+  // nor builds a message, so the steps and the servo load rely on the same ranges.
+  bool scene_usable = false;
   // Outward direction of each pad (body x, y): pad 0's, the others following by 60 deg
   // rotations. The same for every tick of a scene, so the imbalance does not rotate it each time.
   // Zero until MakeGraspSceneConstants fills them (a default is not scene_usable either).

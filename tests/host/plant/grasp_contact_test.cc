@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <utility>
+#include <vector>
 
 #include "host/sensors/tactile/sensor_layout.h"
 
@@ -236,18 +238,36 @@ TEST(SeriesContactTest, KeptSolveIsReturnedOnlyAtItsOwnOverlap) {
 }
 
 TEST(GraspSceneConstantsTest, FirstPadDirectionAndUsability) {
-  GraspSceneParams scene = Scene();
-  const GraspSceneConstants constants = MakeGraspSceneConstants(scene);
+  const GraspSceneConstants constants = MakeGraspSceneConstants(Scene());
   EXPECT_TRUE(constants.scene_usable);
-  EXPECT_TRUE(constants.contact_usable);
   // Default first azimuth 30 deg.
   EXPECT_NEAR(constants.outward_x[0], std::sqrt(3.0) / 2.0, 1e-15);
   EXPECT_NEAR(constants.outward_y[0], 0.5, 1e-15);
-  scene.pad_stiffness_n_per_m.y() = kNaN;  // shear only: the contact solve can still run
-  EXPECT_FALSE(MakeGraspSceneConstants(scene).scene_usable);
-  EXPECT_TRUE(MakeGraspSceneConstants(scene).contact_usable);
-  scene.object.stiffness = -1.0;
-  EXPECT_FALSE(MakeGraspSceneConstants(scene).contact_usable);
+}
+
+// The steps and the servo load use the scene exactly when its validator passes: one check, so a
+// field the message names is never one the per-tick paths still use.
+TEST(GraspSceneConstantsTest, UsableExactlyWhenTheSceneIsValid) {
+  const std::vector<std::pair<const char*, void (*)(GraspSceneParams&)>> breaks = {
+      {"mass", [](GraspSceneParams& s) { s.object.mass_kg = 0.0; }},
+      {"stiffness", [](GraspSceneParams& s) { s.object.stiffness = -1.0; }},
+      {"friction", [](GraspSceneParams& s) { s.object.friction_kinetic = 10.0; }},
+      {"damage", [](GraspSceneParams& s) { s.object.damage_force_n = 0.0; }},
+      {"standoff", [](GraspSceneParams& s) { s.frame.film_standoff_m = kNaN; }},
+      {"shear pad", [](GraspSceneParams& s) { s.pad_stiffness_n_per_m.y() = kNaN; }},
+      {"beta", [](GraspSceneParams& s) { s.pad_stiffening_per_m2 = -1.0; }},
+      {"stand", [](GraspSceneParams& s) { s.stand_height_m = kNaN; }},
+  };
+  for (const auto& [name, spoil] : breaks) {
+    GraspSceneParams scene = Scene();
+    spoil(scene);
+    ASSERT_FALSE(ValidateGraspScene(scene).ok()) << name;
+    EXPECT_FALSE(MakeGraspSceneConstants(scene).scene_usable) << name;
+    GraspState state = InitialGraspState(Scene());  // an object the valid scene put there
+    const double angle = AngleForOverlap(Scene(), 2e-3);
+    EXPECT_EQ(SymmetricNormalForce(scene, state, angle), 0.0) << name;
+    EXPECT_EQ(GraspServoLoad(scene, state).TorqueAt(angle), 0.0) << name;
+  }
 }
 
 TEST(GraspSceneConstantsTest, PadDirectionsStep60DegreesFromTheFirst) {
