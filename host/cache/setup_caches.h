@@ -12,24 +12,27 @@
 
 #include "host/cache/calibration_store.h"
 #include "host/cache/field_map_store.h"
+#include "host/sensors/tactile/film_field_factory.h"
 
 namespace hilrig::host {
 
 struct SetupCaches {
   std::unique_ptr<FileFieldMapStore> field_maps;
   std::unique_ptr<FileCalibrationStore> calibrations;
+  // The films of this process's runs, over `field_maps` (in memory only when that is off).
+  std::unique_ptr<FilmFieldModels> film_models;
 };
 
 // Under `root`, or DefaultReferenceCacheDir() when it is empty.
 SetupCaches MakeSetupCaches(const std::optional<std::string>& root, std::ostream& notes);
 
-// A tactile scene's film (BuildFilmField through `field_maps`) and DUT calibration
+// A tactile scene's film (BuildFilmField through `film_models`) and DUT calibration
 // (CalibrateThroughStore through `calibrations`), each read from its cache when it holds it and
 // made and kept when not: the one setup of `hilrig run` and `hilrig bench`. Null stores make
 // both; a scene without pads needs neither. A calibration's failure reads "tactile calibration:
 // ...".
 rig::Result<void> SetUpTactile(const proto::Scenario& spec, ScenarioConfig& config,
-                               const FieldMapTableStore* field_maps,
+                               FilmFieldModels* film_models,
                                const FileCalibrationStore* calibrations,
                                const std::atomic<bool>* stop_requested);
 

@@ -130,7 +130,7 @@ int BenchCommand(const std::vector<std::string>& args, const CliStreams& io) {
   sweep.duration_s = options.duration_s;
   sweep.progress = &io.err;
   sweep.calibrations = caches.calibrations.get();
-  sweep.field_maps = caches.field_maps.get();
+  sweep.film_models = caches.film_models.get();
   // A quick sweep is for tests: one timed run each, since every run's setup (field maps) costs
   // more than its 3 s of stepping.
   if (options.quick) sweep.timing_repeats = 1;

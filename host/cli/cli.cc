@@ -109,7 +109,7 @@ struct RunOptions {
   DutFactory dut_factory;                              // --dut process; unset: in process
   bool realtime = false;                               // --realtime: paced by the wall clock
   int realtime_priority = kDefaultRealtimePriority;    // --rt-priority; 0: default scheduler
-  const FieldMapTableStore* field_maps = nullptr;      // tabulated maps kept between runs
+  FilmFieldModels* film_models = nullptr;  // films shared between the runs of one command
   const FileCalibrationStore* calibrations = nullptr;  // calibrations kept between runs
 };
 
@@ -315,7 +315,7 @@ ScenarioOutcome RunOneFile(const std::string& path, const fs::path& out_dir,
   request.overrides = options.overrides;
   request.dut_factory = options.dut_factory;
   request.realtime_priority = options.realtime_priority;
-  request.field_maps = options.field_maps;
+  request.film_models = options.film_models;
   request.calibrations = options.calibrations;
   request.reference = reference;
   const rig::SteadyClock wall_clock;
@@ -456,7 +456,7 @@ int RunCommand(const std::vector<std::string>& args, const Streams& io) {
     return kExitBadInput;
   }
   const SetupCaches caches = MakeSetupCaches(options.value().reference_cache_dir, io.err);
-  options.value().field_maps = caches.field_maps.get();
+  options.value().film_models = caches.film_models.get();
   options.value().calibrations = caches.calibrations.get();
   const std::string& target = options.value().target;
   std::error_code error;

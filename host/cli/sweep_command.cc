@@ -293,7 +293,7 @@ CaseRunSetup MakeCaseSetup(const LoadedSweep& sweep, const SweepOptions& options
   CaseRunSetup setup;
   setup.wall_clock = &clock;
   setup.stop_requested = io.stop_requested;
-  setup.field_maps = caches.field_maps.get();
+  setup.film_models = caches.film_models.get();
   setup.calibrations = caches.calibrations.get();
   setup.runs_dir = (fs::path(options.out_dir) / "runs").string();
   setup.keep_all_runs = options.keep_runs || sweep.spec.keep_all_traces();

@@ -129,7 +129,7 @@ RunPipelineResult RunPipeline(const RunRequest& request, const RunSeams& seams) 
     if (!opened) return RunError{RunFailure::kOutput, opened.error().message};
     files.emplace(std::move(opened).value());
   }
-  if (auto set_up = SetUpTactile(run.spec, run.config, request.field_maps, request.calibrations,
+  if (auto set_up = SetUpTactile(run.spec, run.config, request.film_models, request.calibrations,
                                  seams.stop_requested);
       !set_up) {
     const RunFailure failure = set_up.error().code == rig::ErrorCode::kInterrupted

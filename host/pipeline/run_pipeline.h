@@ -16,10 +16,10 @@
 #include <vector>
 
 #include "host/cache/calibration_store.h"
-#include "host/cache/field_map_store.h"
 #include "host/cache/reference_cache.h"
 #include "host/fidelity/reference_run.h"
 #include "host/runner/runner.h"
+#include "host/sensors/tactile/film_field_factory.h"
 #include "proto/report.pb.h"
 #include "proto/scenario.pb.h"
 #include "rig/clock.h"
@@ -41,9 +41,9 @@ struct RunRequest {
   // Set: only the scene's first duration_s seconds run (TruncatedTo: later timeline entries and
   // envelopes that open later are left out); unset, or longer than the scene: all of it.
   std::optional<double> duration_s;
-  DutFactory dut_factory;     // unset: the DUT in this process
-  int realtime_priority = 0;  // SCHED_FIFO priority of a real-time run; 0: default
-  const FieldMapTableStore* field_maps = nullptr;      // tabulated maps kept between runs
+  DutFactory dut_factory;                  // unset: the DUT in this process
+  int realtime_priority = 0;               // SCHED_FIFO priority of a real-time run; 0: default
+  FilmFieldModels* film_models = nullptr;  // films shared between runs (null: built per run)
   const FileCalibrationStore* calibrations = nullptr;  // calibrations kept between runs
   const ReferenceSource* reference = nullptr;          // unset: no comparison with a reference
 };

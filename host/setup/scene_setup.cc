@@ -8,11 +8,12 @@
 
 namespace hilrig::host {
 
-rig::Result<void> BuildFilmField(ScenarioConfig& config, const FieldMapTableStore* field_maps,
+rig::Result<void> BuildFilmField(ScenarioConfig& config, FilmFieldModels* film_models,
                                  const std::atomic<bool>* stop_requested) {
   HallSensorConfig& hall = config.hall_sensors;
   if (!hall.tactile_enabled || hall.film_field != nullptr) return {};
-  auto film = MakeFilmField(hall.field_fidelity, field_maps, stop_requested);
+  auto film = film_models != nullptr ? film_models->Get(hall.field_fidelity, stop_requested)
+                                     : MakeFilmField(hall.field_fidelity, nullptr, stop_requested);
   if (!film) return film.error();
   hall.film_field = std::move(film).value();
   return {};

@@ -11,7 +11,7 @@
 
 namespace hilrig::host {
 
-class FieldMapTableStore;  // host/sensors/tactile/film_field_factory.h
+class FilmFieldModels;  // host/sensors/tactile/film_field_factory.h
 
 // The DUT's tactile calibration, as the firmware would be flashed with it: read from the spec's
 // calibration file, or found by running the calibration jigs on the scene's own sensor models.
@@ -21,11 +21,10 @@ class FieldMapTableStore;  // host/sensors/tactile/film_field_factory.h
 rig::Result<void> LoadTactileCalibration(ScenarioConfig& config,
                                          const std::atomic<bool>* stop_requested = nullptr);
 
-// Builds hall_sensors.film_field for its field_fidelity unless the config already has one; a map
-// level's table comes from `field_maps` when it holds it (MakeFilmField, which `stop_requested`,
-// may be null, interrupts).
-rig::Result<void> BuildFilmField(ScenarioConfig& config,
-                                 const FieldMapTableStore* field_maps = nullptr,
+// Builds hall_sensors.film_field for its field_fidelity unless the config already has one: the
+// model `film_models` holds or builds for the level, or a model built for this config alone when
+// it is null (MakeFilmField, which `stop_requested`, may be null, interrupts).
+rig::Result<void> BuildFilmField(ScenarioConfig& config, FilmFieldModels* film_models = nullptr,
                                  const std::atomic<bool>* stop_requested = nullptr);
 
 }  // namespace hilrig::host

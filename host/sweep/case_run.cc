@@ -50,7 +50,7 @@ RunPipelineResult Run(const LoadedSweep& sweep, const SweepCase& sweep_case,
   request.spec = &scenario;
   request.spec_directory = std::filesystem::path(source.path).parent_path().string();
   request.out_dir = std::move(out_dir);
-  request.field_maps = setup.field_maps;
+  request.film_models = setup.film_models;
   request.calibrations = setup.calibrations;
   RunSeams seams;
   seams.wall_clock = setup.wall_clock;

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "host/cache/calibration_store.h"
-#include "host/cache/field_map_store.h"
+#include "host/sensors/tactile/film_field_factory.h"
 #include "host/sweep/sweep_cases.h"
 #include "proto/sweep.pb.h"
 #include "rig/clock.h"
@@ -20,7 +20,7 @@ namespace hilrig::host {
 struct CaseRunSetup {
   const rig::Clock* wall_clock = nullptr;  // required: times each run
   const std::atomic<bool>* stop_requested = nullptr;
-  const FieldMapTableStore* field_maps = nullptr;      // shared by the cases of a shard
+  FilmFieldModels* film_models = nullptr;              // shared by the cases of a shard
   const FileCalibrationStore* calibrations = nullptr;  // shared by every shard (on disk)
   // Where the files of a case go, as DIR/case-NNNNNNN (the case's index); unset: none are kept.
   std::optional<std::string> runs_dir;

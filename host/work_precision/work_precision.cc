@@ -318,7 +318,7 @@ rig::Result<SceneResult> SweepScene(const proto::Scenario& spec, const std::stri
                       << reference.fidelity.field_fidelity
                       << "; once per build, then read from the cache)" << std::endl;
   }
-  if (auto set_up = SetUpTactile(reference_spec, reference_config.value(), options.field_maps,
+  if (auto set_up = SetUpTactile(reference_spec, reference_config.value(), options.film_models,
                                  options.calibrations, control.stop_requested);
       !set_up) {
     return rig::InContext(spec.name() + ": ", set_up.error());
@@ -343,8 +343,9 @@ rig::Result<SceneResult> SweepScene(const proto::Scenario& spec, const std::stri
     auto config = ResolveWithCalibration(WithFidelity(base, planned.fidelity), spec_directory,
                                          ref_config.seed, ref_config.hall_sensors.calibration);
     if (!config) return config.error();
-    // MakeFilmField shares one model per level, so no run or timing repeat tabulates a map again.
-    if (auto built = BuildFilmField(config.value(), options.field_maps, control.stop_requested);
+    // One model per level for the whole sweep when the caller gives film_models: no run or timing
+    // repeat tabulates a map again.
+    if (auto built = BuildFilmField(config.value(), options.film_models, control.stop_requested);
         !built) {
       return built.error();
     }
@@ -366,7 +367,7 @@ rig::Result<SceneResult> SweepScene(const proto::Scenario& spec, const std::stri
   TimeInRounds(configs, scene, options, control);
   MarkParetoFronts(scene);
   auto shipped =
-      RunDefaultAsShipped(spec, spec_directory, control, options.calibrations, options.field_maps);
+      RunDefaultAsShipped(spec, spec_directory, control, options.calibrations, options.film_models);
   if (!shipped) return shipped.error();
   scene.shipped = std::move(shipped).value();
   return scene;
@@ -376,12 +377,12 @@ rig::Result<ShippedVerdict> RunDefaultAsShipped(const proto::Scenario& spec,
                                                 const std::string& spec_directory,
                                                 const RunControl& control,
                                                 const FileCalibrationStore* calibrations,
-                                                const FieldMapTableStore* field_maps) {
+                                                FilmFieldModels* film_models) {
   RunRequest request;
   request.spec = &spec;
   request.spec_directory = spec_directory;
   request.dut_factory = control.dut_factory;
-  request.field_maps = field_maps;
+  request.film_models = film_models;
   request.calibrations = calibrations;
   RunPipelineResult run = RunPipeline(
       request, {control.wall_clock, control.realtime_clock, control.stop_requested, nullptr});

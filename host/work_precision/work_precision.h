@@ -108,7 +108,7 @@ rig::Result<ShippedVerdict> RunDefaultAsShipped(const proto::Scenario& spec,
                                                 const std::string& spec_directory,
                                                 const RunControl& control,
                                                 const FileCalibrationStore* calibrations = nullptr,
-                                                const FieldMapTableStore* field_maps = nullptr);
+                                                FilmFieldModels* film_models = nullptr);
 
 struct SweepOptions {
   bool quick = false;
@@ -122,7 +122,7 @@ struct SweepOptions {
   // The on-disk setup caches (null: none). The reference calibration at tiles:64 takes about 47 s
   // per tactile scene, the same in every sweep of one build.
   const FileCalibrationStore* calibrations = nullptr;
-  const FieldMapTableStore* field_maps = nullptr;
+  FilmFieldModels* film_models = nullptr;
 };
 
 // The whole sweep of one scene: calibration at the reference fidelity, the reference run, then

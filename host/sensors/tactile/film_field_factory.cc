@@ -1,8 +1,6 @@
 #include "host/sensors/tactile/film_field_factory.h"
 
 #include <charconv>
-#include <map>
-#include <mutex>
 
 #include "host/sensors/tactile/field_map.h"
 #include "host/sensors/tactile/film_magnet.h"
@@ -50,30 +48,19 @@ std::string FilmFidelityName(const FilmFidelity& level) {
 }
 
 rig::Result<std::shared_ptr<const FilmFieldModel>> MakeFilmField(
-    std::string_view fidelity, const FieldMapTableStore* store,
+    std::string_view fidelity, const FieldMapTableStore* tables,
     const std::atomic<bool>* stop_requested) {
   const auto parsed = ParseFilmFidelity(fidelity);
   if (!parsed) return parsed.error();
   const FilmFidelity& level = parsed.value();
-  // Building a level can take a second (opmap:32 tabulates 11^3 film poses from 1 024 tiles), and
-  // a scenario folder or a bench sweep asks for the same few levels run after run. The models are
-  // immutable and answer a pose the same whatever was asked before, so one instance per level
-  // serves every caller for the life of the process: an exact cache, never a state.
-  static std::mutex mutex;
-  static std::map<std::string, std::shared_ptr<const FilmFieldModel>> built;
-  const std::lock_guard<std::mutex> lock(mutex);
-  std::shared_ptr<const FilmFieldModel>& model = built[FilmFidelityName(level)];
-  if (model != nullptr) return model;
   auto tiled = std::make_shared<const TiledFilmField>(FilmGeometry{}, level.tiles_per_side);
-  if (!level.field_map) {
-    model = std::move(tiled);
-    return model;
-  }
+  if (!level.field_map) return std::shared_ptr<const FilmFieldModel>(std::move(tiled));
   const FieldMapGrid grid = level.operating_volume ? OperatingVolumeMapGrid() : FieldMapGrid{};
-  if (store != nullptr) {
-    if (auto table = store->Load(level, grid)) {
-      model = FieldMapFilmField::FromTable(tiled, grid, std::move(*table));
-      if (model != nullptr) return model;
+  if (tables != nullptr) {
+    if (auto table = tables->Load(level, grid)) {
+      if (auto model = FieldMapFilmField::FromTable(tiled, grid, std::move(*table))) {
+        return std::shared_ptr<const FilmFieldModel>(std::move(model));
+      }
     }
   }
   auto map = FieldMapFilmField::TabulateUnlessStopped(std::move(tiled), grid, stop_requested);
@@ -81,9 +68,28 @@ rig::Result<std::shared_ptr<const FilmFieldModel>> MakeFilmField(
     return rig::MakeError(rig::ErrorCode::kInterrupted, "interrupted while tabulating the " +
                                                             FilmFidelityName(level) + " field map");
   }
-  if (store != nullptr) store->Store(level, grid, map->table());
-  model = std::move(map);
-  return model;
+  if (tables != nullptr) tables->Store(level, grid, map->table());
+  return std::shared_ptr<const FilmFieldModel>(std::move(map));
+}
+
+rig::Result<std::shared_ptr<const FilmFieldModel>> FilmFieldModels::Get(
+    std::string_view fidelity, const std::atomic<bool>* stop_requested) {
+  const auto parsed = ParseFilmFidelity(fidelity);
+  if (!parsed) return parsed.error();
+  const std::string name = FilmFidelityName(parsed.value());
+  Level* level = nullptr;
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    std::unique_ptr<Level>& slot = levels_[name];
+    if (slot == nullptr) slot = std::make_unique<Level>();
+    level = slot.get();  // levels are never erased, so the pointer outlives the lock
+  }
+  const std::lock_guard<std::mutex> lock(level->mutex);
+  if (level->model != nullptr) return level->model;
+  auto built = MakeFilmField(name, tables_, stop_requested);
+  if (!built) return built.error();
+  level->model = std::move(built).value();
+  return level->model;
 }
 
 }  // namespace hilrig::host

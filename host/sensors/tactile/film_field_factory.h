@@ -7,7 +7,9 @@
 #pragma once
 
 #include <atomic>
+#include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -51,13 +53,41 @@ class FieldMapTableStore {
 // The canonical name of a level ("map" is "map:32").
 std::string FilmFidelityName(const FilmFidelity& level);
 
-// The model of a level, built the first time the process asks for it and shared from then on
-// (names of one level, "map" and "map:32", share one model). A map level first asks `store`, if
-// given, for its table, and stores the table it had to tabulate; tabulating (a second or more)
-// ends with an "interrupted" error (code kInterrupted), nothing kept, once `stop_requested` (may
-// be null) is set.
+// The model of a level, built afresh: a map level first asks `tables`, if given, for its table,
+// and hands it the table it had to tabulate; tabulating (a second or more) ends with an
+// "interrupted" error (code kInterrupted), nothing kept, once `stop_requested` (may be null) is
+// set. Fails only on a name ParseFilmFidelity refuses, or on the stop.
 rig::Result<std::shared_ptr<const FilmFieldModel>> MakeFilmField(
-    std::string_view fidelity, const FieldMapTableStore* store = nullptr,
+    std::string_view fidelity, const FieldMapTableStore* tables = nullptr,
     const std::atomic<bool>* stop_requested = nullptr);
+
+// The film models one owner (a command, a sweep's shard, a benchmark process) has built, one per
+// level, shared by every run it sets up: a scenario folder or a work-precision sweep asks for the
+// same few levels run after run, and a map level takes a second or more to tabulate. The models
+// are immutable and answer a pose the same whatever was asked before, so sharing one is exact.
+// Safe to call from several threads: a level being built holds back only the callers asking for
+// that same level, which then share its model; a build that failed or was stopped keeps nothing.
+class FilmFieldModels {
+ public:
+  // `tables` (may be null) keeps map tables between processes; it must outlive this object.
+  explicit FilmFieldModels(const FieldMapTableStore* tables = nullptr) : tables_(tables) {}
+  FilmFieldModels(const FilmFieldModels&) = delete;
+  FilmFieldModels& operator=(const FilmFieldModels&) = delete;
+
+  // The level's model (MakeFilmField through the tables) the first time, the same one after it;
+  // "map" and "map:32" name one level.
+  rig::Result<std::shared_ptr<const FilmFieldModel>> Get(
+      std::string_view fidelity, const std::atomic<bool>* stop_requested = nullptr);
+
+ private:
+  struct Level {
+    std::mutex mutex;  // held while the level is built
+    std::shared_ptr<const FilmFieldModel> model;
+  };
+
+  const FieldMapTableStore* tables_;
+  std::mutex mutex_;  // guards levels_ only, never a build
+  std::map<std::string, std::unique_ptr<Level>> levels_;
+};
 
 }  // namespace hilrig::host

@@ -35,6 +35,20 @@ TEST(BuildFilmFieldTest, BuildsTheScenesFieldLevel) {
   EXPECT_EQ(config.hall_sensors.film_field->FieldAtChip(pose), expected_t);
 }
 
+TEST(BuildFilmFieldTest, ConfigsOfOneOwnerShareTheirLevelsModel) {
+  FilmFieldModels models;
+  ScenarioConfig first = TactileConfig("tiles:4");
+  ScenarioConfig second = TactileConfig("tiles:4");
+  ScenarioConfig alone = TactileConfig("tiles:4");
+
+  ASSERT_TRUE(BuildFilmField(first, &models).ok());
+  ASSERT_TRUE(BuildFilmField(second, &models).ok());
+  ASSERT_TRUE(BuildFilmField(alone).ok());
+
+  EXPECT_EQ(first.hall_sensors.film_field, second.hall_sensors.film_field);
+  EXPECT_NE(alone.hall_sensors.film_field, first.hall_sensors.film_field);
+}
+
 TEST(BuildFilmFieldTest, KeepsAFieldTheCallerShares) {
   ScenarioConfig config = TactileConfig("tiles:4");
   const auto shared = std::make_shared<const DipoleFilmField>(

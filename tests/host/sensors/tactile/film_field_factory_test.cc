@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <thread>
+#include <vector>
 
 #include "host/sensors/tactile/film_magnet.h"
 
@@ -44,13 +46,49 @@ TEST(MakeFilmFieldTest, AStopRequestEndsATabulationAndKeepsNothing) {
   EXPECT_TRUE(built.value()->FieldAtChip(FilmPose{}).allFinite());
 }
 
-TEST(MakeFilmFieldTest, OneLevelIsBuiltOnceAndShared) {
-  const auto first = MakeFilmField("map:2").value();
-  const auto again = MakeFilmField("map:2").value();
+TEST(FilmFieldModelsTest, OneLevelIsBuiltOnceAndShared) {
+  FilmFieldModels models;
+  const auto first = models.Get("map:2").value();
+  const auto again = models.Get("map:2").value();
   EXPECT_EQ(first.get(), again.get());
-  EXPECT_NE(MakeFilmField("opmap:2").value().get(), first.get());
-  EXPECT_NE(MakeFilmField("tiles:2").value().get(), first.get());
-  EXPECT_EQ(MakeFilmField("map").value().get(), MakeFilmField("map:32").value().get());
+  EXPECT_NE(models.Get("opmap:2").value().get(), first.get());
+  EXPECT_NE(models.Get("tiles:2").value().get(), first.get());
+  EXPECT_EQ(models.Get("map").value().get(), models.Get("map:32").value().get());
+  EXPECT_FALSE(models.Get("mesh:4").ok());
+}
+
+// Nothing is shared outside an owner: another owner, or MakeFilmField, builds its own.
+TEST(FilmFieldModelsTest, OwnersShareNothing) {
+  FilmFieldModels one;
+  FilmFieldModels other;
+  const auto mine = one.Get("tiles:2").value();
+  EXPECT_NE(other.Get("tiles:2").value().get(), mine.get());
+  EXPECT_NE(MakeFilmField("tiles:2").value().get(), mine.get());
+}
+
+TEST(FilmFieldModelsTest, AStoppedBuildKeepsNothing) {
+  FilmFieldModels models;
+  const std::atomic<bool> stop_requested{true};
+  const auto stopped = models.Get("map:3", &stop_requested);
+  ASSERT_FALSE(stopped.ok());
+  EXPECT_EQ(stopped.error().code, rig::ErrorCode::kInterrupted);
+  const auto built = models.Get("map:3");
+  ASSERT_TRUE(built.ok());
+  EXPECT_TRUE(built.value()->FieldAtChip(FilmPose{}).allFinite());
+}
+
+// Threads asking for one level get one model; a level being tabulated does not hold back another.
+TEST(FilmFieldModelsTest, ThreadsAskingForOneLevelShareOneModel) {
+  FilmFieldModels models;
+  std::vector<std::shared_ptr<const FilmFieldModel>> got(4);
+  std::vector<std::thread> threads;
+  for (int i = 0; i < 4; ++i) {
+    threads.emplace_back([&, i] { got[i] = models.Get(i % 2 == 0 ? "map:4" : "tiles:5").value(); });
+  }
+  for (std::thread& thread : threads) thread.join();
+  EXPECT_EQ(got[0].get(), got[2].get());
+  EXPECT_EQ(got[1].get(), got[3].get());
+  EXPECT_NE(got[0].get(), got[1].get());
 }
 
 TEST(MakeFilmFieldTest, SharedModelAnswersLikeAFreshOne) {
@@ -86,8 +124,6 @@ class FakeFieldMapStore final : public FieldMapTableStore {
 };
 
 TEST(MakeFilmFieldTest, MapLevelTheStoreLacksIsTabulatedAndHandedToIt) {
-  // A level no other test here builds: models are shared for the life of the process, so a level
-  // another test made first would be handed out without asking the store.
   const FakeFieldMapStore store;
   const auto model = MakeFilmField("map:5", &store).value();
 
@@ -117,8 +153,6 @@ TEST(MakeFilmFieldTest, MapLevelTheStoreHasIsReadNotTabulated) {
 }
 
 TEST(MakeFilmFieldTest, TableThatDoesNotFitTheGridIsTabulatedAgain) {
-  // A level no other test here builds: models are shared for the life of the process, so a level
-  // built before would never reach the store.
   FakeFieldMapStore store;
   store.answer_level = "opmap:1";
   store.answer = std::vector<Eigen::Vector3d>(3, Eigen::Vector3d::Zero());
@@ -127,6 +161,17 @@ TEST(MakeFilmFieldTest, TableThatDoesNotFitTheGridIsTabulatedAgain) {
   EXPECT_EQ(store.stored_level, "opmap:1");
   EXPECT_EQ(store.stored.size(), FieldMapFilmField::StoredNodeCount(OperatingVolumeMapGrid()));
   EXPECT_GT(model->FieldAtChip(FilmPose{}).norm(), 0.0);
+}
+
+// An owner asks its store once per level, whatever else in the process built that level before.
+TEST(FilmFieldModelsTest, EachOwnerAsksItsOwnStoreOncePerLevel) {
+  ASSERT_TRUE(MakeFilmField("map:6").ok());
+  const FakeFieldMapStore store;
+  FilmFieldModels models(&store);
+  ASSERT_TRUE(models.Get("map:6").ok());
+  ASSERT_TRUE(models.Get("map:6").ok());
+  EXPECT_EQ(store.loads, 1);
+  EXPECT_EQ(store.stored_level, "map:6");
 }
 
 TEST(FilmFidelityTest, CanonicalNames) {
