@@ -158,6 +158,8 @@ rig::Result<void> Session::WaitForFrames(const proto::StepRequest& step) {
   const std::chrono::nanoseconds wait =
       step.realtime() ? realtime_frame_wait_
                       : std::chrono::milliseconds(options_.frame_wait_timeout_ms);
+  // On the OS's clock: the naps are real, and the wait bounds frames crossing a real socket (the
+  // step's now_ns is the run's time, which stands still while this process waits).
   const auto deadline = std::chrono::steady_clock::now() + wait;
   const timespec nap{0, 20'000};
   bus_->Pump(step.now_ns());

@@ -3,7 +3,6 @@
 #include <time.h>
 #include <unistd.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -384,14 +383,15 @@ rig::Result<void> ProcessDut::CheckAlive(std::int64_t now_wall_ns) {
 }
 
 rig::Result<ActuatorMessage> ProcessDut::AwaitCommand(std::uint64_t tick) {
-  const int timeout_ms = Milliseconds(options_.answer_timeout_s);
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+  const rig::Clock& clock = options_.wall_clock != nullptr ? *options_.wall_clock : own_wall_clock_;
+  constexpr std::int64_t kNsPerMs = 1'000'000;
+  const std::int64_t deadline_ns =
+      clock.NowNs() + std::int64_t{Milliseconds(options_.answer_timeout_s)} * kNsPerMs;
   while (true) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-        deadline - std::chrono::steady_clock::now());
-    if (left.count() <= 0) break;
+    const std::int64_t left_ms = (deadline_ns - clock.NowNs()) / kNsPerMs;
+    if (left_ms <= 0) break;
     LinkReceived received =
-        link_->Receive(static_cast<int>(std::min<std::int64_t>(left.count(), kPollSliceMs)));
+        link_->Receive(static_cast<int>(std::min<std::int64_t>(left_ms, kPollSliceMs)));
     switch (received.status) {
       case LinkReceiveStatus::kTimeout:
         if (auto exit = child_->PollExit()) return Failed("dut process " + *exit);

@@ -55,8 +55,9 @@ struct ProcessDutOptions {
   std::string listen_address = "127.0.0.1";  // kTcp only
   std::vector<std::string> extra_args;       // appended to dut_emu's command line (test hooks)
   // Set for real-time runs only (it must outlive the ProcessDut): the watchdog of PollCommand and
-  // the response latencies read it, and sends never wait for the socket. Null: lockstep only; no
-  // clock is read and RequestStep fails.
+  // the response latencies read it, and sends never wait for the socket. Null: lockstep only; the
+  // lockstep watchdog reads a SteadyClock of the port's own and RequestStep fails. Either way the
+  // watchdog's deadlines are on a clock that moves by itself: they bound a real process.
   const rig::Clock* wall_clock = nullptr;
   // The bus the runner's CAN frames cross to the DUT: empty for a loopback UDP bus of the run's
   // own, or a socketcan:IFACE URI that the forwarder and dut_emu both open, as a bench is wired.
@@ -176,6 +177,7 @@ class ProcessDut final : public DutPort {
   std::optional<std::uint64_t> last_answered_;
   std::optional<std::int64_t> link_closed_wall_ns_;  // real time: closed, exit status not in yet
   std::unique_ptr<Latencies> latencies_;             // null without a wall clock
+  rig::SteadyClock own_wall_clock_;                  // the lockstep watchdog's, without one
   std::uint64_t commands_superseded_ = 0;
   std::uint64_t requests_skipped_ = 0;  // the DUT answered a later tick instead
   std::uint64_t unrequested_answers_ = 0;

@@ -8,6 +8,8 @@
 
 namespace hilrig::host {
 
+// The OS's clock, not an injected one: poll(2) sleeps on it, and the deadline bounds how long a
+// real peer may take, which no simulated time can stand in for.
 Deadline DeadlineIn(int timeout_ms) {
   return std::chrono::steady_clock::now() + std::chrono::milliseconds(std::max(timeout_ms, 0));
 }

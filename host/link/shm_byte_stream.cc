@@ -51,6 +51,8 @@ void Pause() {
 #endif
 }
 
+// The OS's clock, not an injected one: the waits it bounds spin on the CPU and sleep in the
+// kernel's futex, whose timeout runs on this clock, to bound how long the peer process may take.
 std::int64_t SteadyNs() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(
              std::chrono::steady_clock::now().time_since_epoch())
