@@ -18,10 +18,7 @@
 #include "host/cli/compare_command.h"
 #include "host/cli/sweep_command.h"
 #include "host/cli/tactile_commands.h"
-#include "host/dut/firmware_config.h"
-#include "host/dut/in_process_dut.h"
-#include "host/dut/process_dut.h"
-#include "host/dut/serial_lines.h"
+#include "host/dut/dut_choice.h"
 #include "host/pipeline/run_pipeline.h"
 #include "host/report/report_files.h"
 #include "host/report/stop_reason.h"
@@ -115,127 +112,17 @@ struct RunOptions {
 
 using Streams = CliStreams;
 
-// The factory of a DUT on a serial line: `serial:...` for a board, `qemu` for the firmware image on
-// QEMU's STM32F405 (--target-image, or the one ./scripts/build-target makes).
-rig::Result<DutFactory> SerialDutFactory(const CliArgs& cli, const std::string& mode,
-                                         const SerialDutOptions& options) {
-  const std::string* image = cli.Option("--target-image");
-  SerialLineOpener opener;
-  if (mode == "qemu") {
-    auto found = FindTargetImage(image ? std::optional<std::string>(*image) : std::nullopt);
-    if (!found) return rig::MakeError("--dut qemu: " + found.error().message);
-    opener = QemuLines({found.value(), ""});
-  } else {
-    if (image != nullptr) return rig::MakeError("--target-image needs --dut qemu");
-    auto spec = ParseSerialPortSpec(mode);
-    if (!spec) return rig::MakeError("--dut " + spec.error().message);
-    opener = SerialPortLines(spec.value());
-  }
-  return DutFactory(
-      [opener, options](const ScenarioConfig& config, std::unique_ptr<rig::CanBus> bus,
-                        double control_period_s) -> rig::Result<std::unique_ptr<DutPort>> {
-        return std::unique_ptr<DutPort>(std::make_unique<SerialDut>(
-            FirmwareFor(config), std::move(bus), control_period_s, opener, options));
-      });
-}
-
-// --dut-timeout-s S, if given; `fallback` otherwise.
-rig::Result<double> ParseDutTimeout(const std::string* timeout, double fallback) {
-  if (timeout == nullptr) return fallback;
-  char* end = nullptr;
-  const double seconds = std::strtod(timeout->c_str(), &end);
-  if (timeout->empty() || *end != '\0') {
-    return rig::MakeError("--dut-timeout-s \"" + *timeout + "\" is not a number");
-  }
-  return seconds;
-}
-
-// --dut inproc|inproc-float|process|qemu|serial:..., --dut-timeout-s, --target-image and --can; an
-// unset factory is the in-process DUT. In real time the process DUT reads a wall clock of its own
-// for its watchdog and latencies (differences only, so its epoch does not matter); the factory
-// keeps it alive for every DUT it starts. The firmware in this process in single precision, as the
-// target computes it: the reference a target's trace is held against.
-DutFactory SinglePrecisionDutFactory() {
-  return [](const ScenarioConfig& config, std::unique_ptr<rig::CanBus> bus,
-            double control_period_s) -> rig::Result<std::unique_ptr<DutPort>> {
-    return std::unique_ptr<DutPort>(std::make_unique<SinglePrecisionInProcessDut>(
-        FirmwareFor<float>(config), std::move(bus), control_period_s));
-  };
-}
-
-constexpr double kQemuAnswerTimeoutS = 10;
-constexpr double kQemuStepRetryS = 1;
-
+// --dut and its options (host/dut/dut_choice.h).
 rig::Result<DutFactory> ParseDutOptions(const CliArgs& cli, bool realtime) {
-  const std::string* mode = cli.Option("--dut");
-  const std::string* timeout = cli.Option("--dut-timeout-s");
-  const std::string* can = cli.Option("--can");
-  const bool serial = mode != nullptr && (*mode == "qemu" || mode->rfind("serial:", 0) == 0);
-  const bool single_precision = mode != nullptr && *mode == "inproc-float";
-  if (mode != nullptr && *mode != "inproc" && *mode != "process" && !single_precision && !serial) {
-    return rig::MakeError("--dut \"" + *mode +
-                          "\": expected inproc, inproc-float, process, qemu or "
-                          "serial:DEVICE[,baud=N][,bridge=DEVICE][,bridge_baud=N]");
-  }
-  const bool process = mode != nullptr && *mode == "process";
-  if (cli.Option("--target-image") != nullptr && !(serial && *mode == "qemu")) {
-    return rig::MakeError("--target-image needs --dut qemu");
-  }
-  if (timeout != nullptr && !process && !serial) {
-    return rig::MakeError("--dut-timeout-s needs --dut process, qemu or serial:");
-  }
-  const std::string* link = cli.Option("--dut-link");
-  if (link != nullptr && !process) return rig::MakeError("--dut-link needs --dut process");
-  if (link != nullptr && *link != "shm" && *link != "tcp") {
-    return rig::MakeError("--dut-link \"" + *link + "\": expected shm or tcp");
-  }
-  // The in-process DUT sits on the runner's emulated bus; only a DUT process reaches another one.
-  if (can != nullptr && !process) return rig::MakeError("--can " + *can + " needs --dut process");
-  if (serial) {
-    SerialDutOptions options;
-    if (*mode == "qemu") {
-      // QEMU's lines are loopback sockets that lose nothing, and an emulated core on a busy host
-      // can take long over a step: wait longer before repeating a step or giving up on it.
-      options.answer_timeout_s = kQemuAnswerTimeoutS;
-      options.step_retry_s = kQemuStepRetryS;
-    }
-    auto seconds = ParseDutTimeout(timeout, options.answer_timeout_s);
-    if (!seconds) return seconds.error();
-    options.answer_timeout_s = seconds.value();
-    // A short watchdog still leaves room for a retry before it gives up.
-    options.step_retry_s = std::min(options.step_retry_s, options.answer_timeout_s / 2);
-    if (auto valid = ValidateSerialDutOptions(options); !valid) {
-      return rig::MakeError("--dut-timeout-s: " + valid.error().message);
-    }
-    return SerialDutFactory(cli, *mode, options);
-  }
-  if (single_precision) return SinglePrecisionDutFactory();
-  if (!process) return DutFactory();
-  ProcessDutOptions options;
-  if (link != nullptr && *link == "tcp") options.transport = DutLinkTransport::kTcp;
-  if (can != nullptr) {
-    if (auto uri = ParseDutCanBusUri(*can); !uri) {
-      return rig::MakeError("--can: " + uri.error().message);
-    }
-    options.can_uri = *can;
-  }
-  auto seconds = ParseDutTimeout(timeout, options.answer_timeout_s);
-  if (!seconds) return seconds.error();
-  options.answer_timeout_s = seconds.value();
-  if (auto valid = ValidateProcessDutOptions(options); !valid) {
-    return rig::MakeError("--dut-timeout-s: " + valid.error().message);
-  }
-  std::shared_ptr<const rig::SteadyClock> dut_clock;
-  if (realtime) {
-    dut_clock = std::make_shared<const rig::SteadyClock>();
-    options.wall_clock = dut_clock.get();
-  }
-  return DutFactory(
-      [options, dut_clock](const ScenarioConfig& config, std::unique_ptr<rig::CanBus> bus,
-                           double control_period_s) -> rig::Result<std::unique_ptr<DutPort>> {
-        return std::unique_ptr<DutPort>(std::make_unique<ProcessDut>(
-            FirmwareFor(config), std::move(bus), control_period_s, options));
-      });
+  const auto word = [&cli](const char* option) -> std::optional<std::string> {
+    const std::string* value = cli.Option(option);
+    return value != nullptr ? std::optional<std::string>(*value) : std::nullopt;
+  };
+  const DutArguments arguments{word("--dut"), word("--dut-timeout-s"), word("--dut-link"),
+                               word("--can"), word("--target-image")};
+  auto choice = ParseDutChoice(arguments);
+  if (!choice) return choice.error();
+  return MakeDutFactory(choice.value(), realtime);
 }
 
 rig::Result<RunOptions> ParseRunOptions(std::vector<std::string> args) {

@@ -6,6 +6,8 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -16,7 +18,13 @@
 #include "rig/metric.h"
 #include "rig/result.h"
 
+namespace hilrig::rig {
+class CanBus;  // rig/can_bus.h
+}  // namespace hilrig::rig
+
 namespace hilrig::host {
+
+struct ScenarioConfig;  // host/scenario/scenario_config.h
 
 struct DutCounters {
   std::uint64_t imu_messages = 0;
@@ -107,5 +115,11 @@ class DutPort {
   // The default RequestStep's answer, until PollCommand takes it.
   std::optional<rig::Result<ActuatorMessage>> immediate_answer_;
 };
+
+// Builds the DUT the runner talks to, given the scene, the DUT's own endpoint on the emulated CAN
+// bus and the control period. Unset: the in-process dut_fw (InProcessDut). MakeDutFactory
+// (host/dut/dut_choice.h) makes the one a command line names.
+using DutFactory = std::function<rig::Result<std::unique_ptr<DutPort>>(
+    const ScenarioConfig& config, std::unique_ptr<rig::CanBus> bus, double control_period_s)>;
 
 }  // namespace hilrig::host

@@ -37,11 +37,6 @@ struct RunSinks {
   std::function<void(double simulated_s)> flushed = {};
 };
 
-// Builds the DUT the runner talks to, given the scene, the DUT's own endpoint on the emulated CAN
-// bus and the control period. Unset: the in-process dut_fw (InProcessDut).
-using DutFactory = std::function<rig::Result<std::unique_ptr<DutPort>>(
-    const ScenarioConfig& config, std::unique_ptr<rig::CanBus> bus, double control_period_s)>;
-
 struct RunControl {
   const rig::Clock* wall_clock = nullptr;             // required; only for timing the run
   const std::atomic<bool>* stop_requested = nullptr;  // optional, e.g. set by SIGINT

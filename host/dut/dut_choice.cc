@@ -1,0 +1,192 @@
+#include "host/dut/dut_choice.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <memory>
+#include <utility>
+
+#include "host/dut/firmware_config.h"
+#include "host/dut/in_process_dut.h"
+#include "rig/clock.h"
+
+namespace hilrig::host {
+namespace {
+
+// QEMU's lines are loopback sockets that lose nothing, and an emulated core on a busy host can
+// take long over a step: wait longer before repeating a step or giving up on it.
+constexpr double kQemuAnswerTimeoutS = 10;
+constexpr double kQemuStepRetryS = 1;
+
+rig::Result<DutKind> ParseKind(const std::optional<std::string>& dut) {
+  if (!dut || *dut == "inproc") return DutKind::kInProcess;
+  if (*dut == "inproc-float") return DutKind::kInProcessFloat;
+  if (*dut == "process") return DutKind::kProcess;
+  if (*dut == "qemu") return DutKind::kQemu;
+  if (dut->starts_with("serial:")) return DutKind::kSerial;
+  return rig::MakeError("--dut \"" + *dut +
+                        "\": expected inproc, inproc-float, process, qemu or "
+                        "serial:DEVICE[,baud=N][,bridge=DEVICE][,bridge_baud=N]");
+}
+
+bool OverALink(DutKind kind) {
+  return kind == DutKind::kProcess || kind == DutKind::kQemu || kind == DutKind::kSerial;
+}
+
+// Which options go with which kind; the first one that does not fit is the error.
+rig::Result<void> CheckOptionsFit(DutKind kind, const DutArguments& arguments) {
+  if (arguments.target_image && kind != DutKind::kQemu) {
+    return rig::MakeError("--target-image needs --dut qemu");
+  }
+  if (arguments.timeout_s && !OverALink(kind)) {
+    return rig::MakeError("--dut-timeout-s needs --dut process, qemu or serial:");
+  }
+  if (arguments.link && kind != DutKind::kProcess) {
+    return rig::MakeError("--dut-link needs --dut process");
+  }
+  if (arguments.link && *arguments.link != "shm" && *arguments.link != "tcp") {
+    return rig::MakeError("--dut-link \"" + *arguments.link + "\": expected shm or tcp");
+  }
+  // The in-process DUT sits on the runner's emulated bus; only a DUT process reaches another one.
+  if (arguments.can && kind != DutKind::kProcess) {
+    return rig::MakeError("--can " + *arguments.can + " needs --dut process");
+  }
+  return {};
+}
+
+// --dut-timeout-s S, if given; `fallback` otherwise.
+rig::Result<double> ParseTimeout(const std::optional<std::string>& timeout, double fallback) {
+  if (!timeout) return fallback;
+  char* end = nullptr;
+  const double seconds = std::strtod(timeout->c_str(), &end);
+  if (timeout->empty() || *end != '\0') {
+    return rig::MakeError("--dut-timeout-s \"" + *timeout + "\" is not a number");
+  }
+  return seconds;
+}
+
+rig::Result<void> ParseSerialOptions(const DutArguments& arguments, DutChoice& choice) {
+  SerialDutOptions& options = choice.serial;
+  if (choice.kind == DutKind::kQemu) {
+    options.answer_timeout_s = kQemuAnswerTimeoutS;
+    options.step_retry_s = kQemuStepRetryS;
+    choice.target_image = arguments.target_image;
+  }
+  auto seconds = ParseTimeout(arguments.timeout_s, options.answer_timeout_s);
+  if (!seconds) return seconds.error();
+  options.answer_timeout_s = seconds.value();
+  // A short watchdog still leaves room for a retry before it gives up.
+  options.step_retry_s = std::min(options.step_retry_s, options.answer_timeout_s / 2);
+  if (auto valid = ValidateSerialDutOptions(options); !valid) {
+    return rig::MakeError("--dut-timeout-s: " + valid.error().message);
+  }
+  if (choice.kind == DutKind::kSerial) {
+    auto port = ParseSerialPortSpec(*arguments.dut);
+    if (!port) return rig::MakeError("--dut " + port.error().message);
+    choice.port = std::move(port).value();
+  }
+  return {};
+}
+
+rig::Result<void> ParseProcessOptions(const DutArguments& arguments, DutChoice& choice) {
+  ProcessDutOptions& options = choice.process;
+  if (arguments.link && *arguments.link == "tcp") options.transport = DutLinkTransport::kTcp;
+  if (arguments.can) {
+    if (auto uri = ParseDutCanBusUri(*arguments.can); !uri) {
+      return rig::MakeError("--can: " + uri.error().message);
+    }
+    options.can_uri = *arguments.can;
+  }
+  auto seconds = ParseTimeout(arguments.timeout_s, options.answer_timeout_s);
+  if (!seconds) return seconds.error();
+  options.answer_timeout_s = seconds.value();
+  if (auto valid = ValidateProcessDutOptions(options); !valid) {
+    return rig::MakeError("--dut-timeout-s: " + valid.error().message);
+  }
+  return {};
+}
+
+DutFactory SinglePrecisionFactory() {
+  return [](const ScenarioConfig& config, std::unique_ptr<rig::CanBus> bus,
+            double control_period_s) -> rig::Result<std::unique_ptr<DutPort>> {
+    return std::unique_ptr<DutPort>(std::make_unique<SinglePrecisionInProcessDut>(
+        FirmwareFor<float>(config), std::move(bus), control_period_s));
+  };
+}
+
+// In real time the process DUT reads a wall clock of its own for its watchdog and latencies
+// (differences only, so its epoch does not matter); the factory keeps it alive for every DUT it
+// starts.
+DutFactory ProcessFactory(ProcessDutOptions options, bool realtime) {
+  std::shared_ptr<const rig::SteadyClock> dut_clock;
+  if (realtime) {
+    dut_clock = std::make_shared<const rig::SteadyClock>();
+    options.wall_clock = dut_clock.get();
+  }
+  return [options, dut_clock](const ScenarioConfig& config, std::unique_ptr<rig::CanBus> bus,
+                              double control_period_s) -> rig::Result<std::unique_ptr<DutPort>> {
+    return std::unique_ptr<DutPort>(std::make_unique<ProcessDut>(
+        FirmwareFor(config), std::move(bus), control_period_s, options));
+  };
+}
+
+DutFactory SerialFactory(SerialLineOpener opener, const SerialDutOptions& options) {
+  return [opener, options](const ScenarioConfig& config, std::unique_ptr<rig::CanBus> bus,
+                           double control_period_s) -> rig::Result<std::unique_ptr<DutPort>> {
+    return std::unique_ptr<DutPort>(std::make_unique<SerialDut>(FirmwareFor(config), std::move(bus),
+                                                                control_period_s, opener, options));
+  };
+}
+
+}  // namespace
+
+const char* DutKindName(DutKind kind) {
+  switch (kind) {
+    case DutKind::kInProcess:
+      return "inproc";
+    case DutKind::kInProcessFloat:
+      return "inproc-float";
+    case DutKind::kProcess:
+      return "process";
+    case DutKind::kQemu:
+      return "qemu";
+    case DutKind::kSerial:
+      return "serial";
+  }
+  return "unknown";
+}
+
+rig::Result<DutChoice> ParseDutChoice(const DutArguments& arguments) {
+  auto kind = ParseKind(arguments.dut);
+  if (!kind) return kind.error();
+  DutChoice choice;
+  choice.kind = kind.value();
+  if (auto fit = CheckOptionsFit(choice.kind, arguments); !fit) return fit.error();
+  if (choice.kind == DutKind::kQemu || choice.kind == DutKind::kSerial) {
+    if (auto parsed = ParseSerialOptions(arguments, choice); !parsed) return parsed.error();
+  }
+  if (choice.kind == DutKind::kProcess) {
+    if (auto parsed = ParseProcessOptions(arguments, choice); !parsed) return parsed.error();
+  }
+  return choice;
+}
+
+rig::Result<DutFactory> MakeDutFactory(const DutChoice& choice, bool realtime) {
+  switch (choice.kind) {
+    case DutKind::kInProcess:
+      return DutFactory();
+    case DutKind::kInProcessFloat:
+      return SinglePrecisionFactory();
+    case DutKind::kProcess:
+      return ProcessFactory(choice.process, realtime);
+    case DutKind::kQemu: {
+      auto image = FindTargetImage(choice.target_image);
+      if (!image) return rig::MakeError("--dut qemu: " + image.error().message);
+      return SerialFactory(QemuLines({image.value(), ""}), choice.serial);
+    }
+    case DutKind::kSerial:
+      return SerialFactory(SerialPortLines(choice.port), choice.serial);
+  }
+  return rig::MakeError("unknown DUT kind");
+}
+
+}  // namespace hilrig::host
