@@ -13,7 +13,7 @@
 #include <utility>
 #include <vector>
 
-#include "host/dut/hil_messages.h"
+#include "host/link/hil_messages.h"
 #include "rig/duration_histogram.h"
 #include "rig/metric.h"
 #include "rig/result.h"

@@ -2,7 +2,7 @@
 // for a stream as a varint length then the serialized LinkMessage, a hard size limit per message,
 // an incremental decoder that takes the bytes in whatever chunks the transport delivers, and the
 // link's safety checks (protocol version, per-stream sequence numbers) as named errors with
-// counters. The conversions to and from the plain structs of host/dut/hil_messages.h carry every
+// counters. The conversions to and from the plain structs of host/link/hil_messages.h carry every
 // double as a double, so that a DUT behind the link computes bit for bit what it would in process.
 #pragma once
 
@@ -16,7 +16,7 @@
 #include <variant>
 #include <vector>
 
-#include "host/dut/hil_messages.h"
+#include "host/link/hil_messages.h"
 #include "proto/hil_link.pb.h"
 #include "rig/metric.h"
 #include "rig/result.h"

@@ -9,7 +9,7 @@
 #include <optional>
 #include <string>
 
-#include "host/dut/hil_messages.h"
+#include "host/link/hil_messages.h"
 #include "proto/report.pb.h"
 
 namespace hilrig::host {

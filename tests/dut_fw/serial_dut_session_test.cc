@@ -11,8 +11,8 @@
 
 #include "dut_fw/sensor_node.h"
 #include "host/dut/firmware_config.h"
-#include "host/dut/hil_messages.h"
 #include "host/link/dut_config_codec.h"
+#include "host/link/hil_messages.h"
 #include "host/scenario/scenario_config.h"
 #include "host/scenario/scenario_loader.h"
 #include "host/setup/scene_setup.h"

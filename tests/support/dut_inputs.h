@@ -6,7 +6,7 @@
 #include <optional>
 #include <utility>
 
-#include "host/dut/hil_messages.h"
+#include "host/link/hil_messages.h"
 
 namespace hilrig::test {
 

@@ -14,8 +14,8 @@
 #include "dut_fw/dut_config_decoder.h"
 #include "dut_fw/dut_core.h"
 #include "dut_fw/sensor_node.h"
-#include "host/dut/hil_messages.h"
 #include "host/link/dut_config_codec.h"
+#include "host/link/hil_messages.h"
 #include "proto/hil_link.pb.h"
 #include "tests/support/six_pad_tactile.h"
 

@@ -3,6 +3,7 @@
 // read is of bytes already written, or of a closed peer.
 #include <arpa/inet.h>
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <netinet/in.h>
 #include <pty.h>
 #include <sys/socket.h>
@@ -12,7 +13,6 @@
 #include <string>
 #include <vector>
 
-#include "gtest/gtest.h"
 #include "host/link/open_byte_stream.h"
 
 namespace hilrig::host {

@@ -3,10 +3,11 @@
 // nothing after it, each counted by name.
 #include "host/link/line_link.h"
 
+#include <gtest/gtest.h>
+
 #include <string>
 #include <vector>
 
-#include "gtest/gtest.h"
 #include "host/link/memory_byte_stream.h"
 
 namespace hilrig::host {

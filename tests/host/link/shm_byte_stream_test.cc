@@ -4,6 +4,7 @@
 // whose own index then contradicts the shared one.
 #include "host/link/shm_byte_stream.h"
 
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -14,7 +15,6 @@
 #include <thread>
 #include <vector>
 
-#include "gtest/gtest.h"
 #include "host/link/hil_link_socket.h"
 
 namespace hilrig::host {
