@@ -35,6 +35,12 @@ const char kRunUsage[] =
     "      [--dut-link shm|tcp] (with --dut process: the link in shared memory, the default,\n"
     "      or over TCP on loopback with the CAN frames on a loopback UDP bus)\n"
     "      --dut inproc-float (in this process, in single precision as on the target)\n"
+    "      --dut exec:PROGRAM[,ARG...] (a program of your own in dut_emu's place: started\n"
+    "      as PROGRAM ARG... and the link's arguments; --dut-link, --can and --dut-timeout-s\n"
+    "      as for process; docs/your-dut.md)\n"
+    "      --dut listen:ADDRESS:PORT[,token=FILE] (wait up to 60 s for a program you start to\n"
+    "      dial ADDRESS:PORT over TCP, proving the token in FILE, default ./hilrig_link_token,\n"
+    "      made when missing; its CAN bus is udp:PORT+1:1:2 unless --can names one)\n"
     "      (how long a dut process may take to answer a tick; default 1, 10 for qemu)\n"
     "      [--realtime]\n"
     "      (pace the run by the wall clock, the DUT answering asynchronously; reports loop\n"
@@ -78,8 +84,9 @@ struct RunOptions {
   const FileCalibrationStore* calibrations = nullptr;  // calibrations kept between runs
 };
 
-// --dut and its options (host/dut/dut_choice.h).
-rig::Result<DutFactory> ParseDutOptions(const CliArgs& cli, bool realtime) {
+// --dut and its options (host/dut/dut_choice.h); a DUT's waits end on the command's stop request
+// and are announced on its standard error.
+rig::Result<DutFactory> ParseDutOptions(const CliArgs& cli, bool realtime, const CliStreams& io) {
   const auto word = [&cli](const char* option) -> std::optional<std::string> {
     const std::string* value = cli.Option(option);
     return value != nullptr ? std::optional<std::string>(*value) : std::nullopt;
@@ -88,10 +95,10 @@ rig::Result<DutFactory> ParseDutOptions(const CliArgs& cli, bool realtime) {
                                word("--can"), word("--target-image")};
   auto choice = ParseDutChoice(arguments);
   if (!choice) return choice.error();
-  return MakeDutFactory(choice.value(), realtime);
+  return MakeDutFactory(choice.value(), realtime, DutFactorySeams{io.stop_requested, &io.err});
 }
 
-rig::Result<RunOptions> ParseRunOptions(std::vector<std::string> args) {
+rig::Result<RunOptions> ParseRunOptions(std::vector<std::string> args, const CliStreams& io) {
   // --reference is the default; the flag stays accepted for scripts written when it was not.
   const bool with_reference = TakeFlag(args, "--reference");
   const bool without_reference = TakeFlag(args, "--no-reference");
@@ -141,7 +148,7 @@ rig::Result<RunOptions> ParseRunOptions(std::vector<std::string> args) {
     if (!value) return value.error();
     options.realtime_priority = value.value();
   }
-  auto dut = ParseDutOptions(cli, realtime);
+  auto dut = ParseDutOptions(cli, realtime, io);
   if (!dut) return dut.error();
   options.dut_factory = std::move(dut).value();
   return options;
@@ -305,7 +312,7 @@ int RunFolder(const RunOptions& options, const CliStreams& io) {
 }  // namespace
 
 int RunCommand(const std::vector<std::string>& args, const CliStreams& io) {
-  auto options = ParseRunOptions(args);
+  auto options = ParseRunOptions(args, io);
   if (!options) {
     io.err << "hilrig run: " << options.error().message << "\nusage:\n" << kRunUsage;
     return kExitBadInput;

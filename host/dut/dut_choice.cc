@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <memory>
 #include <utility>
+#include <vector>
 
 #include "host/dut/firmware_config.h"
 #include "host/dut/in_process_dut.h"
@@ -16,20 +17,31 @@ namespace {
 // take long over a step: wait longer before repeating a step or giving up on it.
 constexpr double kQemuAnswerTimeoutS = 10;
 constexpr double kQemuStepRetryS = 1;
+// A DUT that dials in is started by a person, once the run says where to dial.
+constexpr double kListenStartTimeoutS = 60;
 
 rig::Result<DutKind> ParseKind(const std::optional<std::string>& dut) {
   if (!dut || *dut == "inproc") return DutKind::kInProcess;
   if (*dut == "inproc-float") return DutKind::kInProcessFloat;
   if (*dut == "process") return DutKind::kProcess;
+  if (dut->starts_with("exec:")) return DutKind::kExec;
+  if (dut->starts_with("listen:")) return DutKind::kListen;
   if (*dut == "qemu") return DutKind::kQemu;
   if (dut->starts_with("serial:")) return DutKind::kSerial;
   return rig::MakeError("--dut \"" + *dut +
-                        "\": expected inproc, inproc-float, process, qemu or "
+                        "\": expected inproc, inproc-float, process, exec:PROGRAM[,ARG...], "
+                        "listen:ADDRESS:PORT[,token=FILE], qemu or "
                         "serial:DEVICE[,baud=N][,bridge=DEVICE][,bridge_baud=N]");
 }
 
+// A process the rig talks to over the HIL link: dut_emu, a user's program it starts, or one that
+// dials in.
+bool AProcess(DutKind kind) {
+  return kind == DutKind::kProcess || kind == DutKind::kExec || kind == DutKind::kListen;
+}
+
 bool OverALink(DutKind kind) {
-  return kind == DutKind::kProcess || kind == DutKind::kQemu || kind == DutKind::kSerial;
+  return AProcess(kind) || kind == DutKind::kQemu || kind == DutKind::kSerial;
 }
 
 // Which options go with which kind; the first one that does not fit is the error.
@@ -38,17 +50,17 @@ rig::Result<void> CheckOptionsFit(DutKind kind, const DutArguments& arguments) {
     return rig::MakeError("--target-image needs --dut qemu");
   }
   if (arguments.timeout_s && !OverALink(kind)) {
-    return rig::MakeError("--dut-timeout-s needs --dut process, qemu or serial:");
+    return rig::MakeError("--dut-timeout-s needs --dut process, exec:, qemu or serial:");
   }
-  if (arguments.link && kind != DutKind::kProcess) {
-    return rig::MakeError("--dut-link needs --dut process");
+  if (arguments.link && (!AProcess(kind) || kind == DutKind::kListen)) {
+    return rig::MakeError("--dut-link needs --dut process or exec:");
   }
   if (arguments.link && *arguments.link != "shm" && *arguments.link != "tcp") {
     return rig::MakeError("--dut-link \"" + *arguments.link + "\": expected shm or tcp");
   }
   // The in-process DUT sits on the runner's emulated bus; only a DUT process reaches another one.
-  if (arguments.can && kind != DutKind::kProcess) {
-    return rig::MakeError("--can " + *arguments.can + " needs --dut process");
+  if (arguments.can && !AProcess(kind)) {
+    return rig::MakeError("--can " + *arguments.can + " needs --dut process or exec:");
   }
   return {};
 }
@@ -87,8 +99,63 @@ rig::Result<void> ParseSerialOptions(const DutArguments& arguments, DutChoice& c
   return {};
 }
 
+// "exec:PROGRAM[,ARG...]" into the program and its arguments.
+rig::Result<void> ParseProgram(const std::string& word, ProcessDutOptions& options) {
+  std::vector<std::string> parts;
+  std::size_t start = word.find(':') + 1;
+  while (true) {
+    const std::size_t comma = word.find(',', start);
+    parts.push_back(word.substr(start, comma - start));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  if (parts.front().empty()) {
+    return rig::MakeError("--dut \"" + word + "\": exec: needs a program (exec:PROGRAM[,ARG...])");
+  }
+  options.program = parts.front();
+  options.program_args.assign(parts.begin() + 1, parts.end());
+  return {};
+}
+
+// "listen:ADDRESS:PORT[,token=FILE]" into where to wait and the token's file.
+rig::Result<void> ParseListen(const std::string& word, ProcessDutOptions& options) {
+  const auto bad = [&word](const std::string& why) {
+    return rig::MakeError("--dut \"" + word + "\": " + why + " (listen:ADDRESS:PORT[,token=FILE])");
+  };
+  const std::string rest = word.substr(word.find(':') + 1);
+  const std::size_t comma = rest.find(',');
+  const std::string endpoint = rest.substr(0, comma);
+  const std::size_t colon = endpoint.rfind(':');
+  if (colon == std::string::npos || colon == 0) return bad("needs an address and a port");
+  const std::string port = endpoint.substr(colon + 1);
+  char* end = nullptr;
+  const long number = std::strtol(port.c_str(), &end, 10);
+  if (port.empty() || *end != '\0' || number < 1 || number > 65534) {
+    return bad("port \"" + port + "\" is not a whole number from 1 to 65534");
+  }
+  options.token_file = "hilrig_link_token";
+  if (comma != std::string::npos) {
+    const std::string option = rest.substr(comma + 1);
+    if (!option.starts_with("token=") || option.size() == 6)
+      return bad("unknown \"" + option + "\"");
+    options.token_file = option.substr(6);
+  }
+  options.listen = true;
+  options.transport = DutLinkTransport::kTcp;
+  options.listen_address = endpoint.substr(0, colon);
+  options.listen_port = static_cast<std::uint16_t>(number);
+  options.start_timeout_s = kListenStartTimeoutS;
+  return {};
+}
+
 rig::Result<void> ParseProcessOptions(const DutArguments& arguments, DutChoice& choice) {
   ProcessDutOptions& options = choice.process;
+  if (choice.kind == DutKind::kExec) {
+    if (auto program = ParseProgram(*arguments.dut, options); !program) return program.error();
+  }
+  if (choice.kind == DutKind::kListen) {
+    if (auto listen = ParseListen(*arguments.dut, options); !listen) return listen.error();
+  }
   if (arguments.link && *arguments.link == "tcp") options.transport = DutLinkTransport::kTcp;
   if (arguments.can) {
     if (auto uri = ParseDutCanBusUri(*arguments.can); !uri) {
@@ -116,7 +183,9 @@ DutFactory SinglePrecisionFactory() {
 // In real time the process DUT reads a wall clock of its own for its watchdog and latencies
 // (differences only, so its epoch does not matter); the factory keeps it alive for every DUT it
 // starts.
-DutFactory ProcessFactory(ProcessDutOptions options, bool realtime) {
+DutFactory ProcessFactory(ProcessDutOptions options, bool realtime, const DutFactorySeams& seams) {
+  options.stop_requested = seams.stop_requested;
+  options.notes = seams.notes;
   std::shared_ptr<const rig::SteadyClock> dut_clock;
   if (realtime) {
     dut_clock = std::make_shared<const rig::SteadyClock>();
@@ -147,6 +216,10 @@ const char* DutKindName(DutKind kind) {
       return "inproc-float";
     case DutKind::kProcess:
       return "process";
+    case DutKind::kExec:
+      return "exec";
+    case DutKind::kListen:
+      return "listen";
     case DutKind::kQemu:
       return "qemu";
     case DutKind::kSerial:
@@ -164,20 +237,23 @@ rig::Result<DutChoice> ParseDutChoice(const DutArguments& arguments) {
   if (choice.kind == DutKind::kQemu || choice.kind == DutKind::kSerial) {
     if (auto parsed = ParseSerialOptions(arguments, choice); !parsed) return parsed.error();
   }
-  if (choice.kind == DutKind::kProcess) {
+  if (AProcess(choice.kind)) {
     if (auto parsed = ParseProcessOptions(arguments, choice); !parsed) return parsed.error();
   }
   return choice;
 }
 
-rig::Result<DutFactory> MakeDutFactory(const DutChoice& choice, bool realtime) {
+rig::Result<DutFactory> MakeDutFactory(const DutChoice& choice, bool realtime,
+                                       const DutFactorySeams& seams) {
   switch (choice.kind) {
     case DutKind::kInProcess:
       return DutFactory();
     case DutKind::kInProcessFloat:
       return SinglePrecisionFactory();
     case DutKind::kProcess:
-      return ProcessFactory(choice.process, realtime);
+    case DutKind::kExec:
+    case DutKind::kListen:
+      return ProcessFactory(choice.process, realtime, seams);
     case DutKind::kQemu: {
       auto image = FindTargetImage(choice.target_image);
       if (!image) return rig::MakeError("--dut qemu: " + image.error().message);

@@ -3,8 +3,10 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 
 #include "host/dut/process_dut_launch.h"
@@ -27,7 +29,33 @@ constexpr int kMaxEventsPerPoll = 4096;
 
 int Milliseconds(double seconds) { return static_cast<int>(std::ceil(seconds * 1000)); }
 
+// `name` as a shell finds it: a path as it is, a bare name in the folders of PATH.
+std::string FindProgram(const std::string& name) {
+  if (name.find('/') != std::string::npos) return name;
+  const char* search = std::getenv("PATH");
+  std::string folders = search != nullptr ? search : "";
+  std::size_t start = 0;
+  while (start <= folders.size()) {
+    const std::size_t end = std::min(folders.find(':', start), folders.size());
+    const std::string folder = end > start ? folders.substr(start, end - start) : ".";
+    const std::string candidate = (std::filesystem::path(folder) / name).string();
+    if (::access(candidate.c_str(), X_OK) == 0) return candidate;
+    start = end + 1;
+  }
+  return name;
+}
+
 rig::Result<std::string> DutEmuPath(const ProcessDutOptions& options) {
+  if (!options.program.empty()) {
+    const std::string path = FindProgram(options.program);
+    if (path.find('/') == std::string::npos) {
+      return rig::MakeError("no program \"" + path + "\" in PATH");
+    }
+    if (::access(path.c_str(), X_OK) != 0) {
+      return rig::MakeError("no executable program at " + path);
+    }
+    return path;
+  }
   std::string path = options.dut_emu_path;
   if (path.empty()) {
     auto directory = ExecutableDirectory();
@@ -41,6 +69,10 @@ rig::Result<std::string> DutEmuPath(const ProcessDutOptions& options) {
 }
 
 }  // namespace
+
+std::string ListenEndpoint(const ProcessDutOptions& options) {
+  return options.listen_address + ":" + std::to_string(options.listen_port);
+}
 
 rig::Result<rig::CanBusUri> ParseDutCanBusUri(const std::string& uri) {
   auto parsed = rig::ParseCanBusUri(uri);
@@ -86,6 +118,16 @@ rig::Result<void> ValidateProcessDutOptions(const ProcessDutOptions& options) {
         "link listen address " + options.listen_address +
         ": a listen address is for the TCP link, the shared-memory link has none");
   }
+  if (options.listen) {
+    if (options.transport != DutLinkTransport::kTcp) {
+      return rig::MakeError("a DUT that dials in does so over the TCP link");
+    }
+    if (options.listen_port == 0 || options.listen_port == 65535) {
+      return rig::MakeError("listen port " + std::to_string(options.listen_port) +
+                            ": must be 1 to 65534 (the CAN bus takes the next one)");
+    }
+    if (options.token_file.empty()) return rig::MakeError("a listening DUT needs a token file");
+  }
   if (!options.can_uri.empty()) {
     if (auto uri = ParseDutCanBusUri(options.can_uri); !uri) return uri.error();
   }
@@ -113,11 +155,15 @@ rig::Result<std::unique_ptr<ProcessDut>> ProcessDut::Launch(const DutFirmware& f
 }
 
 rig::Result<void> ProcessDut::Start() {
-  if (child_) return rig::MakeError("the dut process was started already");
+  if (started_) return rig::MakeError("the dut process was started already");
   if (auto valid = ValidateProcessDutOptions(options_); !valid) return valid.error();
-  auto path = DutEmuPath(options_);
-  if (!path) return path.error();
-  auto launched = LaunchDut(path.value(), options_);
+  std::string path;
+  if (!options_.listen) {
+    auto found = DutEmuPath(options_);
+    if (!found) return found.error();
+    path = std::move(found).value();
+  }
+  auto launched = LaunchDut(path, options_);
   if (!launched) return launched.error();
   std::unique_ptr<LinkConnection>& link = launched.value().link;
 
@@ -132,6 +178,7 @@ rig::Result<void> ProcessDut::Start() {
   for (const proto::LinkMessage* message : {&hello, &config}) {
     if (auto sent = link->Send(*message); !sent) return sent.error();
   }
+  started_ = true;
   child_ = std::move(launched.value().child);
   link_ = std::move(link);
   forward_bus_ = std::move(launched.value().forward_bus);
@@ -141,7 +188,7 @@ rig::Result<void> ProcessDut::Start() {
 }
 
 void ProcessDut::Stop() {
-  if (stopped_ || !child_) return;
+  if (stopped_ || !started_) return;
   stopped_ = true;
   if (!failure_) {
     proto::LinkMessage bye;
@@ -149,14 +196,18 @@ void ProcessDut::Stop() {
     sequencer_.Stamp(bye, 0);
     (void)link_->Send(bye, 100);
   }
-  child_->Terminate(1000);
+  if (child_) child_->Terminate(1000);
 }
 
 ProcessDut::~ProcessDut() { Stop(); }
 
 std::string ProcessDut::description() const {
-  if (!child_) return "dut_fw in a dut_emu process (not started)";
-  return "dut_fw in a dut_emu process (pid " + std::to_string(child_->pid()) + ") over the " +
+  const std::string what = options_.listen ? "a DUT that dialled " + ListenEndpoint(options_)
+                           : options_.program.empty() ? "dut_fw in a dut_emu process"
+                                                      : "the program " + options_.program;
+  if (!started_) return what + " (not started)";
+  const std::string process = child_ ? " (pid " + std::to_string(child_->pid()) + ")" : "";
+  return what + process + " over the " +
          (options_.transport == DutLinkTransport::kSharedMemory ? "shared-memory" : "TCP") +
          " HIL link, " + (latencies_ ? "real time" : "lockstep") +
          (options_.can_uri.empty() ? "" : ", CAN frames over " + options_.can_uri) +
@@ -213,11 +264,16 @@ rig::Error ProcessDut::Failed(rig::Error error) {
   return *failure_;
 }
 
+std::optional<std::string> ProcessDut::ChildExit() {
+  return child_ ? child_->PollExit() : std::nullopt;
+}
+
 std::string ProcessDut::ProcessGone() {
+  if (!child_) return "the DUT closed the link";
   // The link closes as the process dies; its exit status follows within moments.
   const timespec nap{0, 5'000'000};
   for (int waited_ms = 0; waited_ms < 200; waited_ms += 5) {
-    if (auto exit = child_->PollExit()) return "dut process " + *exit;
+    if (auto exit = ChildExit()) return "dut process " + *exit;
     ::nanosleep(&nap, nullptr);
   }
   return "dut closed the link (process still running)";
@@ -241,13 +297,13 @@ void ProcessDut::Forward(const proto::LinkMessage& message, bool input) {
   // A real-time plant never waits for the socket: a DUT that stops reading fails the run instead.
   const int timeout_ms = latencies_ ? 0 : kLockstepSendTimeoutMs;
   if (auto sent = link_->Send(message, timeout_ms); !sent) {
-    if (latencies_ && link_->closed() && !child_->PollExit()) {
+    if (latencies_ && link_->closed() && !ChildExit()) {
       // Most likely a process still dying: the next polls name it, or the closed link.
       if (!link_closed_wall_ns_) link_closed_wall_ns_ = options_.wall_clock->NowNs();
       return;
     }
-    (void)Failed(child_->PollExit() ? "dut process " + *child_->PollExit()
-                                    : "link send failed: " + sent.error().message);
+    (void)Failed(ChildExit() ? "dut process " + *ChildExit()
+                             : "link send failed: " + sent.error().message);
   }
 }
 
@@ -365,7 +421,7 @@ rig::Result<std::optional<ActuatorMessage>> ProcessDut::PollCommand() {
 }
 
 rig::Result<void> ProcessDut::CheckAlive(std::int64_t now_wall_ns) {
-  if (auto exit = child_->PollExit()) return Failed("dut process " + *exit);
+  if (auto exit = ChildExit()) return Failed("dut process " + *exit);
   if (link_closed_wall_ns_) {
     // Nothing can answer any more; name the closed link unless the exit status turns up in time.
     if (now_wall_ns - *link_closed_wall_ns_ < kLinkClosedGraceNs) return {};
@@ -394,7 +450,7 @@ rig::Result<ActuatorMessage> ProcessDut::AwaitCommand(std::uint64_t tick) {
         link_->Receive(static_cast<int>(std::min<std::int64_t>(left_ms, kPollSliceMs)));
     switch (received.status) {
       case LinkReceiveStatus::kTimeout:
-        if (auto exit = child_->PollExit()) return Failed("dut process " + *exit);
+        if (auto exit = ChildExit()) return Failed("dut process " + *exit);
         continue;
       case LinkReceiveStatus::kClosed:
         return Failed(ProcessGone());
@@ -403,7 +459,7 @@ rig::Result<ActuatorMessage> ProcessDut::AwaitCommand(std::uint64_t tick) {
     }
   }
   ++watchdog_timeouts_;
-  if (auto exit = child_->PollExit()) return Failed("dut process " + *exit);
+  if (auto exit = ChildExit()) return Failed("dut process " + *exit);
   return Failed(rig::MakeError(rig::ErrorCode::kTimeout,
                                "dut did not answer tick " + std::to_string(tick) + " within " +
                                    rig::SecondsText(options_.answer_timeout_s)));

@@ -18,10 +18,12 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -48,6 +50,22 @@ enum class DutLinkTransport {
 struct ProcessDutOptions {
   DutLinkTransport transport = DutLinkTransport::kSharedMemory;
   std::string dut_emu_path;  // empty: "dut_emu" next to the running executable
+  // `--dut exec:`: a program of the user's, started in dut_emu's place with `program_args` before
+  // the link's arguments; it speaks the HIL link as dut_emu does. A path, or a name looked up in
+  // PATH. Empty: dut_emu.
+  std::string program;
+  std::vector<std::string> program_args;
+  // `--dut listen:`: start nothing, and wait (start_timeout_s) on listen_address:listen_port for a
+  // DUT the user starts, which proves the token in token_file (written there with a new token
+  // when the file does not exist). Over TCP, its CAN frames on the loopback UDP bus at
+  // listen_port + 1 (it is node 1 of 2), or on can_uri.
+  bool listen = false;
+  std::uint16_t listen_port = 0;
+  std::string token_file;
+  // Where the wait for a DUT to dial in is announced (may be null), and what ends it early (may be
+  // null): a user's Ctrl-C, so a run waiting for a DUT that never comes stops within a slice.
+  std::ostream* notes = nullptr;
+  const std::atomic<bool>* stop_requested = nullptr;
   // The watchdog: how long one Step waits for its answer (lockstep), or how long the oldest
   // unanswered request may wait in wall time (real time).
   double answer_timeout_s = 1.0;
@@ -75,6 +93,9 @@ rig::Result<rig::CanBusUri> ParseDutCanBusUri(const std::string& uri);
 // Checks the options: a positive finite timeout, an address (other than the default only on the
 // TCP link), a bus the DUT process can share.
 rig::Result<void> ValidateProcessDutOptions(const ProcessDutOptions& options);
+
+// "ADDRESS:PORT" a listening ProcessDut waits on.
+std::string ListenEndpoint(const ProcessDutOptions& options);
 
 class ProcessDut final : public DutPort {
  public:
@@ -158,7 +179,12 @@ class ProcessDut final : public DutPort {
 
   DutFirmware firmware_;
   double control_period_s_;
-  std::optional<ChildProcess> child_;     // set by Start
+  // How a started child ended ("exited with status 3"); nullopt while it runs, or without a child
+  // (a DUT that dialled in).
+  std::optional<std::string> ChildExit();
+
+  bool started_ = false;
+  std::optional<ChildProcess> child_;     // set by Start, unless the DUT dialled in
   std::unique_ptr<LinkConnection> link_;  // set by Start
   bool stopped_ = false;
   std::unique_ptr<rig::CanBus> runner_bus_;

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "host/dut/process_dut.h"
@@ -20,7 +21,7 @@
 namespace hilrig::host {
 
 struct LaunchedDut {
-  ChildProcess child;
+  std::optional<ChildProcess> child;  // none for a DUT that dialled in (ProcessDutOptions::listen)
   std::unique_ptr<LinkConnection> link;  // the DUT's hello read, nothing sent yet
   // Where the runner forwards the DUT's CAN frames; null: they travel in the step requests.
   std::unique_ptr<rig::CanBus> forward_bus;
@@ -29,8 +30,10 @@ struct LaunchedDut {
 };
 
 // Spawns `dut_emu_path` on options.transport and waits (at most options.start_timeout_s) for the
-// DUT's hello. Fails when the listener, mapping, bus or child cannot be made, when the child
-// exits, or when no proper hello comes in time.
+// DUT's hello; with options.listen, spawns nothing and waits as long for a DUT the user starts
+// to dial in and prove the token (ignoring `dut_emu_path`). Fails when the listener, mapping, bus
+// or child cannot be made, when the child exits, when no proper hello comes in time, or (code
+// kInterrupted) on options.stop_requested.
 rig::Result<LaunchedDut> LaunchDut(const std::string& dut_emu_path,
                                    const ProcessDutOptions& options);
 

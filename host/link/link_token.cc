@@ -97,6 +97,28 @@ rig::Result<LinkToken> ReadLinkTokenFile(const std::string& path) {
   return token;
 }
 
+rig::Result<LinkToken> ReadOrCreateLinkTokenFile(const std::string& path, bool* created) {
+  *created = false;
+  auto token = NewLinkToken();
+  if (!token) return token.error();
+  // O_EXCL: a file that is there, or appears meanwhile, is read, never replaced.
+  FileDescriptor file{::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600)};
+  if (file.fd < 0) {
+    if (errno == EEXIST) return ReadLinkTokenFile(path);
+    return rig::MakeError("link token file " + path + ": " + ErrnoText());
+  }
+  const std::string text = token.value().Hex() + "\n";
+  std::size_t written = 0;
+  while (written < text.size()) {
+    const ssize_t put = ::write(file.fd, text.data() + written, text.size() - written);
+    if (put < 0 && errno == EINTR) continue;
+    if (put < 0) return rig::MakeError("link token file " + path + ": " + ErrnoText());
+    written += static_cast<std::size_t>(put);
+  }
+  *created = true;
+  return token;
+}
+
 bool ProvesLinkToken(const LinkToken& token, std::string_view proof) {
   if (proof.size() != token.bytes.size()) return false;
   std::uint8_t difference = 0;

@@ -32,6 +32,10 @@ rig::Result<LinkToken> NewLinkToken();
 rig::Result<LinkToken> ParseLinkToken(std::string_view text);
 // A regular file of at most a few hundred bytes holding the text form; errors name the path.
 rig::Result<LinkToken> ReadLinkTokenFile(const std::string& path);
+// The token a DUT started by hand proves: read from `path` when the file exists, else a new one
+// written there (created, owner-only, never over another file; `*created` says which). Errors
+// name the path.
+rig::Result<LinkToken> ReadOrCreateLinkTokenFile(const std::string& path, bool* created);
 // Whether a hello's proof is the token; takes the same time wherever the first difference is.
 bool ProvesLinkToken(const LinkToken& token, std::string_view proof);
 

@@ -19,9 +19,10 @@ const std::string kScenario = ::hilrig::test_support::SourceDir() + "/scenarios/
 TEST(CliDutOptionTest, UnknownDutModeExitsTwoNamingIt) {
   const CliResult run = Cli({"run", kScenario, "--dut", "remote"});
   EXPECT_EQ(run.exit_code, kExitBadInput);
-  EXPECT_NE(
-      run.err.find("--dut \"remote\": expected inproc, inproc-float, process, qemu or serial:"),
-      std::string::npos)
+  EXPECT_NE(run.err.find("--dut \"remote\": expected inproc, inproc-float, process, "
+                         "exec:PROGRAM[,ARG...], listen:ADDRESS:PORT[,token=FILE], qemu or "
+                         "serial:"),
+            std::string::npos)
       << run.err;
 }
 
@@ -86,6 +87,30 @@ TEST(CliDutOptionTest, AnInterfaceThatCannotOpenStopsTheRunNamingIt) {
   EXPECT_NE(run.out.find("dut failed to start: CAN bus \"socketcan:hilrignone0\": "),
             std::string::npos)
       << run.out;
+}
+
+// A program of the user's in dut_emu's place (dut_emu itself here, which speaks the link, with an
+// argument of its own): the scene's first two seconds fly to the end as with --dut process (the
+// take-off passes; the later envelopes are not reached), and the report names the program.
+TEST(CliDutOptionTest, ExecFliesTheSceneWithAProgramInDutEmusPlace) {
+  const std::string program = ::hilrig::test_support::BinDir() + "/dut_emu";
+  const std::string out = ::testing::TempDir() + "/cli_exec";
+  for (const std::string link : {"shm", "tcp"}) {
+    const CliResult run =
+        Cli({"run", kScenario, "--dut", "exec:" + program + ",--frame-timeout-ms,2000",
+             "--dut-link", link, "--no-reference", "--duration-s", "2", "--out", out + link});
+    EXPECT_NE(run.out.find("PASS  takeoff_position_error"), std::string::npos) << link << run.out;
+    EXPECT_NE(run.out.find("2 s simulated in"), std::string::npos) << link << run.out;
+    EXPECT_NE(run.out.find(" wall, completed;"), std::string::npos) << link << run.out;
+    EXPECT_NE(ReadFile(out + link + "/report.json").find("the program " + program),
+              std::string::npos);
+  }
+  const CliResult missing =
+      Cli({"run", kScenario, "--dut", "exec:/nonexistent/my_dut", "--no-reference", "--out", out});
+  EXPECT_EQ(missing.exit_code, kExitCheckFailed);
+  EXPECT_NE(missing.out.find("dut failed to start: no executable program at /nonexistent/my_dut"),
+            std::string::npos)
+      << missing.out;
 }
 
 // The single-precision firmware is the one a target runs: the same scene flies, but its trace is

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
 namespace hilrig::host {
 namespace {
@@ -33,6 +34,56 @@ TEST(DutChoiceTest, EachWordNamesItsKind) {
   EXPECT_EQ(serial.port.baud, 115200u);
 }
 
+TEST(DutChoiceTest, ExecNamesAProgramAndItsArguments) {
+  DutArguments arguments = Dut("exec:./my_dut,--gain,2");
+  arguments.link = "tcp";
+  arguments.can = "socketcan:can0";
+  const DutChoice choice = ParseDutChoice(arguments).value();
+  EXPECT_EQ(choice.kind, DutKind::kExec);
+  EXPECT_EQ(choice.process.program, "./my_dut");
+  EXPECT_EQ(choice.process.program_args, (std::vector<std::string>{"--gain", "2"}));
+  EXPECT_EQ(choice.process.transport, DutLinkTransport::kTcp);
+  EXPECT_EQ(choice.process.can_uri, "socketcan:can0");
+  EXPECT_TRUE(ParseDutChoice(Dut("exec:my_dut")).value().process.program_args.empty());
+  EXPECT_EQ(ErrorOf(Dut("exec:")),
+            "--dut \"exec:\": exec: needs a program (exec:PROGRAM[,ARG...])");
+  EXPECT_EQ(ErrorOf(Dut("exec:,--gain")),
+            "--dut \"exec:,--gain\": exec: needs a program (exec:PROGRAM[,ARG...])");
+}
+
+TEST(DutChoiceTest, ListenNamesWhereToWaitAndTheTokensFile) {
+  const DutChoice plain = ParseDutChoice(Dut("listen:127.0.0.1:4600")).value();
+  EXPECT_EQ(plain.kind, DutKind::kListen);
+  EXPECT_TRUE(plain.process.listen);
+  EXPECT_EQ(plain.process.transport, DutLinkTransport::kTcp);
+  EXPECT_EQ(plain.process.listen_address, "127.0.0.1");
+  EXPECT_EQ(plain.process.listen_port, 4600);
+  EXPECT_EQ(plain.process.token_file, "hilrig_link_token");
+  EXPECT_EQ(plain.process.start_timeout_s, 60.0);  // a person starts the DUT
+  DutArguments named = Dut("listen:::1:4600,token=/run/user/1000/dut_token");
+  named.can = "socketcan:can0";
+  const DutChoice chosen = ParseDutChoice(named).value();
+  EXPECT_EQ(chosen.process.listen_address, "::1");
+  EXPECT_EQ(chosen.process.token_file, "/run/user/1000/dut_token");
+  EXPECT_EQ(chosen.process.can_uri, "socketcan:can0");
+}
+
+TEST(DutChoiceTest, ABadListenWordIsRefusedByName) {
+  EXPECT_EQ(ErrorOf(Dut("listen:4600")),
+            "--dut \"listen:4600\": needs an address and a port "
+            "(listen:ADDRESS:PORT[,token=FILE])");
+  for (const char* port : {"0", "65535", "http", ""}) {
+    EXPECT_THAT(ErrorOf(Dut((std::string("listen:127.0.0.1:") + port).c_str())),
+                HasSubstr("is not a whole number from 1 to 65534"))
+        << port;
+  }
+  EXPECT_THAT(ErrorOf(Dut("listen:127.0.0.1:4600,tok=x")), HasSubstr("unknown \"tok=x\""));
+  EXPECT_THAT(ErrorOf(Dut("listen:127.0.0.1:4600,token=")), HasSubstr("unknown \"token=\""));
+  DutArguments link = Dut("listen:127.0.0.1:4600");
+  link.link = "shm";  // a DUT that dials in does so over TCP
+  EXPECT_EQ(ErrorOf(link), "--dut-link needs --dut process or exec:");
+}
+
 TEST(DutChoiceTest, AnUnknownWordListsTheKinds) {
   EXPECT_THAT(ErrorOf(Dut("px4")), HasSubstr("--dut \"px4\": expected inproc, inproc-float"));
   EXPECT_THAT(ErrorOf(Dut("serial:")), HasSubstr("--dut "));
@@ -44,13 +95,13 @@ TEST(DutChoiceTest, AnOptionTheKindDoesNotTakeIsRefusedByName) {
   EXPECT_EQ(ErrorOf(image), "--target-image needs --dut qemu");
   DutArguments timeout = Dut("inproc-float");
   timeout.timeout_s = "2";
-  EXPECT_EQ(ErrorOf(timeout), "--dut-timeout-s needs --dut process, qemu or serial:");
+  EXPECT_EQ(ErrorOf(timeout), "--dut-timeout-s needs --dut process, exec:, qemu or serial:");
   DutArguments link = Dut("qemu");
   link.link = "tcp";
-  EXPECT_EQ(ErrorOf(link), "--dut-link needs --dut process");
+  EXPECT_EQ(ErrorOf(link), "--dut-link needs --dut process or exec:");
   DutArguments can = Dut("serial:/dev/ttyACM0");
   can.can = "socketcan:can0";
-  EXPECT_EQ(ErrorOf(can), "--can socketcan:can0 needs --dut process");
+  EXPECT_EQ(ErrorOf(can), "--can socketcan:can0 needs --dut process or exec:");
 }
 
 TEST(DutChoiceTest, BadValuesNameTheirOption) {

@@ -6,6 +6,9 @@
 #include <signal.h>
 
 #include <cerrno>
+#include <cstdlib>
+#include <string>
+#include <vector>
 
 #include "host/dut/firmware_config.h"
 #include "host/dut/in_process_dut.h"
@@ -188,6 +191,73 @@ TEST_F(ProcessDutTest, MissingExecutableIsAClearStartError) {
   ASSERT_FALSE(dut.ok());
   EXPECT_NE(dut.error().message.find("no dut_emu executable at /nonexistent/dut_emu"),
             std::string::npos);
+}
+
+// The argv a running process was started with, from /proc.
+std::vector<std::string> CommandLineOf(pid_t pid) {
+  const std::string raw = ReadFile("/proc/" + std::to_string(pid) + "/cmdline");
+  std::vector<std::string> argv;
+  std::size_t start = 0;
+  for (std::size_t end = raw.find('\0'); end != std::string::npos; end = raw.find('\0', start)) {
+    argv.push_back(raw.substr(start, end - start));
+    start = end + 1;
+  }
+  return argv;
+}
+
+// `--dut exec:`: a program of the user's in dut_emu's place. dut_emu itself stands in for one
+// here: it speaks the link, and takes an argument of its own before the link's.
+TEST_F(ProcessDutTest, AProgramTakesDutEmusPlaceWithItsOwnArgumentsFirst) {
+  ProcessDutOptions options;
+  options.program = ::hilrig::test_support::BinDir() + "/dut_emu";
+  options.program_args = {"--frame-timeout-ms", "2000"};
+  auto dut = ProcessDut::Launch(HoverFirmware(), bus_.Connect("dut"), kControlPeriodS, options);
+  ASSERT_TRUE(dut.ok()) << dut.error().message;
+  EXPECT_TRUE(Hover(*dut.value(), 50).ok());
+  const std::string description = dut.value()->description();
+  EXPECT_NE(description.find("the program " + options.program + " (pid "), std::string::npos)
+      << description;
+  const std::size_t pid_at = description.find("(pid ") + 5;
+  const std::vector<std::string> argv = CommandLineOf(std::stoi(description.substr(pid_at)));
+  ASSERT_GE(argv.size(), 5u);
+  EXPECT_EQ(argv[0], options.program);
+  EXPECT_EQ(argv[1], "--frame-timeout-ms");
+  EXPECT_EQ(argv[2], "2000");
+  EXPECT_EQ(argv[3], "--link-shm");
+}
+
+TEST_F(ProcessDutTest, AProgramNamedWithoutAPathIsLookedUpInPath) {
+  const char* saved = std::getenv("PATH");
+  const std::string old_path = saved != nullptr ? saved : "";
+  ::setenv("PATH", ("/nonexistent:" + ::hilrig::test_support::BinDir()).c_str(), 1);
+  ProcessDutOptions options;
+  options.program = "dut_emu";
+  auto dut = ProcessDut::Launch(HoverFirmware(), bus_.Connect("dut"), kControlPeriodS, options);
+  options.program = "no_such_dut_program";
+  auto missing =
+      ProcessDut::Launch(HoverFirmware(), bus_.Connect("dut2"), kControlPeriodS, options);
+  ::setenv("PATH", old_path.c_str(), 1);
+  ASSERT_TRUE(dut.ok()) << dut.error().message;
+  EXPECT_TRUE(Hover(*dut.value(), 10).ok());
+  ASSERT_FALSE(missing.ok());
+  EXPECT_EQ(missing.error().message, "no program \"no_such_dut_program\" in PATH");
+}
+
+TEST_F(ProcessDutTest, AProgramThatIsNotThereOrSaysNothingIsAClearStartError) {
+  ProcessDutOptions options;
+  options.program = "/nonexistent/my_dut";
+  const auto missing =
+      ProcessDut::Launch(HoverFirmware(), bus_.Connect("dut"), kControlPeriodS, options);
+  ASSERT_FALSE(missing.ok());
+  EXPECT_EQ(missing.error().message, "no executable program at /nonexistent/my_dut");
+  options.program = "/bin/true";  // exits at once, without a hello
+  const auto silent =
+      ProcessDut::Launch(HoverFirmware(), bus_.Connect("dut2"), kControlPeriodS, options);
+  ASSERT_FALSE(silent.ok());
+  EXPECT_NE(silent.error().message.find("dut process exited with status 0 before it could say "
+                                        "hello"),
+            std::string::npos)
+      << silent.error().message;
 }
 
 TEST(ProcessDutOptionsTest, RefusesBadTimeouts) {

@@ -86,5 +86,25 @@ TEST(LinkTokenFileTest, FifoIsRefusedWithoutBlocking) {
 
 TEST(LinkTokenFileTest, DeviceIsRefused) { EXPECT_FALSE(ReadLinkTokenFile("/dev/zero").ok()); }
 
+// The user's own token file is read, never replaced; one that is no token is refused by name.
+TEST(LinkTokenFileTest, AMissingFileGetsANewOwnerOnlyTokenAndAnExistingOneIsRead) {
+  const auto dir = FreshTestDir("link_token_");
+  const std::string path = (dir / "token").string();
+  bool created = false;
+  const LinkToken first = ReadOrCreateLinkTokenFile(path, &created).value();
+  EXPECT_TRUE(created);
+  struct stat status {};
+  ASSERT_EQ(::stat(path.c_str(), &status), 0);
+  EXPECT_EQ(status.st_mode & 0777, 0600u);
+  EXPECT_EQ(ReadLinkTokenFile(path).value().Hex(), first.Hex());
+  const LinkToken again = ReadOrCreateLinkTokenFile(path, &created).value();
+  EXPECT_FALSE(created);
+  EXPECT_EQ(again.Hex(), first.Hex());
+  std::ofstream(path) << "not a token\n";
+  const auto bad = ReadOrCreateLinkTokenFile(path, &created);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.error().message.find("link token file " + path), std::string::npos);
+}
+
 }  // namespace
 }  // namespace hilrig::host
