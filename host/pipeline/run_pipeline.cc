@@ -2,7 +2,9 @@
 
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <utility>
+#include <variant>
 
 #include "host/cache/setup_caches.h"
 #include "host/report/run_folder.h"
@@ -107,27 +109,42 @@ void SetFidelityError(rig::Result<proto::FidelityError> error, const RunSeams& s
   }
 }
 
-}  // namespace
+// A run made ready to fly: its spec resolved, its folder claimed, its tactile sensors set up and
+// its reference (made or read) open for the comparison. It stays in place while the run flies:
+// the run's sinks point into it.
+struct PreparedRun {
+  ResolvedSpec run;
+  std::string name;  // the spec's path, else its name: what messages about the run start with
+  std::optional<RunFiles> files;
+  bool compare = false;
+  rig::Result<std::unique_ptr<FidelityComparison>> comparison{nullptr};
+  PlottedTrace plotted;
+  std::int64_t setup_start_ns = 0;
+  std::int64_t reference_ns = 0;  // making or reading the reference: no part of the set-up time
+};
 
-RunPipelineResult RunPipeline(const RunRequest& request, const RunSeams& seams) {
+using Prepared = std::variant<std::unique_ptr<PreparedRun>, RunError>;
+
+// Loads, resolves and checks the spec, claims the folder, sets up the tactile sensors and starts
+// the comparison. The errors are the spec's, the output's or the set-up's (kInterrupted on a
+// stop request).
+Prepared Prepare(const RunRequest& request, const RunSeams& seams) {
   const std::string spec_directory = !request.spec_directory.empty()
                                          ? request.spec_directory
                                          : fs::path(request.spec_path).parent_path().string();
-  const std::int64_t setup_start_ns = seams.wall_clock->NowNs();
+  auto prepared = std::make_unique<PreparedRun>();
+  prepared->setup_start_ns = seams.wall_clock->NowNs();
   auto resolved = LoadAndResolve(request, spec_directory);
   if (!resolved) return RunError{RunFailure::kBadSpec, resolved.error().message};
-  ResolvedSpec& run = resolved.value();
-  const std::string run_name = request.spec_path.empty() ? run.spec.name() : request.spec_path;
+  ResolvedSpec& run = prepared->run = std::move(resolved).value();
+  prepared->name = request.spec_path.empty() ? run.spec.name() : request.spec_path;
   if (const auto warning = OutputSizeWarning(run.config); warning && seams.notes != nullptr) {
-    *seams.notes << run_name << ": warning: this run " << *warning << "\n";
+    *seams.notes << prepared->name << ": warning: this run " << *warning << "\n";
   }
-  const bool realtime = seams.realtime_clock != nullptr;
-
-  std::optional<RunFiles> files;
   if (request.out_dir) {
     auto opened = OpenRunFiles(*request.out_dir, run.spec.name(), request.spec_path);
     if (!opened) return RunError{RunFailure::kOutput, opened.error().message};
-    files.emplace(std::move(opened).value());
+    prepared->files.emplace(std::move(opened).value());
   }
   if (auto set_up = SetUpTactile(run.spec, run.config, request.film_models, request.calibrations,
                                  seams.stop_requested);
@@ -135,49 +152,67 @@ RunPipelineResult RunPipeline(const RunRequest& request, const RunSeams& seams) 
     const RunFailure failure = set_up.error().code == rig::ErrorCode::kInterrupted
                                    ? RunFailure::kInterrupted
                                    : RunFailure::kSetUp;
-    return RunError{failure, run_name + ": " + set_up.error().message};
+    return RunError{failure, prepared->name + ": " + set_up.error().message};
   }
-  // The plots' decimated series stay the same size however long the run, and the comparison with
-  // the reference reads the reference as the run goes: neither trace is kept. The reference's own
-  // run (with a cold cache) is no part of the run's set-up time.
-  const bool compare = request.reference != nullptr;
+  // The comparison with the reference reads the reference as the run goes: neither trace is kept.
+  prepared->compare = request.reference != nullptr;
   const std::int64_t reference_start_ns = seams.wall_clock->NowNs();
-  auto comparison = compare ? StartComparison(request, seams, run, spec_directory)
-                            : rig::Result<std::unique_ptr<FidelityComparison>>(nullptr);
-  const std::int64_t reference_ns = seams.wall_clock->NowNs() - reference_start_ns;
-  FidelityComparison* const compared = comparison ? comparison.value().get() : nullptr;
-  PlottedTrace plotted;
+  if (prepared->compare) {
+    prepared->comparison = StartComparison(request, seams, run, spec_directory);
+  }
+  prepared->reference_ns = seams.wall_clock->NowNs() - reference_start_ns;
+  return prepared;
+}
+
+// The sinks of a prepared run: its files, its plots' decimated series (the same size however
+// long the run), the comparison, and how far the run got.
+RunSinks SinksOf(PreparedRun& prepared, const RunSeams& seams) {
   RunSinks sinks;
+  std::optional<RunFiles>& files = prepared.files;
   if (files) {
     sinks.trace_csv = &files->trace->stream();
     sinks.can_log = &files->can_log->stream();
   }
   sinks.progress = seams.notes;
+  FidelityComparison* const compared =
+      prepared.comparison ? prepared.comparison.value().get() : nullptr;
   if (files || compared != nullptr) {
-    const bool plot = files.has_value();
-    sinks.trace_sample = [&plotted, compared, plot](const TraceSample& sample) {
-      if (plot) plotted.Add(sample);
+    PlottedTrace* const plotted = files ? &prepared.plotted : nullptr;
+    sinks.trace_sample = [plotted, compared](const TraceSample& sample) {
+      if (plotted != nullptr) plotted->Add(sample);
       if (compared != nullptr) compared->Add(sample);
     };
   }
   // A real-time loop does not spend its period on rewriting the report (about 0.4 ms, up to 3):
   // its folder says "incomplete" without how far.
-  if (files && !realtime && seams.notes != nullptr) {
-    sinks.flushed = [&](double simulated_s) { files->folder.Reached(simulated_s, *seams.notes); };
+  if (files && seams.realtime_clock == nullptr && seams.notes != nullptr) {
+    RunOutputFolder* const folder = &files->folder;
+    std::ostream* const notes = seams.notes;
+    sinks.flushed = [folder, notes](double simulated_s) { folder->Reached(simulated_s, *notes); };
   }
+  return sinks;
+}
+
+// Flies the prepared run to its end (or its stop) and reports it, under SCHED_FIFO in real time
+// when asked.
+RunOutcome Fly(PreparedRun& prepared, const RunRequest& request, const RunSeams& seams) {
+  const bool realtime = seams.realtime_clock != nullptr;
   std::optional<rig::ScopedFifoScheduling> scheduling;
   if (realtime && request.realtime_priority > 0) {
     // Before the run starts its dut process, which inherits the policy.
     scheduling.emplace(request.realtime_priority);
     if (!scheduling->granted() && seams.notes != nullptr) {
-      *seams.notes << run_name << ": " << scheduling->description()
+      *seams.notes << prepared.name << ": " << scheduling->description()
                    << "; the timing figures are the default scheduler's\n";
     }
   }
+  RunControl control;
+  control.wall_clock = seams.wall_clock;
+  control.stop_requested = seams.stop_requested;
+  control.dut_factory = request.dut_factory;
+  control.realtime_clock = seams.realtime_clock;
   RunOutcome outcome;
-  outcome.report = RunScenario(
-      run.config, sinks,
-      {seams.wall_clock, seams.stop_requested, request.dut_factory, seams.realtime_clock});
+  outcome.report = RunScenario(prepared.run.config, SinksOf(prepared, seams), control);
   if (realtime) {
     outcome.report.mutable_timing()->set_scheduling(
         scheduling ? scheduling->description() : "default scheduler (--rt-priority 0)");
@@ -186,31 +221,54 @@ RunPipelineResult RunPipeline(const RunRequest& request, const RunSeams& seams) 
   if (!request.spec_path.empty()) outcome.report.set_spec_file(request.spec_path);
   // Calibrating at start and tabulating field maps happen before the first tick; the real-time
   // factor is the stepping loop's, and this is the rest.
-  outcome.report.set_setup_s(
-      static_cast<double>(seams.wall_clock->NowNs() - setup_start_ns - reference_ns) / 1e9 -
-      outcome.report.wall_s());
-  if (files) {
-    auto plots =
-        WriteRunPlots(plotted, run.config.envelopes, run.config.gripper.enabled, *request.out_dir);
+  outcome.report.set_setup_s(static_cast<double>(seams.wall_clock->NowNs() -
+                                                 prepared.setup_start_ns - prepared.reference_ns) /
+                                 1e9 -
+                             outcome.report.wall_s());
+  return outcome;
+}
+
+// The run's plots, its fidelity error and its finished folder; the verdict. Fails only on output.
+std::optional<RunError> Publish(PreparedRun& prepared, const RunRequest& request,
+                                const RunSeams& seams, RunOutcome& outcome) {
+  if (prepared.files) {
+    auto plots = WriteRunPlots(prepared.plotted, prepared.run.config.envelopes,
+                               prepared.run.config.gripper.enabled, *request.out_dir);
     if (!plots) return RunError{RunFailure::kOutput, plots.error().message};
     for (const std::string& plot : plots.value()) {
       outcome.report.add_plots(plot);
       outcome.files_written.push_back((fs::path(*request.out_dir) / plot).string());
     }
   }
-  if (compare && RunCompleted(outcome.report)) {
-    SetFidelityError(compared != nullptr ? compared->Finish()
-                                         : rig::Result<proto::FidelityError>(comparison.error()),
-                     seams, run_name, outcome);
+  if (prepared.compare && RunCompleted(outcome.report)) {
+    FidelityComparison* const compared =
+        prepared.comparison ? prepared.comparison.value().get() : nullptr;
+    SetFidelityError(compared != nullptr
+                         ? compared->Finish()
+                         : rig::Result<proto::FidelityError>(prepared.comparison.error()),
+                     seams, prepared.name, outcome);
   }
-  if (files) {
-    if (auto finished =
-            FinishRunFiles(*files, outcome.report, *request.out_dir, outcome.files_written);
+  if (prepared.files) {
+    if (auto finished = FinishRunFiles(*prepared.files, outcome.report, *request.out_dir,
+                                       outcome.files_written);
         !finished) {
       return RunError{RunFailure::kOutput, finished.error().message};
     }
   }
   outcome.verdict = outcome.report.passed() ? RunVerdict::kPass : RunVerdict::kCheckFailed;
+  return std::nullopt;
+}
+
+}  // namespace
+
+RunPipelineResult RunPipeline(const RunRequest& request, const RunSeams& seams) {
+  Prepared prepared = Prepare(request, seams);
+  if (RunError* error = std::get_if<RunError>(&prepared)) return std::move(*error);
+  PreparedRun& run = *std::get<std::unique_ptr<PreparedRun>>(prepared);
+  RunOutcome outcome = Fly(run, request, seams);
+  if (std::optional<RunError> error = Publish(run, request, seams, outcome)) {
+    return std::move(*error);
+  }
   return outcome;
 }
 
