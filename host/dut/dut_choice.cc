@@ -9,6 +9,7 @@
 #include "host/dut/firmware_config.h"
 #include "host/dut/in_process_dut.h"
 #include "rig/clock.h"
+#include "rig/command_args.h"
 
 namespace hilrig::host {
 namespace {
@@ -128,9 +129,8 @@ rig::Result<void> ParseListen(const std::string& word, ProcessDutOptions& option
   const std::size_t colon = endpoint.rfind(':');
   if (colon == std::string::npos || colon == 0) return bad("needs an address and a port");
   const std::string port = endpoint.substr(colon + 1);
-  char* end = nullptr;
-  const long number = std::strtol(port.c_str(), &end, 10);
-  if (port.empty() || *end != '\0' || number < 1 || number > 65534) {
+  const auto number = rig::ParseNumber<std::uint16_t>(port, "port");
+  if (!number || number.value() < 1 || number.value() > 65534) {
     return bad("port \"" + port + "\" is not a whole number from 1 to 65534");
   }
   options.token_file = "hilrig_link_token";
@@ -143,7 +143,7 @@ rig::Result<void> ParseListen(const std::string& word, ProcessDutOptions& option
   options.listen = true;
   options.transport = DutLinkTransport::kTcp;
   options.listen_address = endpoint.substr(0, colon);
-  options.listen_port = static_cast<std::uint16_t>(number);
+  options.listen_port = number.value();
   options.start_timeout_s = kListenStartTimeoutS;
   return {};
 }

@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 
 #include "host/dut/process_dut_launch.h"
@@ -29,27 +28,14 @@ constexpr int kMaxEventsPerPoll = 4096;
 
 int Milliseconds(double seconds) { return static_cast<int>(std::ceil(seconds * 1000)); }
 
-// `name` as a shell finds it: a path as it is, a bare name in the folders of PATH.
-std::string FindProgram(const std::string& name) {
-  if (name.find('/') != std::string::npos) return name;
-  const char* search = std::getenv("PATH");
-  std::string folders = search != nullptr ? search : "";
-  std::size_t start = 0;
-  while (start <= folders.size()) {
-    const std::size_t end = std::min(folders.find(':', start), folders.size());
-    const std::string folder = end > start ? folders.substr(start, end - start) : ".";
-    const std::string candidate = (std::filesystem::path(folder) / name).string();
-    if (::access(candidate.c_str(), X_OK) == 0) return candidate;
-    start = end + 1;
-  }
-  return name;
-}
-
 rig::Result<std::string> DutEmuPath(const ProcessDutOptions& options) {
   if (!options.program.empty()) {
-    const std::string path = FindProgram(options.program);
+    // A path as it is; a bare name in the folders of PATH, as a shell finds it.
+    std::string path = options.program;
     if (path.find('/') == std::string::npos) {
-      return rig::MakeError("no program \"" + path + "\" in PATH");
+      auto found = FindInPath(path);
+      if (!found) return rig::MakeError("no program \"" + path + "\" in PATH");
+      path = std::move(found).value();
     }
     if (::access(path.c_str(), X_OK) != 0) {
       return rig::MakeError("no executable program at " + path);
