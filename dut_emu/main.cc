@@ -1,6 +1,4 @@
 // dut_emu: the dut_fw controller as its own process on the HIL link (see dut_emu_server.h).
-#include <signal.h>
-
 #include <atomic>
 #include <cstdlib>
 #include <iostream>
@@ -9,25 +7,8 @@
 
 #include "dut_emu/dut_emu_server.h"
 #include "dut_emu/serial_dut.h"
+#include "dut_link/posix/line_io.h"
 #include "rig/printable_text.h"
-
-namespace {
-
-std::atomic<bool> g_stop_requested{false};  // set from the signal handler; lock-free
-
-void RequestStop(int /*signal*/) { g_stop_requested.store(true); }
-
-void InstallSignalHandlers() {
-  struct sigaction action {};
-  action.sa_handler = RequestStop;
-  sigemptyset(&action.sa_mask);
-  sigaction(SIGTERM, &action, nullptr);
-  sigaction(SIGINT, &action, nullptr);
-  // Writes to a vanished runner must be errors, not a silent death; sends use MSG_NOSIGNAL too.
-  signal(SIGPIPE, SIG_IGN);
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   // What dut_emu prints may quote its peer (a runner's bye reason, a device name): no control
@@ -53,8 +34,8 @@ int main(int argc, char** argv) {
                 << hilrig::dut_emu::kSerialDutUsage;
       return hilrig::dut_emu::kExitUsage;
     }
-    InstallSignalHandlers();
-    return hilrig::dut_emu::RunSerialDut(serial.value(), &g_stop_requested, std::cerr);
+    return hilrig::dut_emu::RunSerialDut(serial.value(), hilrig::dut_link::StopOnSignals(),
+                                         std::cerr);
   }
   auto options = hilrig::dut_emu::ParseDutEmuArgs(args);
   if (!options) {
@@ -73,7 +54,6 @@ int main(int argc, char** argv) {
   }
   // Nothing this process starts needs the secret.
   ::unsetenv(hilrig::host::kLinkTokenEnvironment);
-  static_assert(std::atomic<bool>::is_always_lock_free);
-  InstallSignalHandlers();
-  return hilrig::dut_emu::RunDutEmu(options.value(), &g_stop_requested, std::cerr);
+  // Writes to a vanished runner must be errors, not a silent death; sends use MSG_NOSIGNAL too.
+  return hilrig::dut_emu::RunDutEmu(options.value(), hilrig::dut_link::StopOnSignals(), std::cerr);
 }

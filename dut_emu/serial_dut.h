@@ -1,9 +1,9 @@
-// dut_emu --serial: the DUT's side of the serial HIL link (dut_fw/serial_dut_session.h, the very
-// code the STM32 image runs, here with the host's float build) on a tty or a pseudo-terminal in
-// raw mode, so the runner's serial path can be driven without a board. The link line carries the
-// framed LinkMessages; the optional bridge line the sensor nodes' UART frames. The work per step
-// is not measured here (work_cycles 0). It runs until a signal asks it to stop or the line goes
-// away; a runner's Bye only ends one run, as on a board.
+// dut_emu --serial: the DUT's side of the serial HIL link (dut_link/serial_session.h with
+// dut_fw/dut_core_controller.h, the very code the STM32 image runs, here with the host's float
+// build) on a tty or a pseudo-terminal in raw mode, so the runner's serial path can be driven
+// without a board. The link line carries the framed LinkMessages; the optional bridge line the
+// sensor nodes' UART frames. The work per step is not measured here (work_cycles 0). It runs until
+// a signal asks it to stop or the line goes away; a runner's Bye only ends one run, as on a board.
 #pragma once
 
 #include <atomic>

@@ -16,10 +16,12 @@
 #include <span>
 
 #include "dut_fw/dut_core.h"
-#include "dut_fw/wire_codec.h"
+#include "dut_link/wire_codec.h"
 #include "proto/hil_link_tags.h"
 
 namespace hilrig::dut_fw {
+
+namespace wire = dut_link::wire;  // the link's codec, which this decoder reads with
 
 enum class ConfigRefusal : std::uint8_t {
   kNone,

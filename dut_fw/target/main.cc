@@ -1,4 +1,5 @@
-// The firmware's main loop: the DUT on the serial HIL link (dut_fw/serial_dut_session.h). USART1
+// The firmware's main loop: dut_fw's controller (dut_fw/dut_core_controller.h) behind the DUT side
+// of the serial HIL link (dut_link/serial_session.h). USART1
 // carries the link, and nothing but its frames; USART2 is the sensor nodes' UART bridge. The
 // session waits for the runner's Hello, takes its DutConfig and then answers each SerialStep with
 // a SerialCommand, the step's work measured with the board's SysTick cycle counter. The flash and
@@ -8,12 +9,14 @@
 #include <span>
 #include <string_view>
 
-#include "dut_fw/serial_dut_session.h"
+#include "dut_fw/dut_core_controller.h"
 #include "dut_fw/serial_line_rates.h"
 #include "dut_fw/target/board.h"
+#include "dut_link/serial_session.h"
 
 namespace target = hilrig::dut_fw::target;
 namespace fw = hilrig::dut_fw;
+namespace link = hilrig::dut_link;
 
 // stm32f405.ld
 extern "C" const std::uint8_t __flash_start[], __data_load[], __data_start[], __data_end[],
@@ -21,7 +24,7 @@ extern "C" const std::uint8_t __flash_start[], __data_load[], __data_start[], __
 
 namespace {
 
-class LinkUsart final : public fw::LineSink {
+class LinkUsart final : public link::LineSink {
  public:
   void Write(std::span<const std::uint8_t> bytes) override {
     target::Write(target::Port::kLink,
@@ -29,21 +32,21 @@ class LinkUsart final : public fw::LineSink {
   }
 };
 
-class BridgeUsart final : public fw::ByteSource {
+class BridgeUsart final : public link::ByteSource {
  public:
   std::optional<std::uint8_t> ReadByte() override {
     return target::ReadByte(target::Port::kBridge);
   }
 };
 
-class SysTickClock final : public fw::MonotonicClock {
+class SysTickClock final : public link::MonotonicClock {
  public:
   std::int64_t NowNs() override {
     return std::int64_t(target::MillisecondsSinceBoot()) * 1'000'000;
   }
 };
 
-class SysTickCycles final : public fw::CycleCounter {
+class SysTickCycles final : public link::CycleCounter {
  public:
   std::uint32_t Cycles() override { return target::CycleCount(); }
 };
@@ -52,8 +55,8 @@ std::uint32_t Span(const std::uint8_t* begin, const std::uint8_t* end) {
   return std::uint32_t(end - begin);
 }
 
-fw::TargetDescription ThisTarget() {
-  fw::TargetDescription description;
+link::TargetDescription ThisTarget() {
+  link::TargetDescription description;
   description.name = "dut_fw stm32f405";
   description.board = "stm32f405";
   description.core_clock_hz = target::kCoreClockHz;
@@ -76,7 +79,8 @@ int main() {
   static BridgeUsart bridge;
   static SysTickClock clock;
   static SysTickCycles cycles;
-  static fw::SerialDutSession<float> session(link, bridge, clock, cycles, ThisTarget());
+  static fw::DutCoreController<float> controller;
+  static link::SerialDutSession session(controller, link, bridge, clock, cycles, ThisTarget());
   for (;;) {
     const std::optional<std::uint8_t> byte = target::ReadByte(target::Port::kLink);
     if (!byte) continue;

@@ -189,7 +189,8 @@ rig::Result<void> SerialDut::Start() {
 }
 
 std::int64_t SerialDut::RetryNs(double seconds, std::size_t bytes) const {
-  return Nanoseconds(seconds + 2.0 * double(dut_fw::EncodedFrameBytes(bytes)) * lines_.byte_time_s);
+  return Nanoseconds(seconds +
+                     2.0 * double(dut_link::EncodedFrameBytes(bytes)) * lines_.byte_time_s);
 }
 
 rig::Result<void> SerialDut::Exchange(

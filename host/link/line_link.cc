@@ -19,7 +19,7 @@ std::vector<rig::Metric> LineLinkMetrics(const LineLinkCounters& counters,
 LineLink::LineLink(ByteStream& stream) : stream_(stream) {}
 
 const LineLinkCounters& LineLink::counters() const {
-  const dut_fw::FrameDecoderCounters& decoded = decoder_.counters();
+  const dut_link::FrameDecoderCounters& decoded = decoder_.counters();
   counters_.bad_checksum = decoded.bad_checksums;
   counters_.malformed = decoded.malformed + unparsed_;
   counters_.oversize = decoded.oversize;
@@ -29,16 +29,16 @@ const LineLinkCounters& LineLink::counters() const {
 rig::Result<void> LineLink::Send(const proto::LinkMessage& message, int timeout_ms,
                                  bool flush_first) {
   const std::size_t payload_bytes = message.ByteSizeLong();
-  if (payload_bytes > dut_fw::kMaxLineMessageBytes) {
+  if (payload_bytes > dut_link::kMaxLineMessageBytes) {
     return rig::MakeError("a " + std::to_string(payload_bytes) +
                           "-byte message is over the serial link's limit of " +
-                          std::to_string(dut_fw::kMaxLineMessageBytes) + " bytes");
+                          std::to_string(dut_link::kMaxLineMessageBytes) + " bytes");
   }
   std::string payload;
   message.SerializeToString(&payload);
   const std::size_t lead = flush_first ? 1 : 0;
-  encoded_.assign(lead + dut_fw::EncodedFrameBytes(payload.size()), dut_fw::kFrameDelimiter);
-  const std::size_t size = dut_fw::EncodeFrame(
+  encoded_.assign(lead + dut_link::EncodedFrameBytes(payload.size()), dut_link::kFrameDelimiter);
+  const std::size_t size = dut_link::EncodeFrame(
       std::span(reinterpret_cast<const std::uint8_t*>(payload.data()), payload.size()),
       std::span(encoded_).subspan(lead));
   encoded_.resize(lead + size);

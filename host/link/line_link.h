@@ -1,4 +1,4 @@
-// The HIL link on a byte stream: LinkMessages framed by dut_fw/line_framing.h (COBS over the
+// The HIL link on a byte stream: LinkMessages framed by dut_link/line_framing.h (COBS over the
 // message and its CRC-16, ended by a zero byte), as a serial line to a board or an emulated MCU
 // carries them. A frame that fails its CRC, is not valid COBS, is too long, or does not parse as
 // a LinkMessage is counted and skipped: the decoder is back in step at the next zero byte, so a
@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "dut_fw/line_framing.h"
+#include "dut_link/line_framing.h"
 #include "host/link/byte_stream.h"
 #include "proto/hil_link.pb.h"
 #include "rig/metric.h"
@@ -67,7 +67,7 @@ class LineLink {
   bool TakeBuffered(proto::LinkMessage& message);
 
   ByteStream& stream_;
-  dut_fw::FrameDecoder<dut_fw::kMaxLineMessageBytes> decoder_;
+  dut_link::FrameDecoder<dut_link::kMaxLineMessageBytes> decoder_;
   std::array<std::uint8_t, 1024> chunk_{};
   std::size_t chunk_size_ = 0;
   std::size_t chunk_at_ = 0;

@@ -1,6 +1,6 @@
 // dut_emu --serial on pseudo-terminals: the runner's side of the line is the test, the DUT's side
 // is RunSerialDut in a thread with the link and the bridge on ttys in raw mode, as a real board's
-// lines would be. The session itself is tested in tests/dut_fw/serial_dut_session_test.cc; this
+// lines would be. The session itself is tested in tests/dut_link/serial_session_test.cc; this
 // checks the tty plumbing: the spec, raw mode, both lines, a clean end.
 #include "dut_emu/serial_dut.h"
 

@@ -1,4 +1,4 @@
-// Fakes of the platform interfaces dut_fw/serial_dut_session.h runs on, for tests: a sink that
+// Fakes of the platform interfaces dut_link/serial_session.h runs on, for tests: a sink that
 // keeps what the session wrote and hands it back as parsed LinkMessages, a bridge line fed from a
 // queue, a clock and a cycle counter that advance by a fixed step on every read (so a wait on the
 // bridge ends after a known number of reads, with no wall time), and the runner's side of the
@@ -14,13 +14,13 @@
 #include <string>
 #include <vector>
 
-#include "dut_fw/line_framing.h"
-#include "dut_fw/serial_dut_session.h"
+#include "dut_link/line_framing.h"
+#include "dut_link/serial_session.h"
 #include "proto/hil_link.pb.h"
 
 namespace hilrig::dut_fw {
 
-class RecordingSink final : public LineSink {
+class RecordingSink final : public dut_link::LineSink {
  public:
   void Write(std::span<const std::uint8_t> bytes) override {
     for (const std::uint8_t byte : bytes) {
@@ -45,11 +45,11 @@ class RecordingSink final : public LineSink {
   std::vector<std::size_t> payload_sizes;  // every frame's message size, in order
 
  private:
-  FrameDecoder<kMaxLineMessageBytes> decoder_;
+  dut_link::FrameDecoder<dut_link::kMaxLineMessageBytes> decoder_;
   std::vector<proto::LinkMessage> messages_;
 };
 
-class QueueByteSource final : public ByteSource {
+class QueueByteSource final : public dut_link::ByteSource {
  public:
   std::optional<std::uint8_t> ReadByte() override {
     if (bytes.empty()) return std::nullopt;
@@ -60,7 +60,7 @@ class QueueByteSource final : public ByteSource {
   std::deque<std::uint8_t> bytes;
 };
 
-class SteppingClock final : public MonotonicClock {
+class SteppingClock final : public dut_link::MonotonicClock {
  public:
   std::int64_t NowNs() override {
     ++reads;
@@ -71,7 +71,7 @@ class SteppingClock final : public MonotonicClock {
   int reads = 0;
 };
 
-class SteppingCycleCounter final : public CycleCounter {
+class SteppingCycleCounter final : public dut_link::CycleCounter {
  public:
   std::uint32_t Cycles() override { return cycles += step; }
   std::uint32_t cycles = 0;
@@ -81,8 +81,8 @@ class SteppingCycleCounter final : public CycleCounter {
 // The line form of `message`, as the runner writes it.
 inline std::vector<std::uint8_t> LineFrame(const proto::LinkMessage& message) {
   const std::string payload = message.SerializeAsString();
-  std::vector<std::uint8_t> line(EncodedFrameBytes(payload.size()));
-  line.resize(EncodeFrame(
+  std::vector<std::uint8_t> line(dut_link::EncodedFrameBytes(payload.size()));
+  line.resize(dut_link::EncodeFrame(
       std::span(reinterpret_cast<const std::uint8_t*>(payload.data()), payload.size()), line));
   return line;
 }

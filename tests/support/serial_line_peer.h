@@ -1,6 +1,6 @@
 // The runner's end of a serial HIL link for tests that drive a DUT over a real file descriptor (a
 // pseudo-terminal to dut_emu --serial, or QEMU's pty for the STM32 image): LinkMessages framed as
-// dut_fw/line_framing.h frames them, and every wait a poll with a deadline that returns as soon
+// dut_link/line_framing.h frames them, and every wait a poll with a deadline that returns as soon
 // as the bytes are there.
 #pragma once
 
@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "dut_fw/line_framing.h"
+#include "dut_link/line_framing.h"
 #include "proto/hil_link.pb.h"
 #include "tests/support/serial_dut_fakes.h"
 
@@ -117,7 +117,7 @@ class SerialLinePeer {
 
  private:
   int fd_;
-  FrameDecoder<kMaxLineMessageBytes> decoder_;
+  dut_link::FrameDecoder<dut_link::kMaxLineMessageBytes> decoder_;
   std::array<std::uint8_t, 4096> buffer_{};
   std::size_t at_ = 0;
   std::size_t size_ = 0;

@@ -22,7 +22,7 @@ arm-none-eabi-objdump -d -C "$image_dir/dut_fw_stm32f405.elf" |
 echo "functions calling soft double:"
 cat "$work_dir/callers"
 # The configuration's decoding and the runtime's own helpers (llround, the routines themselves).
-if grep -v -E 'hilrig::dut_fw::dut_config_internal::|hilrig::dut_fw::DecodeDutConfig<float>\(|hilrig::dut_fw::SerialDutSession<float>::OnConfig\(|<llround>|<__aeabi_' \
+if grep -v -E 'hilrig::dut_fw::dut_config_internal::|hilrig::dut_fw::DecodeDutConfig<float>\(|hilrig::dut_link::SerialDutSession::OnConfig\(|hilrig::dut_fw::DutCoreController<float>::Configure\(|<llround>|<__aeabi_' \
   "$work_dir/callers"; then
   echo "FAIL: double arithmetic outside the configuration's decoding (above)"
   exit 1

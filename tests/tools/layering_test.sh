@@ -75,17 +75,18 @@ forbid() {
 # fuzz/, sit on top of everything they exercise.
 declare -A level=(
   [protocol]=0 [proto]=0
-  [rig]=1 [dut_fw]=1
-  [dut_fw/target]=2 [host/plant]=2 [host/trace]=2 [host/link]=2
-  [host/sensors]=3 [fixtures/objects]=3 [host/checks]=3
-  [host/sensors/tactile]=4 [host/report]=4
-  [fixtures/calibration]=5 [host/compare]=5 [host/scenario]=5
-  [host/dut]=6 [host/setup]=6
-  [host/cache]=7 [host/runner]=7 [dut_emu]=7
-  [host/fidelity]=8
-  [host/pipeline]=9
-  [host/sweep]=10 [host/work_precision]=10
-  [host/cli]=11
+  [rig]=1 [dut_link]=1
+  [dut_fw]=2 [dut_link/posix]=2
+  [dut_fw/target]=3 [host/plant]=3 [host/trace]=3 [host/link]=3
+  [host/sensors]=4 [fixtures/objects]=4 [host/checks]=4
+  [host/sensors/tactile]=5 [host/report]=5
+  [fixtures/calibration]=6 [host/compare]=6 [host/scenario]=6
+  [host/dut]=7 [host/setup]=7
+  [host/cache]=8 [host/runner]=8 [dut_emu]=8
+  [host/fidelity]=9
+  [host/pipeline]=10
+  [host/sweep]=11 [host/work_precision]=11
+  [host/cli]=12
   [tests/support]=90
   [bench]=91 [fuzz]=91
 )
@@ -122,7 +123,7 @@ done < <(find . \( -name .git -o -exec test -f '{}/CMakeCache.txt' \; \) -prune 
   -type f \( -name '*.h' -o -name '*.cc' \) -printf '%h\n' | sed 's|^\./||' | sort -u)
 
 # The link speaks the firmware's types and the rig's transports, never a scenario's.
-check host/link rig/ proto/ dut_fw/
+check host/link rig/ proto/ dut_fw/ dut_link/
 # Resolving a spec is quick: the calibration jigs and field-map tabulation belong to host/setup.
 forbid host/scenario fixtures/calibration/ host/setup/
 # An emulated run reaches no transport, and the runner knows no command line; of the link it
@@ -143,8 +144,11 @@ forbid host/sweep host/cli/
 forbid host/compare host/cli/ host/runner/ host/pipeline/ host/sweep/ host/fidelity/ host/dut/
 # The DUT process is the firmware behind the link on a bus: none of the harness's command line.
 forbid dut_emu host/cli/ host/runner/ host/scenario/
-# The firmware builds for the target: its own headers, the protocols' numbers, nothing else.
-check dut_fw protocol/ proto/hil_link_tags.h
+# The firmware builds for the target: its own headers, the link library, the protocols' numbers,
+# nothing else. The link library is for any controller: the protocols and nothing of dut_fw's.
+check dut_fw dut_link/ protocol/ proto/hil_link_tags.h
+check dut_link protocol/ proto/hil_link_tags.h
+check dut_link/posix dut_link/
 check protocol
 
 # Fewer includes than a floor means the folders moved and the rules check nothing.

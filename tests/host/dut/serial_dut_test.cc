@@ -140,8 +140,8 @@ class ScriptedDut {
     if (first && flip_first_answer.count(tick)) {
       std::string payload;
       answer.SerializeToString(&payload);
-      std::vector<std::uint8_t> frame(dut_fw::EncodedFrameBytes(payload.size()));
-      frame.resize(dut_fw::EncodeFrame(
+      std::vector<std::uint8_t> frame(dut_link::EncodedFrameBytes(payload.size()));
+      frame.resize(dut_link::EncodeFrame(
           std::span(reinterpret_cast<const std::uint8_t*>(payload.data()), payload.size()), frame));
       frame[3] ^= 0x04;
       ASSERT_TRUE(line_.WriteAll(frame, 0));

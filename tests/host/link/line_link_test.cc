@@ -84,9 +84,9 @@ TEST(LineLinkTest, CountsAFrameThatIsNoMessageAndAnOversizeOne) {
   LineLink receiver(*line.b);
   // A CRC-valid frame whose payload does not parse (a field with wire type 7).
   std::vector<std::uint8_t> junk_payload = {0x0F, 0x01};
-  std::vector<std::uint8_t> junk(dut_fw::EncodedFrameBytes(junk_payload.size()));
-  junk.resize(dut_fw::EncodeFrame(junk_payload, junk));
-  std::vector<std::uint8_t> oversize(dut_fw::kMaxLineMessageBytes + 100, 0x01);
+  std::vector<std::uint8_t> junk(dut_link::EncodedFrameBytes(junk_payload.size()));
+  junk.resize(dut_link::EncodeFrame(junk_payload, junk));
+  std::vector<std::uint8_t> oversize(dut_link::kMaxLineMessageBytes + 100, 0x01);
   oversize.push_back(0x00);
   ASSERT_TRUE(line.a->WriteAll(junk, 0));
   ASSERT_TRUE(line.a->WriteAll(oversize, 0));
@@ -100,7 +100,7 @@ TEST(LineLinkTest, RefusesAMessageOverTheLimitAndReportsTheClose) {
   Line line;
   LineLink sender(*line.a);
   proto::LinkMessage big;
-  big.mutable_hello()->set_name(std::string(dut_fw::kMaxLineMessageBytes, 'x'));
+  big.mutable_hello()->set_name(std::string(dut_link::kMaxLineMessageBytes, 'x'));
   const rig::Result<void> sent = sender.Send(big, 0);
   ASSERT_FALSE(sent);
   EXPECT_NE(sent.error().message.find("limit"), std::string::npos);

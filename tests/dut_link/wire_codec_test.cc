@@ -1,7 +1,7 @@
-// dut_fw/wire_codec.h against libprotobuf: what libprotobuf writes, the codec reads (unknown
+// dut_link/wire_codec.h against libprotobuf: what libprotobuf writes, the codec reads (unknown
 // fields skipped), what the codec writes is byte for byte what libprotobuf writes and reads back,
 // and broken input ends in a typed error, never a read past the end.
-#include "dut_fw/wire_codec.h"
+#include "dut_link/wire_codec.h"
 
 #include <google/protobuf/unknown_field_set.h>
 #include <gtest/gtest.h>
@@ -14,7 +14,7 @@
 
 #include "proto/hil_link.pb.h"
 
-namespace hilrig::dut_fw::wire {
+namespace hilrig::dut_link::wire {
 namespace {
 
 std::vector<std::uint8_t> Bytes(const google::protobuf::MessageLite& message) {
@@ -339,4 +339,4 @@ TEST(WireCodec, RepeatedFloatsPackedUnpackedAndBounded) {
 }
 
 }  // namespace
-}  // namespace hilrig::dut_fw::wire
+}  // namespace hilrig::dut_link::wire

@@ -1,19 +1,20 @@
-// The DUT's side of the HIL link on a serial line (proto/hil_link.proto, docs/serial_link.md):
-// the same code on the STM32 image and in dut_emu --serial. The platform feeds every byte of the
-// link line to OnLinkByte; the session answers the runner's Hello (or, on a protocol version it
-// does not speak, says Bye), builds its DutCore from the DutConfig that follows (answered by
+// The DUT's side of the HIL link on a line (proto/hil_link.proto, docs/serial_link.md), for any
+// controller (dut_link/controller.h): the same code on the STM32 image, in dut_emu --serial and in
+// a team's own DUT (examples/hover_dut). The platform feeds every byte of the link line to
+// OnLinkByte; the session answers the runner's Hello (or, on a protocol version it does not speak,
+// says Bye), hands the DutConfig that follows to the controller's Configure (answered by
 // TargetInfo, or by Bye with the reason when refused), and then answers each SerialStep with a
-// SerialCommand: the step's inputs in order into the core, then the sensor-node frames the step
-// announces read off the bridge line and stamped with the step's time, then one control step. A
-// tick asked again (its answer was lost) is answered from the last output without stepping; a
+// SerialCommand: the step's inputs in order into the controller, then the sensor-node frames the
+// step announces read off the bridge line and stamped with the step's time, then one control step.
+// A tick asked again (its answer was lost) is answered from the last output without stepping; a
 // runner's Bye, or a new Hello, starts over. What it counts goes back with the commands.
 //
 // The platform provides four small interfaces, so a board and a host process plug in alike: the
 // sink its frames are written to, the bridge line's bytes, a clock that bounds the wait for bridge
-// bytes, and the cycle counter the work per step is measured with. Portable like the rest of
-// dut_fw: fixed buffers (about 5 KB plus the DutCore, 20 KB in all for float), no allocation, no
-// exceptions. OnLinkByte is O(1) per byte, and O(message + bridge bytes) plus one control step at
-// the byte that completes a frame.
+// bytes, and the cycle counter the work per step is measured with. Portable: the standard library
+// only, fixed buffers (about 5 KB), no allocation, no exceptions. OnLinkByte cannot fail (what is
+// wrong on the line is counted or answered with Bye); it is O(1) per byte, and O(message + bridge
+// bytes) plus one control step at the byte that completes a frame.
 #pragma once
 
 #include <array>
@@ -24,14 +25,14 @@
 #include <span>
 #include <string_view>
 
-#include "dut_fw/dut_config_decoder.h"
-#include "dut_fw/dut_core.h"
-#include "dut_fw/line_framing.h"
-#include "dut_fw/sensor_node.h"
-#include "dut_fw/wire_codec.h"
+#include "dut_link/controller.h"
+#include "dut_link/line_framing.h"
+#include "dut_link/run_description.h"
+#include "dut_link/wire_codec.h"
 #include "proto/hil_link_tags.h"
+#include "protocol/uart_bridge.h"
 
-namespace hilrig::dut_fw {
+namespace hilrig::dut_link {
 
 // The HIL link's protocol version, proto/hil_link.proto's LinkProtocol (as the host's
 // kHilLinkProtocolVersion).
@@ -88,6 +89,9 @@ struct TargetDescription {
   std::uint32_t flash_used_bytes = 0;
   std::uint32_t ram_used_bytes = 0;
   std::uint32_t stack_bytes = 0;
+  // What a DUT that dials the rig over TCP proves itself with (the rig's link token, 16 bytes);
+  // empty on a serial line, where the wire itself is the proof.
+  std::span<const std::uint8_t> link_token;
 };
 
 // proto SerialDutCounters, field for field.
@@ -136,7 +140,7 @@ inline std::span<const std::uint8_t> Bytes(std::string_view text) {
 }
 
 // The inputs of one SerialStep, read in two passes: the first checks every input (a step that
-// does not parse changes nothing), the second feeds them to the core.
+// does not parse changes nothing), the second feeds them to the controller.
 struct StepFields {
   std::uint64_t tick = 0;
   std::int64_t now_offset_ns = 0;
@@ -146,12 +150,17 @@ struct StepFields {
 
 }  // namespace serial_link_internal
 
-template <typename S>
 class SerialDutSession {
  public:
-  SerialDutSession(LineSink& link, ByteSource& bridge, MonotonicClock& clock, CycleCounter& cycles,
-                   const TargetDescription& target)
-      : link_(link), bridge_(bridge), clock_(clock), cycles_(cycles), target_(target) {}
+  // Every reference must outlive the session. Does not allocate.
+  SerialDutSession(Controller& controller, LineSink& link, ByteSource& bridge,
+                   MonotonicClock& clock, CycleCounter& cycles, const TargetDescription& target)
+      : controller_(controller),
+        link_(link),
+        bridge_(bridge),
+        clock_(clock),
+        cycles_(cycles),
+        target_(target) {}
 
   // Every byte received on the link line, in order. A complete frame is handled at once: the
   // answer is written to the sink before this returns (a step may first wait for bridge bytes,
@@ -176,7 +185,7 @@ class SerialDutSession {
     c.frames_oversize = frames.oversize;
     c.steps_repeated = steps_repeated_;
     c.steps_skipped = steps_skipped_;
-    const UartDecoderCounters& bridge = bridge_frames_.counters();
+    const tactile_bus::UartDecoderCounters& bridge = bridge_frames_.counters();
     c.bridge_frames = bridge.frames;
     c.bridge_bad_frames = bridge.bad_checksums + bridge.bad_lengths + bridge.bad_ids;
     c.bridge_bytes_missing = bridge_bytes_missing_;
@@ -184,9 +193,8 @@ class SerialDutSession {
     c.rx_ring_drops = rx_ring_drops_;
     return c;
   }
-  // The configuration taken (valid while phase() is kRunning).
-  const DutConfigOnTarget<S>& config() const { return config_; }
-  const DutCore<S>* core() const { return core_ ? &*core_ : nullptr; }
+  // The run's control period, from its DutConfig (valid while phase() is kRunning).
+  double control_period_s() const { return control_period_s_; }
 
  private:
   using Reader = wire::Reader;
@@ -223,7 +231,6 @@ class SerialDutSession {
 
   void Reset(SerialDutPhase phase) {
     phase_ = phase;
-    core_.reset();
     last_tick_.reset();
   }
 
@@ -255,6 +262,7 @@ class SerialDutSession {
     w.Varint(proto_tags::Hello::kRole, proto_tags::Hello::Role::kDut);
     if (!target_.name.empty())
       w.Bytes(proto_tags::Hello::kName, serial_link_internal::Bytes(target_.name));
+    if (!target_.link_token.empty()) w.Bytes(proto_tags::Hello::kToken, target_.link_token);
     w.EndMessage(nested);
     SendReply(w);
   }
@@ -271,16 +279,22 @@ class SerialDutSession {
     if (phase_ == SerialDutPhase::kAwaitHello) {
       return SendBye("dut config before hello", {}, {}, {});
     }
-    const ConfigRefusal refusal = DecodeDutConfig(body, config_);
-    if (refusal != ConfigRefusal::kNone) {
-      SendBye(Describe(refusal), {}, {}, {});
+    RunDescription run;
+    if (!DecodeRunDescription(body, run)) {
+      SendBye("dut config is not a well-formed message", {}, {}, {});
       return Reset(SerialDutPhase::kAwaitHello);
     }
-    core_.emplace(config_.params);
-    reference_ = Reference<S>{};  // what DutCore starts with
-    grasp_ = GraspCommand<S>{};
-    period_ns_ = std::llround(config_.control_period_s * 1e9);
-    dt_s_ = S(config_.control_period_s);
+    const char* refusal = controller_.Configure(run);
+    if (refusal == nullptr && !(run.control_period_s > 0 && std::isfinite(run.control_period_s))) {
+      refusal = "dut config control period must be positive and finite";
+    }
+    if (refusal != nullptr) {
+      SendBye(refusal, {}, {}, {});
+      return Reset(SerialDutPhase::kAwaitHello);
+    }
+    setpoint_ = Setpoint{};  // the controller starts from the zero setpoint too
+    control_period_s_ = run.control_period_s;
+    period_ns_ = std::llround(run.control_period_s * 1e9);
     last_tick_.reset();
     phase_ = SerialDutPhase::kRunning;
     Writer w = BeginReply();
@@ -318,7 +332,7 @@ class SerialDutSession {
     std::uint32_t work_cycles = cycles_.Cycles() - start_cycles;
     work_cycles += DrainBridge(step, now_ns);
     const std::uint32_t step_start = cycles_.Cycles();
-    last_output_ = core_->Step(now_ns, dt_s_);
+    last_output_ = controller_.Step(now_ns);
     last_tick_ = step.tick;
     last_work_cycles_ = SendCommand(step.tick, last_output_, work_cycles, step_start);
   }
@@ -376,9 +390,9 @@ class SerialDutSession {
     }
     if (!imu.ok() || count != values.size()) return false;
     if (apply) {
-      core_->OnImu(Vec3<S>(S(values[0]), S(values[1]), S(values[2])),
-                   Vec3<S>(S(values[3]), S(values[4]), S(values[5])),
-                   serial_link_internal::WrappingAdd(now_ns, offset_ns));
+      controller_.OnImu({{values[0], values[1], values[2]},
+                         {values[3], values[4], values[5]},
+                         serial_link_internal::WrappingAdd(now_ns, offset_ns)});
     }
     return true;
   }
@@ -397,18 +411,15 @@ class SerialDutSession {
     }
     if (!vio.ok() || position_count != 3 || wxyz_count != 4) return false;
     if (apply) {
-      core_->OnVio(Vec3<S>(S(position[0]), S(position[1]), S(position[2])),
-                   Quat<S>(S(wxyz[0]), S(wxyz[1]), S(wxyz[2]), S(wxyz[3])),
-                   serial_link_internal::WrappingAdd(now_ns, offset_ns));
+      controller_.OnVio({position, wxyz, serial_link_internal::WrappingAdd(now_ns, offset_ns)});
     }
     return true;
   }
 
   bool ReadSetpoint(Reader setpoint, bool apply) {
-    std::array<std::array<float, 3>, 3> vectors{};
+    std::array<Vec3f, 3> vectors{};
     std::array<std::size_t, 3> counts{};
-    Reference<S> reference = reference_;
-    GraspCommand<S> grasp = grasp_;
+    Setpoint next = setpoint_;
     namespace setpoint_field = proto_tags::SerialSetpoint;
     // The three vectors are fields one after the other: position, velocity, acceleration.
     static_assert(setpoint_field::kVelocityMS == setpoint_field::kPositionM + 1 &&
@@ -423,33 +434,30 @@ class SerialDutSession {
           break;
         }
         case setpoint_field::kYawRad:
-          reference.yaw_rad = S(setpoint.Float());
+          next.yaw_rad = setpoint.Float();
           break;
         case setpoint_field::kGraspRegulate:
-          grasp.mode = setpoint.Bool() ? GraspMode::kForce : GraspMode::kOpen;
+          next.grasp_regulate = setpoint.Bool();
           break;
         case setpoint_field::kGraspForceN:
-          grasp.force_n = S(setpoint.Float());
+          next.grasp_force_n = setpoint.Float();
           break;
         case setpoint_field::kGraspReferenceAngleRad:
-          grasp.reference_angle_rad = S(setpoint.Float());
+          next.grasp_reference_angle_rad = setpoint.Float();
           break;
         default:
           break;
       }
     }
     if (!setpoint.ok()) return false;
-    Vec3<S>* targets[3] = {&reference.position_m, &reference.velocity_m_s,
-                           &reference.acceleration_m_s2};
+    Vec3f* targets[3] = {&next.position_m, &next.velocity_m_s, &next.acceleration_m_s2};
     for (std::size_t i = 0; i < 3; ++i) {  // a vector is absent (kept) or has all three values
       if (counts[i] != 0 && counts[i] != 3) return false;
-      if (counts[i] == 3)
-        *targets[i] = Vec3<S>(S(vectors[i][0]), S(vectors[i][1]), S(vectors[i][2]));
+      if (counts[i] == 3) *targets[i] = vectors[i];
     }
     if (apply) {
-      reference_ = reference;
-      grasp_ = grasp;
-      core_->OnSetpoint(reference_, grasp_);
+      setpoint_ = next;
+      controller_.OnSetpoint(setpoint_);
     }
     return true;
   }
@@ -461,8 +469,11 @@ class SerialDutSession {
   std::uint32_t DrainBridge(const serial_link_internal::StepFields& step, std::int64_t now_ns) {
     std::int64_t owed = step.realtime ? 0 : std::int64_t(step.bridge_bytes);
     // Bounds a line that never stops talking: the announced bytes plus a frame's worth.
-    std::uint64_t budget = std::uint64_t(step.bridge_bytes) + kUartMaxFrameBytes;
-    std::optional<std::int64_t> quiet_since_ns;
+    std::uint64_t budget = std::uint64_t(step.bridge_bytes) + tactile_bus::kUartMaxFrameBytes;
+    // When the line went quiet; a flag and a value rather than an optional, which GCC cannot
+    // always see is set before it is read once this is inlined.
+    bool quiet = false;
+    std::int64_t quiet_since_ns = 0;
     std::uint32_t work_cycles = 0;
     while (budget > 0) {
       const std::optional<std::uint8_t> byte = bridge_.ReadByte();
@@ -470,16 +481,17 @@ class SerialDutSession {
         const std::uint32_t start = cycles_.Cycles();
         --budget;
         --owed;
-        quiet_since_ns.reset();
+        quiet = false;
         OnBridgeByte(*byte, now_ns);
         work_cycles += cycles_.Cycles() - start;
         continue;
       }
       if (owed <= 0) break;
       const std::int64_t clock_ns = clock_.NowNs();
-      if (!quiet_since_ns) {
+      if (!quiet) {
+        quiet = true;
         quiet_since_ns = clock_ns;
-      } else if (clock_ns - *quiet_since_ns >= kBridgeGapNs) {
+      } else if (clock_ns - quiet_since_ns >= kBridgeGapNs) {
         bridge_bytes_missing_ += std::uint64_t(owed);
         break;
       }
@@ -488,38 +500,32 @@ class SerialDutSession {
   }
 
   void OnBridgeByte(std::uint8_t byte, std::int64_t now_ns) {
-    const std::optional<NodeFrame> frame = bridge_frames_.Feed(byte);
+    const std::optional<tactile_bus::NodeFrame> frame = bridge_frames_.Feed(byte);
     if (!frame) return;
-    const std::optional<NodeSample> sample = UnpackSampleFrame(*frame);
-    if (!sample) return;  // status frames and other nodes' commands
-    core_->OnSensorSample(sample->node_id, sample->code, sample->sequence,
-                          (sample->status & tactile_bus::kSampleSaturated) != 0, now_ns);
+    controller_.OnCanFrame({frame->id, frame->len, frame->data, now_ns});
   }
 
   // Sends the command for `tick` and returns the work_cycles it carries: `work_cycles` plus, when
   // `since` is given, the cycles from then until the field is written (stepping and encoding are
   // part of the step's work).
-  std::uint32_t SendCommand(std::uint64_t tick, const DutCoreOutput<S>& out,
-                            std::uint32_t work_cycles,
+  std::uint32_t SendCommand(std::uint64_t tick, const StepOutput& out, std::uint32_t work_cycles,
                             std::optional<std::uint32_t> since = std::nullopt) {
     Writer w = BeginReply();
     namespace command = proto_tags::SerialCommand;
     const auto nested = w.BeginMessage(proto_tags::LinkMessage::kSerialCommand);
     PutNonZero(w, command::kAnswersTick, tick);
-    std::array<float, 4> thrust{};
-    for (std::size_t i = 0; i < thrust.size(); ++i) thrust[i] = float(out.rotor_thrust_n[i]);
-    w.PackedFloats(command::kRotorThrustN, thrust);
+    w.PackedFloats(command::kRotorThrustN, out.rotor_thrust_n);
     if (out.armed) w.Bool(command::kArmed, true);
-    PutNonZeroFloat(w, command::kServoAngleRad, float(out.servo_angle_rad));
-    w.PackedFloats(command::kEstimatedPositionM, Floats(out.estimated_position_m));
+    PutNonZeroFloat(w, command::kServoAngleRad, out.servo_angle_rad);
+    w.PackedFloats(command::kEstimatedPositionM, out.estimated_position_m);
     if (out.tactile_ready) w.Bool(command::kTactileReady, true);
-    PutNonZeroFloat(w, command::kGraspForceEstimateN, float(out.grasp_force_estimate_n));
-    w.PackedFloats(command::kExternalForceWorldN, Floats(out.external_force_world_n));
+    PutNonZeroFloat(w, command::kGraspForceEstimateN, out.grasp_force_estimate_n);
+    w.PackedFloats(command::kExternalForceWorldN, out.external_force_world_n);
     std::array<float, 18> pads{};
     bool any_pad = false;
-    for (std::size_t i = 0; i < out.tactile_force_sensor_n.size(); ++i) {
+    for (std::size_t i = 0; i < out.pad_force_sensor_n.size(); ++i) {
       for (std::size_t axis = 0; axis < 3; ++axis) {
-        pads[3 * i + axis] = float(out.tactile_force_sensor_n[i][int(axis)]);
+        pads[3 * i + axis] = out.pad_force_sensor_n[i][axis];
         any_pad = any_pad || pads[3 * i + axis] != 0.f;
       }
     }
@@ -534,10 +540,6 @@ class SerialDutSession {
     w.EndMessage(nested);
     SendReply(w);
     return work_cycles;
-  }
-
-  static std::array<float, 3> Floats(const Vec3<S>& v) {
-    return {float(v.x()), float(v.y()), float(v.z())};
   }
 
   static void PutCounters(Writer& w, const SerialDutCounterValues& c) {
@@ -598,6 +600,7 @@ class SerialDutSession {
     if (size != 0) link_.Write(std::span<const std::uint8_t>(frame_out_.data(), size));
   }
 
+  Controller& controller_;
   LineSink& link_;
   ByteSource& bridge_;
   MonotonicClock& clock_;
@@ -605,19 +608,16 @@ class SerialDutSession {
   TargetDescription target_;
 
   FrameDecoder<kMaxLineMessageBytes> frames_;
-  UartDecoder bridge_frames_;
+  tactile_bus::UartDecoder bridge_frames_;
   std::array<std::uint8_t, serial_link_internal::kMaxReplyBytes> reply_{};
   std::array<std::uint8_t, EncodedFrameBytes(serial_link_internal::kMaxReplyBytes)> frame_out_{};
 
   SerialDutPhase phase_ = SerialDutPhase::kAwaitHello;
-  DutConfigOnTarget<S> config_;
-  std::optional<DutCore<S>> core_;
+  double control_period_s_ = 0;
   std::int64_t period_ns_ = 0;
-  S dt_s_ = S(0);
-  Reference<S> reference_;
-  GraspCommand<S> grasp_;
+  Setpoint setpoint_;
   std::optional<std::uint64_t> last_tick_;
-  DutCoreOutput<S> last_output_;
+  StepOutput last_output_;
   std::uint32_t last_work_cycles_ = 0;
   std::uint64_t sequence_ = 0;
 
@@ -630,4 +630,4 @@ class SerialDutSession {
   SerialDutCounterValues counters_sent_;
 };
 
-}  // namespace hilrig::dut_fw
+}  // namespace hilrig::dut_link

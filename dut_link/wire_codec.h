@@ -3,11 +3,11 @@
 // bytes and nested messages, packed repeated floats and doubles, unknown fields skipped) and write
 // them into a buffer the caller owns. Written for the firmware rather than taken from nanopb:
 // Debian ships nanopb's generator and an x86-64 library but not the runtime's sources the MCU
-// would compile, and the messages are few enough to map by hand (dut_fw/serial_dut_session.h).
+// would compile, and the messages are few enough to map by hand (dut_link/serial_session.h).
 //
 // Both sides keep a sticky error: after the first problem every read returns a zero value and
 // Next() ends the message, every write is dropped, so a caller checks error() once at the end
-// instead of after each call. Portable like the rest of dut_fw: header-only, no allocation, no
+// instead of after each call. Portable like the rest of dut_link: header-only, no allocation, no
 // exceptions. Every function runs in time linear in the bytes it reads or writes (O(1) unless
 // stated) and allocates nothing; whether a function can fail is stated with it.
 #pragma once
@@ -18,7 +18,7 @@
 #include <optional>
 #include <span>
 
-namespace hilrig::dut_fw::wire {
+namespace hilrig::dut_link::wire {
 
 enum class WireType : std::uint8_t {
   kVarint = 0,
@@ -343,4 +343,4 @@ class Writer {
   WireError error_ = WireError::kNone;
 };
 
-}  // namespace hilrig::dut_fw::wire
+}  // namespace hilrig::dut_link::wire

@@ -1,4 +1,4 @@
-#include "dut_fw/line_framing.h"
+#include "dut_link/line_framing.h"
 
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace hilrig::dut_fw {
+namespace hilrig::dut_link {
 namespace {
 
 constexpr std::size_t kMaxPayload = 600;
@@ -126,4 +126,4 @@ TEST(LineFraming, SkipsAnOversizeFrameToItsDelimiter) {
 }
 
 }  // namespace
-}  // namespace hilrig::dut_fw
+}  // namespace hilrig::dut_link

@@ -7,7 +7,7 @@
 // error in the decoded payload and CRC is caught, as is every burst up to 16 bits. A flipped COBS
 // code byte moves the decoded zeros instead; it is caught as malformed COBS or by the CRC with the
 // generic 1 - 2^-16 chance. A frame costs the payload + 2 + 1 + one code byte per 254 bytes at
-// most. Portable like the rest of dut_fw: fixed buffers, no allocation, no clock.
+// most. Portable like the rest of dut_link: fixed buffers, no allocation, no clock.
 #pragma once
 
 #include <array>
@@ -16,7 +16,7 @@
 #include <optional>
 #include <span>
 
-namespace hilrig::dut_fw {
+namespace hilrig::dut_link {
 
 inline constexpr std::uint8_t kFrameDelimiter = 0x00;
 inline constexpr std::size_t kFrameCrcBytes = 2;
@@ -142,4 +142,4 @@ class FrameDecoder {
   FrameDecoderCounters counters_;
 };
 
-}  // namespace hilrig::dut_fw
+}  // namespace hilrig::dut_link

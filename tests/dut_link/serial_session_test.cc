@@ -1,7 +1,8 @@
-// dut_fw/serial_dut_session.h driven as a runner drives it, over framed LinkMessages from
-// libprotobuf: the handshake and its refusals, the firmware it decodes compared with the host's
-// for a shipped scene, steps compared with a DutCore driven directly, and the line's faults.
-#include "dut_fw/serial_dut_session.h"
+// dut_link/serial_session.h driven as a runner drives it, over framed LinkMessages from
+// libprotobuf, with dut_fw's controller behind it (dut_fw/dut_core_controller.h): the handshake
+// and its refusals, the firmware it decodes compared with the host's for a shipped scene, steps
+// compared with a DutCore driven directly, and the line's faults.
+#include "dut_link/serial_session.h"
 
 #include <gtest/gtest.h>
 
@@ -9,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "dut_fw/dut_core_controller.h"
 #include "dut_fw/sensor_node.h"
 #include "host/dut/firmware_config.h"
 #include "host/link/dut_config_codec.h"
@@ -22,6 +24,12 @@
 
 namespace hilrig::dut_fw {
 namespace {
+
+using dut_link::kBridgeGapNs;
+using dut_link::SerialDutCounterValues;
+using dut_link::SerialDutPhase;
+using dut_link::SerialDutSession;
+using dut_link::TargetDescription;
 
 // The balloon grasp scene's firmware, its tactile front end calibrated (once per process).
 const host::DutFirmware& BalloonFirmware() {
@@ -68,8 +76,9 @@ class SerialDutSessionTest : public ::testing::Test {
   QueueByteSource bridge_;
   SteppingClock clock_;
   SteppingCycleCounter cycles_;
-  TargetDescription target_{"dut_fw test", "fake board", 168'000'000, 40'000, 9'000, 100'000};
-  SerialDutSession<double> session_{sink_, bridge_, clock_, cycles_, target_};
+  TargetDescription target_{"dut_fw test", "fake board", 168'000'000, 40'000, 9'000, 100'000, {}};
+  DutCoreController<double> controller_;
+  SerialDutSession session_{controller_, sink_, bridge_, clock_, cycles_, target_};
 };
 
 TEST_F(SerialDutSessionTest, AnswersHelloThenConfigWithTargetInfo) {
@@ -92,8 +101,8 @@ TEST_F(SerialDutSessionTest, AnswersHelloThenConfigWithTargetInfo) {
   EXPECT_EQ(info.target_info().stack_bytes(), 100'000u);
   EXPECT_EQ(info.target_info().header().sequence(), 1u);
   EXPECT_EQ(session_.phase(), SerialDutPhase::kRunning);
-  ASSERT_NE(session_.core(), nullptr);
-  EXPECT_TRUE(session_.core()->has_tactile());
+  ASSERT_NE(controller_.core(), nullptr);
+  EXPECT_TRUE(controller_.core()->has_tactile());
 }
 
 TEST_F(SerialDutSessionTest, AnotherVersionIsAnsweredByByeWithTheReason) {
@@ -105,7 +114,7 @@ TEST_F(SerialDutSessionTest, AnotherVersionIsAnsweredByByeWithTheReason) {
   EXPECT_EQ(session_.phase(), SerialDutPhase::kAwaitHello);
   Send(Config(BalloonFirmware()));  // no configuration without a hello
   EXPECT_TRUE(Answer().has_bye());
-  EXPECT_EQ(session_.core(), nullptr);
+  EXPECT_EQ(controller_.core(), nullptr);
 }
 
 TEST_F(SerialDutSessionTest, AHelloFromAnotherDutIsNotAnswered) {
@@ -159,7 +168,7 @@ TEST_F(SerialDutSessionTest, RefusesABadConfigWithByeAndTheReason) {
     EXPECT_TRUE(bye.bye().error());
     EXPECT_EQ(bye.bye().reason(), c.reason);
     EXPECT_EQ(session_.phase(), SerialDutPhase::kAwaitHello);
-    EXPECT_EQ(session_.core(), nullptr);
+    EXPECT_EQ(controller_.core(), nullptr);
   }
 }
 
@@ -218,7 +227,7 @@ TEST_F(SerialDutSessionTest, StepsAsADutCoreDrivenDirectly) {
     pad_force_seen = pad_force_seen || command.tactile_force_sensor_n_size() != 0;
     if (HasFailure()) return;
   }
-  const TactileProcessorState<double>& tactile = session_.core()->tactile_state();
+  const TactileProcessorState<double>& tactile = controller_.core()->tactile_state();
   EXPECT_EQ(tactile.reference_samples, 100u);
   for (const auto& node : tactile.nodes) EXPECT_EQ(node.samples, 100u);
   EXPECT_TRUE(pad_force_seen) << "the bridge samples never reached the pads' forces";
