@@ -53,12 +53,18 @@ rig::Result<void> CheckOptionsFit(DutKind kind, const DutArguments& arguments) {
   if (arguments.timeout_s && !OverALink(kind)) {
     return rig::MakeError("--dut-timeout-s needs --dut process, exec:, qemu or serial:");
   }
-  if (arguments.link && (!AProcess(kind) || kind == DutKind::kListen)) {
+  const bool line = arguments.link && *arguments.link == "line";
+  if (arguments.link && !line && (!AProcess(kind) || kind == DutKind::kListen)) {
     return rig::MakeError("--dut-link needs --dut process or exec:");
   }
-  if (arguments.link && *arguments.link != "shm" && *arguments.link != "tcp") {
-    return rig::MakeError("--dut-link \"" + *arguments.link + "\": expected shm or tcp");
+  if (line && kind != DutKind::kExec && kind != DutKind::kListen) {
+    return rig::MakeError("--dut-link line needs --dut exec: or listen:");
   }
+  if (arguments.link && *arguments.link != "shm" && *arguments.link != "tcp" && !line) {
+    return rig::MakeError("--dut-link \"" + *arguments.link + "\": expected shm, tcp or line");
+  }
+  // On the line link the tactile frames ride the bridge line: no bus reaches the DUT.
+  if (arguments.can && line) return rig::MakeError("--can does not go with --dut-link line");
   // The in-process DUT sits on the runner's emulated bus; only a DUT process reaches another one.
   if (arguments.can && !AProcess(kind)) {
     return rig::MakeError("--can " + *arguments.can + " needs --dut process or exec:");
@@ -172,6 +178,23 @@ rig::Result<void> ParseProcessOptions(const DutArguments& arguments, DutChoice& 
   return {};
 }
 
+// exec: or listen: on the line link: the serial DUT's options, the lines the DUT dials.
+rig::Result<void> ParseLineOptions(const DutArguments& arguments, DutChoice& choice) {
+  choice.line = true;
+  const ProcessDutOptions& process = choice.process;
+  DialedLineSpec& dialed = choice.dialed;
+  if (choice.kind == DutKind::kExec) {
+    dialed.program = process.program;
+    dialed.program_args = process.program_args;
+  } else {
+    dialed.address = process.listen_address;
+    dialed.port = process.listen_port;
+    dialed.token_file = process.token_file;
+    choice.serial.start_timeout_s = kListenStartTimeoutS;
+  }
+  return ParseSerialOptions(arguments, choice);
+}
+
 DutFactory SinglePrecisionFactory() {
   return [](const ScenarioConfig& config, std::unique_ptr<rig::CanBus> bus,
             double control_period_s) -> rig::Result<std::unique_ptr<DutPort>> {
@@ -240,6 +263,9 @@ rig::Result<DutChoice> ParseDutChoice(const DutArguments& arguments) {
   if (AProcess(choice.kind)) {
     if (auto parsed = ParseProcessOptions(arguments, choice); !parsed) return parsed.error();
   }
+  if (arguments.link && *arguments.link == "line") {
+    if (auto parsed = ParseLineOptions(arguments, choice); !parsed) return parsed.error();
+  }
   return choice;
 }
 
@@ -250,9 +276,16 @@ rig::Result<DutFactory> MakeDutFactory(const DutChoice& choice, bool realtime,
       return DutFactory();
     case DutKind::kInProcessFloat:
       return SinglePrecisionFactory();
-    case DutKind::kProcess:
     case DutKind::kExec:
     case DutKind::kListen:
+      if (choice.line) {
+        DialedLineSpec dialed = choice.dialed;
+        dialed.stop_requested = seams.stop_requested;
+        dialed.notes = seams.notes;
+        return SerialFactory(DialedLines(dialed), choice.serial);
+      }
+      return ProcessFactory(choice.process, realtime, seams);
+    case DutKind::kProcess:
       return ProcessFactory(choice.process, realtime, seams);
     case DutKind::kQemu: {
       auto image = FindTargetImage(choice.target_image);

@@ -9,6 +9,7 @@
 #include <ostream>
 #include <string>
 
+#include "host/dut/dialed_lines.h"
 #include "host/dut/dut_port.h"
 #include "host/dut/process_dut.h"
 #include "host/dut/serial_dut.h"
@@ -47,7 +48,11 @@ struct DutChoice {
   // kProcess; kExec (program, program_args); kListen (listen, listen_address, listen_port,
   // token_file)
   ProcessDutOptions process;
-  SerialDutOptions serial;                  // kQemu and kSerial
+  SerialDutOptions serial;  // kQemu, kSerial, and kExec and kListen on `line`
+  // kExec and kListen with --dut-link line: the DUT speaks the serial link over TCP and dials the
+  // rig (host/dut/dialed_lines.h) instead of the process link.
+  bool line = false;
+  DialedLineSpec dialed;
   SerialPortSpec port;                      // kSerial
   std::optional<std::string> target_image;  // kQemu; unset: the one ./scripts/build-target makes
 };

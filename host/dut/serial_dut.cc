@@ -235,22 +235,26 @@ rig::Result<void> SerialDut::Handshake() {
   const auto refused = [](const proto::Bye& bye, const char* what) {
     return rig::MakeError("the dut refused the " + std::string(what) + ": " + bye.reason());
   };
-  auto greeted =
-      Exchange(hello, Nanoseconds(options_.hello_interval_s), deadline_ns, "hello",
-               [&](const proto::LinkMessage& message) -> rig::Result<bool> {
-                 if (message.has_bye()) return refused(message.bye(), "link");
-                 if (!message.has_hello() || message.hello().role() != proto::Hello::DUT)
-                   return false;
-                 const std::uint32_t version = message.hello().header().protocol_version();
-                 if (version != kHilLinkProtocolVersion) {
-                   return LinkProtocolError(LinkErrorKind::kBadVersion,
-                                            "the dut speaks HIL link protocol version " +
-                                                std::to_string(version) + ", the runner version " +
-                                                std::to_string(kHilLinkProtocolVersion));
-                 }
-                 dut_name_ = message.hello().name();
-                 return true;
-               });
+  auto greeted = Exchange(
+      hello, Nanoseconds(options_.hello_interval_s), deadline_ns, "hello",
+      [&](const proto::LinkMessage& message) -> rig::Result<bool> {
+        if (message.has_bye()) return refused(message.bye(), "link");
+        if (!message.has_hello() || message.hello().role() != proto::Hello::DUT) return false;
+        const std::uint32_t version = message.hello().header().protocol_version();
+        if (version != kHilLinkProtocolVersion) {
+          return LinkProtocolError(LinkErrorKind::kBadVersion,
+                                   "the dut speaks HIL link protocol version " +
+                                       std::to_string(version) + ", the runner version " +
+                                       std::to_string(kHilLinkProtocolVersion));
+        }
+        if (lines_.link_token && !ProvesLinkToken(*lines_.link_token, message.hello().token())) {
+          return rig::MakeError("the dut's hello does not carry this run's link token (" +
+                                std::string(message.hello().token().empty() ? "none" : "another") +
+                                "): a DUT that dials the rig proves itself with the token");
+        }
+        dut_name_ = message.hello().name();
+        return true;
+      });
   if (!greeted) return greeted.error();
   proto::LinkMessage config;
   *config.mutable_config() = ToDutConfig(firmware_, control_period_s_);

@@ -26,6 +26,7 @@
 #include "host/link/dut_firmware.h"
 #include "host/link/hil_link_codec.h"
 #include "host/link/line_link.h"
+#include "host/link/link_token.h"
 #include "proto/hil_link.pb.h"
 #include "rig/can_bus.h"
 #include "rig/clock.h"
@@ -46,6 +47,8 @@ struct SerialLines {
   // slower). The retries wait twice the time the bytes they repeat need, on top of their timeout,
   // so a slow line is not taken for a lost frame.
   double byte_time_s = 0;
+  // A line anyone on the host could reach (a TCP port): the DUT's hello must carry this token.
+  std::optional<LinkToken> link_token;
 };
 
 // Opens the lines within `timeout_s` (an emulator takes a moment to open its ports).

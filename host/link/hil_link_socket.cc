@@ -175,6 +175,13 @@ std::uint16_t LinkListener::port() const {
 }
 
 rig::Result<std::unique_ptr<LinkConnection>> LinkListener::Accept(int timeout_ms) {
+  auto accepted = AcceptStream(timeout_ms);
+  if (!accepted) return accepted.error();
+  return std::make_unique<LinkConnection>(std::move(accepted.value().stream),
+                                          std::move(accepted.value().peer));
+}
+
+rig::Result<LinkListener::AcceptedStream> LinkListener::AcceptStream(int timeout_ms) {
   const Deadline deadline = DeadlineIn(timeout_ms);
   const int fd = acceptor_->acceptor.native_handle();
   while (true) {
@@ -187,8 +194,7 @@ rig::Result<std::unique_ptr<LinkConnection>> LinkListener::Accept(int timeout_ms
       const tcp::endpoint remote = socket->socket.remote_endpoint(error);
       std::string peer = error ? "(disconnected)"
                                : remote.address().to_string() + ":" + std::to_string(remote.port());
-      return std::make_unique<LinkConnection>(TcpStream(std::move(socket), "link"),
-                                              std::move(peer));
+      return AcceptedStream{TcpStream(std::move(socket), "link"), std::move(peer)};
     }
     if (error != asio::error::would_block && error != asio::error::try_again &&
         error != asio::error::interrupted) {

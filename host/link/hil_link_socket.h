@@ -97,8 +97,14 @@ class LinkListener {
   LinkListener& operator=(const LinkListener&) = delete;
 
   std::uint16_t port() const;
-  // The next connection, or an error once timeout_ms passed without one.
+  // The next connection, or an error once timeout_ms passed without one (kTimeout).
   rig::Result<std::unique_ptr<LinkConnection>> Accept(int timeout_ms);
+  // The same, as the byte stream under it (for a link of another framing); `peer` names it.
+  struct AcceptedStream {
+    std::unique_ptr<ByteStream> stream;
+    std::string peer;
+  };
+  rig::Result<AcceptedStream> AcceptStream(int timeout_ms);
 
  private:
   struct Acceptor;

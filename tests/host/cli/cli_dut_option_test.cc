@@ -32,7 +32,7 @@ TEST(CliDutOptionTest, DutLinkNeedsProcessModeAndAKnownTransport) {
   EXPECT_NE(inproc.err.find("--dut-link needs --dut process"), std::string::npos) << inproc.err;
   const CliResult unknown = Cli({"run", kScenario, "--dut", "process", "--dut-link", "udp"});
   EXPECT_EQ(unknown.exit_code, kExitBadInput);
-  EXPECT_NE(unknown.err.find("--dut-link \"udp\": expected shm or tcp"), std::string::npos)
+  EXPECT_NE(unknown.err.find("--dut-link \"udp\": expected shm, tcp or line"), std::string::npos)
       << unknown.err;
 }
 

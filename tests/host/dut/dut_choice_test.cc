@@ -84,6 +84,37 @@ TEST(DutChoiceTest, ABadListenWordIsRefusedByName) {
   EXPECT_EQ(ErrorOf(link), "--dut-link needs --dut process or exec:");
 }
 
+TEST(DutChoiceTest, TheLineLinkIsForAProgramThatDialsTheRig) {
+  DutArguments exec = Dut("exec:./my_dut,--gain,2");
+  exec.link = "line";
+  const DutChoice started = ParseDutChoice(exec).value();
+  EXPECT_TRUE(started.line);
+  EXPECT_EQ(started.dialed.program, "./my_dut");
+  EXPECT_EQ(started.dialed.program_args, (std::vector<std::string>{"--gain", "2"}));
+  EXPECT_EQ(started.serial.start_timeout_s, SerialDutOptions().start_timeout_s);
+
+  DutArguments listen = Dut("listen:0.0.0.0:4600,token=dut_token");
+  listen.link = "line";
+  listen.timeout_s = "3";
+  const DutChoice dialled = ParseDutChoice(listen).value();
+  EXPECT_TRUE(dialled.line);
+  EXPECT_FALSE(dialled.dialed.program);
+  EXPECT_EQ(dialled.dialed.address, "0.0.0.0");
+  EXPECT_EQ(dialled.dialed.port, 4600);
+  EXPECT_EQ(dialled.dialed.token_file, "dut_token");
+  EXPECT_EQ(dialled.serial.start_timeout_s, 60);  // a person starts the DUT
+  EXPECT_EQ(dialled.serial.answer_timeout_s, 3);
+
+  for (const char* word : {"process", "qemu", "serial:/dev/ttyACM0"}) {
+    DutArguments other = Dut(word);
+    other.link = "line";
+    EXPECT_EQ(ErrorOf(other), "--dut-link line needs --dut exec: or listen:") << word;
+  }
+  DutArguments can = exec;
+  can.can = "socketcan:can0";  // the tactile frames ride the bridge line
+  EXPECT_EQ(ErrorOf(can), "--can does not go with --dut-link line");
+}
+
 TEST(DutChoiceTest, AnUnknownWordListsTheKinds) {
   EXPECT_THAT(ErrorOf(Dut("px4")), HasSubstr("--dut \"px4\": expected inproc, inproc-float"));
   EXPECT_THAT(ErrorOf(Dut("serial:")), HasSubstr("--dut "));
@@ -107,7 +138,7 @@ TEST(DutChoiceTest, AnOptionTheKindDoesNotTakeIsRefusedByName) {
 TEST(DutChoiceTest, BadValuesNameTheirOption) {
   DutArguments link = Dut("process");
   link.link = "pipe";
-  EXPECT_EQ(ErrorOf(link), "--dut-link \"pipe\": expected shm or tcp");
+  EXPECT_EQ(ErrorOf(link), "--dut-link \"pipe\": expected shm, tcp or line");
   DutArguments words = Dut("process");
   words.timeout_s = "soon";
   EXPECT_EQ(ErrorOf(words), "--dut-timeout-s \"soon\" is not a number");
