@@ -79,6 +79,12 @@ DutCounters BasicInProcessDut<S>::counters() const {
 
 template <typename S>
 rig::Result<ActuatorMessage> BasicInProcessDut<S>::Step(std::uint64_t tick, std::int64_t now_ns) {
+  if (stopped_) return rig::MakeError("the in-process dut was stopped");
+  if (last_tick_ && tick <= *last_tick_) {
+    return rig::MakeError("tick " + std::to_string(tick) + " requested after tick " +
+                          std::to_string(*last_tick_));
+  }
+  last_tick_ = tick;
   DrainBus(now_ns);
   const dut_fw::DutCoreOutput<S> out = core_.Step(now_ns, control_period_s_);
   ActuatorMessage command;

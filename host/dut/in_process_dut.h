@@ -6,6 +6,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "dut_fw/dut_core.h"
@@ -25,7 +26,10 @@ class BasicInProcessDut final : public DutPort {
   BasicInProcessDut(const BasicDutFirmware<S>& firmware, std::unique_ptr<rig::CanBus> bus,
                     double control_period_s);
 
+  // After it, a step is an error, as for every DUT.
+  void Stop() override { stopped_ = true; }
   void Send(const DutInput& input) override;
+  // Fails for a tick not after the last one, or after Stop.
   rig::Result<ActuatorMessage> Step(std::uint64_t tick, std::int64_t now_ns) override;
   DutCounters counters() const override;
   std::string description() const override;
@@ -43,6 +47,8 @@ class BasicInProcessDut final : public DutPort {
   rig::TactileLinkMonitor link_monitor_;
   DutCounters counters_;
   std::uint64_t commands_sent_ = 0;
+  std::optional<std::uint64_t> last_tick_;
+  bool stopped_ = false;
 };
 
 using InProcessDut = BasicInProcessDut<double>;
