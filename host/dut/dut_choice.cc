@@ -65,9 +65,10 @@ rig::Result<void> CheckOptionsFit(DutKind kind, const DutArguments& arguments) {
   }
   // On the line link the tactile frames ride the bridge line: no bus reaches the DUT.
   if (arguments.can && line) return rig::MakeError("--can does not go with --dut-link line");
-  // The in-process DUT sits on the runner's emulated bus; only a DUT process reaches another one.
-  if (arguments.can && !AProcess(kind)) {
-    return rig::MakeError("--can " + *arguments.can + " needs --dut process or exec:");
+  // The in-process DUT sits on the runner's emulated bus, and QEMU's board has no CAN port: only
+  // a DUT process or a board reaches another bus.
+  if (arguments.can && !AProcess(kind) && kind != DutKind::kSerial) {
+    return rig::MakeError("--can " + *arguments.can + " needs --dut process, exec: or serial:");
   }
   return {};
 }
@@ -102,6 +103,12 @@ rig::Result<void> ParseSerialOptions(const DutArguments& arguments, DutChoice& c
     auto port = ParseSerialPortSpec(*arguments.dut);
     if (!port) return rig::MakeError("--dut " + port.error().message);
     choice.port = std::move(port).value();
+    if (arguments.can) {
+      if (auto uri = ParseDutCanBusUri(*arguments.can); !uri) {
+        return rig::MakeError("--can: " + uri.error().message);
+      }
+      choice.port.can_uri = *arguments.can;
+    }
   }
   return {};
 }

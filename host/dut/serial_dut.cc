@@ -286,7 +286,9 @@ std::string SerialDut::description() const {
   std::string text = "a dut on a serial line: " + lines_.description;
   if (target_info_) text += ", target " + target_info_->board();
   if (!dut_name_.empty()) text += " (" + dut_name_ + ")";
-  text += lines_.bridge ? ", sensor bridge on " + lines_.bridge->name() : ", no sensor bridge";
+  text += lines_.can      ? ", CAN frames over " + lines_.can_uri
+          : lines_.bridge ? ", sensor bridge on " + lines_.bridge->name()
+                          : ", no sensor bridge";
   return text;
 }
 
@@ -308,6 +310,8 @@ std::vector<rig::Metric> SerialDut::link_metrics() const {
                                     {"bridge_frames_dropped", bridge_frames_dropped_}}) {
     metrics.push_back(rig::CountMetric(name, value));
   }
+  if (lines_.can)
+    metrics.push_back(rig::CountMetric("link_can_frames_forwarded", can_frames_forwarded_));
   const proto::SerialDutCounters& dut = dut_counters_;
   for (const auto& [name, value] : {std::pair{"dut_line_frames_received", dut.frames_received()},
                                     {"dut_line_bad_checksum", dut.frames_bad_checksum()},
@@ -417,10 +421,22 @@ void SerialDut::AddInput(const DutInput& input, std::int64_t now_ns, proto::Seri
   }
 }
 
+rig::Result<std::uint32_t> SerialDut::ForwardToCan() {
+  for (const rig::TimedCanFrame& timed : frames_) {
+    if (auto sent = lines_.can->Send(timed.frame, timed.time_ns); !sent) {
+      return rig::MakeError(sent.error().code, "forwarding a CAN frame to the dut on " +
+                                                   lines_.can_uri + ": " + sent.error().message);
+    }
+    ++can_frames_forwarded_;
+  }
+  return 0;
+}
+
 rig::Result<std::uint32_t> SerialDut::ForwardBridgeFrames(std::int64_t now_ns, int timeout_ms) {
   frames_.clear();
   runner_bus_->Receive(now_ns, frames_);
   counters_.can_frames_received += frames_.size();
+  if (lines_.can) return ForwardToCan();
   bridge_bytes_.clear();
   std::array<std::uint8_t, dut_fw::kUartMaxFrameBytes> encoded;
   for (const rig::TimedCanFrame& timed : frames_) {

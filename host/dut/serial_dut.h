@@ -39,8 +39,13 @@ namespace hilrig::host {
 struct SerialLines {
   std::unique_ptr<ByteStream> link;
   // The sensor nodes' UART bridge; null when none is wired (tactile frames are then counted and
-  // dropped).
+  // dropped, unless `can` carries them).
   std::unique_ptr<ByteStream> bridge;
+  // A CAN bus the DUT reads its sensors on itself (a board's own CAN port on a bench): the frames
+  // go there instead of the bridge line, unannounced, and reach the DUT when the bus delivers
+  // them, so such a run's sensor timing follows the wall clock. Null: the bridge line.
+  std::unique_ptr<rig::CanBus> can;
+  std::string can_uri;                   // what `can` is, for the description
   std::optional<ChildProcess> emulator;  // the process behind the lines, when there is one
   std::string description;               // "a board on /dev/ttyACM0 at 2000000 baud"
   // How long one byte takes to reach the DUT (10 bits at the baud rate; an emulator's USART is
@@ -112,7 +117,10 @@ class SerialDut final : public DutPort {
   // The tick's SerialStep: the buffered inputs and the bridge bytes written for it.
   rig::Result<proto::LinkMessage> BuildStep(std::uint64_t tick, std::int64_t now_ns, bool realtime);
   void AddInput(const DutInput& input, std::int64_t now_ns, proto::SerialStep& step);
+  // The frames that reached the runner's endpoint, onto the bridge line (returns the bytes written,
+  // which the step announces) or onto the DUT's own CAN bus (returns 0: nothing to wait for).
   rig::Result<std::uint32_t> ForwardBridgeFrames(std::int64_t now_ns, int timeout_ms);
+  rig::Result<std::uint32_t> ForwardToCan();
   rig::Result<ActuatorMessage> AwaitCommand(const proto::LinkMessage& step, std::uint64_t tick);
   // What a received line event means while commands are awaited: the command it carries, nullptr
   // for another message (counted), or the failure (the line lost, a Bye). Not for kTimeout.
@@ -163,6 +171,7 @@ class SerialDut final : public DutPort {
   std::uint64_t bridge_frames_ = 0;
   std::uint64_t bridge_bytes_sent_ = 0;
   std::uint64_t bridge_frames_dropped_ = 0;  // no bridge wired, or a frame it cannot carry
+  std::uint64_t can_frames_forwarded_ = 0;   // onto lines_.can
 };
 
 }  // namespace hilrig::host

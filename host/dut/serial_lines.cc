@@ -10,6 +10,7 @@
 
 #include "host/link/child_process.h"
 #include "host/link/open_byte_stream.h"
+#include "rig/can_open.h"
 #include "rig/clock.h"
 
 namespace hilrig::host {
@@ -106,6 +107,12 @@ SerialLineOpener SerialPortLines(const SerialPortSpec& spec) {
       auto bridge = OpenSerialPort(spec.bridge_device, spec.bridge_baud);
       if (!bridge) return bridge.error();
       lines.bridge = std::move(bridge).value();
+    }
+    if (!spec.can_uri.empty()) {
+      auto can = rig::OpenCanBus(spec.can_uri);
+      if (!can) return rig::MakeError("the dut's CAN bus: " + can.error().message);
+      lines.can = std::move(can).value();
+      lines.can_uri = spec.can_uri;
     }
     lines.description = "a board on " + lines.link->name();
     lines.byte_time_s = kBitsPerSerialByte / spec.baud;

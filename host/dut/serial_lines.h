@@ -19,12 +19,15 @@ struct SerialPortSpec {
   unsigned baud = dut_fw::kLinkBaud;
   std::string bridge_device;  // empty: no sensor bridge wired
   unsigned bridge_baud = dut_fw::kBridgeBaud;
+  // --can socketcan:IFACE: the board reads its sensors on its own CAN port, wired to IFACE; empty:
+  // on the bridge line.
+  std::string can_uri;
 };
 
 // Parses "serial:DEVICE[,baud=N][,bridge=DEVICE][,bridge_baud=N]"; errors name the part that is
 // wrong.
 rig::Result<SerialPortSpec> ParseSerialPortSpec(const std::string& spec);
-// Opens the link at `baud` and the bridge, if any, at `bridge_baud`.
+// Opens the link at `baud`, the bridge, if any, at `bridge_baud`, and the CAN bus, if any.
 SerialLineOpener SerialPortLines(const SerialPortSpec& spec);
 
 inline constexpr const char* kTargetImageName = "dut_fw_stm32f405.elf";

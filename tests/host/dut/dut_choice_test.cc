@@ -130,9 +130,18 @@ TEST(DutChoiceTest, AnOptionTheKindDoesNotTakeIsRefusedByName) {
   DutArguments link = Dut("qemu");
   link.link = "tcp";
   EXPECT_EQ(ErrorOf(link), "--dut-link needs --dut process or exec:");
-  DutArguments can = Dut("serial:/dev/ttyACM0");
+  DutArguments can = Dut("qemu");
   can.can = "socketcan:can0";
-  EXPECT_EQ(ErrorOf(can), "--can socketcan:can0 needs --dut process or exec:");
+  EXPECT_EQ(ErrorOf(can), "--can socketcan:can0 needs --dut process, exec: or serial:");
+}
+
+TEST(DutChoiceTest, ABoardOnSerialDevicesMayReadItsSensorsOnItsOwnCanPort) {
+  DutArguments board = Dut("serial:/dev/ttyACM0");
+  board.can = "socketcan:can0";
+  EXPECT_EQ(ParseDutChoice(board).value().port.can_uri, "socketcan:can0");
+  EXPECT_TRUE(ParseDutChoice(Dut("serial:/dev/ttyACM0")).value().port.can_uri.empty());
+  board.can = "emulated";
+  EXPECT_THAT(ErrorOf(board), HasSubstr("--can: "));
 }
 
 TEST(DutChoiceTest, BadValuesNameTheirOption) {

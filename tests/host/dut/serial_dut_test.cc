@@ -172,6 +172,7 @@ struct Rig {
   std::unique_ptr<ScriptedDut> dut;
   std::unique_ptr<SerialDut> serial;
   std::optional<ChildProcess> emulator;  // handed over with the lines, when set before Start
+  std::unique_ptr<rig::CanBus> dut_can;  // the DUT's own CAN port, when set before Start
   double byte_time_s = 0;                // the line's, as the opener would know it
   std::int64_t waited_ns = 0;
 
@@ -201,6 +202,10 @@ struct Rig {
       lines.description = "an in-memory line";
       lines.emulator = std::move(emulator);
       lines.byte_time_s = byte_time_s;
+      if (dut_can) {
+        lines.can = std::move(dut_can);
+        lines.can_uri = "socketcan:can0";
+      }
       return lines;
     };
     serial = std::make_unique<SerialDut>(HoverFirmware(), bus.Connect("dut"), kControlPeriodS,
@@ -471,6 +476,28 @@ TEST(SerialDutTest, WritesTheSensorFramesOnTheBridgeAndAnnouncesTheirBytes) {
   // Nothing new on the bus: nothing on the bridge, nothing announced.
   ASSERT_TRUE(rig.serial->Step(2, 2 * kPeriodNs));
   EXPECT_EQ(rig.dut->steps[1].bridge_bytes(), 0u);
+}
+
+TEST(SerialDutTest, ABoardWithItsOwnCanPortGetsTheFramesThereUnannounced) {
+  rig::EmulatedBus board_bus;  // outlives the rig, whose dut holds an endpoint of it
+  Rig rig;
+  rig.dut_can = board_bus.Connect("runner");
+  const std::unique_ptr<rig::CanBus> board = board_bus.Connect("board");
+  ASSERT_TRUE(rig.serial->Start());
+  const std::array<std::uint8_t, 8> sample = {1, 2, 3, 4, 5, 6, 7, 8};
+  ASSERT_TRUE(rig.sensor_node->Send(rig::CanFrame::Classic(0x101, sample), 100));
+  ASSERT_TRUE(rig.serial->Step(1, kPeriodNs));
+
+  std::vector<rig::TimedCanFrame> received;
+  board->Receive(kPeriodNs, received);
+  ASSERT_EQ(received.size(), 1u);
+  EXPECT_EQ(received[0].frame, rig::CanFrame::Classic(0x101, sample));
+  EXPECT_TRUE(rig.dut->bridge.empty());
+  ASSERT_EQ(rig.dut->steps.size(), 1u);
+  EXPECT_EQ(rig.dut->steps[0].bridge_bytes(), 0u);  // nothing for the board to wait for
+  EXPECT_EQ(rig.Metric("link_can_frames_forwarded"), 1);
+  EXPECT_NE(rig.serial->description().find("CAN frames over socketcan:can0"), std::string::npos)
+      << rig.serial->description();
 }
 
 TEST(SerialDutTest, ReportsTheWorkPerStepTheDutMeasured) {

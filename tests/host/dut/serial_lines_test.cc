@@ -55,7 +55,7 @@ TEST(SerialPortSpecTest, NamesWhatIsWrongWithABadSpec) {
 }
 
 TEST(SerialPortLinesTest, NamesTheDeviceThatDoesNotOpen) {
-  auto lines = SerialPortLines({"/dev/hilrig-no-such-tty", 115200, "", 115200})(1.0);
+  auto lines = SerialPortLines({"/dev/hilrig-no-such-tty", 115200, "", 115200, ""})(1.0);
   ASSERT_FALSE(lines);
   EXPECT_NE(lines.error().message.find("/dev/hilrig-no-such-tty: open: No such file"),
             std::string::npos)
