@@ -125,7 +125,8 @@ ProcessDut::ProcessDut(const DutFirmware& firmware, std::unique_ptr<rig::CanBus>
     : firmware_(firmware),
       control_period_s_(control_period_s),
       runner_bus_(std::move(runner_bus)),
-      options_(options) {
+      options_(options),
+      ledger_(std::llround(options.answer_timeout_s * 1e9)) {
   frames_.reserve(64);
   if (options_.wall_clock != nullptr) latencies_ = std::make_unique<Latencies>();
 }
@@ -206,7 +207,7 @@ std::vector<rig::Metric> ProcessDut::link_metrics() const {
   metrics.emplace_back("link_tx_messages", static_cast<double>(link_->frames_sent()));
   metrics.emplace_back("link_commands_received", static_cast<double>(commands_received_));
   metrics.emplace_back("link_can_frames_forwarded", static_cast<double>(can_frames_forwarded_));
-  metrics.emplace_back("link_watchdog_timeouts", static_cast<double>(watchdog_timeouts_));
+  metrics.emplace_back("link_watchdog_timeouts", static_cast<double>(ledger_.watchdog_timeouts()));
   metrics.emplace_back("link_peers_refused", static_cast<double>(peers_refused_));
   metrics.emplace_back("dut_can_frames_dropped_foreign",
                        static_cast<double>(dut_frames_dropped_foreign_));
@@ -223,8 +224,10 @@ std::vector<rig::Metric> ProcessDut::link_metrics() const {
   if (!latencies_) return metrics;  // the rest measure real-time pacing, which lockstep has none of
   const auto d = [](std::uint64_t value) { return static_cast<double>(value); };
   metrics.emplace_back("link_commands_superseded", d(commands_superseded_));
-  metrics.emplace_back("link_requests_skipped", d(requests_skipped_));
-  metrics.emplace_back("link_unrequested_answers", d(unrequested_answers_));
+  metrics.emplace_back("link_requests_skipped", d(ledger_.requests_skipped()));
+  // Answers to a tick never asked for, or to one answered already: either fails the run.
+  metrics.emplace_back("link_unrequested_answers",
+                       d(ledger_.unrequested_answers() + ledger_.stale_answers()));
   metrics.emplace_back("link_latency_samples_dropped", d(latency_samples_dropped_));
   metrics.emplace_back("dut_can_frame_waits_expired", d(dut_frame_waits_expired_));
   return metrics;
@@ -320,13 +323,7 @@ void ProcessDut::Send(const DutInput& input) {
 rig::Result<void> ProcessDut::SendStepRequest(std::uint64_t tick, std::int64_t now_ns,
                                               bool realtime) {
   if (auto running = CheckRunning(); !running) return running.error();
-  if (last_requested_ && tick <= *last_requested_) {
-    return Failed("tick " + std::to_string(tick) + " requested after tick " +
-                  std::to_string(*last_requested_));
-  }
-  if (outstanding_.size() >= kMaxPending) {
-    return Failed("the dut fell " + std::to_string(outstanding_.size()) + " requests behind");
-  }
+  if (auto next = ledger_.CheckNext(tick); !next) return Failed(next.error());
   const std::int64_t wall_ns = latencies_ ? options_.wall_clock->NowNs() : 0;
   frames_.clear();
   runner_bus_->Receive(now_ns, frames_);
@@ -346,8 +343,7 @@ rig::Result<void> ProcessDut::SendStepRequest(std::uint64_t tick, std::int64_t n
   sequencer_.Stamp(request, now_ns);
   Forward(request);
   if (failure_) return *failure_;
-  outstanding_.push_back({tick, wall_ns});
-  last_requested_ = tick;
+  ledger_.Add(tick, wall_ns);
   return {};
 }
 
@@ -413,15 +409,10 @@ rig::Result<void> ProcessDut::CheckAlive(std::int64_t now_wall_ns) {
     if (now_wall_ns - *link_closed_wall_ns_ < kLinkClosedGraceNs) return {};
     return Failed("link closed (the dut process is still running)");
   }
-  if (outstanding_.empty()) return {};
-  const Request& oldest = outstanding_.front();
-  const auto timeout_ns = static_cast<std::int64_t>(options_.answer_timeout_s * 1e9);
-  if (now_wall_ns - oldest.wall_ns <= timeout_ns) return {};
-  ++watchdog_timeouts_;
-  return Failed(
-      rig::MakeError(rig::ErrorCode::kTimeout, "dut did not answer for " +
-                                                   rig::SecondsText(options_.answer_timeout_s) +
-                                                   " (tick " + std::to_string(oldest.tick) + ")"));
+  if (auto tick = ledger_.Overdue(now_wall_ns)) {
+    return Failed(OverdueError(*tick, options_.answer_timeout_s));
+  }
+  return {};
 }
 
 rig::Result<ActuatorMessage> ProcessDut::AwaitCommand(std::uint64_t tick) {
@@ -444,7 +435,7 @@ rig::Result<ActuatorMessage> ProcessDut::AwaitCommand(std::uint64_t tick) {
         return TakeCommand(received, latencies_ ? options_.wall_clock->NowNs() : 0);
     }
   }
-  ++watchdog_timeouts_;
+  ledger_.CountTimeout();
   if (auto exit = ChildExit()) return Failed("dut process " + *exit);
   return Failed(rig::MakeError(rig::ErrorCode::kTimeout,
                                "dut did not answer tick " + std::to_string(tick) + " within " +
@@ -467,7 +458,8 @@ rig::Result<ActuatorMessage> ProcessDut::TakeCommand(const LinkReceived& receive
     return Failed(
         "dut sent an unexpected " +
         proto::LinkMessage::descriptor()->FindFieldByNumber(message.payload_case())->name() +
-        " message instead of the command for tick " + std::to_string(last_requested_.value_or(0)));
+        " message instead of the command for tick " +
+        std::to_string(ledger_.last_requested().value_or(0)));
   }
   if (auto matched = MatchRequest(message.command().answers_sequence(), arrival_wall_ns);
       !matched) {
@@ -482,26 +474,22 @@ rig::Result<ActuatorMessage> ProcessDut::TakeCommand(const LinkReceived& receive
 
 rig::Result<void> ProcessDut::MatchRequest(std::uint64_t answers_tick,
                                            std::int64_t arrival_wall_ns) {
-  if (last_answered_ && answers_tick <= *last_answered_) {
-    ++unrequested_answers_;
-    return Failed("dut answered tick " + std::to_string(answers_tick) + " after tick " +
-                  std::to_string(*last_answered_) + " (answers went backwards)");
+  const std::optional<std::uint64_t> last_answered = ledger_.last_answered();
+  const RequestLedger::Answer answer = ledger_.Take(answers_tick, arrival_wall_ns);
+  switch (answer.outcome) {
+    case RequestLedger::Outcome::kAnswers:
+      if (latencies_) latencies_->command.Add(answer.waited_ns);
+      return {};
+    case RequestLedger::Outcome::kStale:
+      return Failed("dut answered tick " + std::to_string(answers_tick) + " after tick " +
+                    std::to_string(last_answered.value_or(0)) + " (answers went backwards)");
+    case RequestLedger::Outcome::kNeverRequested:
+      break;
   }
-  // A DUT that falls behind may answer only its newest request; the ones before it are skipped.
-  while (!outstanding_.empty() && outstanding_.front().tick < answers_tick) {
-    outstanding_.pop_front();
-    ++requests_skipped_;
-  }
-  if (outstanding_.empty() || outstanding_.front().tick != answers_tick) {
-    ++unrequested_answers_;
-    return Failed("dut answered tick " + std::to_string(answers_tick) +
-                  ", which was never requested (last request: tick " +
-                  (last_requested_ ? std::to_string(*last_requested_) : "none") + ")");
-  }
-  if (latencies_) latencies_->command.Add(arrival_wall_ns - outstanding_.front().wall_ns);
-  outstanding_.pop_front();
-  last_answered_ = answers_tick;
-  return {};
+  const std::optional<std::uint64_t> last_requested = ledger_.last_requested();
+  return Failed("dut answered tick " + std::to_string(answers_tick) +
+                ", which was never requested (last request: tick " +
+                (last_requested ? std::to_string(*last_requested) : "none") + ")");
 }
 
 void ProcessDut::RecordCoverage(const proto::ActuatorCommand& command,

@@ -29,6 +29,7 @@
 
 #include "host/dut/dut_port.h"
 #include "host/dut/firmware_config.h"
+#include "host/dut/request_ledger.h"
 #include "host/link/child_process.h"
 #include "host/link/hil_link_codec.h"
 #include "host/link/hil_link_socket.h"
@@ -148,11 +149,6 @@ class ProcessDut final : public DutPort {
     SendLog can;                                   // keyed by the running count of frames forwarded
     rig::DurationHistogram command;
   };
-  struct Request {
-    std::uint64_t tick = 0;
-    std::int64_t wall_ns = 0;  // 0 without a wall clock
-  };
-
   // The sticky failure, or one for a DUT not started or stopped.
   rig::Result<void> CheckRunning();
   // Sends the message; in lockstep an input only queues, to go out with the step request.
@@ -195,18 +191,13 @@ class ProcessDut final : public DutPort {
   DutCounters counters_;
   std::uint64_t can_frames_forwarded_ = 0;
   std::uint64_t commands_received_ = 0;
-  std::uint64_t watchdog_timeouts_ = 0;
   std::optional<rig::Error> failure_;
-  // Requests not answered yet, oldest first; bounded like the send logs.
-  rig::RingBuffer<Request> outstanding_;
-  std::optional<std::uint64_t> last_requested_;
-  std::optional<std::uint64_t> last_answered_;
+  // Requests not answered yet, on the wall clock (0 without one: lockstep has no latencies).
+  RequestLedger ledger_;
   std::optional<std::int64_t> link_closed_wall_ns_;  // real time: closed, exit status not in yet
   std::unique_ptr<Latencies> latencies_;             // null without a wall clock
   rig::SteadyClock own_wall_clock_;                  // the lockstep watchdog's, without one
   std::uint64_t commands_superseded_ = 0;
-  std::uint64_t requests_skipped_ = 0;  // the DUT answered a later tick instead
-  std::uint64_t unrequested_answers_ = 0;
   std::uint64_t latency_samples_dropped_ = 0;
   std::uint64_t dut_frame_waits_expired_ = 0;
   std::uint64_t dut_frames_dropped_foreign_ = 0;    // forged datagrams the DUT's bus dropped

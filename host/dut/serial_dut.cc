@@ -15,7 +15,6 @@ namespace {
 
 constexpr int kLockstepWriteTimeoutMs = 1000;
 constexpr int kMaxMessagesPerPoll = 4096;  // bounds one poll's work on a DUT that floods the line
-constexpr std::size_t kMaxOutstanding = std::size_t{1} << 14;
 constexpr int kByeTimeoutMs = 100;
 // An emulator has nothing to save, and QEMU answers SIGTERM with a line on its stderr: it is
 // killed at once.
@@ -171,7 +170,8 @@ SerialDut::SerialDut(const DutFirmware& firmware, std::unique_ptr<rig::CanBus> r
       open_lines_(std::move(open_lines)),
       options_(options),
       own_clock_(options.clock ? nullptr : std::make_unique<rig::SteadyClock>()),
-      clock_(options.clock ? options.clock : own_clock_.get()) {
+      clock_(options.clock ? options.clock : own_clock_.get()),
+      ledger_(Nanoseconds(options.answer_timeout_s)) {
   frames_.reserve(64);
 }
 
@@ -301,10 +301,10 @@ std::vector<rig::Metric> SerialDut::link_metrics() const {
                                     {"line_steps_sent", steps_sent_},
                                     {"line_step_retries", step_retries_},
                                     {"line_commands_received", commands_received_},
-                                    {"line_stale_answers", stale_answers_},
+                                    {"line_stale_answers", ledger_.stale_answers()},
                                     {"line_unexpected_messages", unexpected_messages_},
-                                    {"line_requests_skipped", requests_skipped_},
-                                    {"line_watchdog_timeouts", watchdog_timeouts_},
+                                    {"line_requests_skipped", ledger_.requests_skipped()},
+                                    {"line_watchdog_timeouts", ledger_.watchdog_timeouts()},
                                     {"bridge_frames_sent", bridge_frames_},
                                     {"bridge_bytes_sent", bridge_bytes_sent_},
                                     {"bridge_frames_dropped", bridge_frames_dropped_}}) {
@@ -476,12 +476,10 @@ rig::Result<proto::LinkMessage> SerialDut::BuildStep(std::uint64_t tick, std::in
 
 rig::Result<ActuatorMessage> SerialDut::Step(std::uint64_t tick, std::int64_t now_ns) {
   if (auto running = CheckRunning(); !running) return running.error();
-  if (last_answered_ && tick <= *last_answered_) {
-    return Failed("tick " + std::to_string(tick) + " requested after tick " +
-                  std::to_string(*last_answered_));
-  }
+  if (auto next = ledger_.CheckNext(tick); !next) return Failed(next.error());
   auto step = BuildStep(tick, now_ns, /*realtime=*/false);
   if (!step) return step.error();
+  ledger_.Add(tick, NowNs());
   return AwaitCommand(step.value(), tick);
 }
 
@@ -520,11 +518,11 @@ rig::Result<ActuatorMessage> SerialDut::AwaitCommand(const proto::LinkMessage& s
     if (!command) return command.error();
     if (command.value() == nullptr) continue;
     const std::uint64_t answers = command.value()->answers_tick();
-    if (answers < tick) {
-      ++stale_answers_;
-      continue;
-    }
-    if (answers > tick) {
+    // Only `tick` waits: a later answer is checked before the ledger would skip it.
+    const RequestLedger::Outcome outcome = answers > tick ? RequestLedger::Outcome::kNeverRequested
+                                                          : ledger_.Take(answers, NowNs()).outcome;
+    if (outcome == RequestLedger::Outcome::kStale) continue;  // a retried step's twin
+    if (outcome == RequestLedger::Outcome::kNeverRequested) {
       return Failed(LinkProtocolError(LinkErrorKind::kOutOfOrder,
                                       "the dut answered tick " + std::to_string(answers) +
                                           ", which was never requested (asked: tick " +
@@ -532,7 +530,7 @@ rig::Result<ActuatorMessage> SerialDut::AwaitCommand(const proto::LinkMessage& s
     }
     return TakeCommand(*command.value(), NowNs());
   }
-  ++watchdog_timeouts_;
+  ledger_.CountTimeout();
   if (auto exit = EmulatorExit()) return Failed("the dut's emulator " + *exit);
   return Failed(rig::MakeError(rig::ErrorCode::kTimeout,
                                "the dut did not answer tick " + std::to_string(tick) + " within " +
@@ -558,15 +556,14 @@ rig::Result<ActuatorMessage> SerialDut::TakeCommand(const proto::SerialCommand& 
   }
   if (command.has_counters()) dut_counters_ = command.counters();
   if (command.work_cycles() > 0) work_cycles_.Add(command.work_cycles());
-  last_answered_ = command.answers_tick();
   ++commands_received_;
   return actuator;
 }
 
 void SerialDut::RequestStep(std::uint64_t tick, std::int64_t now_ns) {
   if (!CheckRunning()) return;
-  if (outstanding_.size() >= kMaxOutstanding) {
-    (void)Failed("the dut fell " + std::to_string(outstanding_.size()) + " requests behind");
+  if (auto next = ledger_.CheckNext(tick); !next) {
+    (void)Failed(next.error());
     return;
   }
   auto step = BuildStep(tick, now_ns, /*realtime=*/true);
@@ -578,7 +575,7 @@ void SerialDut::RequestStep(std::uint64_t tick, std::int64_t now_ns) {
     return;
   }
   ++steps_sent_;
-  outstanding_.push_back({tick, NowNs()});
+  ledger_.Add(tick, NowNs());
 }
 
 rig::Result<std::optional<ActuatorMessage>> SerialDut::PollCommand() {
@@ -591,33 +588,21 @@ rig::Result<std::optional<ActuatorMessage>> SerialDut::PollCommand() {
     if (!serial_command) return serial_command.error();
     if (serial_command.value() == nullptr) continue;
     const std::uint64_t answers = serial_command.value()->answers_tick();
-    if (last_answered_ && answers <= *last_answered_) {
-      ++stale_answers_;
-      continue;
-    }
     // A DUT that falls behind may answer only its newest request; the ones before are skipped.
-    while (!outstanding_.empty() && outstanding_.front().tick < answers) {
-      outstanding_.pop_front();
-      ++requests_skipped_;
-    }
-    if (outstanding_.empty() || outstanding_.front().tick != answers) {
+    const RequestLedger::Outcome outcome = ledger_.Take(answers, NowNs()).outcome;
+    if (outcome == RequestLedger::Outcome::kStale) continue;
+    if (outcome == RequestLedger::Outcome::kNeverRequested) {
       return Failed(LinkProtocolError(
           LinkErrorKind::kOutOfOrder,
           "the dut answered tick " + std::to_string(answers) + ", which was never requested"));
     }
-    outstanding_.pop_front();
     auto command = TakeCommand(*serial_command.value(), NowNs());
     if (!command) return command.error();
     newest = std::move(command).value();
   }
   if (auto exit = EmulatorExit()) return Failed("the dut's emulator " + *exit);
-  if (!outstanding_.empty() &&
-      NowNs() - outstanding_.front().clock_ns > Nanoseconds(options_.answer_timeout_s)) {
-    ++watchdog_timeouts_;
-    return Failed(rig::MakeError(rig::ErrorCode::kTimeout,
-                                 "the dut did not answer for " +
-                                     rig::SecondsText(options_.answer_timeout_s) + " (tick " +
-                                     std::to_string(outstanding_.front().tick) + ")"));
+  if (auto tick = ledger_.Overdue(NowNs())) {
+    return Failed(OverdueError(*tick, options_.answer_timeout_s));
   }
   return newest;
 }

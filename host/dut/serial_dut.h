@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "host/dut/dut_port.h"
+#include "host/dut/request_ledger.h"
 #include "host/link/byte_stream.h"
 #include "host/link/child_process.h"
 #include "host/link/dut_firmware.h"
@@ -97,11 +98,6 @@ class SerialDut final : public DutPort {
   std::optional<TargetSummary> target() const override;
 
  private:
-  struct Request {
-    std::uint64_t tick = 0;
-    std::int64_t clock_ns = 0;
-  };
-
   rig::Result<void> Handshake();
   // Sends `message` every `interval_ns` until `accept` takes an answer (true) or fails it.
   rig::Result<void> Exchange(
@@ -153,8 +149,7 @@ class SerialDut final : public DutPort {
   std::optional<proto::SerialSetpoint> last_setpoint_;  // as last sent, every field set
   std::vector<rig::TimedCanFrame> frames_;
   std::vector<std::uint8_t> bridge_bytes_;
-  rig::RingBuffer<Request> outstanding_;  // real time: requests not answered yet
-  std::optional<std::uint64_t> last_answered_;
+  RequestLedger ledger_;  // requests not answered yet, on clock_
   DutCounters counters_;
   proto::SerialDutCounters dut_counters_;
   rig::ValueCounts work_cycles_;
@@ -164,10 +159,7 @@ class SerialDut final : public DutPort {
   std::uint64_t steps_sent_ = 0;
   std::uint64_t step_retries_ = 0;
   std::uint64_t commands_received_ = 0;
-  std::uint64_t stale_answers_ = 0;        // answers to a tick already answered (a retry's twin)
   std::uint64_t unexpected_messages_ = 0;  // well-framed messages that were not an answer
-  std::uint64_t requests_skipped_ = 0;
-  std::uint64_t watchdog_timeouts_ = 0;
   std::uint64_t bridge_frames_ = 0;
   std::uint64_t bridge_bytes_sent_ = 0;
   std::uint64_t bridge_frames_dropped_ = 0;  // no bridge wired, or a frame it cannot carry

@@ -249,7 +249,7 @@ TEST_F(ProcessDutRealtimeTest, WatchdogFiresOnTheWallClockAfterTheAnswerTimeout)
   wall_clock_.AdvanceNs(1'000);
   const auto past_timeout = dut->PollCommand();
   ASSERT_FALSE(past_timeout.ok());
-  EXPECT_EQ(past_timeout.error().message, "dut did not answer for 1 s (tick 3)");
+  EXPECT_EQ(past_timeout.error().message, "the dut did not answer for 1 s (tick 3)");
   EXPECT_EQ(Metric(*dut, "link_watchdog_timeouts"), 1.0);
 }
 
