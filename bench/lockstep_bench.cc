@@ -27,7 +27,7 @@ void TickScenario(benchmark::State& state, const std::string& scenario, double w
   const ScenarioConfig config = LongRunOf(scenario);
   std::ostringstream trace, can_log;
   const rig::SteadyClock wall_clock;
-  LockstepRunner runner(config, {&trace, &can_log, nullptr}, {&wall_clock, nullptr});
+  ScenarioRunner runner(config, {&trace, &can_log, nullptr}, {&wall_clock, nullptr});
   for (int i = 0; i < static_cast<int>(warm_up_s * 1000); ++i) runner.Tick();
   trace.str("");
   std::uint64_t ticks = 0;

@@ -27,7 +27,7 @@ void BM_Scene(benchmark::State& state, const char* name) {
   std::int64_t wall_ns = 0;  // the stepping loops only, as the benchmark's own time
   for (auto _ : state) {
     state.PauseTiming();
-    auto runner = std::make_unique<LockstepRunner>(config, RunSinks{}, RunControl{&wall_clock});
+    auto runner = std::make_unique<ScenarioRunner>(config, RunSinks{}, RunControl{&wall_clock});
     state.ResumeTiming();
     const std::int64_t start_ns = wall_clock.NowNs();
     while (runner->Tick()) ++ticks;

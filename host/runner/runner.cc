@@ -71,7 +71,7 @@ double ControlPeriodS(const ScenarioConfig& config) {
 }  // namespace
 
 // Every piece of run state lives here; Tick() steps it.
-class LockstepRunner::Impl {
+class ScenarioRunner::Impl {
  public:
   Impl(const ScenarioConfig& config, const RunSinks& sinks, const RunControl& control);
   ~Impl() { StopDut(); }
@@ -149,7 +149,7 @@ class LockstepRunner::Impl {
   bool ended_ = false;
 };
 
-LockstepRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
+ScenarioRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
                            const RunControl& control)
     : config_(config),
       sinks_(sinks),
@@ -195,7 +195,7 @@ LockstepRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
 
 // A DUT that does not start ends the run before its first tick; it is never sent a message or
 // stepped, and is stopped like any other.
-void LockstepRunner::Impl::StartDut(double control_period_s) {
+void ScenarioRunner::Impl::StartDut(double control_period_s) {
   rig::Result<void> started;
   if (!control_.dut_factory) {
     dut_ =
@@ -214,13 +214,13 @@ void LockstepRunner::Impl::StartDut(double control_period_s) {
   ended_ = true;
 }
 
-void LockstepRunner::Impl::StopDut() {
+void ScenarioRunner::Impl::StopDut() {
   if (dut_ == nullptr || dut_stopped_) return;
   dut_stopped_ = true;
   dut_->Stop();
 }
 
-bool LockstepRunner::Impl::ControlStep(std::uint64_t control_tick, std::int64_t now_ns) {
+bool ScenarioRunner::Impl::ControlStep(std::uint64_t control_tick, std::int64_t now_ns) {
   current_reference_ = reference_.Evaluate(SecondsFromNs(now_ns));
   if (gripper_) {
     const GripperCommand grasp = gripper_->CommandAt(SecondsFromNs(now_ns));
@@ -249,7 +249,7 @@ bool LockstepRunner::Impl::ControlStep(std::uint64_t control_tick, std::int64_t 
 
 // A command the plant cannot take is refused and counted (dut_faults.h); false when the scene
 // stops the run at such a fault.
-bool LockstepRunner::Impl::ApplyCommand(ActuatorMessage&& command) {
+bool ScenarioRunner::Impl::ApplyCommand(ActuatorMessage&& command) {
   if (std::optional<std::string> field = NonFiniteCommandField(command)) {
     const double now_s = SecondsFromNs(clock_.NowNs());
     if (config_.dut_fault_stops_run) {
@@ -266,7 +266,7 @@ bool LockstepRunner::Impl::ApplyCommand(ActuatorMessage&& command) {
 
 // Real time, between ticks: takes what the DUT has sent, so that its arrival is timed when it
 // happens; the command waits for the next control tick to be applied.
-void LockstepRunner::Impl::PollWhileWaiting() {
+void ScenarioRunner::Impl::PollWhileWaiting() {
   if (dut_failure_) return;
   auto polled = dut_->PollCommand();
   if (!polled) {
@@ -277,7 +277,7 @@ void LockstepRunner::Impl::PollWhileWaiting() {
 }
 
 // Real time: the newest command that has arrived replaces the held one; none is a missed command.
-bool LockstepRunner::Impl::TakeNewestCommand() {
+bool ScenarioRunner::Impl::TakeNewestCommand() {
   PollWhileWaiting();
   if (dut_failure_) {
     stop_ = StopForDutError(*dut_failure_, StopReason::kDutFailed);
@@ -291,7 +291,7 @@ bool LockstepRunner::Impl::TakeNewestCommand() {
 
 // The gripper moves first, against the vehicle as it is, so that the vehicle step carries the held
 // object's mass and the contacts' force of this tick.
-void LockstepRunner::Impl::StepPlant(std::int64_t now_ns) {
+void ScenarioRunner::Impl::StepPlant(std::int64_t now_ns) {
   const double dt_s = SecondsFromNs(config_.physics_step_ns);
   Eigen::Vector3d force_world_n = disturbance_force_n_.At(SecondsFromNs(now_ns));
   Payload payload;
@@ -306,13 +306,13 @@ void LockstepRunner::Impl::StepPlant(std::int64_t now_ns) {
   }
 }
 
-bool LockstepRunner::Impl::PlantFinite() const {
+bool ScenarioRunner::Impl::PlantFinite() const {
   const RigidBodyState& body = plant_.body;
   return body.position_m.allFinite() && body.velocity_m_s.allFinite() &&
          body.orientation.coeffs().allFinite() && body.angular_velocity_rad_s.allFinite();
 }
 
-void LockstepRunner::Impl::FillGraspTrace(TraceSample& sample) const {
+void ScenarioRunner::Impl::FillGraspTrace(TraceSample& sample) const {
   const GraspForces& forces = gripper_->forces();
   sample.grasp_force_n = forces.grasp_force_n;
   sample.grasp_force_estimate_n = command_.grasp_force_estimate_n;
@@ -327,7 +327,7 @@ void LockstepRunner::Impl::FillGraspTrace(TraceSample& sample) const {
   sample.object_dropped = gripper_->any_dropped();
 }
 
-bool LockstepRunner::Impl::RecordTrace(std::int64_t now_ns) {
+bool ScenarioRunner::Impl::RecordTrace(std::int64_t now_ns) {
   TraceSample sample;
   sample.time_s = SecondsFromNs(now_ns);
   sample.position_m = plant_.body.position_m;
@@ -360,7 +360,7 @@ bool LockstepRunner::Impl::RecordTrace(std::int64_t now_ns) {
   return abort;
 }
 
-void LockstepRunner::Impl::DrainCanLog(std::int64_t now_ns) {
+void ScenarioRunner::Impl::DrainCanLog(std::int64_t now_ns) {
   logged_frames_.clear();
   can_logger_->Receive(now_ns, logged_frames_);
   can_frames_logged_ += logged_frames_.size();
@@ -370,7 +370,7 @@ void LockstepRunner::Impl::DrainCanLog(std::int64_t now_ns) {
   can_writer_->WriteAll(logged_frames_);
 }
 
-void LockstepRunner::Impl::ReportProgress(std::int64_t now_ns) {
+void ScenarioRunner::Impl::ReportProgress(std::int64_t now_ns) {
   const std::int64_t wall_ns = control_.wall_clock->NowNs();
   if (wall_ns < next_progress_wall_ns_) return;
   next_progress_wall_ns_ = wall_ns + kProgressPeriodNs;
@@ -391,7 +391,7 @@ void LockstepRunner::Impl::ReportProgress(std::int64_t now_ns) {
   *sinks_.progress << std::endl;
 }
 
-bool LockstepRunner::Impl::Tick() {
+bool ScenarioRunner::Impl::Tick() {
   if (ended_) return false;
   if (!pacer_) return Step();
   pacer_->BeginTick(tick_, [this] { PollWhileWaiting(); });
@@ -400,7 +400,7 @@ bool LockstepRunner::Impl::Tick() {
   return more;
 }
 
-bool LockstepRunner::Impl::Step() {
+bool ScenarioRunner::Impl::Step() {
   const std::int64_t now_ns = clock_.NowNs();
   const bool control_tick = ticks_to_control_ == 0;
   ticks_to_control_ = control_tick ? static_cast<std::uint64_t>(config_.control_every_ticks) - 1
@@ -446,7 +446,7 @@ bool LockstepRunner::Impl::Step() {
 
 // Bus load, and the arbitration (queueing) latency of every id on the bus: on a loaded bus the
 // lowest-priority node's frames wait longest, and this is where a report shows it.
-void LockstepRunner::Impl::AppendBusMetrics(std::int64_t now_ns, proto::Report& report) {
+void ScenarioRunner::Impl::AppendBusMetrics(std::int64_t now_ns, proto::Report& report) {
   bus_.AdvanceTo(now_ns);
   const rig::EmulatedBusStats stats = bus_.stats();
   AddMetric(report,
@@ -462,7 +462,7 @@ void LockstepRunner::Impl::AppendBusMetrics(std::int64_t now_ns, proto::Report& 
 
 // A lockstep run has no wall-clock timing to report or grade; its timing envelopes are listed as
 // not evaluated.
-void LockstepRunner::Impl::AppendTiming(proto::Report& report, bool& passed) const {
+void ScenarioRunner::Impl::AppendTiming(proto::Report& report, bool& passed) const {
   proto::Timing timing;
   if (pacer_) {
     timing = pacer_->Figures(dut_ ? dut_->response_latencies() : std::vector<StreamLatency>());
@@ -478,7 +478,7 @@ void LockstepRunner::Impl::AppendTiming(proto::Report& report, bool& passed) con
   *report.mutable_timing() = std::move(timing);
 }
 
-void LockstepRunner::Impl::AppendTarget(proto::Report& report, bool& passed) const {
+void ScenarioRunner::Impl::AppendTarget(proto::Report& report, bool& passed) const {
   const std::optional<TargetSummary> target = dut_ ? dut_->target() : std::nullopt;
   if (target) *report.mutable_target() = TargetSection(*target, ControlPeriodS(config_));
   for (proto::TimingCheckResult& check :
@@ -490,7 +490,7 @@ void LockstepRunner::Impl::AppendTarget(proto::Report& report, bool& passed) con
 
 // Lockstep promises a trace that depends on the spec alone; a board that stepped without sensor
 // bytes it was sent broke that promise. The run goes on (a real line may lose bytes), but says so.
-void LockstepRunner::Impl::WarnOfMissingSensorBytes(const DutCounters& counters) const {
+void ScenarioRunner::Impl::WarnOfMissingSensorBytes(const DutCounters& counters) const {
   if (pacer_ || counters.sensor_bytes_missing == 0 || sinks_.progress == nullptr) return;
   *sinks_.progress << config_.name << ": warning: the dut stepped without "
                    << counters.sensor_bytes_missing
@@ -498,7 +498,7 @@ void LockstepRunner::Impl::WarnOfMissingSensorBytes(const DutCounters& counters)
                       "depends on the line's timing\n";
 }
 
-proto::Report LockstepRunner::Impl::Finish() {
+proto::Report ScenarioRunner::Impl::Finish() {
   ended_ = true;
   StopDut();
   DrainCanLog(clock_.NowNs());
@@ -564,7 +564,7 @@ proto::Report LockstepRunner::Impl::Finish() {
   return report;
 }
 
-std::uint64_t LockstepRunner::Impl::TimelineEntriesStepped() const {
+std::uint64_t ScenarioRunner::Impl::TimelineEntriesStepped() const {
   std::uint64_t stepped =
       disturbance_force_n_.pieces_stepped() + (gripper_ ? gripper_->timeline_entries_stepped() : 0);
   for (const DeviceEmulator* device : device_schedule_.devices()) {
@@ -573,23 +573,23 @@ std::uint64_t LockstepRunner::Impl::TimelineEntriesStepped() const {
   return stepped;
 }
 
-LockstepRunner::LockstepRunner(const ScenarioConfig& config, const RunSinks& sinks,
+ScenarioRunner::ScenarioRunner(const ScenarioConfig& config, const RunSinks& sinks,
                                const RunControl& control)
     : impl_(std::make_unique<Impl>(config, sinks, control)) {}
 
-LockstepRunner::~LockstepRunner() = default;
+ScenarioRunner::~ScenarioRunner() = default;
 
-bool LockstepRunner::Tick() { return impl_->Tick(); }
+bool ScenarioRunner::Tick() { return impl_->Tick(); }
 
-proto::Report LockstepRunner::Finish() { return impl_->Finish(); }
+proto::Report ScenarioRunner::Finish() { return impl_->Finish(); }
 
-std::uint64_t LockstepRunner::timeline_entries_stepped() const {
+std::uint64_t ScenarioRunner::timeline_entries_stepped() const {
   return impl_->TimelineEntriesStepped();
 }
 
 proto::Report RunScenario(const ScenarioConfig& config, const RunSinks& sinks,
                           const RunControl& control) {
-  LockstepRunner runner(config, sinks, control);
+  ScenarioRunner runner(config, sinks, control);
   while (runner.Tick()) {
   }
   return runner.Finish();

@@ -50,13 +50,13 @@ struct RunControl {
 };
 
 // A run that can be stepped tick by tick (benchmarks, tests); RunScenario() drives one to its end.
-class LockstepRunner {
+class ScenarioRunner {
  public:
   // `config` must outlive the runner.
-  LockstepRunner(const ScenarioConfig& config, const RunSinks& sinks, const RunControl& control);
-  ~LockstepRunner();
-  LockstepRunner(const LockstepRunner&) = delete;
-  LockstepRunner& operator=(const LockstepRunner&) = delete;
+  ScenarioRunner(const ScenarioConfig& config, const RunSinks& sinks, const RunControl& control);
+  ~ScenarioRunner();
+  ScenarioRunner(const ScenarioRunner&) = delete;
+  ScenarioRunner& operator=(const ScenarioRunner&) = delete;
 
   // Advances one physics tick; false once the run has ended (its duration reached, an aborting
   // envelope violated, the DUT failed, or a stop requested). Tick() after the end does nothing.

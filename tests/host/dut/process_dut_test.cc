@@ -302,7 +302,7 @@ TEST(ProcessDutRunTest, KilledDutEndsTheRunWithACompleteReport) {
     process = dut.get();
     return std::unique_ptr<DutPort>(std::move(dut));
   };
-  LockstepRunner runner(config, {}, control);
+  ScenarioRunner runner(config, {}, control);
   ASSERT_NE(process, nullptr);
   for (int i = 0; i < 200; ++i) ASSERT_TRUE(runner.Tick());
   ASSERT_EQ(::kill(process->pid(), SIGKILL), 0);

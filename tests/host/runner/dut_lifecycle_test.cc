@@ -108,7 +108,7 @@ TEST(DutLifecycleTest, ARunnerDestroyedWithoutFinishStillStopsItsDut) {
   control.wall_clock = &wall_clock;
   control.dut_factory = Recording(log, "");
   {
-    LockstepRunner runner(config, {}, control);
+    ScenarioRunner runner(config, {}, control);
     ASSERT_TRUE(runner.Tick());
   }
   EXPECT_EQ(log.Count("stop"), 1);

@@ -108,7 +108,7 @@ RealtimeRun RunRealtime(const ScenarioConfig& config, const rig::FakePacingClock
   RealtimeRun run;
   RunSinks sinks;
   sinks.trace_sample = [&run](const TraceSample& sample) { run.last_sample = sample; };
-  LockstepRunner runner(config, sinks, {&clock, stop, dut, &clock});
+  ScenarioRunner runner(config, sinks, {&clock, stop, dut, &clock});
   while (runner.Tick()) clock.AdvanceNs(work_ns);
   run.report = runner.Finish();
   return run;
@@ -160,7 +160,7 @@ TEST(RealtimeRunnerTest, WorkLongerThanThePeriodMakesTicksLateWithoutSleeping) {
 TEST(RealtimeRunnerTest, StallIsCountedOnceAndTheScheduleIsKept) {
   const ScenarioConfig config = ConfigFrom(kOnTheGround);
   const rig::FakePacingClock clock;
-  LockstepRunner runner(config, {}, {&clock, nullptr, Scripted({}), &clock});
+  ScenarioRunner runner(config, {}, {&clock, nullptr, Scripted({}), &clock});
   int ticks = 0;
   while (runner.Tick()) {
     if (++ticks == 101) clock.AdvanceNs(250 * kMs);
@@ -181,7 +181,7 @@ TEST(RealtimeRunnerTest, WorkTimeIsMeasuredPerTick) {
   const rig::FakePacingClock clock;
   RunSinks sinks;
   sinks.trace_sample = [&clock](const TraceSample&) { clock.AdvanceNs(300'000); };
-  LockstepRunner runner(config, sinks, {&clock, nullptr, Scripted({}), &clock});
+  ScenarioRunner runner(config, sinks, {&clock, nullptr, Scripted({}), &clock});
   while (runner.Tick()) {
   }
 

@@ -329,7 +329,7 @@ TEST(RunnerTest, TickAfterTheEndDoesNothing) {
   const ScenarioConfig config = ConfigFrom(kHoverInAir);
   std::ostringstream trace;
   const rig::SimClock wall_clock;
-  LockstepRunner runner(config, {.trace_csv = &trace}, {.wall_clock = &wall_clock});
+  ScenarioRunner runner(config, {.trace_csv = &trace}, {.wall_clock = &wall_clock});
   int ticks = 0;
   while (runner.Tick()) ++ticks;
   EXPECT_EQ(ticks + 1, 3000);

@@ -47,7 +47,7 @@ TEST(TimelineScaleTest, EachTimelineEntryIsSteppedOverOnceNotOncePerTick) {
   ASSERT_TRUE(spec.ok()) << spec.error().message;
   const ScenarioConfig config = ResolveScenario(spec.value(), std::nullopt);
   const rig::SimClock wall_clock;
-  LockstepRunner runner(config, {}, {.wall_clock = &wall_clock});
+  ScenarioRunner runner(config, {}, {.wall_clock = &wall_clock});
   std::uint64_t ticks = 0;
   std::uint64_t stepped_at_half = 0;
   while (runner.Tick()) {
