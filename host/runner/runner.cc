@@ -12,6 +12,7 @@
 #include "host/dut/firmware_config.h"
 #include "host/dut/in_process_dut.h"
 #include "host/report/stop_reason.h"
+#include "host/runner/command_exchange.h"
 #include "host/runner/dut_faults.h"
 #include "host/runner/gripper_scene.h"
 #include "host/runner/model_list.h"
@@ -83,9 +84,11 @@ class ScenarioRunner::Impl {
   void StartDut(double control_period_s);
   void StopDut();
   bool Step();
-  void PollWhileWaiting();
-  bool TakeNewestCommand();
-  bool ApplyCommand(ActuatorMessage&& command);
+  bool TakeArrivedCommand();
+  // The held command and the buffer the next one is written into; applying swaps the two.
+  const ActuatorMessage& command() const { return commands_[held_]; }
+  ActuatorMessage& incoming() { return commands_[1 - held_]; }
+  bool ApplyIncoming();
   bool ControlStep(std::uint64_t control_tick, std::int64_t now_ns);
   void StepPlant(std::int64_t now_ns);
   bool PlantFinite() const;
@@ -120,7 +123,8 @@ class ScenarioRunner::Impl {
   double grasp_command_since_s_ = 0;
   QuadrotorStepSize plant_substep_;  // the step and its rotor-lag blend, computed once
   std::uint64_t setpoint_sequence_ = 0;
-  ActuatorMessage command_;
+  std::array<ActuatorMessage, 2> commands_;
+  std::size_t held_ = 0;
   ReferenceSample current_reference_;
 
   std::vector<rig::TimedCanFrame> logged_frames_;
@@ -129,10 +133,8 @@ class ScenarioRunner::Impl {
   std::optional<TraceCsvWriter> trace_writer_;
   std::optional<rig::CandumpLogWriter> can_writer_;
   RunStatistics statistics_;
-  std::optional<RealtimePacer> pacer_;  // set in real-time runs
-  // Real time: what polling the DUT between ticks found, for the next control tick to apply.
-  std::optional<ActuatorMessage> arrived_command_;
-  std::optional<rig::Error> dut_failure_;
+  std::optional<RealtimePacer> pacer_;         // set in real-time runs
+  std::unique_ptr<CommandExchange> exchange_;  // lockstep, or real time on pacer_
   RunStop stop_;
   std::uint64_t can_frames_logged_ = 0;
   std::uint64_t non_finite_samples_ = 0;
@@ -167,6 +169,7 @@ ScenarioRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
     pacer_.emplace(*control.realtime_clock,
                    PacerSettings{config.physics_step_ns, config.late_threshold_ns});
   }
+  exchange_ = MakeCommandExchange(pacer_ ? &*pacer_ : nullptr);
   StartDut(ControlPeriodS(config));
   if (config.gripper.enabled) gripper_.emplace(config, config.hall_sensors.tactile);
   // A scenario starting in the air starts hovering, rotors spun up; on the ground it starts at
@@ -235,21 +238,18 @@ bool ScenarioRunner::Impl::ControlStep(std::uint64_t control_tick, std::int64_t 
                       current_reference_.acceleration_m_s2, current_reference_.yaw_rad,
                       grasp_command_.regulate, grasp_command_.force_n,
                       grasp_command_.reference_angle_rad));
-  if (pacer_) {
-    dut_->RequestStep(control_tick, now_ns);
-    return true;
-  }
-  auto command = dut_->Step(control_tick, now_ns);
-  if (!command) {
-    stop_ = StopForDutError(command.error(), StopReason::kDutFailed);
+  auto answered = exchange_->Ask(*dut_, control_tick, now_ns, incoming());
+  if (!answered) {
+    stop_ = StopForDutError(answered.error(), StopReason::kDutFailed);
     return false;
   }
-  return ApplyCommand(std::move(command).value());
+  return !answered.value() || ApplyIncoming();
 }
 
 // A command the plant cannot take is refused and counted (dut_faults.h); false when the scene
 // stops the run at such a fault.
-bool ScenarioRunner::Impl::ApplyCommand(ActuatorMessage&& command) {
+bool ScenarioRunner::Impl::ApplyIncoming() {
+  ActuatorMessage& command = incoming();
   if (std::optional<std::string> field = NonFiniteCommandField(command)) {
     const double now_s = SecondsFromNs(clock_.NowNs());
     if (config_.dut_fault_stops_run) {
@@ -259,34 +259,20 @@ bool ScenarioRunner::Impl::ApplyCommand(ActuatorMessage&& command) {
     dut_faults_.Count(std::move(*field), now_s);
     return !config_.dut_fault_stops_run;
   }
-  command_ = std::move(command);
-  if (!command_.armed) command_.rotor_thrust_n.fill(0.0);
+  if (!command.armed) command.rotor_thrust_n.fill(0.0);
+  held_ = 1 - held_;
   return true;
 }
 
-// Real time, between ticks: takes what the DUT has sent, so that its arrival is timed when it
-// happens; the command waits for the next control tick to be applied.
-void ScenarioRunner::Impl::PollWhileWaiting() {
-  if (dut_failure_) return;
-  auto polled = dut_->PollCommand();
-  if (!polled) {
-    dut_failure_ = polled.error();
-  } else if (polled.value()) {
-    arrived_command_ = std::move(*polled.value());
-  }
-}
-
-// Real time: the newest command that has arrived replaces the held one; none is a missed command.
-bool ScenarioRunner::Impl::TakeNewestCommand() {
-  PollWhileWaiting();
-  if (dut_failure_) {
-    stop_ = StopForDutError(*dut_failure_, StopReason::kDutFailed);
+// At a control tick, before the devices and the request: the command that arrived since the
+// last one (real time; lockstep has none), applied now.
+bool ScenarioRunner::Impl::TakeArrivedCommand() {
+  auto arrived = exchange_->Arrived(*dut_, incoming());
+  if (!arrived) {
+    stop_ = StopForDutError(arrived.error(), StopReason::kDutFailed);
     return false;
   }
-  pacer_->CountControlTick(arrived_command_.has_value());
-  const bool applied = !arrived_command_ || ApplyCommand(std::move(*arrived_command_));
-  arrived_command_.reset();
-  return applied;
+  return !arrived.value() || ApplyIncoming();
 }
 
 // The gripper moves first, against the vehicle as it is, so that the vehicle step carries the held
@@ -296,12 +282,12 @@ void ScenarioRunner::Impl::StepPlant(std::int64_t now_ns) {
   Eigen::Vector3d force_world_n = disturbance_force_n_.At(SecondsFromNs(now_ns));
   Payload payload;
   if (gripper_) {
-    gripper_->Step(SecondsFromNs(now_ns), command_.servo_angle_rad, plant_, dt_s);
+    gripper_->Step(SecondsFromNs(now_ns), command().servo_angle_rad, plant_, dt_s);
     force_world_n += gripper_->forces().force_on_vehicle_world_n;
     payload = gripper_->payload();
   }
   for (int i = 0; i < config_.plant_substeps; ++i) {
-    AdvanceQuadrotor(config_.vehicle, plant_, command_.rotor_thrust_n, force_world_n,
+    AdvanceQuadrotor(config_.vehicle, plant_, command().rotor_thrust_n, force_world_n,
                      plant_substep_, payload);
   }
 }
@@ -315,14 +301,14 @@ bool ScenarioRunner::Impl::PlantFinite() const {
 void ScenarioRunner::Impl::FillGraspTrace(TraceSample& sample) const {
   const GraspForces& forces = gripper_->forces();
   sample.grasp_force_n = forces.grasp_force_n;
-  sample.grasp_force_estimate_n = command_.grasp_force_estimate_n;
+  sample.grasp_force_estimate_n = command().grasp_force_estimate_n;
   sample.grasp_force_setpoint_n = grasp_command_.regulate ? grasp_command_.force_n : 0.0;
   sample.grasp_settled_s = sample.time_s - grasp_command_since_s_;
   sample.load_n = -gripper_->ContactForceWorld(plant_.body.orientation).z();
-  sample.load_estimate_n = -command_.external_force_world_n.z();
+  sample.load_estimate_n = -command().external_force_world_n.z();
   sample.object_mass_kg = gripper_->grasp().object_mass_kg;
   sample.servo_angle_rad = gripper_->servo().angle_rad;
-  sample.servo_command_rad = command_.servo_angle_rad;
+  sample.servo_command_rad = command().servo_angle_rad;
   sample.object_damaged = gripper_->any_damaged();
   sample.object_dropped = gripper_->any_dropped();
 }
@@ -336,14 +322,14 @@ bool ScenarioRunner::Impl::RecordTrace(std::int64_t now_ns) {
   sample.roll_pitch_yaw_deg = RollPitchYawDeg(plant_.body.orientation);
   sample.tilt_deg = TiltDeg(plant_.body.orientation);
   sample.rotor_thrust_n = plant_.rotors.thrust_n;
-  sample.estimated_position_m = command_.estimated_position_m;
+  sample.estimated_position_m = command().estimated_position_m;
   const auto& applied_n = gripper_ ? gripper_->pad_forces() : kNoPadForce;
   for (int i = 0; i < kTactileSensorCount; ++i) {
-    const double decoded_n = command_.tactile_force_sensor_n[i].norm();
+    const double decoded_n = command().tactile_force_sensor_n[i].norm();
     sample.tactile_force_max_n = std::max(sample.tactile_force_max_n, decoded_n);
     sample.tactile_force_error_max_n =
         std::max(sample.tactile_force_error_max_n,
-                 (command_.tactile_force_sensor_n[i] - applied_n[i]).norm());
+                 (command().tactile_force_sensor_n[i] - applied_n[i]).norm());
   }
   if (gripper_) FillGraspTrace(sample);
   if (!AllSignalsFinite(sample)) ++non_finite_samples_;
@@ -394,7 +380,7 @@ void ScenarioRunner::Impl::ReportProgress(std::int64_t now_ns) {
 bool ScenarioRunner::Impl::Tick() {
   if (ended_) return false;
   if (!pacer_) return Step();
-  pacer_->BeginTick(tick_, [this] { PollWhileWaiting(); });
+  pacer_->BeginTick(tick_, [this] { exchange_->Collect(*dut_); });
   const bool more = Step();
   pacer_->EndTick();
   return more;
@@ -405,7 +391,7 @@ bool ScenarioRunner::Impl::Step() {
   const bool control_tick = ticks_to_control_ == 0;
   ticks_to_control_ = control_tick ? static_cast<std::uint64_t>(config_.control_every_ticks) - 1
                                    : ticks_to_control_ - 1;
-  if (pacer_ && control_tick && !TakeNewestCommand()) {
+  if (control_tick && !TakeArrivedCommand()) {
     ended_ = true;
     return false;
   }

@@ -4,6 +4,8 @@
 // each control tick before the plant moves on. In real time (RunControl::realtime_clock) each tick
 // waits until it is due on that clock, the plant never waits for the DUT (it holds the last command
 // until a newer one arrives) and the report gets the loop's timing figures and timing verdicts.
+// The tick is one piece of code in both modes: how it gets the DUT's command is a CommandExchange
+// (host/runner/command_exchange.h), and real-time pacing wraps the tick from outside.
 // Envelope checks read the trace as it is produced and may abort the run; the trace and the CAN log
 // stream out as the run goes, so an interrupted run still leaves them behind.
 #pragma once
