@@ -16,7 +16,6 @@
 namespace hilrig::host {
 namespace {
 
-constexpr int kPollSliceMs = 20;  // how often a waiting runner checks that the process lives
 constexpr int kLockstepSendTimeoutMs = 1000;
 // Per stream, and for requests: 16 s of a 1 kHz stream, far past any watchdog worth setting.
 constexpr std::size_t kMaxPending = std::size_t{1} << 14;
@@ -25,8 +24,6 @@ constexpr std::size_t kMaxPending = std::size_t{1} << 14;
 constexpr std::int64_t kLinkClosedGraceNs = 200'000'000;
 // Bounds one poll's work on a DUT that floods the link.
 constexpr int kMaxEventsPerPoll = 4096;
-
-int Milliseconds(double seconds) { return static_cast<int>(std::ceil(seconds * 1000)); }
 
 rig::Result<std::string> DutEmuPath(const ProcessDutOptions& options) {
   if (!options.program.empty()) {
@@ -419,7 +416,7 @@ rig::Result<ActuatorMessage> ProcessDut::AwaitCommand(std::uint64_t tick) {
   const rig::Clock& clock = options_.wall_clock != nullptr ? *options_.wall_clock : own_wall_clock_;
   constexpr std::int64_t kNsPerMs = 1'000'000;
   const std::int64_t deadline_ns =
-      clock.NowNs() + std::int64_t{Milliseconds(options_.answer_timeout_s)} * kNsPerMs;
+      clock.NowNs() + std::int64_t{CeilMilliseconds(options_.answer_timeout_s)} * kNsPerMs;
   while (true) {
     const std::int64_t left_ms = (deadline_ns - clock.NowNs()) / kNsPerMs;
     if (left_ms <= 0) break;

@@ -12,10 +12,6 @@
 namespace hilrig::host {
 namespace {
 
-constexpr int kPollSliceMs = 20;  // how often a waiting runner checks that the process lives
-
-int Milliseconds(double seconds) { return static_cast<int>(std::ceil(seconds * 1000)); }
-
 // The address the child dials: the listening one, or loopback when listening on every address.
 std::string DialAddress(const std::string& listen_address) {
   if (listen_address == "0.0.0.0") return "127.0.0.1";
@@ -90,7 +86,7 @@ rig::Result<LaunchedDut> LaunchOverTcp(const std::string& path, const ProcessDut
   if (!child) return child.error();
   DutAcceptor acceptor(*listener.value(), token.value());
   auto accepted =
-      WatchChild(child.value(), Milliseconds(options.start_timeout_s), "prove the link token",
+      WatchChild(child.value(), CeilMilliseconds(options.start_timeout_s), "prove the link token",
                  [&](int slice_ms) { return acceptor.Poll(slice_ms); });
   if (!accepted) {
     acceptor.RefusePending();
@@ -121,7 +117,7 @@ rig::Result<LaunchedDut> LaunchByListening(const ProcessDutOptions& options) {
   if (!listener) return listener.error();
   auto forward_bus = OpenListeningBus(options);
   if (!forward_bus) return forward_bus.error();
-  const int timeout_ms = Milliseconds(options.start_timeout_s);
+  const int timeout_ms = CeilMilliseconds(options.start_timeout_s);
   if (options.notes != nullptr) {
     *options.notes << "hilrig: waiting up to " << timeout_ms / 1000 << " s for the DUT: start it "
                    << "with --link " << ListenEndpoint(options) << " --can "
@@ -166,14 +162,14 @@ rig::Result<LaunchedDut> LaunchOverShm(const std::string& path, const ProcessDut
   auto child = ChildProcess::Spawn(CommandLine(path, options, link_args), {}, {fd});
   if (!child) return child.error();
   auto link = std::make_unique<LinkConnection>(std::move(stream).value(), "dut_emu (shm)");
-  auto hello =
-      WatchChild(child.value(), Milliseconds(options.start_timeout_s), "say hello on the shm link",
-                 [&](int slice_ms) -> std::optional<proto::LinkMessage> {
-                   LinkReceived received = link->Receive(slice_ms);
-                   if (received.status == LinkReceiveStatus::kMessage)
-                     return std::move(received.message);
-                   return std::nullopt;
-                 });
+  auto hello = WatchChild(child.value(), CeilMilliseconds(options.start_timeout_s),
+                          "say hello on the shm link",
+                          [&](int slice_ms) -> std::optional<proto::LinkMessage> {
+                            LinkReceived received = link->Receive(slice_ms);
+                            if (received.status == LinkReceiveStatus::kMessage)
+                              return std::move(received.message);
+                            return std::nullopt;
+                          });
   if (!hello) return hello.error();
   if (!hello.value().has_hello() || hello.value().hello().role() != proto::Hello::DUT) {
     return rig::MakeError("the dut process's first message on the shm link is not a dut hello");

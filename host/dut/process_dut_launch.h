@@ -7,6 +7,7 @@
 // so a DUT that dies or never speaks fails the start with an error that says which.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -19,6 +20,12 @@
 #include "rig/result.h"
 
 namespace hilrig::host {
+
+// How often a runner waiting on its DUT process looks whether the process still lives.
+inline constexpr int kPollSliceMs = 20;
+
+// `seconds` in whole milliseconds, rounded up (a wait never ends before its deadline).
+inline int CeilMilliseconds(double seconds) { return static_cast<int>(std::ceil(seconds * 1000)); }
 
 struct LaunchedDut {
   std::optional<ChildProcess> child;  // none for a DUT that dialled in (ProcessDutOptions::listen)
