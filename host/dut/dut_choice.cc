@@ -220,6 +220,7 @@ DutFactory ProcessFactory(ProcessDutOptions options, bool realtime, const DutFac
   if (realtime) {
     dut_clock = std::make_shared<const rig::SteadyClock>();
     options.wall_clock = dut_clock.get();
+    options.pacing = DutPacing::kRealtime;
   }
   return [options, dut_clock](const ScenarioConfig& config, std::unique_ptr<rig::CanBus> bus,
                               double control_period_s) -> rig::Result<std::unique_ptr<DutPort>> {

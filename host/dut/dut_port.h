@@ -49,6 +49,11 @@ struct DutCounters {
   }
 };
 
+// How a run asks a DUT for its commands: Step and wait (lockstep), or RequestStep and PollCommand
+// while the plant goes on (real time). A DUT behind a link is told which when it is built, since
+// the two send and wait differently.
+enum class DutPacing { kLockstep, kRealtime };
+
 // How long the DUT took to respond to one input stream ("imu", "vio", "setpoint", "can"): from the
 // runner sending a message to the first command that reflects it, in wall time (real-time runs).
 struct StreamLatency {

@@ -86,6 +86,10 @@ rig::Result<void> ValidateProcessDutOptions(const ProcessDutOptions& options) {
   const auto bad_timeout = [](double seconds) {
     return !std::isfinite(seconds) || seconds <= 0 || seconds > 3600;
   };
+  if (options.pacing == DutPacing::kRealtime && options.wall_clock == nullptr) {
+    return rig::MakeError(
+        "a real-time dut process needs a wall clock (ProcessDutOptions::wall_clock)");
+  }
   if (bad_timeout(options.answer_timeout_s)) {
     return rig::MakeError("dut answer timeout " + rig::NumberText(options.answer_timeout_s) +
                           " s: must be positive, finite and at most an hour");
@@ -125,7 +129,7 @@ ProcessDut::ProcessDut(const DutFirmware& firmware, std::unique_ptr<rig::CanBus>
       options_(options),
       ledger_(std::llround(options.answer_timeout_s * 1e9)) {
   frames_.reserve(64);
-  if (options_.wall_clock != nullptr) latencies_ = std::make_unique<Latencies>();
+  if (realtime() && options_.wall_clock != nullptr) latencies_ = std::make_unique<Latencies>();
 }
 
 rig::Result<std::unique_ptr<ProcessDut>> ProcessDut::Launch(const DutFirmware& firmware,
@@ -193,7 +197,7 @@ std::string ProcessDut::description() const {
   const std::string process = child_ ? " (pid " + std::to_string(child_->pid()) + ")" : "";
   return what + process + " over the " +
          (options_.transport == DutLinkTransport::kSharedMemory ? "shared-memory" : "TCP") +
-         " HIL link, " + (latencies_ ? "real time" : "lockstep") +
+         " HIL link, " + (realtime() ? "real time" : "lockstep") +
          (options_.can_uri.empty() ? "" : ", CAN frames over " + options_.can_uri) +
          (peers_refused_summary_.empty() ? "" : "; " + peers_refused_summary_);
 }
@@ -218,7 +222,7 @@ std::vector<rig::Metric> ProcessDut::link_metrics() const {
     metrics.emplace_back("link_can_frames_dropped_foreign",
                          static_cast<double>(bus.frames_dropped_foreign));
   }
-  if (!latencies_) return metrics;  // the rest measure real-time pacing, which lockstep has none of
+  if (!realtime()) return metrics;  // the rest measure real-time pacing, which lockstep has none of
   const auto d = [](std::uint64_t value) { return static_cast<double>(value); };
   metrics.emplace_back("link_commands_superseded", d(commands_superseded_));
   metrics.emplace_back("link_requests_skipped", d(ledger_.requests_skipped()));
@@ -273,7 +277,7 @@ rig::Result<void> ProcessDut::CheckRunning() {
 
 void ProcessDut::Forward(const proto::LinkMessage& message, bool input) {
   if (!CheckRunning()) return;
-  if (input && !latencies_) {
+  if (input && !realtime()) {
     // Nothing waits for an input alone: it goes out with the tick's request, in one write.
     if (auto queued = link_->Queue(message); !queued) {
       (void)Failed("link send failed: " + queued.error().message);
@@ -281,9 +285,9 @@ void ProcessDut::Forward(const proto::LinkMessage& message, bool input) {
     return;
   }
   // A real-time plant never waits for the socket: a DUT that stops reading fails the run instead.
-  const int timeout_ms = latencies_ ? 0 : kLockstepSendTimeoutMs;
+  const int timeout_ms = realtime() ? 0 : kLockstepSendTimeoutMs;
   if (auto sent = link_->Send(message, timeout_ms); !sent) {
-    if (latencies_ && link_->closed() && !ChildExit()) {
+    if (realtime() && link_->closed() && !ChildExit()) {
       // Most likely a process still dying: the next polls name it, or the closed link.
       if (!link_closed_wall_ns_) link_closed_wall_ns_ = options_.wall_clock->NowNs();
       return;
@@ -368,9 +372,8 @@ rig::Result<ActuatorMessage> ProcessDut::Step(std::uint64_t tick, std::int64_t n
 
 void ProcessDut::RequestStep(std::uint64_t tick, std::int64_t now_ns) {
   if (failure_) return;
-  if (!latencies_) {
-    (void)Failed(
-        "a real-time step request without a wall clock (set ProcessDutOptions::wall_clock)");
+  if (!realtime()) {
+    (void)Failed("a real-time step request to a lockstep dut process (ProcessDutOptions::pacing)");
     return;
   }
   (void)SendStepRequest(tick, now_ns, /*realtime=*/true);  // a failure sticks for the next poll
@@ -378,8 +381,8 @@ void ProcessDut::RequestStep(std::uint64_t tick, std::int64_t now_ns) {
 
 rig::Result<std::optional<ActuatorMessage>> ProcessDut::PollCommand() {
   if (auto running = CheckRunning(); !running) return running.error();
-  if (!latencies_) {
-    return Failed("a real-time poll without a wall clock (set ProcessDutOptions::wall_clock)");
+  if (!realtime()) {
+    return Failed("a real-time poll of a lockstep dut process (ProcessDutOptions::pacing)");
   }
   const std::int64_t now_ns = options_.wall_clock->NowNs();
   std::optional<ActuatorMessage> newest;

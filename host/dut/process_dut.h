@@ -73,10 +73,13 @@ struct ProcessDutOptions {
   double start_timeout_s = 10.0;             // for the process to connect and say hello
   std::string listen_address = "127.0.0.1";  // kTcp only
   std::vector<std::string> extra_args;       // appended to dut_emu's command line (test hooks)
-  // Set for real-time runs only (it must outlive the ProcessDut): the watchdog of PollCommand and
-  // the response latencies read it, and sends never wait for the socket. Null: lockstep only; the
-  // lockstep watchdog reads a SteadyClock of the port's own and RequestStep fails. Either way the
-  // watchdog's deadlines are on a clock that moves by itself: they bound a real process.
+  // Lockstep: inputs go out with the tick's request and Step waits; RequestStep fails. Real time:
+  // every message goes out at once, sends never wait for the socket, and the response latencies
+  // are measured; it needs wall_clock.
+  DutPacing pacing = DutPacing::kLockstep;
+  // The clock of the watchdog and the latencies (it must outlive the ProcessDut); null: a
+  // SteadyClock of the port's own, for lockstep only. Either way the watchdog's deadlines are on
+  // a clock that moves by itself: they bound a real process.
   const rig::Clock* wall_clock = nullptr;
   // The bus the runner's CAN frames cross to the DUT: empty for a loopback UDP bus of the run's
   // own, or a socketcan:IFACE URI that the forwarder and dut_emu both open, as a bench is wired.
@@ -123,7 +126,7 @@ class ProcessDut final : public DutPort {
   void RequestStep(std::uint64_t tick, std::int64_t now_ns) override;
   rig::Result<std::optional<ActuatorMessage>> PollCommand() override;
   // Each input stream by its kStream ("imu", "vio", "setpoint"), then "can" and "command"
-  // (request to answer); none without a wall clock.
+  // (request to answer); none in lockstep.
   std::vector<StreamLatency> response_latencies() const override;
   DutCounters counters() const override { return counters_; }
   std::string description() const override;
@@ -195,8 +198,9 @@ class ProcessDut final : public DutPort {
   // Requests not answered yet, on the wall clock (0 without one: lockstep has no latencies).
   RequestLedger ledger_;
   std::optional<std::int64_t> link_closed_wall_ns_;  // real time: closed, exit status not in yet
-  std::unique_ptr<Latencies> latencies_;             // null without a wall clock
-  rig::SteadyClock own_wall_clock_;                  // the lockstep watchdog's, without one
+  std::unique_ptr<Latencies> latencies_;             // real time only
+  bool realtime() const { return options_.pacing == DutPacing::kRealtime; }
+  rig::SteadyClock own_wall_clock_;  // the lockstep watchdog's, without one
   std::uint64_t commands_superseded_ = 0;
   std::uint64_t latency_samples_dropped_ = 0;
   std::uint64_t dut_frame_waits_expired_ = 0;

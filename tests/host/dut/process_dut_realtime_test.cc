@@ -78,6 +78,7 @@ class ProcessDutRealtimeTest : public ::testing::Test {
     options.dut_emu_path = ::hilrig::test_support::BinDir() + "/dut_emu";
     options.extra_args = std::move(extra_args);
     options.wall_clock = &wall_clock_;
+    options.pacing = DutPacing::kRealtime;
     auto dut = ProcessDut::Launch(HoverFirmware(), bus_.Connect("dut"), control_period_s, options);
     EXPECT_TRUE(dut.ok()) << (dut.ok() ? "" : dut.error().message);
     return dut.ok() ? std::move(dut).value() : nullptr;
@@ -296,10 +297,12 @@ TEST_F(ProcessDutRealtimeTest, RequestingAnOldTickAgainIsRefused) {
   EXPECT_EQ(answer.error().message, "tick 1 requested after tick 1");
 }
 
-TEST(ProcessDutWithoutClockTest, RealTimeNeedsAWallClockAndLockstepMeasuresNothing) {
+TEST(ProcessDutPacingTest, LockstepMeasuresNothingAndRefusesRealTimeRequests) {
   rig::EmulatedBus bus;
   ProcessDutOptions options;
   options.dut_emu_path = ::hilrig::test_support::BinDir() + "/dut_emu";
+  const rig::SteadyClock wall_clock;
+  options.wall_clock = &wall_clock;  // a clock alone does not make the port real time
   auto dut = ProcessDut::Launch(HoverFirmware(), bus.Connect("dut"), kControlPeriodS, options);
   ASSERT_TRUE(dut.ok()) << dut.error().message;
   ASSERT_TRUE(dut.value()->Step(1, kTickNs).ok());
@@ -308,8 +311,17 @@ TEST(ProcessDutWithoutClockTest, RealTimeNeedsAWallClockAndLockstepMeasuresNothi
   dut.value()->RequestStep(2, 2 * kTickNs);
   const auto answer = dut.value()->PollCommand();
   ASSERT_FALSE(answer.ok());
-  EXPECT_NE(answer.error().message.find("ProcessDutOptions::wall_clock"), std::string::npos)
+  EXPECT_NE(answer.error().message.find("ProcessDutOptions::pacing"), std::string::npos)
       << answer.error().message;
+}
+
+TEST(ProcessDutPacingTest, RealTimeNeedsAWallClock) {
+  ProcessDutOptions options;
+  options.pacing = DutPacing::kRealtime;
+  const auto refused = ValidateProcessDutOptions(options);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.error().message.find("needs a wall clock"), std::string::npos)
+      << refused.error().message;
 }
 
 }  // namespace
