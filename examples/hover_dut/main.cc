@@ -148,8 +148,16 @@ int Serve(const Options& options, const std::array<std::uint8_t, 16>* token,
 }  // namespace
 
 int main(int argc, char** argv) {
-  const std::optional<Options> options = Parse(std::vector<std::string>(argv, argv + argc));
+  const std::vector<std::string> args(argv, argv + argc);
+  const std::optional<Options> options = Parse(args);
   if (!options) {
+    // The arguments the rig gives a program on its process link, not this one's.
+    for (const std::string& arg : args) {
+      if (arg == "--link" || arg == "--link-shm") {
+        std::cerr << "hover_dut: speaks the line link; start it with --dut exec:PROGRAM "
+                     "--dut-link line\n";
+      }
+    }
     std::cerr << kUsageText;
     return kUsage;
   }

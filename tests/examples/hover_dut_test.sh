@@ -4,7 +4,8 @@
 # envelope passes: `--dut exec:` (the rig starts it), `--dut listen:` (it is started by hand and
 # dials in with the token file), and a serial line (two pseudo-terminal pairs joined by
 # pty_null_modem, `--dut serial:` on one side, `hover_dut --serial` on the other). A DUT that dials
-# in with another run's token is refused and the run fails, naming the token.
+# in with another run's token is refused and the run fails, naming the token; started on the
+# process link by mistake, it says which link it speaks.
 # Usage: hover_dut_test.sh SOURCE_DIR BIN_DIR
 set -euo pipefail
 
@@ -51,6 +52,18 @@ wait_for() {
 "$bin/hilrig" run "$spec" --dut "exec:$bin/hover_dut" --dut-link line --out exec >exec.log 2>&1 ||
   true
 expect_pass exec
+
+# Started on the process link by mistake, it says which link it speaks, and the run fails.
+status=0
+"$bin/hilrig" run "$spec" --dut "exec:$bin/hover_dut" --out wrong_link >wrong_link.log 2>&1 ||
+  status=$?
+if ((status != 0)) && grep -q "speaks the line link" wrong_link.log; then
+  echo "ok: a line-link DUT on the process link is named"
+else
+  echo "FAIL: hover_dut on the process link: exit $status"
+  cat wrong_link.log
+  failures=$((failures + 1))
+fi
 
 # A person starts it, after the run says where to dial.
 "$bin/hilrig" run "$spec" --dut "listen:127.0.0.1:$((20000 + RANDOM % 20000))" --dut-link line --out listen \
