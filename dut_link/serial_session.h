@@ -193,8 +193,6 @@ class SerialDutSession {
     c.rx_ring_drops = rx_ring_drops_;
     return c;
   }
-  // The run's control period, from its DutConfig (valid while phase() is kRunning).
-  double control_period_s() const { return control_period_s_; }
 
  private:
   using Reader = wire::Reader;
@@ -293,7 +291,6 @@ class SerialDutSession {
       return Reset(SerialDutPhase::kAwaitHello);
     }
     setpoint_ = Setpoint{};  // the controller starts from the zero setpoint too
-    control_period_s_ = run.control_period_s;
     period_ns_ = std::llround(run.control_period_s * 1e9);
     last_tick_.reset();
     phase_ = SerialDutPhase::kRunning;
@@ -613,7 +610,6 @@ class SerialDutSession {
   std::array<std::uint8_t, EncodedFrameBytes(serial_link_internal::kMaxReplyBytes)> frame_out_{};
 
   SerialDutPhase phase_ = SerialDutPhase::kAwaitHello;
-  double control_period_s_ = 0;
   std::int64_t period_ns_ = 0;
   Setpoint setpoint_;
   std::optional<std::uint64_t> last_tick_;

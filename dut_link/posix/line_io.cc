@@ -7,6 +7,7 @@
 #include <poll.h>
 #include <signal.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <termios.h>
 #include <time.h>
 #include <unistd.h>
@@ -128,11 +129,15 @@ OwnedLine ConnectTcpLine(const std::string& host, std::uint16_t port, int timeou
   return OwnedLine::Failed("cannot connect to " + where + ": " + last_error);
 }
 
+FdLineSink::FdLineSink(int fd) : fd_(fd) {
+  struct stat status {};
+  socket_ = ::fstat(fd, &status) == 0 && S_ISSOCK(status.st_mode);
+}
+
 void FdLineSink::Write(std::span<const std::uint8_t> bytes) {
   while (!bytes.empty() && error_ == 0) {
-    const ssize_t written = ::send(fd_, bytes.data(), bytes.size(), MSG_NOSIGNAL);
-    const ssize_t result =
-        written < 0 && errno == ENOTSOCK ? ::write(fd_, bytes.data(), bytes.size()) : written;
+    const ssize_t result = socket_ ? ::send(fd_, bytes.data(), bytes.size(), MSG_NOSIGNAL)
+                                   : ::write(fd_, bytes.data(), bytes.size());
     if (result > 0) {
       bytes = bytes.subspan(std::size_t(result));
     } else if (result < 0 && (errno == EAGAIN || errno == EINTR)) {

@@ -47,12 +47,14 @@ OwnedLine ConnectTcpLine(const std::string& host, std::uint16_t port, int timeou
 // Writes whole frames, waiting for room when the line is full; a failure is kept for the loop.
 class FdLineSink final : public LineSink {
  public:
-  explicit FdLineSink(int fd) : fd_(fd) {}
+  // Looks once whether `fd` is a socket (written with MSG_NOSIGNAL) or a tty.
+  explicit FdLineSink(int fd);
   void Write(std::span<const std::uint8_t> bytes) override;
   int error() const { return error_; }  // errno of the first failed write; 0: none
 
  private:
   int fd_;
+  bool socket_;
   int error_ = 0;
 };
 

@@ -51,7 +51,6 @@ class RequestLedger {
 
   std::optional<std::uint64_t> last_requested() const { return last_requested_; }
   std::optional<std::uint64_t> last_answered() const { return last_answered_; }
-  bool waiting() const { return !outstanding_.empty(); }
 
   std::uint64_t requests_skipped() const { return requests_skipped_; }
   std::uint64_t stale_answers() const { return stale_answers_; }

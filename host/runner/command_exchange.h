@@ -19,6 +19,9 @@ namespace hilrig::host {
 class CommandExchange {
  public:
   virtual ~CommandExchange() = default;
+  // Whether commands arrive between ticks (real time); when not, Arrived never has one and the
+  // tick need not ask (lockstep's hot path makes no call for nothing).
+  bool collects() const { return collects_; }
   // Both return true when they wrote a command into `command` (the runner's buffer for the next
   // one, so that the hot lockstep path moves the DUT's answer once), false when there is none;
   // an error is the DUT's failure and ends the run.
@@ -32,11 +35,18 @@ class CommandExchange {
                                 ActuatorMessage& command) = 0;
   // Between ticks, while waiting for the next one: collects what the DUT sent (real time).
   virtual void Collect(DutPort& dut) { (void)dut; }
+
+ protected:
+  explicit CommandExchange(bool collects) : collects_(collects) {}
+
+ private:
+  bool collects_;
 };
 
 // Asks and waits: DutPort::Step.
 class LockstepExchange final : public CommandExchange {
  public:
+  LockstepExchange() : CommandExchange(false) {}
   rig::Result<bool> Arrived(DutPort& dut, ActuatorMessage& command) override;
   rig::Result<bool> Ask(DutPort& dut, std::uint64_t tick, std::int64_t now_ns,
                         ActuatorMessage& command) override;
@@ -47,7 +57,7 @@ class LockstepExchange final : public CommandExchange {
 class RealtimeExchange final : public CommandExchange {
  public:
   // `pacer` must outlive the exchange.
-  explicit RealtimeExchange(RealtimePacer& pacer) : pacer_(pacer) {}
+  explicit RealtimeExchange(RealtimePacer& pacer) : CommandExchange(true), pacer_(pacer) {}
   rig::Result<bool> Arrived(DutPort& dut, ActuatorMessage& command) override;
   rig::Result<bool> Ask(DutPort& dut, std::uint64_t tick, std::int64_t now_ns,
                         ActuatorMessage& command) override;

@@ -6,6 +6,7 @@
 #include <memory>
 #include <numbers>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "host/checks/envelope_check.h"
@@ -86,8 +87,8 @@ class ScenarioRunner::Impl {
   bool Step();
   bool TakeArrivedCommand();
   // The held command and the buffer the next one is written into; applying swaps the two.
-  const ActuatorMessage& command() const { return commands_[held_]; }
-  ActuatorMessage& incoming() { return commands_[1 - held_]; }
+  const ActuatorMessage& command() const { return *held_; }
+  ActuatorMessage& incoming() { return *incoming_; }
   bool ApplyIncoming();
   bool ControlStep(std::uint64_t control_tick, std::int64_t now_ns);
   void StepPlant(std::int64_t now_ns);
@@ -124,7 +125,8 @@ class ScenarioRunner::Impl {
   QuadrotorStepSize plant_substep_;  // the step and its rotor-lag blend, computed once
   std::uint64_t setpoint_sequence_ = 0;
   std::array<ActuatorMessage, 2> commands_;
-  std::size_t held_ = 0;
+  ActuatorMessage* held_ = &commands_[0];
+  ActuatorMessage* incoming_ = &commands_[1];
   ReferenceSample current_reference_;
 
   std::vector<rig::TimedCanFrame> logged_frames_;
@@ -260,7 +262,7 @@ bool ScenarioRunner::Impl::ApplyIncoming() {
     return !config_.dut_fault_stops_run;
   }
   if (!command.armed) command.rotor_thrust_n.fill(0.0);
-  held_ = 1 - held_;
+  std::swap(held_, incoming_);
   return true;
 }
 
@@ -391,7 +393,7 @@ bool ScenarioRunner::Impl::Step() {
   const bool control_tick = ticks_to_control_ == 0;
   ticks_to_control_ = control_tick ? static_cast<std::uint64_t>(config_.control_every_ticks) - 1
                                    : ticks_to_control_ - 1;
-  if (control_tick && !TakeArrivedCommand()) {
+  if (control_tick && exchange_->collects() && !TakeArrivedCommand()) {
     ended_ = true;
     return false;
   }
