@@ -229,9 +229,17 @@ DutFactory ProcessFactory(ProcessDutOptions options, bool realtime, const DutFac
   };
 }
 
-DutFactory SerialFactory(SerialLineOpener opener, const SerialDutOptions& options) {
-  return [opener, options](const ScenarioConfig& config, std::unique_ptr<rig::CanBus> bus,
-                           double control_period_s) -> rig::Result<std::unique_ptr<DutPort>> {
+// In real time a serial DUT reads a wall clock of its own, as a process DUT does.
+DutFactory SerialFactory(SerialLineOpener opener, SerialDutOptions options, bool realtime) {
+  std::shared_ptr<const rig::SteadyClock> dut_clock;
+  if (realtime) {
+    dut_clock = std::make_shared<const rig::SteadyClock>();
+    options.clock = dut_clock.get();
+    options.pacing = DutPacing::kRealtime;
+  }
+  return [opener, options, dut_clock](
+             const ScenarioConfig& config, std::unique_ptr<rig::CanBus> bus,
+             double control_period_s) -> rig::Result<std::unique_ptr<DutPort>> {
     return std::unique_ptr<DutPort>(std::make_unique<SerialDut>(FirmwareFor(config), std::move(bus),
                                                                 control_period_s, opener, options));
   };
@@ -290,7 +298,7 @@ rig::Result<DutFactory> MakeDutFactory(const DutChoice& choice, bool realtime,
         DialedLineSpec dialed = choice.dialed;
         dialed.stop_requested = seams.stop_requested;
         dialed.notes = seams.notes;
-        return SerialFactory(DialedLines(dialed), choice.serial);
+        return SerialFactory(DialedLines(dialed), choice.serial, realtime);
       }
       return ProcessFactory(choice.process, realtime, seams);
     case DutKind::kProcess:
@@ -298,10 +306,10 @@ rig::Result<DutFactory> MakeDutFactory(const DutChoice& choice, bool realtime,
     case DutKind::kQemu: {
       auto image = FindTargetImage(choice.target_image);
       if (!image) return rig::MakeError("--dut qemu: " + image.error().message);
-      return SerialFactory(QemuLines({image.value(), ""}), choice.serial);
+      return SerialFactory(QemuLines({image.value(), ""}), choice.serial, realtime);
     }
     case DutKind::kSerial:
-      return SerialFactory(SerialPortLines(choice.port), choice.serial);
+      return SerialFactory(SerialPortLines(choice.port), choice.serial, realtime);
   }
   return rig::MakeError("unknown DUT kind");
 }

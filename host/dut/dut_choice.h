@@ -72,9 +72,10 @@ struct DutFactorySeams {
   std::ostream* notes = nullptr;
 };
 
-// The factory of the chosen DUT; `realtime` gives a process DUT a wall clock of its own for its
-// watchdog and latencies, kept alive by the factory. Fails only for kQemu, when the image cannot
-// be found (the error lists where it looked). Nothing starts until the runner calls the factory.
+// The factory of the chosen DUT; `realtime` gives a DUT behind a link a wall clock of its own for
+// its watchdog and latencies, kept alive by the factory. Fails only for kQemu, when the image
+// cannot be found (the error lists where it looked). Nothing starts until the runner calls the
+// factory.
 rig::Result<DutFactory> MakeDutFactory(const DutChoice& choice, bool realtime,
                                        const DutFactorySeams& seams = {});
 

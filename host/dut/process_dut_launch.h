@@ -21,9 +21,6 @@
 
 namespace hilrig::host {
 
-// How often a runner waiting on its DUT process looks whether the process still lives.
-inline constexpr int kPollSliceMs = 20;
-
 // `seconds` in whole milliseconds, rounded up (a wait never ends before its deadline).
 inline int CeilMilliseconds(double seconds) { return static_cast<int>(std::ceil(seconds * 1000)); }
 

@@ -42,8 +42,7 @@ TEST(CliSerialDutTest, TargetImageBelongsToQemuAndMustExist) {
 TEST(CliSerialDutTest, TimeoutAppliesToSerialDutsAndIsChecked) {
   CliResult run = Cli({"run", kScenario, "--dut", "serial:/dev/a", "--dut-timeout-s", "0"});
   EXPECT_EQ(run.exit_code, kExitBadInput);
-  EXPECT_NE(run.err.find("--dut-timeout-s: serial dut answer timeout 0 s"), std::string::npos)
-      << run.err;
+  EXPECT_NE(run.err.find("--dut-timeout-s: dut answer timeout 0 s"), std::string::npos) << run.err;
   // QEMU's board has no CAN port; a board on serial devices may read its sensors on its own.
   run = Cli({"run", kScenario, "--dut", "qemu", "--can", "socketcan:vcan0"});
   EXPECT_EQ(run.exit_code, kExitBadInput);

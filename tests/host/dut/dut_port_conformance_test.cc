@@ -131,6 +131,7 @@ class DutPortConformanceTest : public ::testing::TestWithParam<PortKind> {
     }
     SerialDutOptions serial;
     serial.clock = &wall_clock_;
+    serial.pacing = pacing;
     if (kind == "serial_pty") {
       return std::make_unique<SerialDut>(HoverFirmware(), std::move(endpoint), kControlPeriodS,
                                          DutEmuOnPtys(), serial);

@@ -14,6 +14,7 @@
 #include "host/dut/firmware_config.h"
 #include "host/dut/in_process_dut.h"
 #include "host/dut/process_dut.h"
+#include "host/link/hil_link_codec.h"
 #include "rig/clock.h"
 #include "rig/emulated_bus.h"
 #include "tests/support/dut_inputs.h"
@@ -261,7 +262,7 @@ TEST_F(ProcessDutRealtimeTest, AnswerToATickNeverRequestedIsANamedCountedError) 
   for (std::uint64_t tick = 1; tick <= 2; ++tick) ASSERT_TRUE(Tick(*dut, tick).ok());
   const auto answer = Tick(*dut, 3);
   ASSERT_FALSE(answer.ok());
-  EXPECT_EQ(answer.error().message, "dut answered tick " +
+  EXPECT_EQ(answer.error().message, "the dut answered tick " +
                                         std::to_string(3 + dut_emu::kWrongTickOffset) +
                                         ", which was never requested (last request: tick 3)");
   EXPECT_EQ(Metric(*dut, "link_unrequested_answers"), 1.0);

@@ -12,6 +12,7 @@
 
 #include "host/dut/firmware_config.h"
 #include "host/dut/in_process_dut.h"
+#include "host/link/hil_link_codec.h"
 #include "host/link/link_token.h"
 #include "host/runner/runner.h"
 #include "host/scenario/scenario_config.h"
@@ -108,7 +109,7 @@ TEST_F(ProcessDutTest, SilentDutTripsTheWatchdog) {
   ASSERT_NE(dut, nullptr);
   const auto command = Hover(*dut, 10);
   ASSERT_FALSE(command.ok());
-  EXPECT_EQ(command.error().message, "dut did not answer tick 3 within 0.2 s");
+  EXPECT_EQ(command.error().message, "the dut did not answer tick 3 within 0.2 s");
   EXPECT_EQ(command.error().code, rig::ErrorCode::kTimeout);
   bool counted = false;
   for (const auto& [name, value, unit] : dut->link_metrics()) {

@@ -13,6 +13,8 @@
 #include "dut_fw/sensor_node.h"
 #include "host/dut/firmware_config.h"
 #include "host/link/dut_config_codec.h"
+#include "host/link/hil_link_codec.h"
+#include "host/link/line_link.h"
 #include "host/link/memory_byte_stream.h"
 #include "rig/clock.h"
 #include "rig/emulated_bus.h"
@@ -176,7 +178,8 @@ struct Rig {
   double byte_time_s = 0;                // the line's, as the opener would know it
   std::int64_t waited_ns = 0;
 
-  explicit Rig(const std::function<void(ScriptedDut&)>& script = {}) {
+  explicit Rig(const std::function<void(ScriptedDut&)>& script = {},
+               DutPacing pacing = DutPacing::kLockstep) {
     std::tie(line_runner, line_dut) = MakeMemoryStreamPair("line");
     std::tie(bridge_runner, bridge_dut) = MakeMemoryStreamPair("bridge");
     dut = std::make_unique<ScriptedDut>(*line_dut, *bridge_dut);
@@ -195,6 +198,7 @@ struct Rig {
     options.clock = &clock;
     options.answer_timeout_s = 0.5;
     options.start_timeout_s = 2.0;
+    options.pacing = pacing;
     auto opener = [this](double) -> rig::Result<SerialLines> {
       SerialLines lines;
       lines.link = std::move(line_runner);
@@ -526,7 +530,7 @@ TEST(SerialDutTest, CountsTheSensorBytesTheBoardSteppedWithout) {
 }
 
 TEST(SerialDutTest, AnswersRealTimeRequestsByPollAndTimesOutTheOldest) {
-  Rig rig([](ScriptedDut& dut) { dut.silent_from_tick = 3; });
+  Rig rig([](ScriptedDut& dut) { dut.silent_from_tick = 3; }, DutPacing::kRealtime);
   ASSERT_TRUE(rig.serial->Start());
   rig.serial->RequestStep(1, kPeriodNs);
   rig.serial->RequestStep(2, 2 * kPeriodNs);
