@@ -1,7 +1,8 @@
 // The UART bridge of the tactile bus: how a sensor node streams every CAN frame it sees over its
 // UART to the flight controller (proto/TACTILE_PROTOCOL.md), and how the controller reads them
 // back. Both ends include this one header: the node firmware (dut_fw/sensor_node.h), the DUT side
-// of the HIL link (dut_link/serial_session.h) and the rig's side (host/dut/serial_dut.cc).
+// of the HIL link (dut_link/serial_session.h) and the rig's side
+// (host/linked_dut/serial_dut_link.cc).
 //
 // A frame: 0xAA 0x55 id_lo id_hi len data[len] crc8, with the CRC-8/ATM polynomial 0x07 (init 0, no
 // reflection, no final xor -- CRC-8/SMBUS in the reveng catalogue; ITU I.432.1's HEC would also xor

@@ -12,7 +12,7 @@
 
 #include "host/cache/setup_caches.h"
 #include "host/cli/cli.h"
-#include "host/dut/dut_choice.h"
+#include "host/linked_dut/dut_choice.h"
 #include "host/pipeline/run_pipeline.h"
 #include "host/report/report_files.h"
 #include "host/report/stop_reason.h"
@@ -88,8 +88,8 @@ struct RunOptions {
   const FileCalibrationStore* calibrations = nullptr;  // calibrations kept between runs
 };
 
-// --dut and its options (host/dut/dut_choice.h); a DUT's waits end on the command's stop request
-// and are announced on its standard error.
+// --dut and its options (host/linked_dut/dut_choice.h); a DUT's waits end on the command's stop
+// request and are announced on its standard error.
 rig::Result<DutFactory> ParseDutOptions(const CliArgs& cli, bool realtime, const CliStreams& io) {
   const auto word = [&cli](const char* option) -> std::optional<std::string> {
     const std::string* value = cli.Option(option);

@@ -1,5 +1,5 @@
 // `hilrig run`: one scenario file, or every scenario file in a folder, through the run pipeline
-// (host/pipeline/run_pipeline.h), against the DUT `--dut` names (host/dut/dut_choice.h).
+// (host/pipeline/run_pipeline.h), against the DUT `--dut` names (host/linked_dut/dut_choice.h).
 //   hilrig run FILE.textproto|DIR/ [--out DIR] [--seed N] [--set PATH=VALUE,...] [--duration-s S]
 //              [--dut KIND [...]] [--realtime [--rt-priority N]] [--no-reference]
 //              [--reference-cache DIR]

@@ -123,7 +123,7 @@ class DutPort {
 
 // Builds the DUT the runner talks to, given the scene, the DUT's own endpoint on the emulated CAN
 // bus and the control period. Unset: the in-process dut_fw (InProcessDut). MakeDutFactory
-// (host/dut/dut_choice.h) makes the one a command line names.
+// (host/linked_dut/dut_choice.h) makes the one a command line names.
 using DutFactory = std::function<rig::Result<std::unique_ptr<DutPort>>(
     const ScenarioConfig& config, std::unique_ptr<rig::CanBus> bus, double control_period_s)>;
 

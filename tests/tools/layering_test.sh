@@ -82,7 +82,7 @@ declare -A level=(
   [host/sensors/tactile]=5 [host/report]=5
   [fixtures/calibration]=6 [host/compare]=6 [host/scenario]=6
   [host/dut]=7 [host/setup]=7
-  [host/cache]=8 [host/runner]=8 [dut_emu]=8
+  [host/cache]=8 [host/runner]=8 [dut_emu]=8 [host/linked_dut]=8
   [host/fidelity]=9
   [host/pipeline]=10
   [host/sweep]=11 [host/work_precision]=11
@@ -129,7 +129,7 @@ forbid host/scenario fixtures/calibration/ host/setup/
 # An emulated run reaches no transport, and the runner knows no command line; of the link it
 # takes only the message structs the DUT seam speaks.
 forbid host/runner host/cli/ host/cache/ host/fidelity/ host/pipeline/ host/work_precision/ \
-  host/setup/ host/link/ host/dut/process_dut.h host/dut/serial_dut.h host/dut/dut_choice.h \
+  host/setup/ host/link/ host/linked_dut/ \
   rig/udp_bus.h rig/socketcan_bus.h rig/gs_usb rig/libusb rig/can_open.h \
   -- host/link/hil_messages.h
 # The checks read envelopes resolved from the spec, never the spec's messages.
@@ -141,7 +141,8 @@ forbid host/pipeline host/cli/ host/work_precision/ host/sweep/
 # A sweep runs cases through the pipeline; starting shard processes is the command line's.
 forbid host/sweep host/cli/
 # A comparison reads two results' files; it runs nothing.
-forbid host/compare host/cli/ host/runner/ host/pipeline/ host/sweep/ host/fidelity/ host/dut/
+forbid host/compare host/cli/ host/runner/ host/pipeline/ host/sweep/ host/fidelity/ host/dut/ \
+  host/linked_dut/
 # The DUT process is the firmware behind the link on a bus: none of the harness's command line.
 forbid dut_emu host/cli/ host/runner/ host/scenario/
 # The firmware builds for the target: its own headers, the link library, the protocols' numbers,

@@ -1,7 +1,7 @@
 // `hilrig run --dut inproc|inproc-float|process [--dut-timeout-s S] [--dut-link shm|tcp]
 // [--can URI]`: the options' parsing and their errors. The full process run is covered by
-// tests/host/dut/process_dut_acceptance_test.cc, a bus named by --can by
-// tests/host/dut/process_dut_can_test.cc.
+// tests/host/linked_dut/process_dut_acceptance_test.cc, a bus named by --can by
+// tests/host/linked_dut/process_dut_can_test.cc.
 #include <gtest/gtest.h>
 
 #include <sstream>

@@ -1,6 +1,6 @@
 // `hilrig run --dut serial:DEVICE[,baud=N][,bridge=DEVICE]` and `--dut qemu [--target-image ELF]`:
 // the options' parsing and errors, and a device that does not open ending the run with a named
-// stop reason. SerialDut itself is tested in tests/host/dut/serial_dut_test.cc.
+// stop reason. SerialDut itself is tested in tests/host/linked_dut/serial_dut_test.cc.
 #include <gtest/gtest.h>
 
 #include "host/cli/cli.h"
