@@ -308,7 +308,7 @@ TEST(ProcessDutPacingTest, LockstepMeasuresNothingAndRefusesRealTimeRequests) {
   ASSERT_TRUE(dut.ok()) << dut.error().message;
   ASSERT_TRUE(dut.value()->Step(1, kTickNs).ok());
   EXPECT_TRUE(dut.value()->response_latencies().empty());
-  EXPECT_EQ(Metric(*dut.value(), "link_commands_superseded"), -1.0);  // lockstep report as before
+  EXPECT_EQ(Metric(*dut.value(), "link_commands_superseded"), -1.0);  // real time only
   dut.value()->RequestStep(2, 2 * kTickNs);
   const auto answer = dut.value()->PollCommand();
   ASSERT_FALSE(answer.ok());
