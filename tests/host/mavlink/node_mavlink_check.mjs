@@ -1,0 +1,175 @@
+// The rig's MAVLink codec against node-mavlink, an implementation generated from the same message
+// definitions by other people. Both directions, for every message the codec knows:
+//   1. the rig writes a telemetry log (mavlink_vectors tlog); node-mavlink splits its frames, must
+//      find every checksum valid, and decodes each field to the value the rig says it wrote;
+//   2. node-mavlink encodes each message with distinct field values (and an all-zero
+//      HIL_ACTUATOR_CONTROLS, which it sends with a zero-length payload), with garbage between
+//      frames; the rig's parser (mavlink_vectors read) must decode every field to the same value.
+// Usage: node node_mavlink_check.mjs NODE_MODULES_PARENT MAVLINK_VECTORS WORK_DIR
+import { execFileSync } from 'node:child_process';
+import { readFileSync, writeFileSync } from 'node:fs';
+import { createRequire } from 'node:module';
+import { PassThrough } from 'node:stream';
+
+const [modulesParent, vectorsBin, workDir] = process.argv.slice(2);
+const require = createRequire(`${modulesParent}/`);
+const mavlink = require('node-mavlink');
+const REGISTRY = { ...mavlink.minimal.REGISTRY, ...mavlink.common.REGISTRY };
+
+let failures = 0;
+function fail(message) {
+  console.error(`FAIL: ${message}`);
+  failures += 1;
+}
+
+function elementType(field) { return field.type.replace('[]', ''); }
+
+// Equal as the wire type holds it: floats as float32, 64-bit integers as decimal strings.
+function same(field, expected, actual) {
+  const type = elementType(field);
+  if (type === 'float') return Math.fround(Number(expected)) === Math.fround(Number(actual));
+  if (type.endsWith('int64_t')) return String(expected) === String(actual);
+  return Number(expected) === Number(actual);
+}
+
+function compareFields(where, clazz, expectedBySource, actualBySource) {
+  const sources = clazz.FIELDS.map((field) => field.source);
+  for (const name of Object.keys(expectedBySource)) {
+    if (!sources.includes(name)) fail(`${where}: the rig has field ${name}, node-mavlink does not`);
+  }
+  for (const field of clazz.FIELDS) {
+    if (!(field.source in expectedBySource)) {
+      fail(`${where}: node-mavlink has field ${field.source}, the rig does not`);
+      continue;
+    }
+    const expected = expectedBySource[field.source];
+    const actual = actualBySource[field.source];
+    const ok = field.length
+      ? expected.length === actual.length && expected.every((e, i) => same(field, e, actual[i]))
+      : same(field, expected, actual);
+    if (!ok) fail(`${where}.${field.source}: expected ${expected}, got ${actual}`);
+  }
+}
+
+async function splitFrames(bytes) {
+  const splitter = new mavlink.MavLinkPacketSplitter();
+  const reader = splitter.pipe(new mavlink.MavLinkPacketParser());
+  const packets = [];
+  reader.on('data', (packet) => packets.push(packet));
+  const input = new PassThrough();
+  input.pipe(splitter);
+  input.end(bytes);
+  await new Promise((resolve) => reader.on('end', resolve));
+  return { packets, valid: splitter.validPackages, invalid: splitter.invalidPackages };
+}
+
+// 1. The rig's telemetry log, read by node-mavlink.
+async function checkRigLog() {
+  const tlogPath = `${workDir}/vectors.tlog`;
+  const expected = JSON.parse(execFileSync(vectorsBin, ['tlog', tlogPath]).toString());
+  const log = readFileSync(tlogPath);
+  const frames = [];
+  for (let offset = 0, index = 0; offset < log.length; index += 1) {
+    const timeUs = log.readBigUInt64BE(offset);
+    if (String(timeUs) !== expected[index].time_us) {
+      fail(`record ${index}: timestamp ${timeUs}, expected ${expected[index].time_us}`);
+    }
+    const size = 10 + log[offset + 9] + 2 + (log[offset + 10] & 1 ? 13 : 0);
+    frames.push(log.subarray(offset + 8, offset + 8 + size));
+    offset += 8 + size;
+  }
+  const { packets, valid, invalid } = await splitFrames(Buffer.concat(frames));
+  if (packets.length !== expected.length || valid !== expected.length || invalid !== 0) {
+    fail(`the rig's log: ${packets.length} packets (${valid} valid, ${invalid} invalid), ` +
+         `expected ${expected.length} valid`);
+  }
+  packets.forEach((packet, index) => {
+    const want = expected[index];
+    const clazz = REGISTRY[packet.header.msgid];
+    if (!want || packet.header.msgid !== want.id || !clazz) {
+      fail(`packet ${index}: message ${packet.header.msgid}, expected ${want && want.id}`);
+      return;
+    }
+    const data = packet.protocol.data(packet.payload, clazz);
+    const actual = {};
+    for (const field of clazz.FIELDS) actual[field.source] = data[field.name];
+    compareFields(`the rig's ${want.name}`, clazz, want.fields, actual);
+  });
+  console.log(`node-mavlink read the rig's ${packets.length} frames`);
+}
+
+// A distinct value for element `element` of field number `index`, of the field's type.
+function valueFor(field, index, element) {
+  const k = 5 * index + element + 2;
+  switch (elementType(field)) {
+    case 'float': return Math.fround(k * 0.75 - 2.2);
+    case 'double': return k * 0.3 - 1;
+    case 'uint64_t': return 1234567890123n + BigInt(k);
+    case 'int64_t': return -987654321n - BigInt(k);
+    case 'uint32_t': return 3000000000 + k;
+    case 'int32_t': return -20000 * k;
+    case 'uint16_t': return 50000 + k;
+    case 'int16_t': return -200 * k;
+    case 'int8_t': return -k;
+    default: return (100 + k) % 256;
+  }
+}
+
+// 2. node-mavlink's frames, read by the rig.
+function checkNodeFrames(ids) {
+  const protocol = new mavlink.MavLinkProtocolV2(7, 42);
+  const sent = [];
+  const chunks = [Buffer.from([0x00, 0xfd, 0x13, 0x37])];  // garbage and a false start first
+  ids.forEach((id, sequence) => {
+    const clazz = REGISTRY[id];
+    const message = new clazz();
+    const values = {};
+    clazz.FIELDS.forEach((field, index) => {
+      const value = field.length
+        ? Array.from({ length: field.length }, (_, e) => valueFor(field, index, e))
+        : valueFor(field, index, 0);
+      message[field.name] = value;
+      values[field.source] = value;
+    });
+    sent.push({ clazz, values });
+    chunks.push(protocol.serialize(message, sequence), Buffer.from([0x55]));
+  });
+  const zero = new mavlink.common.HilActuatorControls();
+  zero.timeUsec = 0n;
+  zero.flags = 0n;
+  zero.controls = Array(16).fill(0);
+  zero.mode = 0;
+  const zeroFrame = protocol.serialize(zero, ids.length);
+  chunks.push(zeroFrame);
+  const zeroValues = { time_usec: 0n, flags: 0n, controls: Array(16).fill(0), mode: 0 };
+  sent.push({ clazz: mavlink.common.HilActuatorControls, values: zeroValues });
+
+  const streamPath = `${workDir}/node_frames.bin`;
+  writeFileSync(streamPath, Buffer.concat(chunks));
+  const read = JSON.parse(execFileSync(vectorsBin, ['read', streamPath]).toString());
+  if (read.frames.length !== sent.length || read.counters.crc_failures !== 0) {
+    fail(`the rig read ${read.frames.length} of node-mavlink's ${sent.length} frames ` +
+         `(${JSON.stringify(read.counters)})`);
+  }
+  read.frames.forEach((frame, index) => {
+    const { clazz, values } = sent[index] || {};
+    if (!clazz || frame.id !== clazz.MSG_ID) {
+      fail(`frame ${index}: message ${frame.id}, expected ${clazz && clazz.MSG_ID}`);
+      return;
+    }
+    compareFields(`node-mavlink's ${frame.name}`, clazz, values, frame.fields);
+  });
+  console.log(`the rig read node-mavlink's ${read.frames.length} frames ` +
+              `(the all-zero one with a ${zeroFrame[1]}-byte payload), ` +
+              `${read.counters.bytes_skipped} garbage bytes skipped`);
+}
+
+const expectedIds = JSON.parse(execFileSync(vectorsBin, ['tlog', `${workDir}/ids.tlog`]).toString())
+  .map((frame) => frame.id);
+await checkRigLog();
+checkNodeFrames(expectedIds);
+if (failures > 0) {
+  console.error(`${failures} mismatches`);
+  process.exit(1);
+}
+console.log('node-mavlink and the rig agree on every field of every message');

@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# The MAVLink codec (host/mavlink/) against node-mavlink, an implementation generated from the same
+# message definitions by other people (tests/host/mavlink/node_mavlink_check.mjs): every message
+# the codec knows, written by each and read by the other, field by field. node-mavlink comes from
+# the npm registry into a cache outside the repository (HILRIG_NODE_CACHE, by default
+# ~/.cache/hilrig/node-mavlink-VERSION), once; nothing of it is kept in the tree.
+# Usage: node_mavlink_test.sh SOURCE_DIR MAVLINK_VECTORS
+set -euo pipefail
+source_dir=$1
+vectors=$2
+readonly version=2.3.0
+
+for tool in node npm; do
+  command -v "$tool" >/dev/null || {
+    echo "FAIL: no $tool: ./scripts/setup test installs Node.js and npm" >&2
+    exit 1
+  }
+done
+cache=${HILRIG_NODE_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/hilrig/node-mavlink-$version}
+if [[ ! -f $cache/node_modules/node-mavlink/package.json ]]; then
+  mkdir -p "$cache"
+  echo "installing node-mavlink $version into $cache"
+  # Into a fresh folder first, so that an interrupted install leaves no half cache behind.
+  staging=$(mktemp -d "$cache.XXXXXX")
+  if ! npm install --prefix "$staging" --no-save --no-audit --no-fund --loglevel=error \
+    "node-mavlink@$version" >"$staging.log" 2>&1; then
+    echo "FAIL: npm could not install node-mavlink $version:" >&2
+    cat "$staging.log" >&2
+    rm -rf "$staging" "$staging.log"
+    exit 1
+  fi
+  rm -rf "$cache" "$staging.log"
+  mv "$staging" "$cache"
+fi
+
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+node "$source_dir/tests/host/mavlink/node_mavlink_check.mjs" "$cache" "$vectors" "$work"
