@@ -122,8 +122,8 @@ while IFS= read -r folder; do
 done < <(find . \( -name .git -o -exec test -f '{}/CMakeCache.txt' \; \) -prune -o \
   -type f \( -name '*.h' -o -name '*.cc' \) -printf '%h\n' | sed 's|^\./||' | sort -u)
 
-# The link speaks the firmware's types and the rig's transports, never a scenario's.
-check host/link rig/ proto/ dut_fw/ dut_link/
+# The link speaks the firmware's types, MAVLink and the rig's transports, never a scenario's.
+check host/link rig/ proto/ dut_fw/ dut_link/ host/mavlink/
 # Resolving a spec is quick: the calibration jigs and field-map tabulation belong to host/setup.
 forbid host/scenario fixtures/calibration/ host/setup/
 # An emulated run reaches no transport, and the runner knows no command line; of the link it

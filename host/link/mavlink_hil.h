@@ -1,0 +1,85 @@
+// The rig's HIL messages as MAVLink carries them to a flight stack and back (docs/mavlink.md): the
+// change of frames (the rig's world x east, y north, z up and body x forward, y left, z up;
+// MAVLink's NED and FRD), of units, and the actuator map. Both ends of a MAVLink DUT take them from
+// here: the rig's link (host/linked_dut/mavlink_dut_link.h) and the PX4 stand-in in dut_emu, so the
+// two directions are written side by side and tested as each other's inverse. Nothing here
+// allocates; nothing fails (a value out of an output's range is clamped to it).
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <array>
+#include <cstdint>
+#include <optional>
+
+#include "host/link/dut_firmware.h"
+#include "host/link/hil_messages.h"
+#include "host/mavlink/mavlink_messages.h"
+
+namespace hilrig::host {
+
+// (north, east, down) of an (x east, y north, z up) vector, and back: the map is its own inverse.
+Eigen::Vector3d NedFromEnu(const Eigen::Vector3d& enu);
+// (x, -y, -z): FRD of an FLU body vector, and back.
+Eigen::Vector3d FrdFromFlu(const Eigen::Vector3d& flu);
+// The rotation FRD to NED of a body whose rotation FLU to the rig's world is `world_body`.
+Eigen::Quaterniond NedFrdFromWorldBody(const Eigen::Quaterniond& world_body);
+// The rig's FLU-to-world attitude of MAVLink's FRD-to-NED one (w, x, y, z), normalised, w >= 0;
+// nullopt when it is not finite or has no length.
+std::optional<Eigen::Quaterniond> WorldBodyFromNedFrd(const std::array<float, 4>& q_ned_frd);
+// A heading from north, clockwise, of one from east, counter-clockwise, wrapped to [-π, π]; the
+// map is its own inverse.
+double NedYawFromWorldYaw(double world_yaw_rad);
+
+// The MAVLink time of the rig's time: microseconds, rounded down.
+inline std::uint64_t MavlinkTimeUs(std::int64_t time_ns) {
+  return time_ns > 0 ? static_cast<std::uint64_t>(time_ns / 1000) : 0;
+}
+
+// The exit status of PX4's stand-in (dut_emu --mavlink) when its IMU readings repeated exactly, as
+// PX4 marks a sensor stale: the scene needs IMU noise.
+inline constexpr int kStandInExitSensorsStale = 4;
+
+// HIL_SENSOR's fields_updated for an accelerometer and a gyro (x, y, z each).
+inline constexpr std::uint32_t kHilSensorAccelGyro = 0x3F;
+
+// The IMU reading as HIL_SENSOR (accelerometer and gyro, FRD), and back (the stamp left for the
+// caller).
+mavlink::HilSensor HilSensorFrom(const ImuMessage& imu, std::uint64_t time_usec);
+ImuMessage ImuFrom(const mavlink::HilSensor& sensor);
+
+// A VIO pose as ODOMETRY (estimator VIO, pose in LOCAL_NED, twist FRD and unknown). Back: the
+// pose, its capture time time_usec x 1000 ns, the stamp left for the caller; nullopt for a pose
+// not in LOCAL_NED, not finite, or at a time past the rig's nanoseconds.
+mavlink::Odometry OdometryFrom(const VioMessage& vio);
+std::optional<VioMessage> VioFrom(const mavlink::Odometry& odometry);
+
+// A setpoint as SET_POSITION_TARGET_LOCAL_NED (position, velocity, acceleration and yaw; the yaw
+// rate ignored), to system 1, component 1. Back: what a dimension the type_mask ignores keeps
+// comes from `previous` (position, yaw), or is zero (velocity, acceleration, and an acceleration
+// given as a force); nullopt for a frame other than LOCAL_NED or a value that is not finite. The
+// gripper stays open: MAVLink carries no grasp command. The stamp is left for the caller.
+mavlink::SetPositionTargetLocalNed PositionTargetFrom(const SetpointMessage& setpoint,
+                                                      std::uint32_t time_boot_ms);
+std::optional<SetpointMessage> SetpointFrom(const mavlink::SetPositionTargetLocalNed& target,
+                                            const SetpointMessage& previous);
+
+// What HIL_ACTUATOR_CONTROLS's outputs mean for the vehicle the DUT is flashed for: motors 0..3 in
+// [0, 1] of each rotor's maximum thrust, in PX4's quad-x order (the rig's rotor order), output 4
+// the gripper servo in [-1, 1] over [open, closed].
+struct ActuatorScale {
+  double max_thrust_per_rotor_n = 0;
+  double servo_open_rad = 0;
+  double servo_closed_rad = 0;
+};
+ActuatorScale ActuatorScaleOf(const DutFirmware& firmware);
+
+// The DUT's command as outputs: the motors zero while disarmed, the servo always (a servo angle
+// that is not finite reads as open); mode 129 armed or 1, flags 1 (lockstep).
+mavlink::HilActuatorControls ControlsFrom(const ActuatorMessage& command,
+                                          const ActuatorScale& scale, std::uint64_t time_usec);
+// The outputs as the rig's command: thrusts, the servo angle and whether the DUT says it is armed.
+ActuatorMessage ActuatorFrom(const mavlink::HilActuatorControls& controls,
+                             const ActuatorScale& scale);
+
+}  // namespace hilrig::host

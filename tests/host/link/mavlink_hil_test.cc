@@ -1,0 +1,190 @@
+// The HIL messages as MAVLink carries them: the frame changes checked on vectors whose answer is
+// known by hand (north is the rig's y, down its -z; at rest the accelerometer reads -g along FRD's
+// z), and every message taken there and back.
+#include "host/link/mavlink_hil.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+namespace hilrig::host {
+namespace {
+
+void ExpectNear(const Eigen::Vector3d& actual, const Eigen::Vector3d& expected, double tolerance) {
+  EXPECT_LE((actual - expected).norm(), tolerance)
+      << actual.transpose() << " vs " << expected.transpose();
+}
+
+TEST(MavlinkHilTest, NorthIsTheRigsYAndDownItsMinusZ) {
+  ExpectNear(NedFromEnu({1, 2, 3}), {2, 1, -3}, 0);
+  ExpectNear(NedFromEnu(NedFromEnu({1, 2, 3})), {1, 2, 3}, 0);
+  ExpectNear(FrdFromFlu({1, 2, 3}), {1, -2, -3}, 0);
+}
+
+TEST(MavlinkHilTest, AtRestTheAccelerometerReadsMinusGAlongFrdZ) {
+  ImuMessage imu;
+  imu.accel_m_s2 = {0, 0, 9.81};
+  imu.gyro_rad_s = {0.1, 0.2, 0.3};
+  const mavlink::HilSensor sensor = HilSensorFrom(imu, 4000);
+  EXPECT_EQ(sensor.time_usec, 4000u);
+  EXPECT_FLOAT_EQ(sensor.zacc_m_s2, -9.81f);
+  EXPECT_FLOAT_EQ(sensor.ygyro_rad_s, -0.2f);
+  EXPECT_EQ(sensor.fields_updated, kHilSensorAccelGyro);
+  const ImuMessage back = ImuFrom(sensor);
+  ExpectNear(back.accel_m_s2, imu.accel_m_s2, 1e-6);
+  ExpectNear(back.gyro_rad_s, imu.gyro_rad_s, 1e-6);
+}
+
+TEST(MavlinkHilTest, AVehicleFacingEastHasANedYawOfAQuarterTurn) {
+  EXPECT_NEAR(NedYawFromWorldYaw(0), std::numbers::pi / 2, 1e-12);
+  EXPECT_NEAR(NedYawFromWorldYaw(std::numbers::pi / 2), 0, 1e-12);  // facing north
+  // Level and facing east: FRD's x is east, its z down.
+  const Eigen::Quaterniond q = NedFrdFromWorldBody(Eigen::Quaterniond::Identity());
+  ExpectNear(q * Eigen::Vector3d::UnitX(), {0, 1, 0}, 1e-12);
+  ExpectNear(q * Eigen::Vector3d::UnitZ(), {0, 0, 1}, 1e-12);
+}
+
+TEST(MavlinkHilTest, AVioPoseGoesThereAndBack) {
+  VioMessage vio;
+  vio.capture_time_ns = 12'345'000;
+  vio.position_m = {0.5, -1.5, 1.25};
+  vio.orientation =
+      Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()));
+  const mavlink::Odometry odometry = OdometryFrom(vio);
+  EXPECT_EQ(odometry.time_usec, 12'345u);
+  EXPECT_FLOAT_EQ(odometry.x_m, -1.5f);
+  EXPECT_FLOAT_EQ(odometry.z_m, -1.25f);
+  EXPECT_EQ(odometry.frame_id, 1);
+  EXPECT_EQ(odometry.child_frame_id, 12);
+  EXPECT_EQ(odometry.estimator_type, 3);
+  EXPECT_TRUE(std::isnan(odometry.vx_m_s));
+  const std::optional<VioMessage> back = VioFrom(odometry);
+  ASSERT_TRUE(back);
+  EXPECT_EQ(back->capture_time_ns, vio.capture_time_ns);
+  ExpectNear(back->position_m, vio.position_m, 1e-6);
+  EXPECT_LT(back->orientation.angularDistance(vio.orientation), 1e-6);
+}
+
+TEST(MavlinkHilTest, ASetpointGoesThereAndBackWithoutTheGrasp) {
+  SetpointMessage setpoint;
+  setpoint.position_m = {1, 2, 3};
+  setpoint.velocity_m_s = {0.1, 0.2, 0.3};
+  setpoint.acceleration_m_s2 = {-1, 0, 1};
+  setpoint.yaw_rad = 0.4;
+  setpoint.grasp_regulate = true;
+  const mavlink::SetPositionTargetLocalNed target = PositionTargetFrom(setpoint, 500);
+  EXPECT_EQ(target.time_boot_ms, 500u);
+  EXPECT_FLOAT_EQ(target.z_m, -3.0f);
+  EXPECT_EQ(target.coordinate_frame, 1);
+  EXPECT_EQ(target.type_mask, 0x800);
+  const std::optional<SetpointMessage> back = SetpointFrom(target, {});
+  ASSERT_TRUE(back);
+  ExpectNear(back->position_m, setpoint.position_m, 1e-6);
+  ExpectNear(back->velocity_m_s, setpoint.velocity_m_s, 1e-6);
+  ExpectNear(back->acceleration_m_s2, setpoint.acceleration_m_s2, 1e-6);
+  EXPECT_NEAR(back->yaw_rad, 0.4, 1e-6);
+  EXPECT_FALSE(back->grasp_regulate);
+}
+
+TEST(MavlinkHilTest, OutputsAreZeroUntilArmedAndScaleToTheRotorsMaximum) {
+  const ActuatorScale scale{4.0, 0.0, 1.6};
+  ActuatorMessage command;
+  command.rotor_thrust_n = {1.0, 2.0, 3.0, 5.0};
+  command.servo_angle_rad = 0.4;
+  const mavlink::HilActuatorControls disarmed = ControlsFrom(command, scale, 8000);
+  EXPECT_EQ(disarmed.mode, 1);
+  EXPECT_EQ(disarmed.flags, 1u);
+  for (int motor = 0; motor < 4; ++motor) EXPECT_EQ(disarmed.controls[motor], 0.0f);
+  EXPECT_FLOAT_EQ(disarmed.controls[4], -0.5f);  // the servo moves while the motors may not
+  command.armed = true;
+  const mavlink::HilActuatorControls armed = ControlsFrom(command, scale, 8000);
+  EXPECT_EQ(armed.mode, 129);
+  EXPECT_FLOAT_EQ(armed.controls[0], 0.25f);
+  EXPECT_FLOAT_EQ(armed.controls[3], 1.0f);  // past the maximum: clamped
+  EXPECT_FLOAT_EQ(armed.controls[4], -0.5f);
+  const ActuatorMessage back = ActuatorFrom(armed, scale);
+  EXPECT_TRUE(back.armed);
+  EXPECT_NEAR(back.rotor_thrust_n[1], 2.0, 1e-6);
+  EXPECT_NEAR(back.rotor_thrust_n[3], 4.0, 1e-6);
+  EXPECT_NEAR(back.servo_angle_rad, 0.4, 1e-6);
+}
+
+TEST(MavlinkHilTest, AnAttitudeIsTheSameInEitherEulerConvention) {
+  EXPECT_NEAR(NedYawFromWorldYaw(-3.0), std::numbers::pi / 2 + 3.0 - 2 * std::numbers::pi, 1e-12);
+  // An attitude from its Euler angles in each convention: the rig's yaw ψ from east, pitch θ nose
+  // down and roll φ are PX4's heading π/2 - ψ, pitch -θ (nose up) and roll φ.
+  const double yaw = 0.7, pitch = 0.2, roll = -0.3;
+  const Eigen::Quaterniond rig = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+                                 Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+                                 Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX());
+  const Eigen::Quaterniond ned =
+      Eigen::AngleAxisd(std::numbers::pi / 2 - yaw, Eigen::Vector3d::UnitZ()) *
+      Eigen::AngleAxisd(-pitch, Eigen::Vector3d::UnitY()) *
+      Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX());
+  const std::optional<Eigen::Quaterniond> converted =
+      WorldBodyFromNedFrd({float(ned.w()), float(ned.x()), float(ned.y()), float(ned.z())});
+  ASSERT_TRUE(converted.has_value());
+  EXPECT_LT(converted->angularDistance(rig), 1e-6);
+  EXPECT_FALSE(WorldBodyFromNedFrd({0, 0, 0, 0}).has_value());
+  EXPECT_FALSE(WorldBodyFromNedFrd({NAN, 0, 0, 1}).has_value());
+}
+
+TEST(MavlinkHilTest, AnOdometryOfAKnownNedPoseGivesTheEnuVioPose) {
+  mavlink::Odometry odometry;  // one metre up, heading east
+  odometry.time_usec = 123'456;
+  odometry.z_m = -1.0f;
+  odometry.q = {static_cast<float>(std::cos(std::numbers::pi / 4)), 0.0f, 0.0f,
+                static_cast<float>(std::sin(std::numbers::pi / 4))};
+  odometry.frame_id = 1;
+  odometry.x_m = 3.0f;   // north
+  odometry.y_m = -2.0f;  // east
+  const std::optional<VioMessage> vio = VioFrom(odometry);
+  ASSERT_TRUE(vio.has_value());
+  EXPECT_EQ(vio->capture_time_ns, 123'456'000);
+  EXPECT_EQ(vio->position_m, Eigen::Vector3d(-2, 3, 1));
+  EXPECT_LT(vio->orientation.angularDistance(Eigen::Quaterniond::Identity()), 1e-6);
+  odometry.frame_id = 8;  // MAV_FRAME_BODY_NED: not a pose in the local frame
+  EXPECT_FALSE(VioFrom(odometry).has_value());
+}
+
+TEST(MavlinkHilTest, ASetPositionTargetGivesTheEnuSetpoint) {
+  mavlink::SetPositionTargetLocalNed target;
+  target.z_m = -1.0f;
+  target.type_mask = 0x800;
+  target.coordinate_frame = 1;
+  target.x_m = 4.0f;
+  target.y_m = 5.0f;
+  target.vx_m_s = 0.5f;
+  target.vy_m_s = -0.25f;
+  target.vz_m_s = 0.125f;
+  target.afx_m_s2 = 1.0f;
+  target.afy_m_s2 = 2.0f;
+  target.afz_m_s2 = -3.0f;
+  target.yaw_rad = 0.25f;
+  const std::optional<SetpointMessage> setpoint = SetpointFrom(target, {});
+  ASSERT_TRUE(setpoint.has_value());
+  EXPECT_EQ(setpoint->position_m, Eigen::Vector3d(5, 4, 1));
+  EXPECT_EQ(setpoint->velocity_m_s, Eigen::Vector3d(-0.25, 0.5, -0.125));
+  EXPECT_EQ(setpoint->acceleration_m_s2, Eigen::Vector3d(2, 1, 3));
+  EXPECT_NEAR(setpoint->yaw_rad, std::numbers::pi / 2 - 0.25, 1e-7);
+  EXPECT_FALSE(setpoint->grasp_regulate);
+
+  // Ignored dimensions: a position or yaw keeps what it was, a velocity or acceleration is zero.
+  SetpointMessage previous;
+  previous.position_m = Eigen::Vector3d(7, 8, 9);
+  previous.yaw_rad = 1.5;
+  target.type_mask = 0x1 | 0x10 | 0x100 | 0x400 | 0x800;  // x (north), vy (east), az, yaw
+  const std::optional<SetpointMessage> masked = SetpointFrom(target, previous);
+  ASSERT_TRUE(masked.has_value());
+  EXPECT_EQ(masked->position_m, Eigen::Vector3d(5, 8, 1));
+  EXPECT_EQ(masked->velocity_m_s, Eigen::Vector3d(0, 0.5, -0.125));
+  EXPECT_EQ(masked->acceleration_m_s2, Eigen::Vector3d(2, 1, 0));
+  EXPECT_EQ(masked->yaw_rad, 1.5);
+
+  target.coordinate_frame = 8;  // body frame: not what this DUT takes
+  EXPECT_FALSE(SetpointFrom(target, {}).has_value());
+}
+
+}  // namespace
+}  // namespace hilrig::host
