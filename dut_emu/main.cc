@@ -1,4 +1,5 @@
 // dut_emu: the dut_fw controller as its own process on the HIL link (see dut_emu_server.h).
+#include <algorithm>
 #include <atomic>
 #include <cstdlib>
 #include <iostream>
@@ -6,6 +7,7 @@
 #include <vector>
 
 #include "dut_emu/dut_emu_server.h"
+#include "dut_emu/mavlink_dut.h"
 #include "dut_emu/serial_dut.h"
 #include "dut_link/posix/line_io.h"
 #include "rig/printable_text.h"
@@ -21,7 +23,8 @@ int main(int argc, char** argv) {
   } restore{printable_stderr.target()};
   const std::vector<std::string> args(argv, argv + argc);
   if (args.size() == 2 && (args[1] == "--help" || args[1] == "-h")) {
-    std::cout << hilrig::dut_emu::kDutEmuUsage << hilrig::dut_emu::kSerialDutUsage;
+    std::cout << hilrig::dut_emu::kDutEmuUsage << hilrig::dut_emu::kSerialDutUsage
+              << hilrig::dut_emu::kMavlinkDutUsage;
     return hilrig::dut_emu::kExitOk;
   }
   // On a serial line the tty itself is the DUT's authority: no link token.
@@ -36,6 +39,18 @@ int main(int argc, char** argv) {
     }
     return hilrig::dut_emu::RunSerialDut(serial.value(), hilrig::dut_link::StopOnSignals(),
                                          std::cerr);
+  }
+  // PX4 SITL's part on the MAVLink simulator link, its options in any order. MAVLink has no link
+  // token: like PX4, the stand-in proves nothing to the rig.
+  if (std::find(args.begin() + 1, args.end(), "--mavlink") != args.end()) {
+    auto mavlink = hilrig::dut_emu::ParseMavlinkArgs(args);
+    if (!mavlink) {
+      std::cerr << "dut_emu: " << mavlink.error().message << "\n"
+                << hilrig::dut_emu::kMavlinkDutUsage;
+      return hilrig::dut_emu::kExitUsage;
+    }
+    return hilrig::dut_emu::RunMavlinkDut(mavlink.value(), hilrig::dut_link::StopOnSignals(),
+                                          std::cerr);
   }
   auto options = hilrig::dut_emu::ParseDutEmuArgs(args);
   if (!options) {

@@ -15,6 +15,7 @@
 #include "dut_emu/dut_emu_server.h"
 #include "tests/support/serial_line_peer.h"
 #include "tests/support/serial_step_script.h"
+#include "tests/support/stoppable_thread.h"
 #include "tests/support/test_files.h"
 #include "tests/support/test_paths.h"
 
@@ -48,26 +49,6 @@ TEST(SerialDutSpecTest, ParsesPathBaudAndBridge) {
   }
 }
 
-// RunSerialDut in a thread, stopped and joined however the test ends (a failed ASSERT too).
-class DutThread {
- public:
-  DutThread(const SerialDutOptions& options, std::ostringstream& log)
-      : thread_([this, options, &log] { exit_code_ = RunSerialDut(options, &stop_, log); }) {}
-  ~DutThread() {
-    stop_ = true;
-    Join();
-  }
-  int Join() {
-    if (thread_.joinable()) thread_.join();
-    return exit_code_;
-  }
-
- private:
-  std::atomic<bool> stop_{false};
-  int exit_code_ = -1;
-  std::thread thread_;
-};
-
 TEST(SerialDutTest, RunsTheSessionOnPseudoTerminalsAndEndsWhenTheLineCloses) {
   dut_fw::Pty link = dut_fw::OpenPty();
   dut_fw::Pty bridge = dut_fw::OpenPty();
@@ -75,7 +56,8 @@ TEST(SerialDutTest, RunsTheSessionOnPseudoTerminalsAndEndsWhenTheLineCloses) {
   options.link_path = link.slave_path;
   options.bridge_path = bridge.slave_path;
   std::ostringstream log;
-  DutThread dut(options, log);
+  test_support::StoppableThread dut(
+      [&](const std::atomic<bool>* stop) { return RunSerialDut(options, stop, log); });
 
   SerialLinePeer runner(link.master.get());
   runner.Send(dut_fw::Hello());
@@ -122,7 +104,8 @@ TEST(SerialDutTest, TheLineClosingMidRunIsAFailure) {
   SerialDutOptions options;
   options.link_path = link.slave_path;
   std::ostringstream log;
-  DutThread dut(options, log);
+  test_support::StoppableThread dut(
+      [&](const std::atomic<bool>* stop) { return RunSerialDut(options, stop, log); });
   SerialLinePeer runner(link.master.get());
   runner.Send(dut_fw::Hello());
   ASSERT_TRUE(runner.Receive(kAnswerTimeoutMs));
