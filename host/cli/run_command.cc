@@ -59,6 +59,8 @@ const char kRunUsage[] =
     "      2000000 baud and the bridge at 921600, as the firmware image sets them)\n"
     "      --dut qemu [--target-image ELF] (the firmware image on QEMU's STM32F405; default\n"
     "      build-target/dut_fw_stm32f405.elf, made by ./scripts/build-target)\n"
+    "      --dut mavlink-emu (PX4's stand-in, dut_emu --mavlink, driven over MAVLink as PX4\n"
+    "      SITL is, lockstep only; the run folder gets mavlink.tlog; docs/mavlink.md)\n"
     "run writes report.json, junit.xml, trace.csv and can.log into --out (default\n"
     "hilrig_out/<scenario>) and compares the trace with the scene's reference run (tight\n"
     "integrator and field, kept in a cache per build: --reference-cache DIR, default\n"

@@ -85,6 +85,9 @@ class DutPort {
   // Brings the DUT up (an in-process DUT has nothing to do; a DUT process is spawned and shakes
   // hands on its link); an error says why it cannot run.
   virtual rig::Result<void> Start() { return {}; }
+  // The folder the run's files go to (empty: none), before Start: a DUT that logs its link's
+  // traffic writes its log there.
+  virtual void SetRunFolder(const std::string& folder) { (void)folder; }
   // Ends the DUT's run; after it the DUT is only asked for its counters and metrics.
   virtual void Stop() {}
 

@@ -29,10 +29,11 @@ rig::Result<DutKind> ParseKind(const std::optional<std::string>& dut) {
   if (dut->starts_with("listen:")) return DutKind::kListen;
   if (*dut == "qemu") return DutKind::kQemu;
   if (dut->starts_with("serial:")) return DutKind::kSerial;
+  if (*dut == "mavlink-emu") return DutKind::kMavlinkEmu;
   return rig::MakeError("--dut \"" + *dut +
                         "\": expected inproc, inproc-float, process, exec:PROGRAM[,ARG...], "
-                        "listen:ADDRESS:PORT[,token=FILE], qemu or "
-                        "serial:DEVICE[,baud=N][,bridge=DEVICE][,bridge_baud=N]");
+                        "listen:ADDRESS:PORT[,token=FILE], qemu, "
+                        "serial:DEVICE[,baud=N][,bridge=DEVICE][,bridge_baud=N] or mavlink-emu");
 }
 
 // A process the rig talks to over the HIL link: dut_emu, a user's program it starts, or one that
@@ -42,7 +43,8 @@ bool AProcess(DutKind kind) {
 }
 
 bool OverALink(DutKind kind) {
-  return AProcess(kind) || kind == DutKind::kQemu || kind == DutKind::kSerial;
+  return AProcess(kind) || kind == DutKind::kQemu || kind == DutKind::kSerial ||
+         kind == DutKind::kMavlinkEmu;
 }
 
 // Which options go with which kind; the first one that does not fit is the error.
@@ -51,7 +53,8 @@ rig::Result<void> CheckOptionsFit(DutKind kind, const DutArguments& arguments) {
     return rig::MakeError("--target-image needs --dut qemu");
   }
   if (arguments.timeout_s && !OverALink(kind)) {
-    return rig::MakeError("--dut-timeout-s needs --dut process, exec:, qemu or serial:");
+    return rig::MakeError(
+        "--dut-timeout-s needs --dut process, exec:, listen:, qemu, serial: or mavlink-emu");
   }
   const bool line = arguments.link && *arguments.link == "line";
   if (arguments.link && !line && (!AProcess(kind) || kind == DutKind::kListen)) {
@@ -202,6 +205,36 @@ rig::Result<void> ParseLineOptions(const DutArguments& arguments, DutChoice& cho
   return ParseSerialOptions(arguments, choice);
 }
 
+// mavlink-emu: the watchdog, lockstep only (MakeDutFactory refuses real time).
+rig::Result<void> ParseMavlinkOptions(const DutArguments& arguments, DutChoice& choice) {
+  LinkedDutOptions& session = choice.mavlink.session;
+  auto seconds = ParseTimeout(arguments.timeout_s, session.answer_timeout_s);
+  if (!seconds) return seconds.error();
+  session.answer_timeout_s = seconds.value();
+  if (auto valid = ValidateMavlinkDutPortOptions(choice.mavlink); !valid) {
+    return rig::MakeError("--dut-timeout-s: " + valid.error().message);
+  }
+  return {};
+}
+
+DutFactory MavlinkFactory(MavlinkDutPortOptions options, const DutFactorySeams& seams) {
+  options.link.stop_requested = seams.stop_requested;
+  return [options](const ScenarioConfig& config, std::unique_ptr<rig::CanBus> bus,
+                   double control_period_s) -> rig::Result<std::unique_ptr<DutPort>> {
+    // MAVLink carries no grasp command and no tactile frame: a grasping scene would fly without
+    // its grasp and pass for the wrong reason.
+    if (!config.gripper.grasps.empty()) {
+      return rig::MakeError(
+          "--dut mavlink-emu: the scene grasps (" + std::to_string(config.gripper.grasps.size()) +
+          " grasp commands in its timeline), and MAVLink carries neither the grasp command nor "
+          "the tactile frames the grasp controller needs; fly it with --dut inproc, process, "
+          "exec:, qemu or serial:");
+    }
+    return std::unique_ptr<DutPort>(std::make_unique<MavlinkDut>(
+        FirmwareFor(config), std::move(bus), control_period_s, options));
+  };
+}
+
 DutFactory SinglePrecisionFactory() {
   return [](const ScenarioConfig& config, std::unique_ptr<rig::CanBus> bus,
             double control_period_s) -> rig::Result<std::unique_ptr<DutPort>> {
@@ -263,6 +296,8 @@ const char* DutKindName(DutKind kind) {
       return "qemu";
     case DutKind::kSerial:
       return "serial";
+    case DutKind::kMavlinkEmu:
+      return "mavlink-emu";
   }
   return "unknown";
 }
@@ -278,6 +313,9 @@ rig::Result<DutChoice> ParseDutChoice(const DutArguments& arguments) {
   }
   if (AProcess(choice.kind)) {
     if (auto parsed = ParseProcessOptions(arguments, choice); !parsed) return parsed.error();
+  }
+  if (choice.kind == DutKind::kMavlinkEmu) {
+    if (auto parsed = ParseMavlinkOptions(arguments, choice); !parsed) return parsed.error();
   }
   if (arguments.link && *arguments.link == "line") {
     if (auto parsed = ParseLineOptions(arguments, choice); !parsed) return parsed.error();
@@ -310,6 +348,13 @@ rig::Result<DutFactory> MakeDutFactory(const DutChoice& choice, bool realtime,
     }
     case DutKind::kSerial:
       return SerialFactory(SerialPortLines(choice.port), choice.serial, realtime);
+    case DutKind::kMavlinkEmu:
+      if (realtime) {
+        return rig::MakeError(
+            "--dut mavlink-emu runs in lockstep only: PX4's simulator contract "
+            "gives the DUT no clock but the sensor steps (leave out --realtime)");
+      }
+      return MavlinkFactory(choice.mavlink, seams);
   }
   return rig::MakeError("unknown DUT kind");
 }

@@ -11,6 +11,7 @@
 
 #include "host/dut/dut_port.h"
 #include "host/linked_dut/dialed_lines.h"
+#include "host/linked_dut/mavlink_dut.h"
 #include "host/linked_dut/process_dut.h"
 #include "host/linked_dut/serial_dut.h"
 #include "host/linked_dut/serial_lines.h"
@@ -26,10 +27,11 @@ enum class DutKind {
   kListen,          // a program the user starts, which dials the rig's TCP link
   kQemu,            // the firmware image on QEMU's STM32F405, over its serial lines
   kSerial,          // a board on serial devices
+  kMavlinkEmu,      // PX4's stand-in (dut_emu --mavlink) over MAVLink, as PX4 SITL is driven
 };
 
 // The word `--dut` takes for a kind ("inproc", "inproc-float", "process", "exec", "listen",
-// "qemu", "serial"); exec, listen and serial take their details after a colon.
+// "qemu", "serial", "mavlink-emu"); exec, listen and serial take their details after a colon.
 const char* DutKindName(DutKind kind);
 
 // The command line's words, unparsed; unset: the option was not given.
@@ -54,6 +56,7 @@ struct DutChoice {
   bool line = false;
   DialedLineSpec dialed;
   SerialPortSpec port;                      // kSerial
+  MavlinkDutPortOptions mavlink;            // kMavlinkEmu
   std::optional<std::string> target_image;  // kQemu; unset: the one ./scripts/build-target makes
 };
 
@@ -73,9 +76,9 @@ struct DutFactorySeams {
 };
 
 // The factory of the chosen DUT; `realtime` gives a DUT behind a link a wall clock of its own for
-// its watchdog and latencies, kept alive by the factory. Fails only for kQemu, when the image
-// cannot be found (the error lists where it looked). Nothing starts until the runner calls the
-// factory.
+// its watchdog and latencies, kept alive by the factory. Fails for kQemu when the image cannot be
+// found (the error lists where it looked), and for kMavlinkEmu in real time. Nothing starts until
+// the runner calls the factory.
 rig::Result<DutFactory> MakeDutFactory(const DutChoice& choice, bool realtime,
                                        const DutFactorySeams& seams = {});
 

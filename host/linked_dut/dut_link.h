@@ -53,6 +53,8 @@ class DutLink {
   // Opens the transport and shakes hands (hello, the firmware configuration), on `clock` where it
   // waits. Fails with what the DUT, the transport or the process behind it did wrong.
   virtual rig::Result<void> Open(const rig::Clock& clock) = 0;
+  // The folder the run's files go to, before Open; a link that logs its traffic writes there.
+  virtual void SetRunFolder(const std::string& folder) { (void)folder; }
   // Hands over one input; a link may hold it to go out with the next request. Fails when the link
   // cannot take it; rig::ErrorCode::kLinkClosed means the link is gone.
   virtual rig::Result<void> Input(const DutInput& input, bool realtime,

@@ -54,6 +54,7 @@ class LinkedDut : public DutPort {
 
   // Opens the link (and the process behind it); once only.
   rig::Result<void> Start() override;
+  void SetRunFolder(const std::string& folder) override { link_->SetRunFolder(folder); }
   // A goodbye unless the run failed, then the process behind the link ends.
   void Stop() override;
   // Never fails here: a link that cannot take the input fails the next Step or poll.

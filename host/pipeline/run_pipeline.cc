@@ -51,6 +51,10 @@ rig::Result<void> FinishRunFiles(RunFiles& files, const proto::Report& report,
   for (const char* file : {"trace.csv", "can.log", "junit.xml", "report.json", "index.html"}) {
     written.push_back((out_dir / file).string());
   }
+  // A MAVLink DUT's telemetry log (host/linked_dut/mavlink_dut_link.h).
+  if (std::error_code error; fs::is_regular_file(out_dir / "mavlink.tlog", error)) {
+    written.push_back((out_dir / "mavlink.tlog").string());
+  }
   return {};
 }
 
@@ -211,6 +215,7 @@ RunOutcome Fly(PreparedRun& prepared, const RunRequest& request, const RunSeams&
   control.stop_requested = seams.stop_requested;
   control.dut_factory = request.dut_factory;
   control.realtime_clock = seams.realtime_clock;
+  control.run_folder = request.out_dir.value_or("");
   RunOutcome outcome;
   outcome.report = RunScenario(prepared.run.config, SinksOf(prepared, seams), control);
   if (realtime) {

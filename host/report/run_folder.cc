@@ -1,6 +1,8 @@
 #include "host/report/run_folder.h"
 
 #include <filesystem>
+#include <iterator>
+#include <vector>
 
 #include "host/report/report_files.h"
 #include "host/report/run_page.h"
@@ -12,10 +14,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The plots a previous run left: they would stand beside the new run's report as if it had drawn
-// them.
-rig::Result<void> RemoveOldPlots(const fs::path& out_dir) {
-  for (const char* file : kRunPlotFiles) {
+// A DUT's link log a previous run left (a MAVLink DUT's telemetry log).
+constexpr const char* kDutLogFiles[] = {"mavlink.tlog"};
+
+// The plots and link logs a previous run left: they would stand beside the new run's report as if
+// it had made them.
+rig::Result<void> RemoveOldFiles(const fs::path& out_dir) {
+  std::vector<const char*> files(std::begin(kRunPlotFiles), std::end(kRunPlotFiles));
+  files.insert(files.end(), std::begin(kDutLogFiles), std::end(kDutLogFiles));
+  for (const char* file : files) {
     std::error_code error;
     fs::remove(out_dir / file, error);
     if (error)
@@ -48,7 +55,7 @@ rig::Result<RunOutputFolder> RunOutputFolder::Claim(const std::string& out_dir,
   incomplete.set_passed(false);
   SetStop({StopReason::kIncomplete, {}}, incomplete);
   if (auto written = WriteReportFiles(incomplete, out_dir); !written) return written.error();
-  if (auto removed = RemoveOldPlots(out_dir); !removed) return removed.error();
+  if (auto removed = RemoveOldFiles(out_dir); !removed) return removed.error();
   return RunOutputFolder(std::move(lock).value(), out_dir, std::move(incomplete));
 }
 

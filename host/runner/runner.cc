@@ -210,7 +210,10 @@ void ScenarioRunner::Impl::StartDut(double control_period_s) {
   } else {
     started = made.error();
   }
-  if (dut_) started = dut_->Start();
+  if (dut_) {
+    dut_->SetRunFolder(control_.run_folder);
+    started = dut_->Start();
+  }
   if (started) {
     dut_started_ = true;
     return;

@@ -49,6 +49,9 @@ struct RunControl {
   // Devices ticked after the scene's own (host/runner/scene_devices.h), in this order; not owned,
   // they must outlive the run.
   std::vector<DeviceEmulator*> added_devices = {};
+  // The run's output folder, handed to the DUT before it starts (DutPort::SetRunFolder); empty:
+  // the run writes no files of its own.
+  std::string run_folder = {};
 };
 
 // A run that can be stepped tick by tick (benchmarks, tests); RunScenario() drives one to its end.

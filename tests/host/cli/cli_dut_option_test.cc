@@ -20,7 +20,7 @@ TEST(CliDutOptionTest, UnknownDutModeExitsTwoNamingIt) {
   const CliResult run = Cli({"run", kScenario, "--dut", "remote"});
   EXPECT_EQ(run.exit_code, kExitBadInput);
   EXPECT_NE(run.err.find("--dut \"remote\": expected inproc, inproc-float, process, "
-                         "exec:PROGRAM[,ARG...], listen:ADDRESS:PORT[,token=FILE], qemu or "
+                         "exec:PROGRAM[,ARG...], listen:ADDRESS:PORT[,token=FILE], qemu, "
                          "serial:"),
             std::string::npos)
       << run.err;

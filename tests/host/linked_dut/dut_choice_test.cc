@@ -126,7 +126,8 @@ TEST(DutChoiceTest, AnOptionTheKindDoesNotTakeIsRefusedByName) {
   EXPECT_EQ(ErrorOf(image), "--target-image needs --dut qemu");
   DutArguments timeout = Dut("inproc-float");
   timeout.timeout_s = "2";
-  EXPECT_EQ(ErrorOf(timeout), "--dut-timeout-s needs --dut process, exec:, qemu or serial:");
+  EXPECT_EQ(ErrorOf(timeout),
+            "--dut-timeout-s needs --dut process, exec:, listen:, qemu, serial: or mavlink-emu");
   DutArguments link = Dut("qemu");
   link.link = "tcp";
   EXPECT_EQ(ErrorOf(link), "--dut-link needs --dut process or exec:");
@@ -190,6 +191,20 @@ TEST(MakeDutFactoryTest, AQemuImageThatIsNotThereIsNamed) {
   ASSERT_FALSE(factory.ok());
   EXPECT_THAT(factory.error().message, HasSubstr("--dut qemu: "));
   EXPECT_THAT(factory.error().message, HasSubstr("/nonexistent/dut_fw_stm32f405.elf"));
+}
+
+TEST(MakeDutFactoryTest, MavlinkIsLockstepOnlyAndTakesTheWatchdog) {
+  DutArguments arguments = Dut("mavlink-emu");
+  arguments.timeout_s = "2.5";
+  const auto choice = ParseDutChoice(arguments);
+  ASSERT_TRUE(choice.ok()) << choice.error().message;
+  EXPECT_EQ(choice.value().kind, DutKind::kMavlinkEmu);
+  EXPECT_STREQ(DutKindName(choice.value().kind), "mavlink-emu");
+  EXPECT_EQ(choice.value().mavlink.session.answer_timeout_s, 2.5);
+  EXPECT_TRUE(MakeDutFactory(choice.value(), false).ok());
+  const auto realtime = MakeDutFactory(choice.value(), true);
+  ASSERT_FALSE(realtime.ok());
+  EXPECT_THAT(realtime.error().message, HasSubstr("lockstep only"));
 }
 
 }  // namespace

@@ -1,7 +1,8 @@
 // What every DutPort does, run against each one the rig has: the in-process firmware in double
 // and in float, dut_emu over the shared-memory and the TCP link, dut_emu --serial on a pair of
 // pseudo-terminals, a program that dials the line link (examples/hover_dut, a controller of its
-// own), and the firmware image on QEMU (skipped without qemu-system-arm or the image). The
+// own), PX4's stand-in over MAVLink (dut_emu --mavlink, lockstep only), and the firmware image
+// on QEMU (skipped without qemu-system-arm or the image). The
 // contract is dut_port.h's: Start once, then every tick asked for is answered with that tick's
 // command, in lockstep and through RequestStep and PollCommand; ticks only go forward; after
 // Stop a step is an error, not a hang; Stop may come twice, or without a start; the inputs are
@@ -27,6 +28,7 @@
 #include "host/link/child_process.h"
 #include "host/link/fd_byte_stream.h"
 #include "host/linked_dut/dialed_lines.h"
+#include "host/linked_dut/mavlink_dut.h"
 #include "host/linked_dut/process_dut.h"
 #include "host/linked_dut/serial_dut.h"
 #include "host/linked_dut/serial_lines.h"
@@ -44,12 +46,13 @@ constexpr std::uint64_t kTicks = 60;
 enum class Controller {
   kDutFwDouble,  // dut_fw in double precision, with double inputs: bit for bit
   kDutFwFloat,   // dut_fw in float, or fed over a link of floats: to float precision
-  kOwn,          // a controller of its own: only the contract
+  kOwn,          // a controller of its own, or dut_fw at another rate: only the contract
 };
 
 struct PortKind {
   std::string name;
   Controller controller;
+  bool realtime = true;  // false: lockstep only, and real time refused when the port is made
 };
 
 std::string NameOf(const ::testing::TestParamInfo<PortKind>& info) { return info.param.name; }
@@ -127,6 +130,14 @@ class DutPortConformanceTest : public ::testing::TestWithParam<PortKind> {
       options.wall_clock = &wall_clock_;
       options.pacing = pacing;
       return std::make_unique<ProcessDut>(HoverFirmware(), std::move(endpoint), kControlPeriodS,
+                                          options);
+    }
+    if (kind == "mavlink_emu") {
+      MavlinkDutPortOptions options;
+      options.link.dut_emu_path = ::hilrig::test_support::BinDir() + "/dut_emu";
+      options.session.clock = &wall_clock_;
+      options.session.pacing = pacing;
+      return std::make_unique<MavlinkDut>(HoverFirmware(), std::move(endpoint), kControlPeriodS,
                                           options);
     }
     SerialDutOptions serial;
@@ -228,6 +239,10 @@ TEST_P(DutPortConformanceTest, GivesTheInProcessFirmwaresCommand) {
 
 TEST_P(DutPortConformanceTest, ARealTimeRequestIsAnsweredByAPoll) {
   auto dut = Make(DutPacing::kRealtime);
+  if (dut && !GetParam().realtime) {
+    EXPECT_FALSE(dut->Start()) << "a lockstep-only port must refuse real time";
+    return;
+  }
   if (!dut) GTEST_SKIP() << skip_;
   ASSERT_TRUE(dut->Start().ok());
   SendInputs(*dut, 1);
@@ -294,6 +309,7 @@ INSTANTIATE_TEST_SUITE_P(EveryPort, DutPortConformanceTest,
                                            PortKind{"process_tcp", Controller::kDutFwDouble},
                                            PortKind{"serial_pty", Controller::kDutFwFloat},
                                            PortKind{"line_exec", Controller::kOwn},
+                                           PortKind{"mavlink_emu", Controller::kOwn, false},
                                            PortKind{"qemu", Controller::kDutFwFloat}),
                          NameOf);
 

@@ -5,13 +5,15 @@
 //   2. node-mavlink encodes each message with distinct field values (and an all-zero
 //      HIL_ACTUATOR_CONTROLS, which it sends with a zero-length payload), with garbage between
 //      frames; the rig's parser (mavlink_vectors read) must decode every field to the same value.
-// Usage: node node_mavlink_check.mjs NODE_MODULES_PARENT MAVLINK_VECTORS WORK_DIR
+//   3. with RUN_TLOG, a run's mavlink.tlog: node-mavlink finds every frame valid, the rate 250 Hz,
+//      the accelerometer in m/s² along FRD, and each HIL_SENSOR answered at its own time.
+// Usage: node node_mavlink_check.mjs NODE_MODULES_PARENT MAVLINK_VECTORS WORK_DIR [RUN_TLOG]
 import { execFileSync } from 'node:child_process';
 import { readFileSync, writeFileSync } from 'node:fs';
 import { createRequire } from 'node:module';
 import { PassThrough } from 'node:stream';
 
-const [modulesParent, vectorsBin, workDir] = process.argv.slice(2);
+const [modulesParent, vectorsBin, workDir, runTlog] = process.argv.slice(2);
 const require = createRequire(`${modulesParent}/`);
 const mavlink = require('node-mavlink');
 const REGISTRY = { ...mavlink.minimal.REGISTRY, ...mavlink.common.REGISTRY };
@@ -49,6 +51,18 @@ function compareFields(where, clazz, expectedBySource, actualBySource) {
       : same(field, expected, actual);
     if (!ok) fail(`${where}.${field.source}: expected ${expected}, got ${actual}`);
   }
+}
+
+// The frames of a .tlog and their timestamps: 8 bytes big-endian, then a v2 frame.
+function tlogRecords(log) {
+  const records = [];
+  for (let offset = 0; offset + 18 <= log.length;) {
+    const size = 10 + log[offset + 9] + 2 + (log[offset + 10] & 1 ? 13 : 0);
+    records.push({ timeUs: log.readBigUInt64BE(offset),
+                   frame: log.subarray(offset + 8, offset + 8 + size) });
+    offset += 8 + size;
+  }
+  return records;
 }
 
 async function splitFrames(bytes) {
@@ -164,10 +178,58 @@ function checkNodeFrames(ids) {
               `${read.counters.bytes_skipped} garbage bytes skipped`);
 }
 
+// 3. A run's log, as a ground tool would read it.
+async function checkRunLog(path) {
+  const records = tlogRecords(readFileSync(path));
+  const { packets, valid, invalid } =
+    await splitFrames(Buffer.concat(records.map((record) => record.frame)));
+  if (packets.length !== records.length || valid !== records.length || invalid !== 0) {
+    fail(`the run's log: ${records.length} records, node-mavlink found ${valid} valid and ` +
+         `${invalid} invalid frames`);
+  }
+  const allowed = new Set([0, 76, 77, 84, 93, 107, 331]);
+  const sensorTimes = [];
+  const answered = new Set();
+  let firstZacc = null;
+  records.slice(1).forEach((record, index) => {
+    if (record.timeUs < records[index].timeUs) fail(`the log's time goes back at record ${index + 1}`);
+  });
+  for (const packet of packets) {
+    const id = packet.header.msgid;
+    if (!allowed.has(id)) fail(`the run's log holds message ${id}, which the link never sends`);
+    const clazz = REGISTRY[id];
+    if (!clazz) continue;
+    const data = packet.protocol.data(packet.payload, clazz);
+    if (id === 107) {
+      sensorTimes.push(data.timeUsec);
+      if (firstZacc === null) firstZacc = data.zacc;
+    }
+    if (id === 93) answered.add(String(data.timeUsec));
+  }
+  if (sensorTimes.length < 2) fail(`the run's log has ${sensorTimes.length} HIL_SENSOR`);
+  sensorTimes.slice(1).forEach((time, index) => {
+    if (time - sensorTimes[index] !== 4000n) {
+      fail(`HIL_SENSOR ${index + 1} comes ${time - sensorTimes[index]} us after the one before, ` +
+           'not 4000 (250 Hz)');
+    }
+  });
+  const unanswered = sensorTimes.filter((time) => !answered.has(String(time)));
+  if (unanswered.length > 0) {
+    fail(`${unanswered.length} HIL_SENSOR without a HIL_ACTUATOR_CONTROLS of their time`);
+  }
+  // At rest the accelerometer reads the ground's push: -g along FRD's z, in m/s².
+  if (!(firstZacc < -9.3 && firstZacc > -10.3)) {
+    fail(`the first HIL_SENSOR's zacc is ${firstZacc}, not about -9.81 m/s² (FRD at rest)`);
+  }
+  console.log(`node-mavlink read the run's ${packets.length} frames: ${sensorTimes.length} ` +
+              `HIL_SENSOR at 250 Hz, each answered`);
+}
+
 const expectedIds = JSON.parse(execFileSync(vectorsBin, ['tlog', `${workDir}/ids.tlog`]).toString())
   .map((frame) => frame.id);
 await checkRigLog();
 checkNodeFrames(expectedIds);
+if (runTlog) await checkRunLog(runTlog);
 if (failures > 0) {
   console.error(`${failures} mismatches`);
   process.exit(1);

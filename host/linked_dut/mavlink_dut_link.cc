@@ -1,0 +1,403 @@
+#include "host/linked_dut/mavlink_dut_link.h"
+
+#include <arpa/inet.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "host/link/dut_config_codec.h"
+#include "host/link/hil_link_socket.h"
+#include "host/linked_dut/linked_dut.h"
+#include "rig/number_text.h"
+
+namespace hilrig::host {
+namespace {
+
+constexpr std::uint8_t kSimSystem = 1;
+constexpr std::uint8_t kSimComponent = 51;
+constexpr std::uint8_t kApiSystem = 255;  // a ground station
+constexpr std::uint8_t kApiComponent = 190;
+constexpr std::uint16_t kCommandArmDisarm = 400;  // MAV_CMD_COMPONENT_ARM_DISARM
+constexpr std::uint16_t kCommandSetMode = 176;    // MAV_CMD_DO_SET_MODE
+constexpr float kCustomModeEnabled = 1;           // MAV_MODE_FLAG_CUSTOM_MODE_ENABLED
+constexpr float kPx4OffboardMode = 6;             // PX4_CUSTOM_MAIN_MODE_OFFBOARD
+constexpr std::uint8_t kResultAccepted = 0;       // MAV_RESULT_ACCEPTED
+constexpr std::int64_t kHeartbeatPeriodNs = 1'000'000'000;
+constexpr int kWriteTimeoutMs = 1000;
+constexpr int kAcceptSliceMs = 20;
+constexpr int kTerminateGraceMs = 1000;
+
+std::int64_t Nanoseconds(double seconds) { return std::llround(seconds * 1e9); }
+
+bool Positive(double seconds) { return std::isfinite(seconds) && seconds > 0 && seconds <= 3600; }
+
+}  // namespace
+
+rig::Result<void> ValidateMavlinkDutOptions(const MavlinkDutOptions& options) {
+  in_addr address{};
+  if (::inet_pton(AF_INET, options.address.c_str(), &address) != 1) {
+    return rig::MakeError("mavlink address \"" + options.address + "\": not an IPv4 address");
+  }
+  if (!Positive(options.start_timeout_s)) {
+    return rig::MakeError("mavlink start timeout " + rig::NumberText(options.start_timeout_s) +
+                          " s: must be positive, finite and at most an hour");
+  }
+  if (!Positive(options.sensor_period_s) || options.sensor_period_s > 1) {
+    return rig::MakeError("mavlink sensor period " + rig::NumberText(options.sensor_period_s) +
+                          " s: must be positive and at most 1 s");
+  }
+  return {};
+}
+
+MavlinkDutLink::MavlinkDutLink(const DutFirmware& firmware, double control_period_s,
+                               const MavlinkDutOptions& options)
+    : firmware_(firmware),
+      control_period_s_(control_period_s),
+      options_(options),
+      scale_(ActuatorScaleOf(firmware)) {
+  sensor_every_ticks_ = static_cast<std::uint64_t>(
+      std::max<long long>(1, std::llround(options.sensor_period_s / control_period_s)));
+}
+
+MavlinkDutLink::~MavlinkDutLink() {
+  if (!config_path_.empty()) ::unlink(config_path_.c_str());
+}
+
+void MavlinkDutLink::SetRunFolder(const std::string& folder) {
+  if (!folder.empty()) options_.tlog_path = (std::filesystem::path(folder) / "mavlink.tlog");
+}
+
+rig::Result<std::string> MavlinkDutLink::WriteConfigFile() const {
+  // The stand-in steps its controller once per sensor step.
+  const double period_s = double(sensor_every_ticks_) * control_period_s_;
+  const std::string bytes = ToDutConfig(firmware_, period_s).SerializeAsString();
+  std::string path = (std::filesystem::temp_directory_path() / "hilrig-mavlink-XXXXXX").string();
+  const int fd = ::mkstemp(path.data());
+  if (fd < 0) return rig::MakeError("cannot create the dut's configuration file " + path);
+  const bool written = ::write(fd, bytes.data(), bytes.size()) == ssize_t(bytes.size());
+  ::close(fd);
+  if (!written) {
+    ::unlink(path.c_str());
+    return rig::MakeError("cannot write the dut's configuration file " + path);
+  }
+  return path;
+}
+
+rig::Result<void> MavlinkDutLink::Open(const rig::Clock& clock) {
+  if (auto valid = ValidateMavlinkDutOptions(options_); !valid) return valid.error();
+  const std::int64_t deadline_ns = clock.NowNs() + Nanoseconds(options_.start_timeout_s);
+  std::string program = options_.dut_emu_path;
+  if (program.empty()) {
+    auto directory = ExecutableDirectory();
+    if (!directory) return directory.error();
+    program = (std::filesystem::path(directory.value()) / "dut_emu").string();
+  }
+  if (::access(program.c_str(), X_OK) != 0) {
+    return rig::MakeError("no dut_emu executable at " + program + " (build the dut_emu target)");
+  }
+  if (!options_.tlog_path.empty()) {
+    tlog_file_.open(options_.tlog_path, std::ios::binary | std::ios::trunc);
+    if (!tlog_file_) return rig::MakeError("cannot write " + options_.tlog_path);
+    tlog_ = std::make_unique<mavlink::TlogWriter>(tlog_file_);
+  }
+  auto listener = LinkListener::Listen(options_.address, 0);
+  if (!listener) return listener.error();
+  auto api = UdpSocket::Bind(options_.address, 0);
+  if (!api) return api.error();
+  api_ = std::move(api).value();
+  auto config = WriteConfigFile();
+  if (!config) return config.error();
+  config_path_ = config.value();
+  const std::string sim_endpoint =
+      options_.address + ":" + std::to_string(listener.value()->port());
+  const std::string api_endpoint = options_.address + ":" + std::to_string(api_->port());
+  auto child = ChildProcess::Spawn(
+      {program, "--mavlink", sim_endpoint, "--api", api_endpoint, "--config", config_path_});
+  if (!child) return child.error();
+  child_ = std::move(child).value();
+  while (!sim_) {
+    if (options_.stop_requested != nullptr && options_.stop_requested->load()) {
+      return rig::MakeError(rig::ErrorCode::kInterrupted, "stopped while waiting for the dut");
+    }
+    if (auto exit = PeerExit()) return rig::MakeError(*exit + " before it connected");
+    if (clock.NowNs() >= deadline_ns) {
+      return rig::MakeError(rig::ErrorCode::kTimeout,
+                            "the dut did not connect to " + sim_endpoint + " within " +
+                                rig::SecondsText(options_.start_timeout_s));
+    }
+    auto accepted = listener.value()->AcceptStream(kAcceptSliceMs);
+    if (accepted) sim_ = std::move(accepted.value().stream);
+  }
+  // The stand-in read its configuration before it dialled.
+  ::unlink(config_path_.c_str());
+  config_path_.clear();
+  if (auto heard = AwaitPeer(clock, deadline_ns); !heard) return heard;
+  opened_ = true;
+  return {};
+}
+
+rig::Result<void> MavlinkDutLink::AwaitPeer(const rig::Clock& clock, std::int64_t deadline_ns) {
+  std::array<std::uint8_t, mavlink::kMaxSignedFrameBytes> datagram;
+  while (!api_->has_peer()) {
+    if (auto exit = PeerExit()) return rig::MakeError(*exit + " before its API heartbeat");
+    if (clock.NowNs() >= deadline_ns) {
+      return rig::MakeError(rig::ErrorCode::kTimeout,
+                            "the dut sent no heartbeat to the API port " +
+                                std::to_string(api_->port()) + " within " +
+                                rig::SecondsText(options_.start_timeout_s));
+    }
+    auto got = api_->Receive(datagram, kAcceptSliceMs);
+    if (!got) return got.error();
+    if (got.value()) {
+      ++api_frames_received_;
+      Log(std::span(datagram.data(), *got.value()));
+    }
+  }
+  return {};
+}
+
+std::optional<std::string> MavlinkDutLink::PeerExit() {
+  if (!child_) return std::nullopt;
+  auto exit = child_->PollExit();
+  if (!exit) return std::nullopt;
+  if (child_->exit_status() == kStandInExitSensorsStale) {
+    return "the dut's PX4 stand-in found its IMU readings stale, as PX4 would (they repeated "
+           "exactly): the scene needs IMU noise";
+  }
+  return "the dut's PX4 stand-in " + *exit;
+}
+
+void MavlinkDutLink::Close(bool) {
+  // MAVLink has no goodbye: the stand-in ends with the simulator link, PX4 waits for the next.
+  sim_.reset();
+  if (child_) child_->Terminate(kTerminateGraceMs);
+  if (tlog_file_.is_open()) tlog_file_.flush();
+}
+
+void MavlinkDutLink::LogReceived(const mavlink::Frame& frame) {
+  // The frame as it was checked, re-encoded: what a sender trims differently reads the same.
+  const mavlink::MessageInfo* info = mavlink::FindMessage(frame.message_id);
+  std::array<std::uint8_t, mavlink::kMaxFrameBytes> bytes;
+  const std::size_t size = info ? mavlink::EncodeFrame(frame, info->crc_extra, bytes) : 0;
+  if (size > 0) Log(std::span(bytes.data(), size));
+}
+
+void MavlinkDutLink::Log(std::span<const std::uint8_t> frame) {
+  if (!tlog_) return;
+  if (tlog_->Write(MavlinkTimeUs(now_ns_), frame)) ++tlog_records_;
+}
+
+rig::Result<void> MavlinkDutLink::SendSim(const mavlink::AnyMessage& message) {
+  std::array<std::uint8_t, mavlink::kMaxFrameBytes> frame;
+  const std::size_t size =
+      mavlink::EncodeMessage(message, sim_sequence_++, kSimSystem, kSimComponent, frame);
+  Log(std::span(frame.data(), size));
+  if (auto written = sim_->WriteAll(std::span(frame.data(), size), kWriteTimeoutMs); !written) {
+    return rig::MakeError(written.error().code,
+                          "the mavlink simulator link: " + written.error().message);
+  }
+  return {};
+}
+
+rig::Result<void> MavlinkDutLink::SendApi(const mavlink::AnyMessage& message) {
+  std::array<std::uint8_t, mavlink::kMaxFrameBytes> frame;
+  const std::size_t size =
+      mavlink::EncodeMessage(message, api_sequence_++, kApiSystem, kApiComponent, frame);
+  Log(std::span(frame.data(), size));
+  return api_->Send(std::span(frame.data(), size));
+}
+
+rig::Result<void> MavlinkDutLink::Input(const DutInput& input, bool, std::int64_t) {
+  if (const auto* imu = std::get_if<ImuMessage>(&input)) {
+    imu_ = *imu;
+  } else if (const auto* vio = std::get_if<VioMessage>(&input)) {
+    poses_.push_back(*vio);
+  } else if (const auto* setpoint = std::get_if<SetpointMessage>(&input)) {
+    setpoint_ = *setpoint;
+  }
+  return {};
+}
+
+rig::Result<void> MavlinkDutLink::Request(const LinkRequest& request) {
+  now_ns_ = request.now_ns;
+  const std::uint64_t time_usec = MavlinkTimeUs(request.now_ns);
+  // PX4 takes a time of 0 for no time at all: the first sensor step comes after it.
+  if (request.tick % sensor_every_ticks_ != 0 || !imu_ || time_usec == 0) {
+    awaited_ = Awaited{request.tick, 0, true};
+    return {};
+  }
+  const std::uint32_t time_boot_ms = static_cast<std::uint32_t>(time_usec / 1000);
+  if (request.now_ns >= next_heartbeat_ns_) {
+    mavlink::Heartbeat heartbeat;
+    heartbeat.type = 6;           // MAV_TYPE_GCS
+    heartbeat.autopilot = 8;      // MAV_AUTOPILOT_INVALID
+    heartbeat.system_status = 4;  // MAV_STATE_ACTIVE
+    if (auto sent = SendApi(heartbeat); !sent) return sent;
+    next_heartbeat_ns_ = request.now_ns + kHeartbeatPeriodNs;
+  }
+  if (setpoint_) {
+    if (auto sent = SendApi(PositionTargetFrom(*setpoint_, time_boot_ms)); !sent) return sent;
+    ++setpoints_sent_;
+    setpoint_.reset();
+    if (!commanded_) {
+      mavlink::CommandLong arm;
+      arm.command = kCommandArmDisarm;
+      arm.param1 = 1;
+      arm.target_system = arm.target_component = 1;
+      mavlink::CommandLong offboard;
+      offboard.command = kCommandSetMode;
+      offboard.param1 = kCustomModeEnabled;
+      offboard.param2 = kPx4OffboardMode;
+      offboard.target_system = offboard.target_component = 1;
+      for (const mavlink::CommandLong& command : {offboard, arm}) {
+        if (auto sent = SendApi(command); !sent) return sent;
+      }
+      commanded_ = true;
+    }
+  }
+  for (const VioMessage& pose : poses_) {
+    if (auto sent = SendSim(OdometryFrom(pose)); !sent) return sent;
+    ++odometry_sent_;
+  }
+  poses_.clear();
+  if (auto sent = SendSim(HilSensorFrom(*imu_, time_usec)); !sent) return sent;
+  ++sensor_steps_;
+  awaited_ = Awaited{request.tick, time_usec, false};
+  return {};
+}
+
+std::optional<rig::Error> MavlinkDutLink::DrainApi() {
+  std::array<std::uint8_t, mavlink::kMaxSignedFrameBytes> datagram;
+  while (true) {
+    auto got = api_->Receive(datagram, 0);
+    if (!got) return got.error();
+    if (!got.value()) return std::nullopt;
+    ++api_frames_received_;
+    const std::span<const std::uint8_t> bytes(datagram.data(), *got.value());
+    Log(bytes);
+    mavlink::FrameParser parser(&mavlink::FindWireInfo);
+    std::optional<rig::Error> refused;
+    parser.Feed(bytes, [&](const mavlink::Frame& frame) {
+      const auto message = mavlink::DecodeMessage(frame);
+      const auto* ack = message ? std::get_if<mavlink::CommandAck>(&*message) : nullptr;
+      if (ack && ack->result != kResultAccepted && !refused) {
+        refused = rig::MakeError("the dut refused command " + std::to_string(ack->command) +
+                                 " (MAV_RESULT " + std::to_string(ack->result) + ")");
+      }
+    });
+    if (refused) return refused;
+  }
+}
+
+rig::Result<std::optional<mavlink::Frame>> MavlinkDutLink::NextSimFrame(int timeout_ms) {
+  if (auto frame = parser_.Next()) return frame;
+  std::array<std::uint8_t, 4096> bytes;
+  const StreamRead read = sim_->ReadSome(bytes, timeout_ms);
+  switch (read.status) {
+    case StreamStatus::kTimeout:
+      return std::optional<mavlink::Frame>();
+    case StreamStatus::kClosed:
+      return rig::MakeError(rig::ErrorCode::kLinkClosed, "the dut closed the mavlink link");
+    case StreamStatus::kError:
+      return rig::MakeError(rig::ErrorCode::kIo, "the mavlink link failed: " + read.error);
+    case StreamStatus::kData:
+      break;
+  }
+  // The buffer holds two frames' worth: push what fits, the rest after the frames it frees.
+  std::span<const std::uint8_t> rest(bytes.data(), read.bytes);
+  rest = rest.subspan(parser_.Push(rest));
+  auto frame = parser_.Next();
+  while (!rest.empty() && !frame) {
+    rest = rest.subspan(parser_.Push(rest));
+    frame = parser_.Next();
+  }
+  if (!rest.empty()) {
+    return rig::MakeError("the dut sent more than the mavlink parser can hold at once");
+  }
+  return frame;
+}
+
+DutLinkEvent MavlinkDutLink::Receive(int timeout_ms) {
+  if (auto refused = DrainApi()) return {DutLinkEventKind::kFailed, 0, *refused};
+  if (awaited_ && awaited_->immediate) {
+    answered_tick_ = awaited_->tick;
+    awaited_.reset();
+    return {DutLinkEventKind::kAnswer, answered_tick_, std::nullopt};
+  }
+  auto next = NextSimFrame(timeout_ms);
+  if (!next) {
+    const bool closed = next.error().code == rig::ErrorCode::kLinkClosed ||
+                        next.error().code == rig::ErrorCode::kIo;
+    return {closed ? DutLinkEventKind::kClosed : DutLinkEventKind::kFailed, 0, next.error()};
+  }
+  if (!next.value()) return {};
+  const mavlink::Frame& frame = *next.value();
+  LogReceived(frame);
+  const auto message = mavlink::DecodeMessage(frame);
+  const auto* controls = message ? std::get_if<mavlink::HilActuatorControls>(&*message) : nullptr;
+  if (!controls) {
+    ++frames_ignored_;
+    return {DutLinkEventKind::kIgnored, 0, std::nullopt};
+  }
+  ++controls_received_;
+  if (!awaited_ || controls->time_usec != awaited_->time_usec) {
+    return {DutLinkEventKind::kFailed, 0,
+            rig::MakeError("the dut answered time " + std::to_string(controls->time_usec) +
+                           " us, which no HIL_SENSOR asked for (" +
+                           (awaited_ ? "awaited: " + std::to_string(awaited_->time_usec) + " us"
+                                     : std::string("none awaited")) +
+                           ")")};
+  }
+  for (int output = 0; output < 16; ++output) {
+    if (!std::isfinite(controls->controls[output])) {
+      return {DutLinkEventKind::kFailed, 0,
+              rig::MakeError("the dut sent a non-finite actuator output " + std::to_string(output) +
+                             " at " + std::to_string(controls->time_usec) + " us")};
+    }
+  }
+  last_controls_ = *controls;
+  answered_tick_ = awaited_->tick;
+  awaited_.reset();
+  return {DutLinkEventKind::kAnswer, answered_tick_, std::nullopt};
+}
+
+rig::Result<ActuatorMessage> MavlinkDutLink::TakeAnswer(std::int64_t arrival_wall_ns) {
+  ActuatorMessage command = ActuatorFrom(last_controls_, scale_);
+  command.stamp = {answered_tick_, arrival_wall_ns};
+  command.answers_sequence = answered_tick_;
+  return command;
+}
+
+std::string MavlinkDutLink::description() const {
+  std::string text = "PX4's stand-in (dut_emu --mavlink) over MAVLink";
+  if (!opened_) return text + " (not started)";
+  if (child_) text += " (pid " + std::to_string(child_->pid()) + ")";
+  text += ", HIL_SENSOR every " + std::to_string(sensor_every_ticks_) + " control ticks";
+  text += ", API link on udp " + std::to_string(api_->port()) + " to " + api_->peer();
+  return text;
+}
+
+std::vector<rig::Metric> MavlinkDutLink::metrics(bool) const {
+  if (!opened_) return {};
+  std::vector<rig::Metric> metrics;
+  const mavlink::ParserCounters& parsed = parser_.counters();
+  for (const auto& [name, value] : {std::pair{"mavlink_sensor_steps", sensor_steps_},
+                                    {"mavlink_odometry_sent", odometry_sent_},
+                                    {"mavlink_setpoints_sent", setpoints_sent_},
+                                    {"mavlink_controls_received", controls_received_},
+                                    {"mavlink_frames_ignored", frames_ignored_},
+                                    {"mavlink_api_frames_received", api_frames_received_},
+                                    {"mavlink_tlog_records", tlog_records_},
+                                    {"mavlink_rx_frames", parsed.frames_ok},
+                                    {"mavlink_rx_crc_failures", parsed.crc_failures},
+                                    {"mavlink_rx_bytes_skipped", parsed.bytes_skipped},
+                                    {"mavlink_rx_unknown_ids", parsed.unknown_message_ids},
+                                    {"mavlink_rx_bad_lengths", parsed.bad_lengths}}) {
+    metrics.push_back(rig::CountMetric(name, value));
+  }
+  return metrics;
+}
+
+}  // namespace hilrig::host

@@ -1,0 +1,125 @@
+// The MAVLink link's half of a MAVLink DUT (host/linked_dut/mavlink_dut.h): a flight stack driven
+// as PX4's simulator drives it (docs/mavlink.md). The rig listens on TCP for the simulator link
+// and binds a UDP port for the offboard API link; Open starts `dut_emu --mavlink` (PX4's stand-in
+// running the rig's controller) and waits for it to connect and to send its API heartbeat. A
+// request sends a sensor step on the control ticks that fall on the sensor period (250 Hz): the
+// setpoint and commands on the API link, the VIO poses as ODOMETRY and one HIL_SENSOR; the DUT's
+// HIL_ACTUATOR_CONTROLS of the same time answers it. The ticks between sensor steps are answered
+// at once with the last command, as the vehicle's motors hold it. Every frame both ways goes into
+// the run folder's mavlink.tlog, stamped with the run's time.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <deque>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "host/link/byte_stream.h"
+#include "host/link/child_process.h"
+#include "host/link/dut_firmware.h"
+#include "host/link/mavlink_hil.h"
+#include "host/link/udp_socket.h"
+#include "host/linked_dut/dut_link.h"
+#include "host/mavlink/mavlink_frame.h"
+#include "host/mavlink/mavlink_messages.h"
+#include "host/mavlink/tlog.h"
+
+namespace hilrig::host {
+
+struct MavlinkDutOptions {
+  std::string dut_emu_path;  // empty: "dut_emu" next to the running executable
+  std::string address = "127.0.0.1";
+  double start_timeout_s = 10.0;  // to connect and send the API heartbeat
+  // PX4 integrates its IMU at 250 Hz; a sensor step goes every round(period / control period)
+  // control ticks (at least every tick).
+  double sensor_period_s = 0.004;
+  // Where the run's mavlink.tlog goes (LinkedDut passes the run folder); empty: no log.
+  std::string tlog_path;
+  const std::atomic<bool>* stop_requested = nullptr;  // ends the wait for the DUT early
+};
+
+// Checks the options: an IPv4 address, positive finite periods and timeouts.
+rig::Result<void> ValidateMavlinkDutOptions(const MavlinkDutOptions& options);
+
+class MavlinkDutLink final : public DutLink {
+ public:
+  MavlinkDutLink(const DutFirmware& firmware, double control_period_s,
+                 const MavlinkDutOptions& options);
+  ~MavlinkDutLink() override;
+
+  rig::Result<void> Open(const rig::Clock& clock) override;
+  void SetRunFolder(const std::string& folder) override;
+  rig::Result<void> Input(const DutInput& input, bool realtime, std::int64_t sent_wall_ns) override;
+  rig::Result<void> Request(const LinkRequest& request) override;
+  DutLinkEvent Receive(int timeout_ms) override;
+  rig::Result<ActuatorMessage> TakeAnswer(std::int64_t arrival_wall_ns) override;
+  bool has_peer() const override { return child_.has_value(); }
+  std::optional<std::string> PeerExit() override;
+  void Close(bool goodbye) override;
+  std::string description() const override;
+  std::string metric_prefix() const override { return "mavlink_"; }
+  std::vector<rig::Metric> metrics(bool realtime) const override;
+
+ private:
+  // Frames `message` onto `stream` (the simulator link) or the API link (null), and into the log.
+  rig::Result<void> SendSim(const mavlink::AnyMessage& message);
+  rig::Result<void> SendApi(const mavlink::AnyMessage& message);
+  void Log(std::span<const std::uint8_t> frame);
+  void LogReceived(const mavlink::Frame& frame);
+  // What the API link brought since the last look (command acknowledgements): a refusal fails.
+  std::optional<rig::Error> DrainApi();
+  // The next frame of the simulator link, waiting at most timeout_ms; a closed or failed link is
+  // an error.
+  rig::Result<std::optional<mavlink::Frame>> NextSimFrame(int timeout_ms);
+  rig::Result<void> AwaitPeer(const rig::Clock& clock, std::int64_t deadline_ns);
+  rig::Result<std::string> WriteConfigFile() const;
+
+  DutFirmware firmware_;
+  double control_period_s_;
+  MavlinkDutOptions options_;
+  ActuatorScale scale_;
+  std::uint64_t sensor_every_ticks_ = 1;
+
+  bool opened_ = false;
+  std::optional<ChildProcess> child_;
+  std::unique_ptr<ByteStream> sim_;  // closed by Close
+  std::unique_ptr<UdpSocket> api_;
+  std::string config_path_;  // the configuration file dut_emu reads at start; removed after
+  std::ofstream tlog_file_;
+  std::unique_ptr<mavlink::TlogWriter> tlog_;
+  mavlink::FrameParser parser_{&mavlink::FindWireInfo};
+  std::uint8_t sim_sequence_ = 0;
+  std::uint8_t api_sequence_ = 0;
+
+  std::int64_t now_ns_ = 0;  // the time of the last request, stamping the log
+  std::optional<ImuMessage> imu_;
+  std::vector<VioMessage> poses_;            // delivered since the last sensor step
+  std::optional<SetpointMessage> setpoint_;  // a new setpoint not sent yet
+  bool commanded_ = false;                   // arm and offboard sent
+  std::int64_t next_heartbeat_ns_ = 0;
+  // The request the next event answers: a tick between sensor steps (answered at once), or the
+  // sensor step awaiting its HIL_ACTUATOR_CONTROLS.
+  struct Awaited {
+    std::uint64_t tick = 0;
+    std::uint64_t time_usec = 0;
+    bool immediate = false;
+  };
+  std::optional<Awaited> awaited_;
+  mavlink::HilActuatorControls last_controls_;  // held between sensor steps
+  std::uint64_t answered_tick_ = 0;             // of the last kAnswer
+
+  std::uint64_t sensor_steps_ = 0;
+  std::uint64_t odometry_sent_ = 0;
+  std::uint64_t setpoints_sent_ = 0;
+  std::uint64_t controls_received_ = 0;
+  std::uint64_t frames_ignored_ = 0;  // well-formed frames that answer nothing
+  std::uint64_t api_frames_received_ = 0;
+  std::uint64_t tlog_records_ = 0;
+};
+
+}  // namespace hilrig::host
