@@ -113,8 +113,10 @@ rig::Result<void> MavlinkDutLink::Open(const rig::Clock& clock) {
   const std::string sim_endpoint =
       options_.address + ":" + std::to_string(listener.value()->port());
   const std::string api_endpoint = options_.address + ":" + std::to_string(api_->port());
-  auto child = ChildProcess::Spawn(
-      {program, "--mavlink", sim_endpoint, "--api", api_endpoint, "--config", config_path_});
+  std::vector<std::string> argv = {program,      "--mavlink", sim_endpoint, "--api",
+                                   api_endpoint, "--config",  config_path_};
+  argv.insert(argv.end(), options_.extra_args.begin(), options_.extra_args.end());
+  auto child = ChildProcess::Spawn(argv);
   if (!child) return child.error();
   child_ = std::move(child).value();
   while (!sim_) {
@@ -368,6 +370,16 @@ rig::Result<ActuatorMessage> MavlinkDutLink::TakeAnswer(std::int64_t arrival_wal
   command.stamp = {answered_tick_, arrival_wall_ns};
   command.answers_sequence = answered_tick_;
   return command;
+}
+
+std::string MavlinkDutLink::timeout_detail() const {
+  const mavlink::ParserCounters& parsed = parser_.counters();
+  const std::uint64_t broken = parsed.bytes_skipped + parsed.crc_failures + parsed.bad_lengths +
+                               parsed.unknown_message_ids + parsed.unsupported_incompat_flags;
+  if (broken == 0) return {};
+  return " (it sent " + std::to_string(broken) + " bytes or frames that were no MAVLink frame " +
+         "the rig could check: " + std::to_string(parsed.crc_failures) + " checksum failures, " +
+         std::to_string(parsed.bytes_skipped) + " bytes skipped)";
 }
 
 std::string MavlinkDutLink::description() const {

@@ -32,7 +32,8 @@
 namespace hilrig::host {
 
 struct MavlinkDutOptions {
-  std::string dut_emu_path;  // empty: "dut_emu" next to the running executable
+  std::string dut_emu_path;             // empty: "dut_emu" next to the running executable
+  std::vector<std::string> extra_args;  // after dut_emu's arguments (test hooks)
   std::string address = "127.0.0.1";
   double start_timeout_s = 10.0;  // to connect and send the API heartbeat
   // PX4 integrates its IMU at 250 Hz; a sensor step goes every round(period / control period)
@@ -62,6 +63,8 @@ class MavlinkDutLink final : public DutLink {
   std::optional<std::string> PeerExit() override;
   void Close(bool goodbye) override;
   std::string description() const override;
+  // What the DUT sent instead of an answer, when it sent bytes that were no frame.
+  std::string timeout_detail() const override;
   std::string metric_prefix() const override { return "mavlink_"; }
   std::vector<rig::Metric> metrics(bool realtime) const override;
 
