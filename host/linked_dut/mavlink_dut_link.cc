@@ -25,6 +25,7 @@ constexpr float kCustomModeEnabled = 1;           // MAV_MODE_FLAG_CUSTOM_MODE_E
 constexpr float kPx4OffboardMode = 6;             // PX4_CUSTOM_MAIN_MODE_OFFBOARD
 constexpr std::uint8_t kResultAccepted = 0;       // MAV_RESULT_ACCEPTED
 constexpr std::int64_t kHeartbeatPeriodNs = 1'000'000'000;
+constexpr std::int64_t kCommandRetryNs = 1'000'000'000;
 constexpr int kWriteTimeoutMs = 1000;
 constexpr int kAcceptSliceMs = 20;
 constexpr int kTerminateGraceMs = 1000;
@@ -40,9 +41,12 @@ rig::Result<void> ValidateMavlinkDutOptions(const MavlinkDutOptions& options) {
   if (::inet_pton(AF_INET, options.address.c_str(), &address) != 1) {
     return rig::MakeError("mavlink address \"" + options.address + "\": not an IPv4 address");
   }
-  if (!Positive(options.start_timeout_s)) {
-    return rig::MakeError("mavlink start timeout " + rig::NumberText(options.start_timeout_s) +
-                          " s: must be positive, finite and at most an hour");
+  for (const auto& [seconds, what] : {std::pair{options.start_timeout_s, "start timeout"},
+                                      std::pair{options.command_timeout_s, "command timeout"}}) {
+    if (!Positive(seconds)) {
+      return rig::MakeError(std::string("mavlink ") + what + " " + rig::NumberText(seconds) +
+                            " s: must be positive, finite and at most an hour");
+    }
   }
   if (!Positive(options.sensor_period_s) || options.sensor_period_s > 1) {
     return rig::MakeError("mavlink sensor period " + rig::NumberText(options.sensor_period_s) +
@@ -57,6 +61,14 @@ MavlinkDutLink::MavlinkDutLink(const DutFirmware& firmware, double control_perio
       control_period_s_(control_period_s),
       options_(options),
       scale_(ActuatorScaleOf(firmware)) {
+  commands_[0].message.command = kCommandSetMode;
+  commands_[0].message.param1 = kCustomModeEnabled;
+  commands_[0].message.param2 = kPx4OffboardMode;
+  commands_[1].message.command = kCommandArmDisarm;
+  commands_[1].message.param1 = 1;
+  for (Command& command : commands_) {
+    command.message.target_system = command.message.target_component = 1;
+  }
   sensor_every_ticks_ = static_cast<std::uint64_t>(
       std::max<long long>(1, std::llround(options.sensor_period_s / control_period_s)));
 }
@@ -243,22 +255,9 @@ rig::Result<void> MavlinkDutLink::Request(const LinkRequest& request) {
     if (auto sent = SendApi(PositionTargetFrom(*setpoint_, time_boot_ms)); !sent) return sent;
     ++setpoints_sent_;
     setpoint_.reset();
-    if (!commanded_) {
-      mavlink::CommandLong arm;
-      arm.command = kCommandArmDisarm;
-      arm.param1 = 1;
-      arm.target_system = arm.target_component = 1;
-      mavlink::CommandLong offboard;
-      offboard.command = kCommandSetMode;
-      offboard.param1 = kCustomModeEnabled;
-      offboard.param2 = kPx4OffboardMode;
-      offboard.target_system = offboard.target_component = 1;
-      for (const mavlink::CommandLong& command : {offboard, arm}) {
-        if (auto sent = SendApi(command); !sent) return sent;
-      }
-      commanded_ = true;
-    }
+    setpoint_seen_ = true;
   }
+  if (auto sent = SendCommandsDue(); !sent) return sent;
   for (const VioMessage& pose : poses_) {
     if (auto sent = SendSim(OdometryFrom(pose)); !sent) return sent;
     ++odometry_sent_;
@@ -270,27 +269,58 @@ rig::Result<void> MavlinkDutLink::Request(const LinkRequest& request) {
   return {};
 }
 
-std::optional<rig::Error> MavlinkDutLink::DrainApi() {
+rig::Result<void> MavlinkDutLink::SendCommandsDue() {
+  if (!setpoint_seen_) return {};
+  for (Command& command : commands_) {
+    if (command.accepted) continue;
+    if (command.first_sent_ns && now_ns_ - command.last_sent_ns < kCommandRetryNs) continue;
+    if (auto sent = SendApi(command.message); !sent) return sent;
+    if (!command.first_sent_ns) command.first_sent_ns = now_ns_;
+    command.last_sent_ns = now_ns_;
+  }
+  return {};
+}
+
+rig::Result<void> MavlinkDutLink::DrainApi() {
   std::array<std::uint8_t, mavlink::kMaxSignedFrameBytes> datagram;
   while (true) {
     auto got = api_->Receive(datagram, 0);
     if (!got) return got.error();
-    if (!got.value()) return std::nullopt;
+    if (!got.value()) return {};
     ++api_frames_received_;
     const std::span<const std::uint8_t> bytes(datagram.data(), *got.value());
     Log(bytes);
     mavlink::FrameParser parser(&mavlink::FindWireInfo);
-    std::optional<rig::Error> refused;
     parser.Feed(bytes, [&](const mavlink::Frame& frame) {
       const auto message = mavlink::DecodeMessage(frame);
       const auto* ack = message ? std::get_if<mavlink::CommandAck>(&*message) : nullptr;
-      if (ack && ack->result != kResultAccepted && !refused) {
-        refused = rig::MakeError("the dut refused command " + std::to_string(ack->command) +
-                                 " (MAV_RESULT " + std::to_string(ack->result) + ")");
+      if (ack == nullptr) return;
+      for (Command& command : commands_) {
+        if (command.message.command != ack->command || command.accepted) continue;
+        command.accepted = ack->result == kResultAccepted;
+        if (!command.accepted) {
+          command.last_refusal = ack->result;
+          ++commands_refused_;
+        }
       }
     });
-    if (refused) return refused;
   }
+}
+
+std::optional<rig::Error> MavlinkDutLink::CommandOverdue() const {
+  for (const Command& command : commands_) {
+    if (command.accepted || !command.first_sent_ns) continue;
+    if (now_ns_ - *command.first_sent_ns < Nanoseconds(options_.command_timeout_s)) continue;
+    const std::string what = "command " + std::to_string(command.message.command);
+    return rig::MakeError(command.last_refusal
+                              ? "the dut refused " + what + " for " +
+                                    rig::SecondsText(options_.command_timeout_s) +
+                                    " of the run (last answer MAV_RESULT " +
+                                    std::to_string(*command.last_refusal) + ")"
+                              : "the dut did not acknowledge " + what + " within " +
+                                    rig::SecondsText(options_.command_timeout_s) + " of the run");
+  }
+  return std::nullopt;
 }
 
 rig::Result<std::optional<mavlink::Frame>> MavlinkDutLink::NextSimFrame(int timeout_ms) {
@@ -322,7 +352,10 @@ rig::Result<std::optional<mavlink::Frame>> MavlinkDutLink::NextSimFrame(int time
 }
 
 DutLinkEvent MavlinkDutLink::Receive(int timeout_ms) {
-  if (auto refused = DrainApi()) return {DutLinkEventKind::kFailed, 0, *refused};
+  if (auto drained = DrainApi(); !drained) {
+    return {DutLinkEventKind::kClosed, 0, drained.error()};
+  }
+  if (auto overdue = CommandOverdue()) return {DutLinkEventKind::kFailed, 0, *overdue};
   if (awaited_ && awaited_->immediate) {
     answered_tick_ = awaited_->tick;
     awaited_.reset();
@@ -401,6 +434,7 @@ std::vector<rig::Metric> MavlinkDutLink::metrics(bool) const {
                                     {"mavlink_controls_received", controls_received_},
                                     {"mavlink_frames_ignored", frames_ignored_},
                                     {"mavlink_api_frames_received", api_frames_received_},
+                                    {"mavlink_commands_refused", commands_refused_},
                                     {"mavlink_tlog_records", tlog_records_},
                                     {"mavlink_rx_frames", parsed.frames_ok},
                                     {"mavlink_rx_crc_failures", parsed.crc_failures},

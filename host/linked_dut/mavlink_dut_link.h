@@ -9,6 +9,7 @@
 // the run folder's mavlink.tlog, stamped with the run's time.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <deque>
@@ -36,6 +37,10 @@ struct MavlinkDutOptions {
   std::vector<std::string> extra_args;  // after dut_emu's arguments (test hooks)
   std::string address = "127.0.0.1";
   double start_timeout_s = 10.0;  // to connect and send the API heartbeat
+  // How long, in the run's time, the DUT may refuse or leave unanswered the arm and offboard
+  // commands, which go again once a second until accepted (PX4 refuses to arm for its first
+  // seconds, until its estimator has settled).
+  double command_timeout_s = 10.0;
   // PX4 integrates its IMU at 250 Hz; a sensor step goes every round(period / control period)
   // control ticks (at least every tick).
   double sensor_period_s = 0.004;
@@ -74,8 +79,12 @@ class MavlinkDutLink final : public DutLink {
   rig::Result<void> SendApi(const mavlink::AnyMessage& message);
   void Log(std::span<const std::uint8_t> frame);
   void LogReceived(const mavlink::Frame& frame);
-  // What the API link brought since the last look (command acknowledgements): a refusal fails.
-  std::optional<rig::Error> DrainApi();
+  // What the API link brought since the last look: the commands' acknowledgements.
+  rig::Result<void> DrainApi();
+  // Sends each command not accepted yet, at most once a second.
+  rig::Result<void> SendCommandsDue();
+  // A command refused or unanswered for longer than command_timeout_s.
+  std::optional<rig::Error> CommandOverdue() const;
   // The next frame of the simulator link, waiting at most timeout_ms; a closed or failed link is
   // an error.
   rig::Result<std::optional<mavlink::Frame>> NextSimFrame(int timeout_ms);
@@ -103,7 +112,17 @@ class MavlinkDutLink final : public DutLink {
   std::optional<ImuMessage> imu_;
   std::vector<VioMessage> poses_;            // delivered since the last sensor step
   std::optional<SetpointMessage> setpoint_;  // a new setpoint not sent yet
-  bool commanded_ = false;                   // arm and offboard sent
+  // The offboard mode and the arming, from the first setpoint on, until the DUT accepts each.
+  struct Command {
+    mavlink::CommandLong message;
+    bool accepted = false;
+    std::optional<std::int64_t> first_sent_ns;
+    std::int64_t last_sent_ns = 0;
+    std::optional<std::uint8_t> last_refusal;  // MAV_RESULT
+  };
+  std::array<Command, 2> commands_;
+  bool setpoint_seen_ = false;
+  std::uint64_t commands_refused_ = 0;
   std::int64_t next_heartbeat_ns_ = 0;
   // The request the next event answers: a tick between sensor steps (answered at once), or the
   // sensor step awaiting its HIL_ACTUATOR_CONTROLS.

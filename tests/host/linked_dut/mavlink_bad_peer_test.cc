@@ -34,6 +34,7 @@ Outcome Fly(const std::string& mode) {
   options.link.dut_emu_path = ::hilrig::test_support::BinDir() + "/mavlink_bad_peer";
   options.link.extra_args = {"--mode", mode};
   options.link.start_timeout_s = 1;
+  options.link.command_timeout_s = 1.5;
   options.session.answer_timeout_s = 0.5;
   options.session.clock = &clock;
   MavlinkDut dut(DutFirmware{FirmwareParamsFor(QuadrotorParams{}), std::nullopt, {}, true},
@@ -100,8 +101,12 @@ TEST(MavlinkBadPeerTest, AHangUpIsNamedByThePeersExit) {
   ExpectStepFails("disconnect", "exited with status 3");
 }
 
-TEST(MavlinkBadPeerTest, ARefusedCommandIsNamed) {
-  ExpectStepFails("refuse", "the dut refused command 176");
+// Refusals are asked again once a second (PX4 refuses to arm at first); for longer than the
+// command timeout, they stop the run.
+TEST(MavlinkBadPeerTest, ACommandRefusedForTooLongIsNamed) {
+  ExpectStepFails("refuse",
+                  "the dut refused command 176 for 1.5 s of the run (last answer "
+                  "MAV_RESULT 4)");
 }
 
 TEST(MavlinkBadPeerTest, APeerWithoutAHeartbeatNeverStarts) {
