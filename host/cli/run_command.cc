@@ -61,6 +61,8 @@ const char kRunUsage[] =
     "      build-target/dut_fw_stm32f405.elf, made by ./scripts/build-target)\n"
     "      --dut mavlink-emu (PX4's stand-in, dut_emu --mavlink, driven over MAVLink as PX4\n"
     "      SITL is, lockstep only; the run folder gets mavlink.tlog; docs/mavlink.md)\n"
+    "      --dut px4-sitl[:PORT] (wait up to 60 s for PX4 SITL on its simulator port, 4560\n"
+    "      unless PORT is given, and its offboard link on udp 14540; docs/px4.md)\n"
     "run writes report.json, junit.xml, trace.csv and can.log into --out (default\n"
     "hilrig_out/<scenario>) and compares the trace with the scene's reference run (tight\n"
     "integrator and field, kept in a cache per build: --reference-cache DIR, default\n"

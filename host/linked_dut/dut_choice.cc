@@ -20,6 +20,9 @@ constexpr double kQemuAnswerTimeoutS = 10;
 constexpr double kQemuStepRetryS = 1;
 // A DUT that dials in is started by a person, once the run says where to dial.
 constexpr double kListenStartTimeoutS = 60;
+// PX4 SITL's simulator port and the port its offboard link sends to.
+constexpr std::uint16_t kPx4SimulatorPort = 4560;
+constexpr std::uint16_t kPx4ApiPort = 14540;
 
 rig::Result<DutKind> ParseKind(const std::optional<std::string>& dut) {
   if (!dut || *dut == "inproc") return DutKind::kInProcess;
@@ -30,10 +33,12 @@ rig::Result<DutKind> ParseKind(const std::optional<std::string>& dut) {
   if (*dut == "qemu") return DutKind::kQemu;
   if (dut->starts_with("serial:")) return DutKind::kSerial;
   if (*dut == "mavlink-emu") return DutKind::kMavlinkEmu;
+  if (*dut == "px4-sitl" || dut->starts_with("px4-sitl:")) return DutKind::kPx4Sitl;
   return rig::MakeError("--dut \"" + *dut +
                         "\": expected inproc, inproc-float, process, exec:PROGRAM[,ARG...], "
                         "listen:ADDRESS:PORT[,token=FILE], qemu, "
-                        "serial:DEVICE[,baud=N][,bridge=DEVICE][,bridge_baud=N] or mavlink-emu");
+                        "serial:DEVICE[,baud=N][,bridge=DEVICE][,bridge_baud=N], mavlink-emu or "
+                        "px4-sitl[:PORT]");
 }
 
 // A process the rig talks to over the HIL link: dut_emu, a user's program it starts, or one that
@@ -42,9 +47,10 @@ bool AProcess(DutKind kind) {
   return kind == DutKind::kProcess || kind == DutKind::kExec || kind == DutKind::kListen;
 }
 
+bool OverMavlink(DutKind kind) { return kind == DutKind::kMavlinkEmu || kind == DutKind::kPx4Sitl; }
+
 bool OverALink(DutKind kind) {
-  return AProcess(kind) || kind == DutKind::kQemu || kind == DutKind::kSerial ||
-         kind == DutKind::kMavlinkEmu;
+  return AProcess(kind) || kind == DutKind::kQemu || kind == DutKind::kSerial || OverMavlink(kind);
 }
 
 // Which options go with which kind; the first one that does not fit is the error.
@@ -54,7 +60,8 @@ rig::Result<void> CheckOptionsFit(DutKind kind, const DutArguments& arguments) {
   }
   if (arguments.timeout_s && !OverALink(kind)) {
     return rig::MakeError(
-        "--dut-timeout-s needs --dut process, exec:, listen:, qemu, serial: or mavlink-emu");
+        "--dut-timeout-s needs --dut process, exec:, listen:, qemu, serial:, mavlink-emu or "
+        "px4-sitl");
   }
   const bool line = arguments.link && *arguments.link == "line";
   if (arguments.link && !line && (!AProcess(kind) || kind == DutKind::kListen)) {
@@ -205,8 +212,27 @@ rig::Result<void> ParseLineOptions(const DutArguments& arguments, DutChoice& cho
   return ParseSerialOptions(arguments, choice);
 }
 
-// mavlink-emu: the watchdog, lockstep only (MakeDutFactory refuses real time).
+// mavlink-emu, px4-sitl[:PORT]: the watchdog, lockstep only (MakeDutFactory refuses real time);
+// PX4 is waited for on its own ports, and a person starts it.
 rig::Result<void> ParseMavlinkOptions(const DutArguments& arguments, DutChoice& choice) {
+  MavlinkDutOptions& link = choice.mavlink.link;
+  if (choice.kind == DutKind::kPx4Sitl) {
+    link.start_stand_in = false;
+    link.first_answers_late = true;
+    link.sim_port = kPx4SimulatorPort;
+    link.api_port = kPx4ApiPort;
+    link.start_timeout_s = kListenStartTimeoutS;
+    const std::string& word = *arguments.dut;
+    if (word.size() > 8) {
+      const std::string port = word.substr(9);
+      const auto number = rig::ParseNumber<std::uint16_t>(port, "port");
+      if (!number || number.value() < 1) {
+        return rig::MakeError("--dut \"" + word + "\": port \"" + port +
+                              "\" is not a whole number from 1 to 65535 (px4-sitl[:PORT])");
+      }
+      link.sim_port = number.value();
+    }
+  }
   LinkedDutOptions& session = choice.mavlink.session;
   auto seconds = ParseTimeout(arguments.timeout_s, session.answer_timeout_s);
   if (!seconds) return seconds.error();
@@ -217,15 +243,18 @@ rig::Result<void> ParseMavlinkOptions(const DutArguments& arguments, DutChoice& 
   return {};
 }
 
-DutFactory MavlinkFactory(MavlinkDutPortOptions options, const DutFactorySeams& seams) {
+DutFactory MavlinkFactory(DutKind kind, MavlinkDutPortOptions options,
+                          const DutFactorySeams& seams) {
   options.link.stop_requested = seams.stop_requested;
-  return [options](const ScenarioConfig& config, std::unique_ptr<rig::CanBus> bus,
-                   double control_period_s) -> rig::Result<std::unique_ptr<DutPort>> {
+  options.link.notes = seams.notes;
+  return [kind, options](const ScenarioConfig& config, std::unique_ptr<rig::CanBus> bus,
+                         double control_period_s) -> rig::Result<std::unique_ptr<DutPort>> {
     // MAVLink carries no grasp command and no tactile frame: a grasping scene would fly without
     // its grasp and pass for the wrong reason.
     if (!config.gripper.grasps.empty()) {
       return rig::MakeError(
-          "--dut mavlink-emu: the scene grasps (" + std::to_string(config.gripper.grasps.size()) +
+          std::string("--dut ") + DutKindName(kind) + ": the scene grasps (" +
+          std::to_string(config.gripper.grasps.size()) +
           " grasp commands in its timeline), and MAVLink carries neither the grasp command nor "
           "the tactile frames the grasp controller needs; fly it with --dut inproc, process, "
           "exec:, qemu or serial:");
@@ -298,6 +327,8 @@ const char* DutKindName(DutKind kind) {
       return "serial";
     case DutKind::kMavlinkEmu:
       return "mavlink-emu";
+    case DutKind::kPx4Sitl:
+      return "px4-sitl";
   }
   return "unknown";
 }
@@ -314,7 +345,7 @@ rig::Result<DutChoice> ParseDutChoice(const DutArguments& arguments) {
   if (AProcess(choice.kind)) {
     if (auto parsed = ParseProcessOptions(arguments, choice); !parsed) return parsed.error();
   }
-  if (choice.kind == DutKind::kMavlinkEmu) {
+  if (OverMavlink(choice.kind)) {
     if (auto parsed = ParseMavlinkOptions(arguments, choice); !parsed) return parsed.error();
   }
   if (arguments.link && *arguments.link == "line") {
@@ -349,12 +380,13 @@ rig::Result<DutFactory> MakeDutFactory(const DutChoice& choice, bool realtime,
     case DutKind::kSerial:
       return SerialFactory(SerialPortLines(choice.port), choice.serial, realtime);
     case DutKind::kMavlinkEmu:
+    case DutKind::kPx4Sitl:
       if (realtime) {
-        return rig::MakeError(
-            "--dut mavlink-emu runs in lockstep only: PX4's simulator contract "
-            "gives the DUT no clock but the sensor steps (leave out --realtime)");
+        return rig::MakeError(std::string("--dut ") + DutKindName(choice.kind) +
+                              " runs in lockstep only: PX4's simulator contract gives the DUT no "
+                              "clock but the sensor steps (leave out --realtime)");
       }
-      return MavlinkFactory(choice.mavlink, seams);
+      return MavlinkFactory(choice.kind, choice.mavlink, seams);
   }
   return rig::MakeError("unknown DUT kind");
 }

@@ -28,10 +28,12 @@ enum class DutKind {
   kQemu,            // the firmware image on QEMU's STM32F405, over its serial lines
   kSerial,          // a board on serial devices
   kMavlinkEmu,      // PX4's stand-in (dut_emu --mavlink) over MAVLink, as PX4 SITL is driven
+  kPx4Sitl,         // PX4 SITL the user starts, over MAVLink
 };
 
 // The word `--dut` takes for a kind ("inproc", "inproc-float", "process", "exec", "listen",
-// "qemu", "serial", "mavlink-emu"); exec, listen and serial take their details after a colon.
+// "qemu", "serial", "mavlink-emu", "px4-sitl"); exec, listen and serial take their details after a
+// colon, px4-sitl may take its simulator port.
 const char* DutKindName(DutKind kind);
 
 // The command line's words, unparsed; unset: the option was not given.
@@ -56,7 +58,7 @@ struct DutChoice {
   bool line = false;
   DialedLineSpec dialed;
   SerialPortSpec port;                      // kSerial
-  MavlinkDutPortOptions mavlink;            // kMavlinkEmu
+  MavlinkDutPortOptions mavlink;            // kMavlinkEmu, kPx4Sitl
   std::optional<std::string> target_image;  // kQemu; unset: the one ./scripts/build-target makes
 };
 

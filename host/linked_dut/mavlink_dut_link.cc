@@ -29,6 +29,7 @@ constexpr std::int64_t kCommandRetryNs = 1'000'000'000;
 constexpr int kWriteTimeoutMs = 1000;
 constexpr int kAcceptSliceMs = 20;
 constexpr int kTerminateGraceMs = 1000;
+constexpr std::size_t kReadChunkBytes = 4096;
 
 std::int64_t Nanoseconds(double seconds) { return std::llround(seconds * 1e9); }
 
@@ -47,6 +48,11 @@ rig::Result<void> ValidateMavlinkDutOptions(const MavlinkDutOptions& options) {
       return rig::MakeError(std::string("mavlink ") + what + " " + rig::NumberText(seconds) +
                             " s: must be positive, finite and at most an hour");
     }
+  }
+  if (!(options.first_answer_wait_s >= 0) || options.first_answer_wait_s > 1) {
+    return rig::MakeError("mavlink first answer wait " +
+                          rig::NumberText(options.first_answer_wait_s) +
+                          " s: must be from 0 to 1 s");
   }
   if (!Positive(options.sensor_period_s) || options.sensor_period_s > 1) {
     return rig::MakeError("mavlink sensor period " + rig::NumberText(options.sensor_period_s) +
@@ -97,9 +103,8 @@ rig::Result<std::string> MavlinkDutLink::WriteConfigFile() const {
   return path;
 }
 
-rig::Result<void> MavlinkDutLink::Open(const rig::Clock& clock) {
-  if (auto valid = ValidateMavlinkDutOptions(options_); !valid) return valid.error();
-  const std::int64_t deadline_ns = clock.NowNs() + Nanoseconds(options_.start_timeout_s);
+rig::Result<void> MavlinkDutLink::StartStandIn(const std::string& sim_endpoint,
+                                               const std::string& api_endpoint) {
   std::string program = options_.dut_emu_path;
   if (program.empty()) {
     auto directory = ExecutableDirectory();
@@ -109,28 +114,43 @@ rig::Result<void> MavlinkDutLink::Open(const rig::Clock& clock) {
   if (::access(program.c_str(), X_OK) != 0) {
     return rig::MakeError("no dut_emu executable at " + program + " (build the dut_emu target)");
   }
-  if (!options_.tlog_path.empty()) {
-    tlog_file_.open(options_.tlog_path, std::ios::binary | std::ios::trunc);
-    if (!tlog_file_) return rig::MakeError("cannot write " + options_.tlog_path);
-    tlog_ = std::make_unique<mavlink::TlogWriter>(tlog_file_);
-  }
-  auto listener = LinkListener::Listen(options_.address, 0);
-  if (!listener) return listener.error();
-  auto api = UdpSocket::Bind(options_.address, 0);
-  if (!api) return api.error();
-  api_ = std::move(api).value();
   auto config = WriteConfigFile();
   if (!config) return config.error();
   config_path_ = config.value();
-  const std::string sim_endpoint =
-      options_.address + ":" + std::to_string(listener.value()->port());
-  const std::string api_endpoint = options_.address + ":" + std::to_string(api_->port());
   std::vector<std::string> argv = {program,      "--mavlink", sim_endpoint, "--api",
                                    api_endpoint, "--config",  config_path_};
   argv.insert(argv.end(), options_.extra_args.begin(), options_.extra_args.end());
   auto child = ChildProcess::Spawn(argv);
   if (!child) return child.error();
   child_ = std::move(child).value();
+  return {};
+}
+
+rig::Result<void> MavlinkDutLink::Open(const rig::Clock& clock) {
+  if (auto valid = ValidateMavlinkDutOptions(options_); !valid) return valid.error();
+  clock_ = &clock;
+  const std::int64_t deadline_ns = clock.NowNs() + Nanoseconds(options_.start_timeout_s);
+  if (!options_.tlog_path.empty()) {
+    tlog_file_.open(options_.tlog_path, std::ios::binary | std::ios::trunc);
+    if (!tlog_file_) return rig::MakeError("cannot write " + options_.tlog_path);
+    tlog_ = std::make_unique<mavlink::TlogWriter>(tlog_file_);
+  }
+  auto listener = LinkListener::Listen(options_.address, options_.sim_port);
+  if (!listener) return listener.error();
+  auto api = UdpSocket::Bind(options_.address, options_.api_port);
+  if (!api) return api.error();
+  api_ = std::move(api).value();
+  const std::string sim_endpoint =
+      options_.address + ":" + std::to_string(listener.value()->port());
+  const std::string api_endpoint = options_.address + ":" + std::to_string(api_->port());
+  if (options_.start_stand_in) {
+    if (auto started = StartStandIn(sim_endpoint, api_endpoint); !started) return started;
+  } else if (options_.notes != nullptr) {
+    *options_.notes << "hilrig: waiting up to " << rig::SecondsText(options_.start_timeout_s)
+                    << " for a flight stack on the MAVLink simulator link tcp " << sim_endpoint
+                    << " and its heartbeat on the API link udp " << api_endpoint
+                    << " (docs/px4.md)\n";
+  }
   while (!sim_) {
     if (options_.stop_requested != nullptr && options_.stop_requested->load()) {
       return rig::MakeError(rig::ErrorCode::kInterrupted, "stopped while waiting for the dut");
@@ -138,14 +158,14 @@ rig::Result<void> MavlinkDutLink::Open(const rig::Clock& clock) {
     if (auto exit = PeerExit()) return rig::MakeError(*exit + " before it connected");
     if (clock.NowNs() >= deadline_ns) {
       return rig::MakeError(rig::ErrorCode::kTimeout,
-                            "the dut did not connect to " + sim_endpoint + " within " +
+                            "no flight stack connected to tcp " + sim_endpoint + " within " +
                                 rig::SecondsText(options_.start_timeout_s));
     }
     auto accepted = listener.value()->AcceptStream(kAcceptSliceMs);
     if (accepted) sim_ = std::move(accepted.value().stream);
   }
   // The stand-in read its configuration before it dialled.
-  ::unlink(config_path_.c_str());
+  if (!config_path_.empty()) ::unlink(config_path_.c_str());
   config_path_.clear();
   if (auto heard = AwaitPeer(clock, deadline_ns); !heard) return heard;
   opened_ = true;
@@ -266,6 +286,7 @@ rig::Result<void> MavlinkDutLink::Request(const LinkRequest& request) {
   if (auto sent = SendSim(HilSensorFrom(*imu_, time_usec)); !sent) return sent;
   ++sensor_steps_;
   awaited_ = Awaited{request.tick, time_usec, false};
+  answer_at_once_ns_ = clock_->NowNs() + Nanoseconds(options_.first_answer_wait_s);
   return {};
 }
 
@@ -324,31 +345,29 @@ std::optional<rig::Error> MavlinkDutLink::CommandOverdue() const {
 }
 
 rig::Result<std::optional<mavlink::Frame>> MavlinkDutLink::NextSimFrame(int timeout_ms) {
-  if (auto frame = parser_.Next()) return frame;
-  std::array<std::uint8_t, 4096> bytes;
-  const StreamRead read = sim_->ReadSome(bytes, timeout_ms);
-  switch (read.status) {
-    case StreamStatus::kTimeout:
-      return std::optional<mavlink::Frame>();
-    case StreamStatus::kClosed:
-      return rig::MakeError(rig::ErrorCode::kLinkClosed, "the dut closed the mavlink link");
-    case StreamStatus::kError:
-      return rig::MakeError(rig::ErrorCode::kIo, "the mavlink link failed: " + read.error);
-    case StreamStatus::kData:
-      break;
+  while (true) {
+    if (auto frame = parser_.Next()) return frame;
+    // The parser holds two frames' worth; what it has no room for yet waits here. Once Next()
+    // finds nothing, at least a frame's worth fits, so each pass makes progress.
+    if (unparsed_begin_ < unparsed_.size()) {
+      unparsed_begin_ += parser_.Push(std::span(unparsed_).subspan(unparsed_begin_));
+      continue;
+    }
+    unparsed_.resize(kReadChunkBytes);
+    unparsed_begin_ = 0;
+    const StreamRead read = sim_->ReadSome(unparsed_, timeout_ms);
+    unparsed_.resize(read.status == StreamStatus::kData ? read.bytes : 0);
+    switch (read.status) {
+      case StreamStatus::kTimeout:
+        return std::optional<mavlink::Frame>();
+      case StreamStatus::kClosed:
+        return rig::MakeError(rig::ErrorCode::kLinkClosed, "the dut closed the mavlink link");
+      case StreamStatus::kError:
+        return rig::MakeError(rig::ErrorCode::kIo, "the mavlink link failed: " + read.error);
+      case StreamStatus::kData:
+        break;
+    }
   }
-  // The buffer holds two frames' worth: push what fits, the rest after the frames it frees.
-  std::span<const std::uint8_t> rest(bytes.data(), read.bytes);
-  rest = rest.subspan(parser_.Push(rest));
-  auto frame = parser_.Next();
-  while (!rest.empty() && !frame) {
-    rest = rest.subspan(parser_.Push(rest));
-    frame = parser_.Next();
-  }
-  if (!rest.empty()) {
-    return rig::MakeError("the dut sent more than the mavlink parser can hold at once");
-  }
-  return frame;
 }
 
 DutLinkEvent MavlinkDutLink::Receive(int timeout_ms) {
@@ -361,13 +380,26 @@ DutLinkEvent MavlinkDutLink::Receive(int timeout_ms) {
     awaited_.reset();
     return {DutLinkEventKind::kAnswer, answered_tick_, std::nullopt};
   }
-  auto next = NextSimFrame(timeout_ms);
+  // Before the first answer, a flight stack that answers late is waited for a little only.
+  const bool booting = options_.first_answers_late && !answering_ && awaited_;
+  const std::int64_t left_ns = booting ? answer_at_once_ns_ - clock_->NowNs() : 0;
+  const bool at_once = booting && left_ns <= 0;
+  const int wait_ms =
+      booting ? std::min<int>(timeout_ms, int(std::max<std::int64_t>(0, left_ns) / 1'000'000))
+              : timeout_ms;
+  auto next = NextSimFrame(wait_ms);
   if (!next) {
     const bool closed = next.error().code == rig::ErrorCode::kLinkClosed ||
                         next.error().code == rig::ErrorCode::kIo;
     return {closed ? DutLinkEventKind::kClosed : DutLinkEventKind::kFailed, 0, next.error()};
   }
-  if (!next.value()) return {};
+  if (!next.value()) {
+    if (!at_once) return {};  // booting: the next look may be past the give-up time
+    answered_at_once_usec_ = awaited_->time_usec;
+    answered_tick_ = awaited_->tick;
+    awaited_.reset();
+    return {DutLinkEventKind::kAnswer, answered_tick_, std::nullopt};
+  }
   const mavlink::Frame& frame = *next.value();
   LogReceived(frame);
   const auto message = mavlink::DecodeMessage(frame);
@@ -376,23 +408,34 @@ DutLinkEvent MavlinkDutLink::Receive(int timeout_ms) {
     ++frames_ignored_;
     return {DutLinkEventKind::kIgnored, 0, std::nullopt};
   }
+  return Answer(*controls);
+}
+
+DutLinkEvent MavlinkDutLink::Answer(const mavlink::HilActuatorControls& controls) {
   ++controls_received_;
-  if (!awaited_ || controls->time_usec != awaited_->time_usec) {
+  answering_ = true;
+  for (int output = 0; output < 16; ++output) {
+    if (!std::isfinite(controls.controls[output])) {
+      return {DutLinkEventKind::kFailed, 0,
+              rig::MakeError("the dut sent a non-finite actuator output " + std::to_string(output) +
+                             " at " + std::to_string(controls.time_usec) + " us")};
+    }
+  }
+  if (controls.time_usec != 0 && controls.time_usec <= answered_at_once_usec_) {
+    // A late answer to a step answered at once: the vehicle's outputs from now on.
+    ++late_answers_;
+    last_controls_ = controls;
+    return {DutLinkEventKind::kIgnored, 0, std::nullopt};
+  }
+  if (!awaited_ || controls.time_usec != awaited_->time_usec) {
     return {DutLinkEventKind::kFailed, 0,
-            rig::MakeError("the dut answered time " + std::to_string(controls->time_usec) +
+            rig::MakeError("the dut answered time " + std::to_string(controls.time_usec) +
                            " us, which no HIL_SENSOR asked for (" +
                            (awaited_ ? "awaited: " + std::to_string(awaited_->time_usec) + " us"
                                      : std::string("none awaited")) +
                            ")")};
   }
-  for (int output = 0; output < 16; ++output) {
-    if (!std::isfinite(controls->controls[output])) {
-      return {DutLinkEventKind::kFailed, 0,
-              rig::MakeError("the dut sent a non-finite actuator output " + std::to_string(output) +
-                             " at " + std::to_string(controls->time_usec) + " us")};
-    }
-  }
-  last_controls_ = *controls;
+  last_controls_ = controls;
   answered_tick_ = awaited_->tick;
   awaited_.reset();
   return {DutLinkEventKind::kAnswer, answered_tick_, std::nullopt};
@@ -416,7 +459,9 @@ std::string MavlinkDutLink::timeout_detail() const {
 }
 
 std::string MavlinkDutLink::description() const {
-  std::string text = "PX4's stand-in (dut_emu --mavlink) over MAVLink";
+  std::string text = options_.start_stand_in
+                         ? "PX4's stand-in (dut_emu --mavlink) over MAVLink"
+                         : "a flight stack on the MAVLink simulator link (PX4 SITL)";
   if (!opened_) return text + " (not started)";
   if (child_) text += " (pid " + std::to_string(child_->pid()) + ")";
   text += ", HIL_SENSOR every " + std::to_string(sensor_every_ticks_) + " control ticks";
@@ -435,6 +480,7 @@ std::vector<rig::Metric> MavlinkDutLink::metrics(bool) const {
                                     {"mavlink_frames_ignored", frames_ignored_},
                                     {"mavlink_api_frames_received", api_frames_received_},
                                     {"mavlink_commands_refused", commands_refused_},
+                                    {"mavlink_late_answers", late_answers_},
                                     {"mavlink_tlog_records", tlog_records_},
                                     {"mavlink_rx_frames", parsed.frames_ok},
                                     {"mavlink_rx_crc_failures", parsed.crc_failures},

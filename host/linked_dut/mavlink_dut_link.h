@@ -33,7 +33,20 @@
 namespace hilrig::host {
 
 struct MavlinkDutOptions {
-  std::string dut_emu_path;             // empty: "dut_emu" next to the running executable
+  // true: start PX4's stand-in, dut_emu --mavlink, on ports of the rig's choosing; false: wait for
+  // a flight stack the user starts (PX4 SITL) on sim_port and api_port.
+  bool start_stand_in = true;
+  std::uint16_t sim_port = 0;  // the TCP simulator link; 0: a free one (PX4: 4560)
+  std::uint16_t api_port = 0;  // the UDP API link; 0: a free one (PX4's offboard port: 14540)
+  // PX4's boot answers its first sensor steps late (14 to 19 steps): until its first
+  // HIL_ACTUATOR_CONTROLS arrives, a step waits first_answer_wait_s of wall time for its answer
+  // and is then answered with the last command, and the late answers to those steps are taken for
+  // the vehicle's outputs, not for answers. The wait keeps the rig from racing ahead of a flight
+  // stack that is still booting.
+  bool first_answers_late = false;
+  double first_answer_wait_s = 0.05;
+  std::ostream* notes = nullptr;  // where the wait for a flight stack is announced (may be null)
+  std::string dut_emu_path;       // empty: "dut_emu" next to the running executable
   std::vector<std::string> extra_args;  // after dut_emu's arguments (test hooks)
   std::string address = "127.0.0.1";
   double start_timeout_s = 10.0;  // to connect and send the API heartbeat
@@ -89,6 +102,10 @@ class MavlinkDutLink final : public DutLink {
   // an error.
   rig::Result<std::optional<mavlink::Frame>> NextSimFrame(int timeout_ms);
   rig::Result<void> AwaitPeer(const rig::Clock& clock, std::int64_t deadline_ns);
+  // Starts the stand-in, dialling `sim_endpoint` and `api_endpoint`.
+  rig::Result<void> StartStandIn(const std::string& sim_endpoint, const std::string& api_endpoint);
+  // The answer a HIL_ACTUATOR_CONTROLS is: the awaited step's, a late one, or a fault.
+  DutLinkEvent Answer(const mavlink::HilActuatorControls& controls);
   rig::Result<std::string> WriteConfigFile() const;
 
   DutFirmware firmware_;
@@ -105,6 +122,8 @@ class MavlinkDutLink final : public DutLink {
   std::ofstream tlog_file_;
   std::unique_ptr<mavlink::TlogWriter> tlog_;
   mavlink::FrameParser parser_{&mavlink::FindWireInfo};
+  std::vector<std::uint8_t> unparsed_;  // read from the simulator link, not in the parser yet
+  std::size_t unparsed_begin_ = 0;
   std::uint8_t sim_sequence_ = 0;
   std::uint8_t api_sequence_ = 0;
 
@@ -134,6 +153,11 @@ class MavlinkDutLink final : public DutLink {
   std::optional<Awaited> awaited_;
   mavlink::HilActuatorControls last_controls_;  // held between sensor steps
   std::uint64_t answered_tick_ = 0;             // of the last kAnswer
+  bool answering_ = false;                      // the first HIL_ACTUATOR_CONTROLS came
+  const rig::Clock* clock_ = nullptr;           // the session's, from Open
+  std::int64_t answer_at_once_ns_ = 0;          // before the first answer: the step's give-up time
+  std::uint64_t answered_at_once_usec_ = 0;     // the last step answered before it
+  std::uint64_t late_answers_ = 0;
 
   std::uint64_t sensor_steps_ = 0;
   std::uint64_t odometry_sent_ = 0;

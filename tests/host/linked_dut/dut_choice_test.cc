@@ -127,7 +127,8 @@ TEST(DutChoiceTest, AnOptionTheKindDoesNotTakeIsRefusedByName) {
   DutArguments timeout = Dut("inproc-float");
   timeout.timeout_s = "2";
   EXPECT_EQ(ErrorOf(timeout),
-            "--dut-timeout-s needs --dut process, exec:, listen:, qemu, serial: or mavlink-emu");
+            "--dut-timeout-s needs --dut process, exec:, listen:, qemu, serial:, mavlink-emu or "
+            "px4-sitl");
   DutArguments link = Dut("qemu");
   link.link = "tcp";
   EXPECT_EQ(ErrorOf(link), "--dut-link needs --dut process or exec:");
@@ -191,6 +192,23 @@ TEST(MakeDutFactoryTest, AQemuImageThatIsNotThereIsNamed) {
   ASSERT_FALSE(factory.ok());
   EXPECT_THAT(factory.error().message, HasSubstr("--dut qemu: "));
   EXPECT_THAT(factory.error().message, HasSubstr("/nonexistent/dut_fw_stm32f405.elf"));
+}
+
+TEST(DutChoiceTest, Px4SitlIsWaitedForOnPx4sPorts) {
+  auto choice = ParseDutChoice(Dut("px4-sitl"));
+  ASSERT_TRUE(choice.ok()) << choice.error().message;
+  EXPECT_EQ(choice.value().kind, DutKind::kPx4Sitl);
+  const MavlinkDutOptions& link = choice.value().mavlink.link;
+  EXPECT_FALSE(link.start_stand_in);
+  EXPECT_TRUE(link.first_answers_late);
+  EXPECT_EQ(link.sim_port, 4560);
+  EXPECT_EQ(link.api_port, 14540);
+  EXPECT_EQ(link.start_timeout_s, 60);
+  choice = ParseDutChoice(Dut("px4-sitl:4561"));
+  ASSERT_TRUE(choice.ok());
+  EXPECT_EQ(choice.value().mavlink.link.sim_port, 4561);
+  EXPECT_THAT(ErrorOf(Dut("px4-sitl:x")), HasSubstr("port \"x\" is not a whole number"));
+  EXPECT_FALSE(MakeDutFactory(choice.value(), /*realtime=*/true).ok());
 }
 
 TEST(MakeDutFactoryTest, MavlinkIsLockstepOnlyAndTakesTheWatchdog) {

@@ -9,6 +9,7 @@
 //   disconnect  answers ten steps, then hangs up and exits with status 3
 //   refuse      denies every command (COMMAND_ACK result 4) and answers the steps
 //   mute        connects but never sends its heartbeat on the API link
+//   late        answers nothing for 15 steps, then those and every step after, as PX4 boots
 // Otherwise it answers each step properly, all outputs zero and disarmed.
 #include <arpa/inet.h>
 #include <netinet/in.h>
@@ -124,16 +125,22 @@ int main(int argc, char** argv) {
   peer.api.sin_family = AF_INET;
   peer.api.sin_port = htons(api->port);
   ::inet_pton(AF_INET, api->host.c_str(), &peer.api.sin_addr);
-  if (mode != "mute") peer.Send(mav::Heartbeat{}, /*api_link=*/true);
-  hilrig::dut_link::OwnedLine line = hilrig::dut_link::ConnectTcpLine(sim->host, sim->port, 5000);
+  // Dialled first, as PX4 does: a rig that waits for its flight stack binds both ports before.
+  hilrig::dut_link::OwnedLine line;
+  for (int attempt = 0; attempt < 500 && !line.ok(); ++attempt) {
+    line = hilrig::dut_link::ConnectTcpLine(sim->host, sim->port, 1000);
+    if (!line.ok()) ::usleep(10'000);
+  }
   if (!line.ok()) {
     std::cerr << "mavlink_bad_peer: " << line.error() << "\n";
     return 1;
   }
   peer.tcp = line.fd();
+  if (mode != "mute") peer.Send(mav::Heartbeat{}, /*api_link=*/true);
   mav::FrameParser parser(&mav::FindWireInfo);
   std::array<std::uint8_t, 1024> bytes;
   int steps = 0;
+  std::vector<std::uint64_t> held;  // `late`: the steps not answered yet
   while (true) {
     pollfd entry{peer.tcp, POLLIN, 0};
     if (::poll(&entry, 1, 100) <= 0) continue;
@@ -145,10 +152,17 @@ int main(int argc, char** argv) {
                   const auto message = mav::DecodeMessage(frame);
                   const auto* sensor = message ? std::get_if<mav::HilSensor>(&*message) : nullptr;
                   if (sensor == nullptr || mode == "silent") return;
-                  if (mode == "disconnect" && ++steps > 10) {
+                  ++steps;
+                  if (mode == "disconnect" && steps > 10) {
                     ::close(peer.tcp);
                     std::_Exit(3);
                   }
+                  if (mode == "late" && steps <= 15) {
+                    held.push_back(sensor->time_usec);
+                    return;
+                  }
+                  for (const std::uint64_t time_usec : held) Answer(peer, mode, time_usec);
+                  held.clear();
                   Answer(peer, mode, sensor->time_usec);
                 });
   }
