@@ -7,13 +7,13 @@
 #include "host/link/child_process.h"
 #include "host/link/hil_link_socket.h"
 #include "host/link/link_token.h"
+#include "host/linked_dut/peer_wait.h"
 #include "rig/clock.h"
 
 namespace hilrig::host {
 namespace {
 
-constexpr int kAcceptSliceMs = 100;  // how often a wait looks at the program and the stop request
-constexpr int kPortAttempts = 8;     // free link ports tried until the one above is free too
+constexpr int kPortAttempts = 8;  // free link ports tried until the one above is free too
 
 struct Listeners {
   std::unique_ptr<LinkListener> link;
@@ -41,25 +41,29 @@ rig::Result<LinkListener::AcceptedStream> AcceptWithin(LinkListener& listener, c
                                                        const DialedLineSpec& spec,
                                                        std::int64_t deadline_ns,
                                                        const rig::Clock& clock) {
-  while (true) {
-    if (spec.stop_requested != nullptr && spec.stop_requested->load()) {
-      return rig::MakeError(rig::ErrorCode::kInterrupted,
-                            std::string("stopped while waiting for the DUT's ") + line);
-    }
-    if (program) {
-      if (auto exit = program->PollExit()) {
-        return rig::MakeError(*spec.program + " " + *exit + " before it dialled the " + line +
-                              " (its own message is above)");
-      }
-    }
-    if (clock.NowNs() >= deadline_ns) {
-      return rig::MakeError(rig::ErrorCode::kTimeout,
-                            std::string("no DUT dialled the ") + line + " on " + spec.address +
-                                ":" + std::to_string(listener.port()) + " in time");
-    }
-    auto accepted = listener.AcceptStream(kAcceptSliceMs);
-    if (accepted || accepted.error().code != rig::ErrorCode::kTimeout) return accepted;
-  }
+  const PeerWait wait{&clock, deadline_ns, program ? &*program : nullptr, spec.stop_requested};
+  return WaitForPeer(
+      wait,
+      [&](int slice_ms) -> std::optional<rig::Result<LinkListener::AcceptedStream>> {
+        auto accepted = listener.AcceptStream(slice_ms);
+        if (!accepted && accepted.error().code == rig::ErrorCode::kTimeout) return std::nullopt;
+        return accepted;
+      },
+      [&](const PeerWaitFailure& failure) -> rig::Result<LinkListener::AcceptedStream> {
+        switch (failure.end) {
+          case PeerWaitEnd::kStopped:
+            return rig::MakeError(rig::ErrorCode::kInterrupted,
+                                  std::string("stopped while waiting for the DUT's ") + line);
+          case PeerWaitEnd::kPeerExited:
+            return rig::MakeError(*spec.program + " " + failure.exit + " before it dialled the " +
+                                  line + " (its own message is above)");
+          case PeerWaitEnd::kTimedOut:
+            break;
+        }
+        return rig::MakeError(rig::ErrorCode::kTimeout,
+                              std::string("no DUT dialled the ") + line + " on " + spec.address +
+                                  ":" + std::to_string(listener.port()) + " in time");
+      });
 }
 
 // The token the DUT proves and, for a program the rig starts, the program running.

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "host/link/hil_link_codec.h"
+#include "host/linked_dut/peer_wait.h"
 #include "rig/number_text.h"
 
 namespace hilrig::host {
@@ -23,7 +24,7 @@ std::int64_t Nanoseconds(double seconds) { return std::llround(seconds * 1e9); }
 // Rounded up, so a wait never ends before its deadline; at most one poll slice.
 int SliceUntil(std::int64_t now_ns, std::int64_t until_ns) {
   const std::int64_t ms = std::max<std::int64_t>(0, (until_ns - now_ns + 999'999) / 1'000'000);
-  return static_cast<int>(std::min<std::int64_t>(ms, kPollSliceMs));
+  return static_cast<int>(std::min<std::int64_t>(ms, kPeerWaitSliceMs));
 }
 
 }  // namespace

@@ -24,9 +24,6 @@
 
 namespace hilrig::host {
 
-// How often a runner waiting on its DUT looks whether the process behind the link still lives.
-inline constexpr int kPollSliceMs = 20;
-
 struct LinkedDutOptions {
   // Lockstep: Step waits for each answer; RequestStep and PollCommand fail. Real time: the
   // reverse, with the latencies measured; it needs `clock`.

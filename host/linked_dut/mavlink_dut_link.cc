@@ -10,6 +10,7 @@
 #include "host/link/dut_config_codec.h"
 #include "host/link/hil_link_socket.h"
 #include "host/linked_dut/linked_dut.h"
+#include "host/linked_dut/peer_wait.h"
 #include "rig/number_text.h"
 
 namespace hilrig::host {
@@ -27,7 +28,6 @@ constexpr std::uint8_t kResultAccepted = 0;       // MAV_RESULT_ACCEPTED
 constexpr std::int64_t kHeartbeatPeriodNs = 1'000'000'000;
 constexpr std::int64_t kCommandRetryNs = 1'000'000'000;
 constexpr int kWriteTimeoutMs = 1000;
-constexpr int kAcceptSliceMs = 20;
 constexpr int kTerminateGraceMs = 1000;
 constexpr std::size_t kReadChunkBytes = 4096;
 
@@ -151,19 +151,31 @@ rig::Result<void> MavlinkDutLink::Open(const rig::Clock& clock) {
                     << " and its heartbeat on the API link udp " << api_endpoint
                     << " (docs/px4.md)\n";
   }
-  while (!sim_) {
-    if (options_.stop_requested != nullptr && options_.stop_requested->load()) {
-      return rig::MakeError(rig::ErrorCode::kInterrupted, "stopped while waiting for the dut");
-    }
-    if (auto exit = PeerExit()) return rig::MakeError(*exit + " before it connected");
-    if (clock.NowNs() >= deadline_ns) {
-      return rig::MakeError(rig::ErrorCode::kTimeout,
-                            "no flight stack connected to tcp " + sim_endpoint + " within " +
-                                rig::SecondsText(options_.start_timeout_s));
-    }
-    auto accepted = listener.value()->AcceptStream(kAcceptSliceMs);
-    if (accepted) sim_ = std::move(accepted.value().stream);
-  }
+  const PeerWait wait{&clock, deadline_ns, child_ ? &*child_ : nullptr, options_.stop_requested};
+  auto accepted = WaitForPeer(
+      wait,
+      [&](int slice_ms) -> std::optional<rig::Result<LinkListener::AcceptedStream>> {
+        auto stream = listener.value()->AcceptStream(slice_ms);
+        if (!stream && stream.error().code == rig::ErrorCode::kTimeout) return std::nullopt;
+        return stream;
+      },
+      [&](const PeerWaitFailure& failure) -> rig::Result<LinkListener::AcceptedStream> {
+        switch (failure.end) {
+          case PeerWaitEnd::kStopped:
+            return rig::MakeError(rig::ErrorCode::kInterrupted,
+                                  "stopped while waiting for the dut");
+          case PeerWaitEnd::kPeerExited:
+            return rig::MakeError("the dut's PX4 stand-in " + failure.exit +
+                                  " before it connected");
+          case PeerWaitEnd::kTimedOut:
+            break;
+        }
+        return rig::MakeError(rig::ErrorCode::kTimeout,
+                              "no flight stack connected to tcp " + sim_endpoint + " within " +
+                                  rig::SecondsText(options_.start_timeout_s));
+      });
+  if (!accepted) return accepted.error();
+  sim_ = std::move(accepted.value().stream);
   // The stand-in read its configuration before it dialled.
   if (!config_path_.empty()) ::unlink(config_path_.c_str());
   config_path_.clear();
@@ -174,22 +186,33 @@ rig::Result<void> MavlinkDutLink::Open(const rig::Clock& clock) {
 
 rig::Result<void> MavlinkDutLink::AwaitPeer(const rig::Clock& clock, std::int64_t deadline_ns) {
   std::array<std::uint8_t, mavlink::kMaxSignedFrameBytes> datagram;
-  while (!api_->has_peer()) {
-    if (auto exit = PeerExit()) return rig::MakeError(*exit + " before its API heartbeat");
-    if (clock.NowNs() >= deadline_ns) {
-      return rig::MakeError(rig::ErrorCode::kTimeout,
-                            "the dut sent no heartbeat to the API port " +
-                                std::to_string(api_->port()) + " within " +
-                                rig::SecondsText(options_.start_timeout_s));
-    }
-    auto got = api_->Receive(datagram, kAcceptSliceMs);
-    if (!got) return got.error();
-    if (got.value()) {
-      ++api_frames_received_;
-      Log(std::span(datagram.data(), *got.value()));
-    }
-  }
-  return {};
+  const PeerWait wait{&clock, deadline_ns, child_ ? &*child_ : nullptr, options_.stop_requested};
+  return WaitForPeer(
+      wait,
+      [&](int slice_ms) -> std::optional<rig::Result<void>> {
+        auto got = api_->Receive(datagram, slice_ms);
+        if (!got) return rig::Result<void>(got.error());
+        if (!got.value()) return std::nullopt;
+        ++api_frames_received_;
+        Log(std::span(datagram.data(), *got.value()));
+        return rig::Result<void>();
+      },
+      [&](const PeerWaitFailure& failure) -> rig::Result<void> {
+        switch (failure.end) {
+          case PeerWaitEnd::kStopped:
+            return rig::MakeError(rig::ErrorCode::kInterrupted,
+                                  "stopped while waiting for the dut's heartbeat");
+          case PeerWaitEnd::kPeerExited:
+            return rig::MakeError("the dut's PX4 stand-in " + failure.exit +
+                                  " before its API heartbeat");
+          case PeerWaitEnd::kTimedOut:
+            break;
+        }
+        return rig::MakeError(rig::ErrorCode::kTimeout,
+                              "the dut sent no heartbeat to the API port " +
+                                  std::to_string(api_->port()) + " within " +
+                                  rig::SecondsText(options_.start_timeout_s));
+      });
 }
 
 std::optional<std::string> MavlinkDutLink::PeerExit() {

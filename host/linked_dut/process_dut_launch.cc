@@ -5,6 +5,7 @@
 #include "host/link/dut_acceptor.h"
 #include "host/link/link_token.h"
 #include "host/link/shm_byte_stream.h"
+#include "host/linked_dut/peer_wait.h"
 #include "rig/can_open.h"
 #include "rig/clock.h"
 #include "rig/udp_bus.h"
@@ -24,19 +25,23 @@ std::string DialAddress(const std::string& listen_address) {
 template <typename Poll>
 auto WatchChild(ChildProcess& child, int timeout_ms, const std::string& step, Poll poll)
     -> rig::Result<typename decltype(poll(0))::value_type> {
+  using Value = typename decltype(poll(0))::value_type;
   // The start deadline is wall time by nature: it bounds how long the process may take.
   const rig::SteadyClock clock;
-  const std::int64_t deadline_ns = clock.NowNs() + std::int64_t{timeout_ms} * 1'000'000;
-  while (true) {
-    if (auto value = poll(kPollSliceMs)) return std::move(*value);
-    if (auto exit = child.PollExit()) {
-      return rig::MakeError("dut process " + *exit + " before it could " + step);
-    }
-    if (clock.NowNs() >= deadline_ns) {
-      return rig::MakeError("the dut process did not " + step + " within " +
-                            std::to_string(timeout_ms) + " ms");
-    }
-  }
+  const PeerWait wait{&clock, clock.NowNs() + std::int64_t{timeout_ms} * 1'000'000, &child};
+  return WaitForPeer(
+      wait,
+      [&](int slice_ms) -> std::optional<rig::Result<Value>> {
+        if (auto value = poll(slice_ms)) return rig::Result<Value>(std::move(*value));
+        return std::nullopt;
+      },
+      [&](const PeerWaitFailure& failure) -> rig::Result<Value> {
+        if (failure.end == PeerWaitEnd::kPeerExited) {
+          return rig::MakeError("dut process " + failure.exit + " before it could " + step);
+        }
+        return rig::MakeError("the dut process did not " + step + " within " +
+                              std::to_string(timeout_ms) + " ms");
+      });
 }
 
 // The forwarder's end of the DUT's CAN bus, and the --can URI that gives dut_emu the other end.
@@ -127,24 +132,28 @@ rig::Result<LaunchedDut> LaunchByListening(const ProcessDutOptions& options) {
   DutAcceptor acceptor(*listener.value(), token.value());
   // Wall time by nature: it bounds how long a person may take to start a program.
   const rig::SteadyClock clock;
-  const std::int64_t deadline_ns = clock.NowNs() + std::int64_t{timeout_ms} * 1'000'000;
-  while (clock.NowNs() < deadline_ns) {
-    if (options.stop_requested != nullptr && options.stop_requested->load()) {
-      acceptor.RefusePending();
-      return rig::MakeError(rig::ErrorCode::kInterrupted,
-                            "stopped while waiting for a DUT on " + ListenEndpoint(options));
-    }
-    if (auto accepted = acceptor.Poll(kPollSliceMs)) {
-      return LaunchedDut{std::nullopt, std::move(accepted->link),
-                         std::move(forward_bus.value().bus), acceptor.rejected_count(),
-                         acceptor.RejectedSummary()};
-    }
-  }
-  acceptor.RefusePending();
-  std::string message = "no DUT dialled " + ListenEndpoint(options) + " with the token of " +
-                        options.token_file + " within " + std::to_string(timeout_ms) + " ms";
-  if (acceptor.rejected_count() > 0) message += " (" + acceptor.RejectedSummary() + ")";
-  return rig::MakeError(rig::ErrorCode::kTimeout, message);
+  const PeerWait wait{&clock, clock.NowNs() + std::int64_t{timeout_ms} * 1'000'000, nullptr,
+                      options.stop_requested};
+  return WaitForPeer(
+      wait,
+      [&](int slice_ms) -> std::optional<rig::Result<LaunchedDut>> {
+        auto accepted = acceptor.Poll(slice_ms);
+        if (!accepted) return std::nullopt;
+        return rig::Result<LaunchedDut>(
+            LaunchedDut{std::nullopt, std::move(accepted->link), std::move(forward_bus.value().bus),
+                        acceptor.rejected_count(), acceptor.RejectedSummary()});
+      },
+      [&](const PeerWaitFailure& failure) -> rig::Result<LaunchedDut> {
+        acceptor.RefusePending();
+        if (failure.end == PeerWaitEnd::kStopped) {
+          return rig::MakeError(rig::ErrorCode::kInterrupted,
+                                "stopped while waiting for a DUT on " + ListenEndpoint(options));
+        }
+        std::string message = "no DUT dialled " + ListenEndpoint(options) + " with the token of " +
+                              options.token_file + " within " + std::to_string(timeout_ms) + " ms";
+        if (acceptor.rejected_count() > 0) message += " (" + acceptor.RejectedSummary() + ")";
+        return rig::MakeError(rig::ErrorCode::kTimeout, message);
+      });
 }
 
 rig::Result<LaunchedDut> LaunchOverShm(const std::string& path, const ProcessDutOptions& options) {
