@@ -293,6 +293,8 @@ rig::Result<void> MavlinkDutLink::Request(const LinkRequest& request) {
     heartbeat.system_status = 4;  // MAV_STATE_ACTIVE
     if (auto sent = SendApi(heartbeat); !sent) return sent;
     next_heartbeat_ns_ = request.now_ns + kHeartbeatPeriodNs;
+    // Once a second of the run the log reaches the disk: a run killed outright keeps it to there.
+    if (tlog_file_.is_open()) tlog_file_.flush();
   }
   if (setpoint_) {
     if (auto sent = SendApi(PositionTargetFrom(*setpoint_, time_boot_ms)); !sent) return sent;
