@@ -4,6 +4,7 @@
 #pragma once
 
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 
 namespace hilrig::rig {
@@ -11,6 +12,8 @@ namespace hilrig::rig {
 // `time_ns` in seconds. Divides rather than multiplies by 1e-9, so that whole milliseconds come
 // out as 0.03, not 0.030000000000000002 (traces print them). O(1); cannot fail.
 constexpr double SecondsFromNs(std::int64_t time_ns) { return static_cast<double>(time_ns) / 1e9; }
+// `seconds` in whole nanoseconds, rounded to the nearest. O(1); cannot fail.
+inline std::int64_t NsFromSeconds(double seconds) { return std::llround(seconds * 1e9); }
 
 class Clock {
  public:

@@ -109,7 +109,7 @@ SerialLineOpener DialedLines(const DialedLineSpec& spec) {
     if (!token) return token.error();
     // Wall time by nature: it bounds how long a program, or a person, takes to start the DUT.
     const rig::SteadyClock clock;
-    const std::int64_t deadline_ns = clock.NowNs() + std::llround(timeout_s * 1e9);
+    const std::int64_t deadline_ns = clock.NowNs() + rig::NsFromSeconds(timeout_s);
     auto link = AcceptWithin(*listeners.value().link, "link", program, spec, deadline_ns, clock);
     if (!link) return link.error();
     auto bridge =

@@ -19,8 +19,6 @@ constexpr std::int64_t kPeerExitGraceNs = 200'000'000;
 // Bounds one poll's work on a DUT that floods the link.
 constexpr int kMaxEventsPerPoll = 4096;
 
-std::int64_t Nanoseconds(double seconds) { return std::llround(seconds * 1e9); }
-
 // Rounded up, so a wait never ends before its deadline; at most one poll slice.
 int SliceUntil(std::int64_t now_ns, std::int64_t until_ns) {
   const std::int64_t ms = std::max<std::int64_t>(0, (until_ns - now_ns + 999'999) / 1'000'000);
@@ -48,7 +46,7 @@ LinkedDut::LinkedDut(std::unique_ptr<DutLink> link, std::unique_ptr<rig::CanBus>
       options_(options),
       own_clock_(options.clock ? nullptr : std::make_unique<rig::SteadyClock>()),
       clock_(options.clock ? options.clock : own_clock_.get()),
-      ledger_(Nanoseconds(options.answer_timeout_s)) {
+      ledger_(rig::NsFromSeconds(options.answer_timeout_s)) {
   frames_.reserve(64);
 }
 
@@ -140,7 +138,7 @@ rig::Result<ActuatorMessage> LinkedDut::Step(std::uint64_t tick, std::int64_t no
 
 rig::Result<ActuatorMessage> LinkedDut::AwaitAnswer(std::uint64_t tick) {
   const std::int64_t start_ns = clock_->NowNs();
-  const std::int64_t deadline_ns = start_ns + Nanoseconds(options_.answer_timeout_s);
+  const std::int64_t deadline_ns = start_ns + rig::NsFromSeconds(options_.answer_timeout_s);
   const std::optional<std::int64_t> resend_after_ns = link_->resend_after_ns();
   std::int64_t resend_ns = resend_after_ns ? start_ns + *resend_after_ns : deadline_ns;
   for (std::int64_t now_ns = start_ns; now_ns < deadline_ns; now_ns = clock_->NowNs()) {
@@ -165,7 +163,7 @@ rig::Result<ActuatorMessage> LinkedDut::AwaitAnswer(std::uint64_t tick) {
       case DutLinkEventKind::kAnswer:
         break;
     }
-    auto answer = TakeAnswer(event.answers_tick, tick, clock_->NowNs());
+    auto answer = TakeAnswer(event.answers_tick, tick, WallNs());
     if (!answer) return answer.error();
     if (answer.value()) return std::move(*answer.value());
   }

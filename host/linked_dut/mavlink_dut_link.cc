@@ -31,8 +31,6 @@ constexpr int kWriteTimeoutMs = 1000;
 constexpr int kTerminateGraceMs = 1000;
 constexpr std::size_t kReadChunkBytes = 4096;
 
-std::int64_t Nanoseconds(double seconds) { return std::llround(seconds * 1e9); }
-
 bool Positive(double seconds) { return std::isfinite(seconds) && seconds > 0 && seconds <= 3600; }
 
 }  // namespace
@@ -129,7 +127,7 @@ rig::Result<void> MavlinkDutLink::StartStandIn(const std::string& sim_endpoint,
 rig::Result<void> MavlinkDutLink::Open(const rig::Clock& clock) {
   if (auto valid = ValidateMavlinkDutOptions(options_); !valid) return valid.error();
   clock_ = &clock;
-  const std::int64_t deadline_ns = clock.NowNs() + Nanoseconds(options_.start_timeout_s);
+  const std::int64_t deadline_ns = clock.NowNs() + rig::NsFromSeconds(options_.start_timeout_s);
   if (!options_.tlog_path.empty()) {
     tlog_file_.open(options_.tlog_path, std::ios::binary | std::ios::trunc);
     if (!tlog_file_) return rig::MakeError("cannot write " + options_.tlog_path);
@@ -311,7 +309,7 @@ rig::Result<void> MavlinkDutLink::Request(const LinkRequest& request) {
   if (auto sent = SendSim(HilSensorFrom(*imu_, time_usec)); !sent) return sent;
   ++sensor_steps_;
   awaited_ = Awaited{request.tick, time_usec, false};
-  answer_at_once_ns_ = clock_->NowNs() + Nanoseconds(options_.first_answer_wait_s);
+  answer_at_once_ns_ = clock_->NowNs() + rig::NsFromSeconds(options_.first_answer_wait_s);
   return {};
 }
 
@@ -356,7 +354,7 @@ rig::Result<void> MavlinkDutLink::DrainApi() {
 std::optional<rig::Error> MavlinkDutLink::CommandOverdue() const {
   for (const Command& command : commands_) {
     if (command.accepted || !command.first_sent_ns) continue;
-    if (now_ns_ - *command.first_sent_ns < Nanoseconds(options_.command_timeout_s)) continue;
+    if (now_ns_ - *command.first_sent_ns < rig::NsFromSeconds(options_.command_timeout_s)) continue;
     const std::string what = "command " + std::to_string(command.message.command);
     return rig::MakeError(command.last_refusal
                               ? "the dut refused " + what + " for " +
@@ -396,15 +394,16 @@ rig::Result<std::optional<mavlink::Frame>> MavlinkDutLink::NextSimFrame(int time
 }
 
 DutLinkEvent MavlinkDutLink::Receive(int timeout_ms) {
-  if (auto drained = DrainApi(); !drained) {
-    return {DutLinkEventKind::kClosed, 0, drained.error()};
-  }
-  if (auto overdue = CommandOverdue()) return {DutLinkEventKind::kFailed, 0, *overdue};
+  // A tick between sensor steps is answered without a look at either socket.
   if (awaited_ && awaited_->immediate) {
     answered_tick_ = awaited_->tick;
     awaited_.reset();
     return {DutLinkEventKind::kAnswer, answered_tick_, std::nullopt};
   }
+  if (auto drained = DrainApi(); !drained) {
+    return {DutLinkEventKind::kClosed, 0, drained.error()};
+  }
+  if (auto overdue = CommandOverdue()) return {DutLinkEventKind::kFailed, 0, *overdue};
   // Before the first answer, a flight stack that answers late is waited for a little only.
   const bool booting = options_.first_answers_late && !answering_ && awaited_;
   const std::int64_t left_ns = booting ? answer_at_once_ns_ - clock_->NowNs() : 0;

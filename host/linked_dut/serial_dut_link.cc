@@ -18,8 +18,6 @@ constexpr int kByeTimeoutMs = 100;
 // killed at once.
 constexpr int kEmulatorGraceMs = 0;
 
-std::int64_t Nanoseconds(double seconds) { return std::llround(seconds * 1e9); }
-
 // Rounded up, so a wait never ends before its deadline.
 int MillisecondsUntil(std::int64_t now_ns, std::int64_t deadline_ns) {
   return static_cast<int>(std::max<std::int64_t>(0, (deadline_ns - now_ns + 999'999) / 1'000'000));
@@ -141,10 +139,10 @@ SerialDutLink::SerialDutLink(const DutFirmware& firmware, double control_period_
                              SerialLineOpener open_lines, const SerialDutOptions& options)
     : firmware_(firmware),
       control_period_s_(control_period_s),
-      period_ns_(Nanoseconds(control_period_s)),
+      period_ns_(rig::NsFromSeconds(control_period_s)),
       open_lines_(std::move(open_lines)),
       options_(options),
-      retry_ns_(Nanoseconds(options.step_retry_s)) {}
+      retry_ns_(rig::NsFromSeconds(options.step_retry_s)) {}
 
 rig::Result<void> SerialDutLink::Open(const rig::Clock& clock) {
   if (auto valid = ValidateSerialDutOptions(options_); !valid) return valid.error();
@@ -156,8 +154,8 @@ rig::Result<void> SerialDutLink::Open(const rig::Clock& clock) {
 }
 
 std::int64_t SerialDutLink::RetryNs(double seconds, std::size_t bytes) const {
-  return Nanoseconds(seconds +
-                     2.0 * double(dut_link::EncodedFrameBytes(bytes)) * lines_.byte_time_s);
+  return rig::NsFromSeconds(seconds +
+                            2.0 * double(dut_link::EncodedFrameBytes(bytes)) * lines_.byte_time_s);
 }
 
 namespace {
@@ -207,7 +205,7 @@ rig::Result<void> SerialDutLink::Exchange(
 }
 
 rig::Result<void> SerialDutLink::Handshake(const rig::Clock& clock) {
-  const std::int64_t deadline_ns = clock.NowNs() + Nanoseconds(options_.start_timeout_s);
+  const std::int64_t deadline_ns = clock.NowNs() + rig::NsFromSeconds(options_.start_timeout_s);
   proto::LinkMessage hello;
   hello.mutable_hello()->set_role(proto::Hello::RUNNER);
   hello.mutable_hello()->set_name("hilrig " + std::to_string(::getpid()));
@@ -216,7 +214,7 @@ rig::Result<void> SerialDutLink::Handshake(const rig::Clock& clock) {
     return rig::MakeError("the dut refused the " + std::string(what) + ": " + bye.reason());
   };
   auto greeted = Exchange(
-      clock, hello, Nanoseconds(options_.hello_interval_s), deadline_ns, "hello",
+      clock, hello, rig::NsFromSeconds(options_.hello_interval_s), deadline_ns, "hello",
       [&](const proto::LinkMessage& message) -> rig::Result<bool> {
         if (message.has_bye()) return refused(message.bye(), "link");
         if (!message.has_hello() || message.hello().role() != proto::Hello::DUT) return false;
@@ -239,7 +237,7 @@ rig::Result<void> SerialDutLink::Handshake(const rig::Clock& clock) {
   proto::LinkMessage config;
   *config.mutable_config() = ToDutConfig(firmware_, control_period_s_);
   sequencer_.Stamp(config, 0);
-  return Exchange(clock, config, Nanoseconds(options_.config_retry_s), deadline_ns,
+  return Exchange(clock, config, rig::NsFromSeconds(options_.config_retry_s), deadline_ns,
                   "firmware configuration",
                   [&](const proto::LinkMessage& message) -> rig::Result<bool> {
                     if (message.has_bye()) return refused(message.bye(), "firmware configuration");

@@ -170,7 +170,7 @@ SerialLineOpener QemuLines(const QemuTarget& target) {
     if (!qemu) return qemu.error();
     // Starting the emulator takes wall time by nature.
     const rig::SteadyClock clock;
-    const std::int64_t deadline_ns = clock.NowNs() + std::llround(timeout_s * 1e9);
+    const std::int64_t deadline_ns = clock.NowNs() + rig::NsFromSeconds(timeout_s);
     // QEMU waits for USART1's client before it opens USART2.
     auto link = ConnectChardev(qemu.value(), link_port.value(), "USART1", deadline_ns, clock);
     if (!link) return link.error();
