@@ -185,9 +185,31 @@ constexpr void VisitFields(M& m, V& v) {
   v.Field("quality", m.quality_percent);
 }
 
+template <typename M, typename V>
+requires std::same_as<Bare<M>, DebugFloatArray>
+constexpr void VisitFields(M& m, V& v) {
+  v.Field("time_usec", m.time_usec);
+  v.Field("array_id", m.array_id);
+  v.Field("name", m.name);
+  v.Extensions();
+  v.Field("data", m.data);
+}
+
+template <typename M, typename V>
+requires std::same_as<Bare<M>, CanFrame>
+constexpr void VisitFields(M& m, V& v) {
+  v.Field("id", m.id);
+  v.Field("target_system", m.target_system);
+  v.Field("target_component", m.target_component);
+  v.Field("bus", m.bus);
+  v.Field("len", m.len);
+  v.Field("data", m.data);
+}
+
 // The definition's name of each C++ type a field can have.
 template <typename T>
 constexpr std::string_view WireTypeName() {
+  if constexpr (std::is_same_v<T, char>) return "char";
   if constexpr (std::is_same_v<T, std::uint8_t>) return "uint8_t";
   if constexpr (std::is_same_v<T, std::int8_t>) return "int8_t";
   if constexpr (std::is_same_v<T, std::uint16_t>) return "uint16_t";
@@ -422,6 +444,8 @@ HILRIG_MAVLINK_INSTANTIATE(HilSensor)
 HILRIG_MAVLINK_INSTANTIATE(Timesync)
 HILRIG_MAVLINK_INSTANTIATE(HilGps)
 HILRIG_MAVLINK_INSTANTIATE(Odometry)
+HILRIG_MAVLINK_INSTANTIATE(DebugFloatArray)
+HILRIG_MAVLINK_INSTANTIATE(CanFrame)
 #undef HILRIG_MAVLINK_INSTANTIATE
 
 std::span<const MessageInfo> AllMessages() { return kMessages; }

@@ -1,12 +1,13 @@
 // The MAVLink common-set messages a HIL rig exchanges with a flight stack (heartbeat, time,
-// commands, HIL sensor/GPS input and actuator output, time sync, vision and odometry) as plain
-// structs, with units in member names where the message definition gives units, and their exact
-// wire layout: little-endian, base fields sorted by type size (largest first, stable), array
-// fields sorted by their element size, extension fields after the base ones in definition order.
-// Each message has a descriptor listing its wire fields as the definition names them, from which
-// its CRC_EXTRA is recomputed (CrcExtraFromFields), so a wrong field order, type or name shows as
-// a CRC_EXTRA that differs from the published one. EncodeMessage and DecodeMessage join the
-// structs to the framing of host/mavlink/mavlink_frame.h. Nothing here allocates or throws.
+// commands, HIL sensor/GPS input and actuator output, time sync, vision and odometry, a debug
+// array, forwarded CAN frames) as plain structs, with units in member names where the message
+// definition gives units, and their exact wire layout: little-endian, base fields sorted by type
+// size (largest first, stable), array fields sorted by their element size, extension fields after
+// the base ones in definition order. Each message has a descriptor listing its wire fields as the
+// definition names them, from which its CRC_EXTRA is recomputed (CrcExtraFromFields), so a wrong
+// field order, type or name shows as a CRC_EXTRA that differs from the published one. EncodeMessage
+// and DecodeMessage join the structs to the framing of host/mavlink/mavlink_frame.h. Nothing here
+// allocates or throws.
 #pragma once
 
 #include <array>
@@ -264,9 +265,45 @@ struct Odometry {
   bool operator==(const Odometry&) const = default;
 };
 
-using AnyMessage = std::variant<Heartbeat, SystemTime, CommandLong, CommandAck,
-                                SetPositionTargetLocalNed, HilActuatorControls,
-                                VisionPositionEstimate, HilSensor, Timesync, HilGps, Odometry>;
+struct DebugFloatArray {
+  static constexpr std::uint32_t kId = 350;
+  static constexpr std::string_view kName = "DEBUG_FLOAT_ARRAY";
+  static constexpr std::uint8_t kCrcExtra = 232;
+  static constexpr std::size_t kBasePayloadBytes = 20;
+  static constexpr std::size_t kFullPayloadBytes = 252;
+
+  std::uint64_t time_usec = 0;
+  std::uint16_t array_id = 0;
+  std::array<char, 10> name{};  // NUL-padded, not NUL-terminated when all 10 are used
+  // Extensions.
+  std::array<float, 58> data{};
+
+  bool operator==(const DebugFloatArray&) const = default;
+};
+
+// A CAN frame forwarded over MAVLink (up to 8 data bytes; the rig's convention, as SocketCAN's:
+// bit 31 of id marks a 29-bit id).
+struct CanFrame {
+  static constexpr std::uint32_t kId = 386;
+  static constexpr std::string_view kName = "CAN_FRAME";
+  static constexpr std::uint8_t kCrcExtra = 132;
+  static constexpr std::size_t kBasePayloadBytes = 16;
+  static constexpr std::size_t kFullPayloadBytes = 16;
+
+  std::uint32_t id = 0;
+  std::uint8_t target_system = 0;
+  std::uint8_t target_component = 0;
+  std::uint8_t bus = 0;
+  std::uint8_t len = 0;  // data bytes used
+  std::array<std::uint8_t, 8> data{};
+
+  bool operator==(const CanFrame&) const = default;
+};
+
+using AnyMessage =
+    std::variant<Heartbeat, SystemTime, CommandLong, CommandAck, SetPositionTargetLocalNed,
+                 HilActuatorControls, VisionPositionEstimate, HilSensor, Timesync, HilGps, Odometry,
+                 DebugFloatArray, CanFrame>;
 
 template <typename M, typename Variant>
 struct IsAlternativeOf;

@@ -39,6 +39,8 @@ constexpr Published kPublished[] = {
     {111, "TIMESYNC", 34, 16, 18},
     {113, "HIL_GPS", 124, 36, 39},
     {331, "ODOMETRY", 91, 230, 233},
+    {350, "DEBUG_FLOAT_ARRAY", 232, 20, 252},
+    {386, "CAN_FRAME", 132, 16, 16},
 };
 
 // HEARTBEAT from system 1 component 1, seq 239, as another implementation's tests encode it.
@@ -171,8 +173,19 @@ std::vector<AnyMessage> Samples() {
     odometry.pose_covariance[i] = 0.01f * static_cast<float>(i + 1);
     odometry.velocity_covariance[i] = -0.5f * static_cast<float>(i + 1);
   }
-  return {heartbeat, system_time, command_long, command_ack, setpoint, actuators,
-          vision,    sensor,      timesync,     gps,         odometry};
+  DebugFloatArray debug{
+      .time_usec = 4'000'000, .array_id = 1, .name = {'h', 'i', 'l', 'r', 'i', 'g'}};
+  for (std::size_t i = 0; i < debug.data.size(); ++i) {
+    debug.data[i] = 0.5f * static_cast<float>(i) - 7.0f;
+  }
+  CanFrame can{.id = 0x123,
+               .target_system = 1,
+               .target_component = 1,
+               .bus = 0,
+               .len = 8,
+               .data = {1, 2, 3, 4, 5, 6, 7, 0xFF}};
+  return {heartbeat, system_time, command_long, command_ack, setpoint, actuators, vision,
+          sensor,    timesync,    gps,          odometry,    debug,    can};
 }
 
 Bytes EncodeToBytes(const AnyMessage& message, std::uint8_t sequence = 17) {
@@ -285,6 +298,12 @@ TEST(MavlinkMessagesTest, FieldOffsetsMatchThePublishedLayouts) {
       {331, "reset_counter", 230},
       {331, "estimator_type", 231},
       {331, "quality", 232},
+      {350, "array_id", 8},
+      {350, "name", 10},
+      {350, "data", 20},
+      {386, "target_system", 4},
+      {386, "len", 7},
+      {386, "data", 8},
   };
   for (const Expected& e : expected) {
     const MessageInfo* info = FindMessage(e.id);

@@ -95,6 +95,8 @@ void StoreValue(const FieldInfo& field, int index, int element, std::uint8_t* at
     Store(at, std::int16_t(-300 * k));
   } else if (type == "int8_t") {
     Store(at, std::int8_t(-k));
+  } else if (type == "char") {
+    *at = static_cast<std::uint8_t>('a' + k % 26);  // text, as a char array holds
   } else {
     *at = static_cast<std::uint8_t>(200 - k);
   }

@@ -34,6 +34,14 @@ function same(field, expected, actual) {
   return Number(expected) === Number(actual);
 }
 
+// A char array as text: node-mavlink reads and writes a string, the rig an array of byte values;
+// both stop at the first NUL.
+function textOf(value) {
+  if (typeof value === 'string') return value.replace(/\0.*$/s, '');
+  const end = value.indexOf(0);
+  return String.fromCharCode(...(end < 0 ? value : value.slice(0, end)).map(Number));
+}
+
 function compareFields(where, clazz, expectedBySource, actualBySource) {
   const sources = clazz.FIELDS.map((field) => field.source);
   for (const name of Object.keys(expectedBySource)) {
@@ -46,7 +54,8 @@ function compareFields(where, clazz, expectedBySource, actualBySource) {
     }
     const expected = expectedBySource[field.source];
     const actual = actualBySource[field.source];
-    const ok = field.length
+    const ok = elementType(field) === 'char' ? textOf(expected) === textOf(actual)
+      : field.length
       ? expected.length === actual.length && expected.every((e, i) => same(field, e, actual[i]))
       : same(field, expected, actual);
     if (!ok) fail(`${where}.${field.source}: expected ${expected}, got ${actual}`);
@@ -139,7 +148,9 @@ function checkNodeFrames(ids) {
     const message = new clazz();
     const values = {};
     clazz.FIELDS.forEach((field, index) => {
-      const value = field.length
+      const value = elementType(field) === 'char'
+        ? `f${index}-${clazz.MSG_ID}`.slice(0, field.length)
+        : field.length
         ? Array.from({ length: field.length }, (_, e) => valueFor(field, index, e))
         : valueFor(field, index, 0);
       message[field.name] = value;
