@@ -79,9 +79,11 @@ bool MavlinkFrameBatch::Append(const mavlink::AnyMessage& message, std::uint8_t 
 }
 
 MavlinkDut::MavlinkDut(const host::DutFirmware& firmware, double control_period_s)
-    : bus_(std::make_unique<rig::EmulatedBus>()),
-      port_(std::make_unique<host::InProcessDut>(firmware, bus_->Connect("dut"), control_period_s)),
-      range_(host::ActuatorScaleOf(firmware)) {}
+    : range_(host::ActuatorScaleOf(firmware)) {
+  auto bus = std::make_unique<LinkCanBus>();
+  can_ = bus.get();
+  port_ = std::make_unique<host::InProcessDut>(firmware, std::move(bus), control_period_s);
+}
 
 MavlinkDut::MavlinkDut(std::unique_ptr<host::DutPort> port, const host::ActuatorScale& range)
     : port_(std::move(port)), range_(range) {}
@@ -134,6 +136,8 @@ const MavlinkReplies& MavlinkDut::Handle(const mavlink::AnyMessage& message, Mav
   } else if (const auto* odometry = std::get_if<mavlink::Odometry>(&message);
              odometry && simulator) {
     HandleOdometry(*odometry);
+  } else if (const auto* can = std::get_if<mavlink::CanFrame>(&message); can && simulator) {
+    HandleCanFrame(*can);
   } else if (const auto* command = std::get_if<mavlink::CommandLong>(&message);
              command && !simulator) {
     HandleCommand(*command, sender);
@@ -217,6 +221,8 @@ void MavlinkDut::HandleSensor(const mavlink::HilSensor& sensor) {
     Send(MavlinkLink::kApi, MakeHeartbeat());
     next_heartbeat_usec_ = (time_usec / kHeartbeatPeriodUsec + 1) * kHeartbeatPeriodUsec;
   }
+  // The estimates go ahead of the answer, so the rig holds this step's when the answer comes.
+  Send(MavlinkLink::kApi, host::TelemetryFrom(command.value(), time_usec));
   Send(MavlinkLink::kSimulator, MakeControls(time_usec, command.value()));
 }
 
@@ -250,6 +256,27 @@ void MavlinkDut::HandleSetpoint(const mavlink::SetPositionTargetLocalNed& target
   ++counters_.setpoints;
 }
 
+void MavlinkDut::HandleCanFrame(const mavlink::CanFrame& message) {
+  const std::optional<rig::CanFrame> frame = host::CanFrameFrom(message);
+  if (can_ == nullptr || !frame ||
+      !AddressedToUs(message.target_system, message.target_component)) {
+    ++counters_.ignored;
+    return;
+  }
+  can_->Deliver(std::span(&*frame, 1));
+  ++counters_.can_frames;
+}
+
+MavResult MavlinkDut::HandleGripper(const mavlink::CommandLong& command) {
+  const std::optional<host::SetpointMessage> grasped =
+      host::WithGripperCommand(command, last_setpoint_);
+  if (!grasped) return MavResult::kDenied;
+  // The grasp reaches the controller with the next step, as a setpoint would.
+  last_setpoint_ = *grasped;
+  setpoint_held_ = *grasped;
+  return MavResult::kAccepted;
+}
+
 void MavlinkDut::HandleCommand(const mavlink::CommandLong& command, MavlinkSender sender) {
   if (!AddressedToUs(command.target_system, command.target_component)) {
     ++counters_.ignored;
@@ -273,6 +300,8 @@ void MavlinkDut::HandleCommand(const mavlink::CommandLong& command, MavlinkSende
       // PX4's custom_mode: the main mode in byte 2, the sub mode in byte 3.
       custom_mode_ = (std::uint32_t{*main_mode} << 16) | (std::uint32_t{*sub_mode} << 24);
     }
+  } else if (command.command == host::kMavCmdDoGripper) {
+    result = HandleGripper(command);
   }
   mavlink::CommandAck ack;
   ack.command = command.command;

@@ -3,7 +3,7 @@
 // MAVLink path can be driven without PX4.
 //
 // MavlinkDut is the flight stack's side of the protocol with no socket in it: decoded messages of
-// both links in (ODOMETRY and HIL_SENSOR on the TCP simulator link, COMMAND_LONG and
+// both links in (ODOMETRY, CAN_FRAME and HIL_SENSOR on the TCP simulator link, COMMAND_LONG and
 // SET_POSITION_TARGET_LOCAL_NED on the UDP API link), NED/FRD turned into the rig's ENU/FLU, one
 // controller step per HIL_SENSOR, encoded frames for each link out. RunMavlinkDut puts it on POSIX
 // sockets. The DUT's only clock is HIL_SENSOR's time_usec; the OS clock bounds socket waits only.
@@ -21,13 +21,13 @@
 #include <vector>
 
 #include "dut_emu/dut_emu_server.h"
+#include "dut_emu/link_can_bus.h"
 #include "host/dut/dut_port.h"
 #include "host/link/dut_config_codec.h"
 #include "host/link/hil_messages.h"
 #include "host/link/mavlink_hil.h"
 #include "host/mavlink/mavlink_frame.h"
 #include "host/mavlink/mavlink_messages.h"
-#include "rig/emulated_bus.h"
 #include "rig/result.h"
 
 namespace hilrig::dut_emu {
@@ -100,12 +100,14 @@ struct MavlinkReplies {
 // What MavlinkDut took and left, for the line it ends on.
 struct MavlinkDutCounters {
   std::uint64_t sensor_steps = 0;
-  std::uint64_t poses = 0;      // ODOMETRY handed to the controller
-  std::uint64_t setpoints = 0;  // SET_POSITION_TARGET_LOCAL_NED taken
-  std::uint64_t commands = 0;   // COMMAND_LONG answered
+  std::uint64_t poses = 0;       // ODOMETRY handed to the controller
+  std::uint64_t setpoints = 0;   // SET_POSITION_TARGET_LOCAL_NED taken
+  std::uint64_t can_frames = 0;  // CAN_FRAME handed to the controller's bus
+  std::uint64_t commands = 0;    // COMMAND_LONG answered
   std::uint64_t heartbeats_received = 0;
   // Messages it does not take: ones a link does not carry in the contract, ones addressed to
-  // another system, poses and setpoints in a frame other than MAV_FRAME_LOCAL_NED or not finite.
+  // another system, poses and setpoints in a frame other than MAV_FRAME_LOCAL_NED or not finite,
+  // CAN frames no bus holds.
   std::uint64_t ignored = 0;
 };
 
@@ -127,10 +129,11 @@ class MavlinkDut {
   // One heartbeat per second of the DUT's time.
   static constexpr std::uint64_t kHeartbeatPeriodUsec = 1'000'000;
 
-  // The rig's controller, an InProcessDut on a CAN bus of its own (no tactile frame travels over
-  // MAVLink), normalised by the firmware's rotor and servo ranges. Cannot fail.
+  // The rig's controller, an InProcessDut on a CAN bus that the simulator link's CAN_FRAMEs fill,
+  // normalised by the firmware's rotor and servo ranges. Cannot fail.
   MavlinkDut(const host::DutFirmware& firmware, double control_period_s);
-  // Any DUT port, normalised by `range`; for tests that watch what the port is sent. Cannot fail.
+  // Any DUT port, normalised by `range`; for tests that watch what the port is sent. CAN frames
+  // are counted as ignored: the port's bus is its own. Cannot fail.
   MavlinkDut(std::unique_ptr<host::DutPort> port, const host::ActuatorScale& range);
   MavlinkDut(const MavlinkDut&) = delete;
   MavlinkDut& operator=(const MavlinkDut&) = delete;
@@ -141,11 +144,13 @@ class MavlinkDut {
   // Decodes `frame` and handles it; a frame the codec cannot decode ends the DUT (kUndecodable).
   // Does not allocate unless it ends the DUT (the reason's text).
   const MavlinkReplies& HandleFrame(const mavlink::Frame& frame, MavlinkLink link);
-  // ODOMETRY: held for the next step. HIL_SENSOR: one step (time checks, the stale rule, the held
-  // poses and setpoint, the IMU reading, the controller's step) answered with one
-  // HIL_ACTUATOR_CONTROLS of the same time_usec, and a HEARTBEAT on the API link once a second.
-  // COMMAND_LONG: arm/disarm (400) and set mode (176) are accepted, others unsupported, each
-  // answered with a COMMAND_ACK. SET_POSITION_TARGET_LOCAL_NED: held for the next step. A
+  // ODOMETRY: held for the next step. CAN_FRAME: onto the controller's CAN bus, which it reads at
+  // the next step. HIL_SENSOR: one step (time checks, the stale rule, the held poses and setpoint,
+  // the IMU reading, the controller's step) answered with one HIL_ACTUATOR_CONTROLS of the same
+  // time_usec, after the controller's estimates (DEBUG_FLOAT_ARRAY) and, once a second, a
+  // HEARTBEAT on the API link. COMMAND_LONG: arm/disarm (400), set mode (176) and the gripper
+  // (211, the grasp) are accepted when well-formed, others unsupported, each answered with a
+  // COMMAND_ACK. SET_POSITION_TARGET_LOCAL_NED: held for the next step. A
   // HIL_SENSOR can end the DUT (see MavlinkDutEnd). Does not allocate unless it ends the DUT (the
   // reason's text); the controller's step is the DUT port's.
   const MavlinkReplies& Handle(const mavlink::AnyMessage& message, MavlinkLink link,
@@ -154,6 +159,8 @@ class MavlinkDut {
   // Cannot fail; do not allocate.
   const MavlinkDutCounters& counters() const { return counters_; }
   bool arm_commanded() const { return arm_commanded_; }
+  // The controller's own counters (CAN frames taken and rejected among them).
+  host::DutCounters controller_counters() const { return port_->counters(); }
   MavlinkDutEnd end() const { return replies_.end; }
 
  private:
@@ -163,6 +170,8 @@ class MavlinkDut {
   void HandleOdometry(const mavlink::Odometry& odometry);
   void HandleCommand(const mavlink::CommandLong& command, MavlinkSender sender);
   void HandleSetpoint(const mavlink::SetPositionTargetLocalNed& target);
+  void HandleCanFrame(const mavlink::CanFrame& message);
+  MavResult HandleGripper(const mavlink::CommandLong& command);
   // Whether the stale rule fires with this reading.
   bool RepeatsStale(const mavlink::HilSensor& sensor);
   void Send(MavlinkLink link, const mavlink::AnyMessage& message);
@@ -170,7 +179,7 @@ class MavlinkDut {
   mavlink::HilActuatorControls MakeControls(std::uint64_t time_usec,
                                             const host::ActuatorMessage& command) const;
 
-  std::unique_ptr<rig::EmulatedBus> bus_;  // before port_: the port's endpoint lives on it
+  LinkCanBus* can_ = nullptr;  // owned by port_; null for a port of the caller's
   std::unique_ptr<host::DutPort> port_;
   host::ActuatorScale range_;
   MavlinkReplies replies_;

@@ -16,6 +16,19 @@ constexpr std::uint8_t kModeArmed = 128;         // MAV_MODE_FLAG_SAFETY_ARMED
 constexpr std::uint8_t kModeCustom = 1;          // MAV_MODE_FLAG_CUSTOM_MODE_ENABLED
 constexpr std::uint64_t kFlagLockstep = 1;       // HIL_ACTUATOR_CONTROLS_FLAGS_LOCKSTEP
 constexpr int kServoOutput = 4;
+constexpr float kGripperInstance = 1;
+constexpr float kGripperRelease = 0;  // GRIPPER_ACTION_RELEASE
+constexpr float kGripperGrab = 1;     // GRIPPER_ACTION_GRAB
+// CAN_FRAME's id flags, as SocketCAN's can_id.
+constexpr std::uint32_t kCanIdExtended = 1u << 31;
+constexpr std::uint32_t kCanIdRemote = 1u << 30;
+constexpr std::uint32_t kCanIdError = 1u << 29;
+// The telemetry array's layout (docs/px4.md): where each estimate begins.
+constexpr std::size_t kTelemetryPosition = 0;       // 3: NED, m
+constexpr std::size_t kTelemetryExternalForce = 3;  // 3: NED, N
+constexpr std::size_t kTelemetryGraspForce = 6;     // N
+constexpr std::size_t kTelemetryPadsReady = 7;      // 1: zeroed, 0: not yet
+constexpr std::size_t kTelemetryPadForces = 8;      // 6 x 3: each pad's sensor frame, N
 // POSITION_TARGET_TYPEMASK: the dimensions a target leaves out.
 constexpr std::uint16_t kIgnoreX = 1 << 0;
 constexpr std::uint16_t kIgnoreY = 1 << 1;
@@ -178,10 +191,106 @@ std::optional<SetpointMessage> SetpointFrom(const mavlink::SetPositionTargetLoca
       !setpoint.acceleration_m_s2.allFinite() || !std::isfinite(setpoint.yaw_rad)) {
     return std::nullopt;
   }
-  setpoint.grasp_regulate = false;
-  setpoint.grasp_force_n = 0;
-  setpoint.grasp_reference_angle_rad = 0;
   return setpoint;
+}
+
+mavlink::CommandLong GripperCommandFrom(const SetpointMessage& setpoint) {
+  mavlink::CommandLong command;
+  command.command = kMavCmdDoGripper;
+  command.param1 = kGripperInstance;
+  command.param2 = setpoint.grasp_regulate ? kGripperGrab : kGripperRelease;
+  command.param3 = setpoint.grasp_regulate ? static_cast<float>(setpoint.grasp_force_n) : 0;
+  command.param4 =
+      setpoint.grasp_regulate ? static_cast<float>(setpoint.grasp_reference_angle_rad) : 0;
+  command.target_system = 1;
+  command.target_component = 1;
+  return command;
+}
+
+std::optional<SetpointMessage> WithGripperCommand(const mavlink::CommandLong& command,
+                                                  const SetpointMessage& setpoint) {
+  if (command.command != kMavCmdDoGripper) return std::nullopt;
+  if (command.param1 != 0 && command.param1 != kGripperInstance) return std::nullopt;
+  const bool grab = command.param2 == kGripperGrab;
+  if (!grab && command.param2 != kGripperRelease) return std::nullopt;
+  if (grab && !(std::isfinite(command.param3) && std::isfinite(command.param4))) {
+    return std::nullopt;
+  }
+  SetpointMessage grasped = setpoint;
+  grasped.grasp_regulate = grab;
+  grasped.grasp_force_n = grab ? command.param3 : 0;
+  grasped.grasp_reference_angle_rad = grab ? command.param4 : 0;
+  return grasped;
+}
+
+bool SameGrasp(const SetpointMessage& a, const SetpointMessage& b) {
+  if (a.grasp_regulate != b.grasp_regulate) return false;
+  return !a.grasp_regulate || (a.grasp_force_n == b.grasp_force_n &&
+                               a.grasp_reference_angle_rad == b.grasp_reference_angle_rad);
+}
+
+std::optional<mavlink::CanFrame> CanFrameMessageFrom(const rig::CanFrame& frame) {
+  if (frame.error || frame.fd || frame.length > rig::CanFrame::kMaxClassicPayload) {
+    return std::nullopt;
+  }
+  mavlink::CanFrame message;
+  message.id = frame.id | (frame.extended ? kCanIdExtended : 0) | (frame.remote ? kCanIdRemote : 0);
+  message.target_system = 1;
+  message.target_component = 1;
+  message.len = frame.length;
+  if (!frame.remote) std::copy_n(frame.data.begin(), frame.length, message.data.begin());
+  return message;
+}
+
+std::optional<rig::CanFrame> CanFrameFrom(const mavlink::CanFrame& message) {
+  if (message.len > rig::CanFrame::kMaxClassicPayload || (message.id & kCanIdError) != 0) {
+    return std::nullopt;
+  }
+  rig::CanFrame frame;
+  frame.extended = (message.id & kCanIdExtended) != 0;
+  frame.remote = (message.id & kCanIdRemote) != 0;
+  frame.id = message.id & rig::kMaxExtendedId;
+  frame.length = message.len;
+  if (!frame.remote) std::copy_n(message.data.begin(), message.len, frame.data.begin());
+  if (!rig::IsValidFrame(frame)) return std::nullopt;
+  return frame;
+}
+
+mavlink::DebugFloatArray TelemetryFrom(const ActuatorMessage& command, std::uint64_t time_usec) {
+  mavlink::DebugFloatArray array;
+  array.time_usec = time_usec;
+  array.array_id = kTelemetryArrayId;
+  std::copy_n(kTelemetryName, sizeof kTelemetryName - 1, array.name.begin());
+  const auto put = [&array](std::size_t at, const Eigen::Vector3d& vector) {
+    for (int axis = 0; axis < 3; ++axis) array.data[at + axis] = static_cast<float>(vector[axis]);
+  };
+  put(kTelemetryPosition, NedFromEnu(command.estimated_position_m));
+  put(kTelemetryExternalForce, NedFromEnu(command.external_force_world_n));
+  array.data[kTelemetryGraspForce] = static_cast<float>(command.grasp_force_estimate_n);
+  array.data[kTelemetryPadsReady] = command.tactile_ready ? 1.0f : 0.0f;
+  for (std::size_t pad = 0; pad < command.tactile_force_sensor_n.size(); ++pad) {
+    put(kTelemetryPadForces + 3 * pad, command.tactile_force_sensor_n[pad]);
+  }
+  return array;
+}
+
+bool IsTelemetry(const mavlink::DebugFloatArray& array) {
+  std::array<char, 10> name{};
+  std::copy_n(kTelemetryName, sizeof kTelemetryName - 1, name.begin());
+  return array.array_id == kTelemetryArrayId && array.name == name;
+}
+
+void ApplyTelemetry(const mavlink::DebugFloatArray& telemetry, ActuatorMessage& command) {
+  const auto get = [&telemetry](std::size_t at) {
+    return Eigen::Vector3d(telemetry.data[at], telemetry.data[at + 1], telemetry.data[at + 2]);
+  };
+  command.estimated_position_m = NedFromEnu(get(kTelemetryPosition));
+  command.external_force_world_n = NedFromEnu(get(kTelemetryExternalForce));
+  command.grasp_force_estimate_n = telemetry.data[kTelemetryGraspForce];
+  command.tactile_ready = telemetry.data[kTelemetryPadsReady] == 1.0f;
+  for (std::size_t pad = 0; pad < command.tactile_force_sensor_n.size(); ++pad) {
+    command.tactile_force_sensor_n[pad] = get(kTelemetryPadForces + 3 * pad);
+  }
 }
 
 ActuatorScale ActuatorScaleOf(const DutFirmware& firmware) {

@@ -15,6 +15,7 @@
 #include "host/link/dut_firmware.h"
 #include "host/link/hil_messages.h"
 #include "host/mavlink/mavlink_messages.h"
+#include "rig/can_frame.h"
 
 namespace hilrig::host {
 
@@ -58,11 +59,48 @@ std::optional<VioMessage> VioFrom(const mavlink::Odometry& odometry);
 // rate ignored), to system 1, component 1. Back: what a dimension the type_mask ignores keeps
 // comes from `previous` (position, yaw), or is zero (velocity, acceleration, and an acceleration
 // given as a force); nullopt for a frame other than LOCAL_NED or a value that is not finite. The
-// gripper stays open: MAVLink carries no grasp command. The stamp is left for the caller.
+// grasp is `previous`'s: it travels as MAV_CMD_DO_GRIPPER (GripperCommandFrom). The stamp is left
+// for the caller.
 mavlink::SetPositionTargetLocalNed PositionTargetFrom(const SetpointMessage& setpoint,
                                                       std::uint32_t time_boot_ms);
 std::optional<SetpointMessage> SetpointFrom(const mavlink::SetPositionTargetLocalNed& target,
                                             const SetpointMessage& previous);
+
+// MAV_CMD_DO_GRIPPER, the common set's gripper command.
+inline constexpr std::uint16_t kMavCmdDoGripper = 211;
+
+// The grasp a setpoint carries as MAV_CMD_DO_GRIPPER to system 1, component 1: gripper 1, grab
+// (regulate the grasp force) or release (open). Params 3 and 4, empty in the definition, carry the
+// grasp force set-point in N and the servo angle where contact is expected in rad, for a flight
+// stack that regulates the force; one that only opens and closes its gripper ignores them.
+mavlink::CommandLong GripperCommandFrom(const SetpointMessage& setpoint);
+// `setpoint` with the grasp of a MAV_CMD_DO_GRIPPER; nullopt for another command, a gripper other
+// than 0 (all) or 1, an action other than release or grab, or a grab whose force or angle is not
+// finite.
+std::optional<SetpointMessage> WithGripperCommand(const mavlink::CommandLong& command,
+                                                  const SetpointMessage& setpoint);
+// Whether two setpoints carry the same grasp command.
+bool SameGrasp(const SetpointMessage& a, const SetpointMessage& b);
+
+// A CAN frame as CAN_FRAME on bus 0 to system 1, component 1, its id flagged as SocketCAN flags
+// it (bit 31: a 29-bit id, bit 30: a remote frame); nullopt for what CAN_FRAME cannot carry (an
+// error frame, a CAN FD frame). Back: nullopt for a length over 8, an id out of range for its
+// flag, or the error flag (bit 29).
+std::optional<mavlink::CanFrame> CanFrameMessageFrom(const rig::CanFrame& frame);
+std::optional<rig::CanFrame> CanFrameFrom(const mavlink::CanFrame& message);
+
+// The DUT's estimates for the trace, as the DEBUG_FLOAT_ARRAY named kTelemetryName that a flight
+// stack reports on the API link (docs/px4.md gives the layout): its position estimate and
+// external force (both NED), its grasp force estimate, whether its pads are zeroed, and the six
+// pads' forces in their sensor frames.
+inline constexpr char kTelemetryName[] = "hilrig";
+inline constexpr std::uint16_t kTelemetryArrayId = 1;
+mavlink::DebugFloatArray TelemetryFrom(const ActuatorMessage& command, std::uint64_t time_usec);
+// Whether `array` is the DUT's telemetry (by its name and id).
+bool IsTelemetry(const mavlink::DebugFloatArray& array);
+// `command` with the estimates of `telemetry` (a value that is not finite passes through, as from
+// any other DUT).
+void ApplyTelemetry(const mavlink::DebugFloatArray& telemetry, ActuatorMessage& command);
 
 // What HIL_ACTUATOR_CONTROLS's outputs mean for the vehicle the DUT is flashed for: motors 0..3 in
 // [0, 1] of each rotor's maximum thrust, in PX4's quad-x order (the rig's rotor order), output 4

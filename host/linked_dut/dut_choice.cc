@@ -243,22 +243,11 @@ rig::Result<void> ParseMavlinkOptions(const DutArguments& arguments, DutChoice& 
   return {};
 }
 
-DutFactory MavlinkFactory(DutKind kind, MavlinkDutPortOptions options,
-                          const DutFactorySeams& seams) {
+DutFactory MavlinkFactory(MavlinkDutPortOptions options, const DutFactorySeams& seams) {
   options.link.stop_requested = seams.stop_requested;
   options.link.notes = seams.notes;
-  return [kind, options](const ScenarioConfig& config, std::unique_ptr<rig::CanBus> bus,
-                         double control_period_s) -> rig::Result<std::unique_ptr<DutPort>> {
-    // MAVLink carries no grasp command and no tactile frame: a grasping scene would fly without
-    // its grasp and pass for the wrong reason.
-    if (!config.gripper.grasps.empty()) {
-      return rig::MakeError(
-          std::string("--dut ") + DutKindName(kind) + ": the scene grasps (" +
-          std::to_string(config.gripper.grasps.size()) +
-          " grasp commands in its timeline), and MAVLink carries neither the grasp command nor "
-          "the tactile frames the grasp controller needs; fly it with --dut inproc, process, "
-          "exec:, qemu or serial:");
-    }
+  return [options](const ScenarioConfig& config, std::unique_ptr<rig::CanBus> bus,
+                   double control_period_s) -> rig::Result<std::unique_ptr<DutPort>> {
     return std::unique_ptr<DutPort>(std::make_unique<MavlinkDut>(
         FirmwareFor(config), std::move(bus), control_period_s, options));
   };
@@ -386,7 +375,7 @@ rig::Result<DutFactory> MakeDutFactory(const DutChoice& choice, bool realtime,
                               " runs in lockstep only: PX4's simulator contract gives the DUT no "
                               "clock but the sensor steps (leave out --realtime)");
       }
-      return MavlinkFactory(choice.kind, choice.mavlink, seams);
+      return MavlinkFactory(choice.mavlink, seams);
   }
   return rig::MakeError("unknown DUT kind");
 }

@@ -31,6 +31,20 @@ constexpr int kWriteTimeoutMs = 1000;
 constexpr int kTerminateGraceMs = 1000;
 constexpr std::size_t kReadChunkBytes = 4096;
 
+// The name of a command the link sends, for its errors.
+const char* CommandName(std::uint16_t command) {
+  switch (command) {
+    case kCommandArmDisarm:
+      return "MAV_CMD_COMPONENT_ARM_DISARM";
+    case kCommandSetMode:
+      return "MAV_CMD_DO_SET_MODE";
+    case kMavCmdDoGripper:
+      return "MAV_CMD_DO_GRIPPER";
+    default:
+      return "MAV_CMD";
+  }
+}
+
 bool Positive(double seconds) { return std::isfinite(seconds) && seconds > 0 && seconds <= 3600; }
 
 }  // namespace
@@ -73,6 +87,9 @@ MavlinkDutLink::MavlinkDutLink(const DutFirmware& firmware, double control_perio
   for (Command& command : commands_) {
     command.message.target_system = command.message.target_component = 1;
   }
+  // The gripper starts open, as the DUT's: nothing to send until the scene grasps.
+  commands_[kGraspCommand].message = GripperCommandFrom(grasp_);
+  commands_[kGraspCommand].accepted = true;
   sensor_every_ticks_ = static_cast<std::uint64_t>(
       std::max<long long>(1, std::llround(options.sensor_period_s / control_period_s)));
 }
@@ -271,12 +288,20 @@ rig::Result<void> MavlinkDutLink::Input(const DutInput& input, bool, std::int64_
     poses_.push_back(*vio);
   } else if (const auto* setpoint = std::get_if<SetpointMessage>(&input)) {
     setpoint_ = *setpoint;
+    if (!SameGrasp(*setpoint, grasp_)) {
+      grasp_ = *setpoint;
+      commands_[kGraspCommand] = Command();
+      commands_[kGraspCommand].message = GripperCommandFrom(*setpoint);
+    }
   }
   return {};
 }
 
 rig::Result<void> MavlinkDutLink::Request(const LinkRequest& request) {
   now_ns_ = request.now_ns;
+  if (request.frames != nullptr) {
+    if (auto sent = ForwardCanFrames(*request.frames); !sent) return sent;
+  }
   const std::uint64_t time_usec = MavlinkTimeUs(request.now_ns);
   // PX4 takes a time of 0 for no time at all: the first sensor step comes after it.
   if (request.tick % sensor_every_ticks_ != 0 || !imu_ || time_usec == 0) {
@@ -313,6 +338,19 @@ rig::Result<void> MavlinkDutLink::Request(const LinkRequest& request) {
   return {};
 }
 
+rig::Result<void> MavlinkDutLink::ForwardCanFrames(const std::vector<rig::TimedCanFrame>& frames) {
+  for (const rig::TimedCanFrame& timed : frames) {
+    const std::optional<mavlink::CanFrame> message = CanFrameMessageFrom(timed.frame);
+    if (!message) {
+      ++can_frames_not_carried_;
+      continue;
+    }
+    if (auto sent = SendSim(*message); !sent) return sent;
+    ++can_frames_sent_;
+  }
+  return {};
+}
+
 rig::Result<void> MavlinkDutLink::SendCommandsDue() {
   if (!setpoint_seen_) return {};
   for (Command& command : commands_) {
@@ -337,6 +375,12 @@ rig::Result<void> MavlinkDutLink::DrainApi() {
     mavlink::FrameParser parser(&mavlink::FindWireInfo);
     parser.Feed(bytes, [&](const mavlink::Frame& frame) {
       const auto message = mavlink::DecodeMessage(frame);
+      const auto* array = message ? std::get_if<mavlink::DebugFloatArray>(&*message) : nullptr;
+      if (array != nullptr && IsTelemetry(*array)) {
+        telemetry_ = *array;
+        ++telemetry_received_;
+        return;
+      }
       const auto* ack = message ? std::get_if<mavlink::CommandAck>(&*message) : nullptr;
       if (ack == nullptr) return;
       for (Command& command : commands_) {
@@ -355,7 +399,8 @@ std::optional<rig::Error> MavlinkDutLink::CommandOverdue() const {
   for (const Command& command : commands_) {
     if (command.accepted || !command.first_sent_ns) continue;
     if (now_ns_ - *command.first_sent_ns < rig::NsFromSeconds(options_.command_timeout_s)) continue;
-    const std::string what = "command " + std::to_string(command.message.command);
+    const std::string what = "command " + std::to_string(command.message.command) + " (" +
+                             CommandName(command.message.command) + ")";
     return rig::MakeError(command.last_refusal
                               ? "the dut refused " + what + " for " +
                                     rig::SecondsText(options_.command_timeout_s) +
@@ -462,11 +507,18 @@ DutLinkEvent MavlinkDutLink::Answer(const mavlink::HilActuatorControls& controls
   last_controls_ = controls;
   answered_tick_ = awaited_->tick;
   awaited_.reset();
+  estimates_due_ = true;
   return {DutLinkEventKind::kAnswer, answered_tick_, std::nullopt};
 }
 
 rig::Result<ActuatorMessage> MavlinkDutLink::TakeAnswer(std::int64_t arrival_wall_ns) {
+  // A flight stack sends a step's estimates ahead of its answer; they are on the API link now.
+  if (estimates_due_) {
+    estimates_due_ = false;
+    if (auto drained = DrainApi(); !drained) return drained.error();
+  }
   ActuatorMessage command = ActuatorFrom(last_controls_, scale_);
+  if (telemetry_) ApplyTelemetry(*telemetry_, command);
   command.stamp = {answered_tick_, arrival_wall_ns};
   command.answers_sequence = answered_tick_;
   return command;
@@ -500,6 +552,9 @@ std::vector<rig::Metric> MavlinkDutLink::metrics(bool) const {
   for (const auto& [name, value] : {std::pair{"mavlink_sensor_steps", sensor_steps_},
                                     {"mavlink_odometry_sent", odometry_sent_},
                                     {"mavlink_setpoints_sent", setpoints_sent_},
+                                    {"mavlink_can_frames_sent", can_frames_sent_},
+                                    {"mavlink_can_frames_not_carried", can_frames_not_carried_},
+                                    {"mavlink_estimates_received", telemetry_received_},
                                     {"mavlink_controls_received", controls_received_},
                                     {"mavlink_frames_ignored", frames_ignored_},
                                     {"mavlink_api_frames_received", api_frames_received_},

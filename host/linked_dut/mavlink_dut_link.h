@@ -3,10 +3,12 @@
 // and binds a UDP port for the offboard API link; Open starts `dut_emu --mavlink` (PX4's stand-in
 // running the rig's controller) and waits for it to connect and to send its API heartbeat. A
 // request sends a sensor step on the control ticks that fall on the sensor period (250 Hz): the
-// setpoint and commands on the API link, the VIO poses as ODOMETRY and one HIL_SENSOR; the DUT's
-// HIL_ACTUATOR_CONTROLS of the same time answers it. The ticks between sensor steps are answered
-// at once with the last command, as the vehicle's motors hold it. Every frame both ways goes into
-// the run folder's mavlink.tlog, stamped with the run's time.
+// setpoint and commands (the grasp as MAV_CMD_DO_GRIPPER) on the API link, the VIO poses as
+// ODOMETRY and one HIL_SENSOR; the DUT's HIL_ACTUATOR_CONTROLS of the same time answers it, and
+// its estimates for the trace come as DEBUG_FLOAT_ARRAY on the API link. The ticks between sensor
+// steps are answered at once with the last command, as the vehicle's motors hold it. Every tick's
+// tactile CAN frames go on the simulator link as CAN_FRAME, as they reach the runner's DUT end.
+// Every frame both ways goes into the run folder's mavlink.tlog, stamped with the run's time.
 #pragma once
 
 #include <array>
@@ -94,6 +96,8 @@ class MavlinkDutLink final : public DutLink {
   void LogReceived(const mavlink::Frame& frame);
   // What the API link brought since the last look: the commands' acknowledgements.
   rig::Result<void> DrainApi();
+  // Each frame the runner's DUT endpoint received, as CAN_FRAME on the simulator link.
+  rig::Result<void> ForwardCanFrames(const std::vector<rig::TimedCanFrame>& frames);
   // Sends each command not accepted yet, at most once a second.
   rig::Result<void> SendCommandsDue();
   // A command refused or unanswered for longer than command_timeout_s.
@@ -131,7 +135,8 @@ class MavlinkDutLink final : public DutLink {
   std::optional<ImuMessage> imu_;
   std::vector<VioMessage> poses_;            // delivered since the last sensor step
   std::optional<SetpointMessage> setpoint_;  // a new setpoint not sent yet
-  // The offboard mode and the arming, from the first setpoint on, until the DUT accepts each.
+  // The offboard mode and the arming, from the first setpoint on, and the grasp since it last
+  // changed, each until the DUT accepts it.
   struct Command {
     mavlink::CommandLong message;
     bool accepted = false;
@@ -139,7 +144,12 @@ class MavlinkDutLink final : public DutLink {
     std::int64_t last_sent_ns = 0;
     std::optional<std::uint8_t> last_refusal;  // MAV_RESULT
   };
-  std::array<Command, 2> commands_;
+  static constexpr std::size_t kGraspCommand = 2;
+  std::array<Command, 3> commands_;
+  SetpointMessage grasp_;  // the grasp last commanded
+  // The DUT's latest estimates, and whether a step's are due before its answer is taken.
+  std::optional<mavlink::DebugFloatArray> telemetry_;
+  bool estimates_due_ = false;
   bool setpoint_seen_ = false;
   std::uint64_t commands_refused_ = 0;
   std::int64_t next_heartbeat_ns_ = 0;
@@ -162,6 +172,9 @@ class MavlinkDutLink final : public DutLink {
   std::uint64_t sensor_steps_ = 0;
   std::uint64_t odometry_sent_ = 0;
   std::uint64_t setpoints_sent_ = 0;
+  std::uint64_t can_frames_sent_ = 0;
+  std::uint64_t can_frames_not_carried_ = 0;  // CAN FD and error frames: CAN_FRAME has no room
+  std::uint64_t telemetry_received_ = 0;
   std::uint64_t controls_received_ = 0;
   std::uint64_t frames_ignored_ = 0;  // well-formed frames that answer nothing
   std::uint64_t api_frames_received_ = 0;

@@ -132,7 +132,8 @@ TEST(MavlinkDutTest, AnswersAHilSensorWithOneActuatorControlsOfItsTime) {
     const MavlinkReplies& replies =
         dut.Handle(AtRest(step * kSensorPeriodUsec, int(step)), MavlinkLink::kSimulator);
     EXPECT_EQ(replies.end, MavlinkDutEnd::kRunning);
-    EXPECT_TRUE(replies.api.empty()) << "no heartbeat before a second of the DUT's time";
+    // No heartbeat before a second of the DUT's time: the step's estimates only.
+    EXPECT_TRUE(host::IsTelemetry(Only<mavlink::DebugFloatArray>(replies.api)));
     const std::vector<Received> received = Decode(replies.simulator);
     ASSERT_EQ(received.size(), 1u);
     EXPECT_EQ(received[0].frame.system_id, 1);
@@ -234,6 +235,8 @@ TEST(MavlinkDutTest, SendsAHeartbeatOncePerSecondOfTheDutsTime) {
   ASSERT_EQ(announced.size(), 1u);
   EXPECT_EQ(announced[0].frame.sequence, 0);
   std::vector<std::uint64_t> heartbeat_times_usec;
+  int api_frames = 0;
+  int telemetry_frames = 0;
   for (std::uint64_t step = 1; step <= 600; ++step) {
     const std::uint64_t time_usec = step * kSensorPeriodUsec;
     const MavlinkReplies& replies =
@@ -241,12 +244,21 @@ TEST(MavlinkDutTest, SendsAHeartbeatOncePerSecondOfTheDutsTime) {
     ASSERT_EQ(replies.end, MavlinkDutEnd::kRunning) << replies.why;
     const std::vector<Received> received = Decode(replies.api);
     for (const Received& r : received) {
-      EXPECT_TRUE(std::holds_alternative<mavlink::Heartbeat>(r.message));
-      EXPECT_EQ(r.frame.sequence, heartbeat_times_usec.size() + 1) << "the API link's sequence";
-      heartbeat_times_usec.push_back(time_usec);
+      EXPECT_EQ(r.frame.sequence, static_cast<std::uint8_t>(++api_frames)) << "the API sequence";
+      if (std::holds_alternative<mavlink::Heartbeat>(r.message)) {
+        heartbeat_times_usec.push_back(time_usec);
+        continue;
+      }
+      // Every step's estimates, ahead of its answer.
+      const auto* telemetry = std::get_if<mavlink::DebugFloatArray>(&r.message);
+      ASSERT_NE(telemetry, nullptr);
+      EXPECT_TRUE(host::IsTelemetry(*telemetry));
+      EXPECT_EQ(telemetry->time_usec, time_usec);
+      ++telemetry_frames;
     }
   }
   EXPECT_EQ(heartbeat_times_usec, (std::vector<std::uint64_t>{1'000'000, 2'000'000}));
+  EXPECT_EQ(telemetry_frames, 600);
 }
 
 // A DUT port that records what it is sent and answers with fixed thrusts and servo angle.
@@ -313,6 +325,69 @@ TEST(MavlinkDutTest, DeliversPosesAndSetpointsWithTheNextSensorStepAndNormalises
   EXPECT_FLOAT_EQ(armed.controls[3], 0.0f) << "not finite: still";
   EXPECT_EQ(recording.steps.back().first, 2u);
   EXPECT_EQ(inputs.size(), 4u) << "only the IMU reading is new";
+}
+
+TEST(MavlinkDutTest, TakesTheGraspFromTheGripperCommandWithTheNextStep) {
+  std::vector<host::DutInput> inputs;
+  MavlinkDut dut(std::make_unique<RecordingPort>(inputs), host::ActuatorScale{4.0, 0.0, 1.6});
+  dut.Handle(HoldOneMetreUp(), MavlinkLink::kApi, kGroundStation);
+  mavlink::CommandLong grab = Command(211, 1, 1);
+  grab.param3 = 4.0f;
+  grab.param4 = 0.5f;
+  const auto ack =
+      Only<mavlink::CommandAck>(dut.Handle(grab, MavlinkLink::kApi, kGroundStation).api);
+  EXPECT_EQ(ack.command, 211);
+  EXPECT_EQ(ack.result, 0) << "accepted";
+  dut.Handle(AtRest(4'000), MavlinkLink::kSimulator);
+  ASSERT_EQ(inputs.size(), 2u);
+  const auto& grasping = std::get<host::SetpointMessage>(inputs[0]);
+  EXPECT_EQ(grasping.position_m, Eigen::Vector3d(0, 0, 1)) << "the position target stays";
+  EXPECT_TRUE(grasping.grasp_regulate);
+  EXPECT_EQ(grasping.grasp_force_n, 4.0);
+  EXPECT_EQ(grasping.grasp_reference_angle_rad, 0.5);
+
+  // A new position target keeps the grasp; a release opens it.
+  mavlink::SetPositionTargetLocalNed higher = HoldOneMetreUp();
+  higher.z_m = -2.0f;
+  dut.Handle(higher, MavlinkLink::kApi, kGroundStation);
+  dut.Handle(AtRest(8'000, 1), MavlinkLink::kSimulator);
+  ASSERT_EQ(inputs.size(), 4u);
+  EXPECT_TRUE(std::get<host::SetpointMessage>(inputs[2]).grasp_regulate);
+  EXPECT_EQ(std::get<host::SetpointMessage>(inputs[2]).position_m, Eigen::Vector3d(0, 0, 2));
+  dut.Handle(Command(211, 1, 0), MavlinkLink::kApi, kGroundStation);
+  dut.Handle(AtRest(12'000), MavlinkLink::kSimulator);
+  ASSERT_EQ(inputs.size(), 6u);
+  EXPECT_FALSE(std::get<host::SetpointMessage>(inputs[4]).grasp_regulate);
+
+  mavlink::CommandLong bad = grab;
+  bad.param3 = NAN;
+  EXPECT_EQ(
+      Only<mavlink::CommandAck>(dut.Handle(bad, MavlinkLink::kApi, kGroundStation).api).result, 2)
+      << "denied: a force that is no number";
+  dut.Handle(AtRest(16'000, 1), MavlinkLink::kSimulator);
+  EXPECT_EQ(inputs.size(), 7u) << "no setpoint: the grasp did not change";
+}
+
+TEST(MavlinkDutTest, PutsCanFramesOnTheControllersBusAndReportsItsEstimatesEachStep) {
+  MavlinkDut dut(HoverFirmware(), kSensorPeriodS);
+  const std::array<std::uint8_t, 2> payload = {1, 2};
+  mavlink::CanFrame can = *host::CanFrameMessageFrom(rig::CanFrame::Classic(0x7F0, payload));
+  EXPECT_TRUE(dut.Handle(can, MavlinkLink::kSimulator).simulator.empty()) << "no answer";
+  mavlink::CanFrame broken = can;
+  broken.len = 9;
+  dut.Handle(broken, MavlinkLink::kSimulator);
+  dut.Handle(can, MavlinkLink::kApi, kGroundStation);  // not the link CAN frames come on
+  EXPECT_EQ(dut.counters().can_frames, 1u);
+  EXPECT_EQ(dut.counters().ignored, 2u);
+  EXPECT_EQ(dut.controller_counters().can_frames_received, 0u) << "read at the next step";
+
+  const MavlinkReplies& replies = dut.Handle(AtRest(4'000), MavlinkLink::kSimulator);
+  EXPECT_EQ(dut.controller_counters().can_frames_received, 1u);
+  EXPECT_EQ(dut.controller_counters().can_frames_rejected, 1u) << "no node of the rig has 0x7F0";
+  const auto telemetry = Only<mavlink::DebugFloatArray>(replies.api);
+  EXPECT_TRUE(host::IsTelemetry(telemetry));
+  EXPECT_EQ(telemetry.time_usec, 4'000u);
+  EXPECT_EQ(telemetry.data[7], 0.0f) << "the pads are not zeroed yet";
 }
 
 TEST(MavlinkDutTest, TheStaleRuleFiresAtExactlyOneHundredIdenticalReadings) {

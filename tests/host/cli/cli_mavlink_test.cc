@@ -1,6 +1,6 @@
-// `hilrig run --dut mavlink-emu`: a scene flown through PX4's stand-in over MAVLink, its telemetry
-// log in the run folder, and the scenes and modes the link refuses by name. The link itself is
-// tested in tests/host/linked_dut/, the stand-in in tests/dut_emu/.
+// `hilrig run --dut mavlink-emu`: scenes flown through PX4's stand-in over MAVLink (a grasping one
+// among them), their telemetry log in the run folder, and the modes the link refuses by name. The
+// link itself is tested in tests/host/linked_dut/, the stand-in in tests/dut_emu/.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "host/cli/cli.h"
+#include "host/link/mavlink_hil.h"
 #include "host/mavlink/tlog.h"
 #include "tests/support/cli_runner.h"
 #include "tests/support/test_files.h"
@@ -55,13 +56,29 @@ TEST(CliMavlinkTest, AnImuWithoutNoiseIsStaleAndTheRunSaysSo) {
       << run.out;
 }
 
-TEST(CliMavlinkTest, AGraspingSceneIsRefusedByName) {
+// The grasp travels as MAV_CMD_DO_GRIPPER, the tactile frames as CAN_FRAME and the DUT's
+// estimates back as DEBUG_FLOAT_ARRAY: load_ramp holds its container and checks the estimate.
+TEST(CliMavlinkTest, LoadRampGraspsOverMavlinkWithTheTactileFramesAndEstimates) {
   const std::filesystem::path out = FreshTestDir("cli_mavlink_grasp");
   const CliResult run = Cli({"run", Scenario("load_ramp"), "--no-reference", "--out", out.string(),
                              "--dut", "mavlink-emu"});
-  EXPECT_EQ(run.exit_code, kExitCheckFailed);
-  EXPECT_NE(ReadFile(out / "report.json").find("MAVLink carries neither the grasp command"),
-            std::string::npos);
+  EXPECT_EQ(run.exit_code, kExitPass) << run.err << run.out;
+  EXPECT_NE(run.out.find("undamaged, held"), std::string::npos) << run.out;
+  const std::string log = ReadFile(out / "mavlink.tlog");
+  const mavlink::TlogContents contents =
+      mavlink::ReadTlog(std::vector<std::uint8_t>(log.begin(), log.end()));
+  std::size_t can_frames = 0, estimates = 0, gripper_commands = 0;
+  for (const mavlink::TlogRecord& record : contents.records) {
+    const std::optional<mavlink::AnyMessage> message = mavlink::DecodeMessage(record.frame);
+    ASSERT_TRUE(message.has_value());
+    can_frames += std::holds_alternative<mavlink::CanFrame>(*message);
+    estimates += std::holds_alternative<mavlink::DebugFloatArray>(*message);
+    const auto* command = std::get_if<mavlink::CommandLong>(&*message);
+    gripper_commands += command != nullptr && command->command == kMavCmdDoGripper;
+  }
+  EXPECT_GT(can_frames, 1000u);
+  EXPECT_EQ(estimates, 11249u) << "one per sensor step over 45 s";
+  EXPECT_EQ(gripper_commands, 1u) << "sent once, accepted at once";
 }
 
 TEST(CliMavlinkTest, RealTimeAndLinkOptionsAreRefused) {

@@ -66,7 +66,7 @@ TEST(MavlinkHilTest, AVioPoseGoesThereAndBack) {
   EXPECT_LT(back->orientation.angularDistance(vio.orientation), 1e-6);
 }
 
-TEST(MavlinkHilTest, ASetpointGoesThereAndBackWithoutTheGrasp) {
+TEST(MavlinkHilTest, ASetpointGoesThereAndBackKeepingThePreviousGrasp) {
   SetpointMessage setpoint;
   setpoint.position_m = {1, 2, 3};
   setpoint.velocity_m_s = {0.1, 0.2, 0.3};
@@ -78,13 +78,122 @@ TEST(MavlinkHilTest, ASetpointGoesThereAndBackWithoutTheGrasp) {
   EXPECT_FLOAT_EQ(target.z_m, -3.0f);
   EXPECT_EQ(target.coordinate_frame, 1);
   EXPECT_EQ(target.type_mask, 0x800);
-  const std::optional<SetpointMessage> back = SetpointFrom(target, {});
+  SetpointMessage grasping;
+  grasping.grasp_regulate = true;
+  grasping.grasp_force_n = 4;
+  const std::optional<SetpointMessage> back = SetpointFrom(target, grasping);
   ASSERT_TRUE(back);
   ExpectNear(back->position_m, setpoint.position_m, 1e-6);
   ExpectNear(back->velocity_m_s, setpoint.velocity_m_s, 1e-6);
   ExpectNear(back->acceleration_m_s2, setpoint.acceleration_m_s2, 1e-6);
   EXPECT_NEAR(back->yaw_rad, 0.4, 1e-6);
-  EXPECT_FALSE(back->grasp_regulate);
+  // The grasp is the gripper command's, not the position target's.
+  EXPECT_TRUE(back->grasp_regulate);
+  EXPECT_EQ(back->grasp_force_n, 4);
+  EXPECT_FALSE(SetpointFrom(target, {})->grasp_regulate);
+}
+
+TEST(MavlinkHilTest, AGraspGoesThereAndBackAsTheGripperCommand) {
+  SetpointMessage setpoint;
+  setpoint.position_m = {1, 2, 3};
+  setpoint.grasp_regulate = true;
+  setpoint.grasp_force_n = 4.0;
+  setpoint.grasp_reference_angle_rad = 0.75;
+  const mavlink::CommandLong grab = GripperCommandFrom(setpoint);
+  EXPECT_EQ(grab.command, 211);
+  EXPECT_EQ(grab.param1, 1.0f);
+  EXPECT_EQ(grab.param2, 1.0f);  // GRIPPER_ACTION_GRAB
+  EXPECT_EQ(grab.param3, 4.0f);
+  EXPECT_EQ(grab.param4, 0.75f);
+  const std::optional<SetpointMessage> grasped = WithGripperCommand(grab, SetpointMessage{});
+  ASSERT_TRUE(grasped);
+  EXPECT_TRUE(SameGrasp(*grasped, setpoint));
+  EXPECT_EQ(grasped->position_m, Eigen::Vector3d::Zero());  // the position is the target's
+
+  SetpointMessage open = setpoint;
+  open.grasp_regulate = false;
+  const mavlink::CommandLong release = GripperCommandFrom(open);
+  EXPECT_EQ(release.param2, 0.0f);  // GRIPPER_ACTION_RELEASE
+  const std::optional<SetpointMessage> released = WithGripperCommand(release, *grasped);
+  ASSERT_TRUE(released);
+  EXPECT_FALSE(released->grasp_regulate);
+  EXPECT_EQ(released->grasp_force_n, 0);
+  EXPECT_TRUE(SameGrasp(*released, open));
+  EXPECT_FALSE(SameGrasp(*released, setpoint));
+
+  mavlink::CommandLong bad = grab;
+  bad.param2 = 2;
+  EXPECT_FALSE(WithGripperCommand(bad, {}));
+  bad = grab;
+  bad.param1 = 3;  // another gripper
+  EXPECT_FALSE(WithGripperCommand(bad, {}));
+  bad = grab;
+  bad.param3 = std::nanf("");
+  EXPECT_FALSE(WithGripperCommand(bad, {}));
+  bad = grab;
+  bad.command = 400;
+  EXPECT_FALSE(WithGripperCommand(bad, {}));
+}
+
+TEST(MavlinkHilTest, ACanFrameGoesThereAndBackWithSocketCanFlags) {
+  const std::array<std::uint8_t, 3> payload = {1, 2, 3};
+  for (const rig::CanFrame& frame :
+       {rig::CanFrame::Classic(0x123, payload), rig::CanFrame::ClassicExtended(0x1ABCDEF, payload),
+        rig::CanFrame::Remote(0x55, 4, false)}) {
+    const std::optional<mavlink::CanFrame> message = CanFrameMessageFrom(frame);
+    ASSERT_TRUE(message);
+    EXPECT_EQ(message->id & 0x1FFFFFFF, frame.id);
+    EXPECT_EQ((message->id >> 31) != 0, frame.extended);
+    EXPECT_EQ(((message->id >> 30) & 1) != 0, frame.remote);
+    EXPECT_EQ(message->len, frame.length);
+    EXPECT_EQ(CanFrameFrom(*message), frame);
+  }
+  EXPECT_FALSE(CanFrameMessageFrom(rig::CanFrame::Fd(0x10, payload, false)));
+  EXPECT_FALSE(CanFrameMessageFrom(rig::CanFrame::ErrorFrame(0x4, {})));
+
+  mavlink::CanFrame message;
+  message.id = 0x800;  // past 11 bits without the extended flag
+  EXPECT_FALSE(CanFrameFrom(message));
+  message.id = 0x10;
+  message.len = 9;
+  EXPECT_FALSE(CanFrameFrom(message));
+  message.len = 8;
+  message.id = 0x10 | (1u << 29);  // an error frame
+  EXPECT_FALSE(CanFrameFrom(message));
+}
+
+TEST(MavlinkHilTest, TheDutsEstimatesGoThereAndBackInNed) {
+  ActuatorMessage command;
+  command.estimated_position_m = {1, 2, 3};
+  command.external_force_world_n = {0.1, 0.2, -0.6};
+  command.grasp_force_estimate_n = 3.5;
+  command.tactile_ready = true;
+  for (std::size_t pad = 0; pad < 6; ++pad) {
+    command.tactile_force_sensor_n[pad] = Eigen::Vector3d(pad, -0.5 * pad, 0.25);
+  }
+  const mavlink::DebugFloatArray array = TelemetryFrom(command, 8000);
+  EXPECT_TRUE(IsTelemetry(array));
+  EXPECT_EQ(array.time_usec, 8000u);
+  EXPECT_EQ(std::string(array.name.data(), 6), "hilrig");
+  EXPECT_EQ(array.data[0], 2.0f);  // north is the rig's y
+  EXPECT_EQ(array.data[5], 0.6f);  // down is the rig's -z
+  EXPECT_EQ(array.data[6], 3.5f);
+  EXPECT_EQ(array.data[7], 1.0f);
+  ActuatorMessage back;
+  ApplyTelemetry(array, back);
+  ExpectNear(back.estimated_position_m, command.estimated_position_m, 1e-6);
+  ExpectNear(back.external_force_world_n, command.external_force_world_n, 1e-6);
+  EXPECT_FLOAT_EQ(back.grasp_force_estimate_n, 3.5);
+  EXPECT_TRUE(back.tactile_ready);
+  for (std::size_t pad = 0; pad < 6; ++pad) {
+    ExpectNear(back.tactile_force_sensor_n[pad], command.tactile_force_sensor_n[pad], 1e-6);
+  }
+  mavlink::DebugFloatArray other = array;
+  other.array_id = 2;
+  EXPECT_FALSE(IsTelemetry(other));
+  other = array;
+  other.name[0] = 'H';
+  EXPECT_FALSE(IsTelemetry(other));
 }
 
 TEST(MavlinkHilTest, OutputsAreZeroUntilArmedAndScaleToTheRotorsMaximum) {

@@ -8,6 +8,10 @@
 //   wrong-time  answers each step at a time a microsecond later than asked
 //   disconnect  answers ten steps, then hangs up and exits with status 3
 //   refuse      denies every command (COMMAND_ACK result 4) and answers the steps
+//   no-gripper  answers the gripper command as unsupported (result 3), as a PX4 without one does
+//   echo        answers each step properly, after estimates that tell what it received: position
+//               (north 1, east 2, down -3) m, external force north = the last gripper command's
+//               param3, grasp force = the CAN_FRAMEs received so far
 //   mute        connects but never sends its heartbeat on the API link
 //   late        answers nothing for 15 steps, then those and every step after, as PX4 boots
 // Otherwise it answers each step properly, all outputs zero and disarmed.
@@ -17,6 +21,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -69,8 +74,14 @@ struct Peer {
   }
 };
 
-// Answers the commands the API link brought: accepted, or denied in `refuse` mode.
-void DrainApi(Peer& peer, bool refuse) {
+// What the echo mode reports.
+struct Received {
+  float gripper_param3 = 0;
+  int can_frames = 0;
+};
+
+// Answers the commands the API link brought: accepted, or refused as `mode` says.
+void DrainApi(Peer& peer, const std::string& mode, Received& received) {
   std::array<std::uint8_t, 512> datagram;
   while (true) {
     const ssize_t got = ::recv(peer.udp, datagram.data(), datagram.size(), MSG_DONTWAIT);
@@ -82,15 +93,33 @@ void DrainApi(Peer& peer, bool refuse) {
                   const auto* command =
                       message ? std::get_if<mav::CommandLong>(&*message) : nullptr;
                   if (command == nullptr) return;
+                  if (command->command == 211) received.gripper_param3 = command->param3;
                   mav::CommandAck ack;
                   ack.command = command->command;
-                  ack.result = refuse ? 4 : 0;  // MAV_RESULT_DENIED, MAV_RESULT_ACCEPTED
+                  ack.result = 0;                        // MAV_RESULT_ACCEPTED
+                  if (mode == "refuse") ack.result = 4;  // MAV_RESULT_DENIED
+                  // MAV_CMD_DO_GRIPPER, MAV_RESULT_UNSUPPORTED
+                  if (mode == "no-gripper" && command->command == 211) ack.result = 3;
                   peer.Send(ack, /*api_link=*/true);
                 });
   }
 }
 
-void Answer(Peer& peer, const std::string& mode, std::uint64_t time_usec) {
+void Answer(Peer& peer, const std::string& mode, std::uint64_t time_usec,
+            const Received& received) {
+  if (mode == "echo") {
+    mav::DebugFloatArray estimates;
+    estimates.time_usec = time_usec;
+    estimates.array_id = 1;
+    const std::string name = "hilrig";
+    std::copy(name.begin(), name.end(), estimates.name.begin());
+    estimates.data[0] = 1;
+    estimates.data[1] = 2;
+    estimates.data[2] = -3;
+    estimates.data[3] = received.gripper_param3;
+    estimates.data[6] = static_cast<float>(received.can_frames);
+    peer.Send(estimates, /*api_link=*/true);
+  }
   mav::HilActuatorControls controls;
   controls.time_usec = mode == "wrong-time" ? time_usec + 1 : time_usec;
   controls.mode = 1;
@@ -141,15 +170,19 @@ int main(int argc, char** argv) {
   std::array<std::uint8_t, 1024> bytes;
   int steps = 0;
   std::vector<std::uint64_t> held;  // `late`: the steps not answered yet
+  Received received;
   while (true) {
     pollfd entry{peer.tcp, POLLIN, 0};
     if (::poll(&entry, 1, 100) <= 0) continue;
     const ssize_t got = ::read(peer.tcp, bytes.data(), bytes.size());
     if (got <= 0) return 0;
-    DrainApi(peer, mode == "refuse");
+    DrainApi(peer, mode, received);
     parser.Feed(std::span<const std::uint8_t>(bytes.data(), std::size_t(got)),
                 [&](const mav::Frame& frame) {
                   const auto message = mav::DecodeMessage(frame);
+                  if (message && std::holds_alternative<mav::CanFrame>(*message)) {
+                    ++received.can_frames;
+                  }
                   const auto* sensor = message ? std::get_if<mav::HilSensor>(&*message) : nullptr;
                   if (sensor == nullptr || mode == "silent") return;
                   ++steps;
@@ -161,9 +194,11 @@ int main(int argc, char** argv) {
                     held.push_back(sensor->time_usec);
                     return;
                   }
-                  for (const std::uint64_t time_usec : held) Answer(peer, mode, time_usec);
+                  for (const std::uint64_t time_usec : held) {
+                    Answer(peer, mode, time_usec, received);
+                  }
                   held.clear();
-                  Answer(peer, mode, sensor->time_usec);
+                  Answer(peer, mode, sensor->time_usec, received);
                 });
   }
 }

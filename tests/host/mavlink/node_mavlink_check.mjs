@@ -5,15 +5,18 @@
 //   2. node-mavlink encodes each message with distinct field values (and an all-zero
 //      HIL_ACTUATOR_CONTROLS, which it sends with a zero-length payload), with garbage between
 //      frames; the rig's parser (mavlink_vectors read) must decode every field to the same value.
-//   3. with RUN_TLOG, a run's mavlink.tlog: node-mavlink finds every frame valid, the rate 250 Hz,
-//      the accelerometer in m/s² along FRD, and each HIL_SENSOR answered at its own time.
-// Usage: node node_mavlink_check.mjs NODE_MODULES_PARENT MAVLINK_VECTORS WORK_DIR [RUN_TLOG]
+//   3. with RUN_TLOGs, runs' mavlink.tlog: node-mavlink finds every frame valid, the rate 250 Hz,
+//      each HIL_SENSOR answered at its own time and its estimates reported with it; in hover's
+//      log the accelerometer at rest reads -g in m/s² along FRD, in load_ramp's the tactile
+//      frames travel as CAN_FRAME and the grasp as MAV_CMD_DO_GRIPPER with its 4 N set-point.
+// Usage: node node_mavlink_check.mjs NODE_MODULES_PARENT MAVLINK_VECTORS WORK_DIR
+//          [hover=RUN_TLOG] [load_ramp=RUN_TLOG]
 import { execFileSync } from 'node:child_process';
 import { readFileSync, writeFileSync } from 'node:fs';
 import { createRequire } from 'node:module';
 import { PassThrough } from 'node:stream';
 
-const [modulesParent, vectorsBin, workDir, runTlog] = process.argv.slice(2);
+const [modulesParent, vectorsBin, workDir, ...runTlogs] = process.argv.slice(2);
 const require = createRequire(`${modulesParent}/`);
 const mavlink = require('node-mavlink');
 const REGISTRY = { ...mavlink.minimal.REGISTRY, ...mavlink.common.REGISTRY };
@@ -190,7 +193,7 @@ function checkNodeFrames(ids) {
 }
 
 // 3. A run's log, as a ground tool would read it.
-async function checkRunLog(path) {
+async function checkRunLog(scene, path) {
   const records = tlogRecords(readFileSync(path));
   const { packets, valid, invalid } =
     await splitFrames(Buffer.concat(records.map((record) => record.frame)));
@@ -198,9 +201,12 @@ async function checkRunLog(path) {
     fail(`the run's log: ${records.length} records, node-mavlink found ${valid} valid and ` +
          `${invalid} invalid frames`);
   }
-  const allowed = new Set([0, 76, 77, 84, 93, 107, 331]);
+  const allowed = new Set([0, 76, 77, 84, 93, 107, 331, 350, 386]);
   const sensorTimes = [];
   const answered = new Set();
+  const estimated = new Set();
+  const grasps = [];
+  let canFrames = 0;
   let firstZacc = null;
   records.slice(1).forEach((record, index) => {
     if (record.timeUs < records[index].timeUs) fail(`the log's time goes back at record ${index + 1}`);
@@ -216,6 +222,11 @@ async function checkRunLog(path) {
       if (firstZacc === null) firstZacc = data.zacc;
     }
     if (id === 93) answered.add(String(data.timeUsec));
+    if (id === 350 && data.name === 'hilrig' && data.arrayId === 1) {
+      estimated.add(String(data.timeUsec));
+    }
+    if (id === 386) canFrames += 1;
+    if (id === 76 && data.command === 211) grasps.push([data._param2, data._param3]);
   }
   if (sensorTimes.length < 2) fail(`the run's log has ${sensorTimes.length} HIL_SENSOR`);
   sensorTimes.slice(1).forEach((time, index) => {
@@ -228,19 +239,36 @@ async function checkRunLog(path) {
   if (unanswered.length > 0) {
     fail(`${unanswered.length} HIL_SENSOR without a HIL_ACTUATOR_CONTROLS of their time`);
   }
-  // At rest the accelerometer reads the ground's push: -g along FRD's z, in m/s².
-  if (!(firstZacc < -9.3 && firstZacc > -10.3)) {
-    fail(`the first HIL_SENSOR's zacc is ${firstZacc}, not about -9.81 m/s² (FRD at rest)`);
+  const unestimated = sensorTimes.filter((time) => !estimated.has(String(time)));
+  if (unestimated.length > 0) {
+    fail(`${unestimated.length} HIL_SENSOR without the DUT's estimates (DEBUG_FLOAT_ARRAY hilrig)`);
   }
-  console.log(`node-mavlink read the run's ${packets.length} frames: ${sensorTimes.length} ` +
-              `HIL_SENSOR at 250 Hz, each answered`);
+  if (scene === 'hover') {
+    // At rest the accelerometer reads the ground's push: -g along FRD's z, in m/s².
+    if (!(firstZacc < -9.3 && firstZacc > -10.3)) {
+      fail(`the first HIL_SENSOR's zacc is ${firstZacc}, not about -9.81 m/s² (FRD at rest)`);
+    }
+  }
+  if (scene === 'load_ramp') {
+    if (canFrames < 1000) fail(`load_ramp's log has ${canFrames} CAN_FRAME, not the tactile traffic`);
+    // The scene grasps once, at 4 N: GRIPPER_ACTION_GRAB with the set-point in param3.
+    if (!grasps.some(([action, force]) => action === 1 && Math.abs(force - 4) < 1e-6)) {
+      fail(`load_ramp's log has no MAV_CMD_DO_GRIPPER grab at 4 N (${JSON.stringify(grasps)})`);
+    }
+  }
+  console.log(`node-mavlink read ${scene}'s ${packets.length} frames: ${sensorTimes.length} ` +
+              `HIL_SENSOR at 250 Hz, each answered with its estimates; ${canFrames} CAN_FRAME, ` +
+              `${grasps.length} gripper commands`);
 }
 
 const expectedIds = JSON.parse(execFileSync(vectorsBin, ['tlog', `${workDir}/ids.tlog`]).toString())
   .map((frame) => frame.id);
 await checkRigLog();
 checkNodeFrames(expectedIds);
-if (runTlog) await checkRunLog(runTlog);
+for (const argument of runTlogs) {
+  const [scene, path] = argument.split('=');
+  await checkRunLog(scene, path);
+}
 if (failures > 0) {
   console.error(`${failures} mismatches`);
   process.exit(1);

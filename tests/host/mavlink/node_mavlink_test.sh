@@ -4,8 +4,8 @@
 # the codec knows, written by each and read by the other, field by field. node-mavlink comes from
 # the npm registry into a cache outside the repository (HILRIG_NODE_CACHE, by default
 # ~/.cache/hilrig/node-mavlink-VERSION), once; nothing of it is kept in the tree. With BIN_DIR, it
-# also flies hover through PX4's stand-in (`hilrig run --dut mavlink-emu`) and reads the run's
-# mavlink.tlog with node-mavlink.
+# also flies hover and load_ramp through PX4's stand-in (`hilrig run --dut mavlink-emu`) and reads
+# each run's mavlink.tlog with node-mavlink.
 # Usage: node_mavlink_test.sh SOURCE_DIR MAVLINK_VECTORS [BIN_DIR]
 set -euo pipefail
 source_dir=$1
@@ -38,15 +38,17 @@ fi
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-run_tlog=()
+run_tlogs=()
 if [[ -n $bin_dir ]]; then
-  if ! "$bin_dir/hilrig" run "$source_dir/scenarios/hover.textproto" --no-reference \
-    --dut mavlink-emu --out "$work/run" >"$work/run.log" 2>&1; then
-    echo "FAIL: hover over --dut mavlink-emu did not pass:" >&2
-    cat "$work/run.log" >&2
-    exit 1
-  fi
-  run_tlog=("$work/run/mavlink.tlog")
+  for scene in hover load_ramp; do
+    if ! "$bin_dir/hilrig" run "$source_dir/scenarios/$scene.textproto" --no-reference \
+      --dut mavlink-emu --out "$work/$scene" >"$work/$scene.log" 2>&1; then
+      echo "FAIL: $scene over --dut mavlink-emu did not pass:" >&2
+      cat "$work/$scene.log" >&2
+      exit 1
+    fi
+    run_tlogs+=("$scene=$work/$scene/mavlink.tlog")
+  done
 fi
 node "$source_dir/tests/host/mavlink/node_mavlink_check.mjs" "$cache" "$vectors" "$work" \
-  "${run_tlog[@]}"
+  "${run_tlogs[@]}"
