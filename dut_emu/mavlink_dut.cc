@@ -138,6 +138,8 @@ const MavlinkReplies& MavlinkDut::Handle(const mavlink::AnyMessage& message, Mav
     HandleOdometry(*odometry);
   } else if (const auto* can = std::get_if<mavlink::CanFrame>(&message); can && simulator) {
     HandleCanFrame(*can);
+  } else if (const auto* gps = std::get_if<mavlink::HilGps>(&message); gps && simulator) {
+    HandleGps(*gps);
   } else if (const auto* command = std::get_if<mavlink::CommandLong>(&message);
              command && !simulator) {
     HandleCommand(*command, sender);
@@ -206,6 +208,19 @@ void MavlinkDut::HandleSensor(const mavlink::HilSensor& sensor) {
     port_->Send(*setpoint_held_);
     setpoint_held_.reset();
   }
+  if (fix_held_) {
+    fix_held_->stamp = {gnss_sequence_++, now_ns};
+    port_->Send(*fix_held_);
+    fix_held_.reset();
+  }
+  if (std::optional<host::MagnetometerMessage> mag = host::MagnetometerFrom(sensor)) {
+    mag->stamp = {mag_sequence_++, now_ns};
+    port_->Send(*mag);
+  }
+  if (std::optional<host::BarometerMessage> baro = host::BarometerFrom(sensor)) {
+    baro->stamp = {baro_sequence_++, now_ns};
+    port_->Send(*baro);
+  }
   host::ImuMessage imu = host::ImuFrom(sensor);
   imu.stamp = {imu_sequence_++, now_ns};
   port_->Send(imu);
@@ -265,6 +280,17 @@ void MavlinkDut::HandleCanFrame(const mavlink::CanFrame& message) {
   }
   can_->Deliver(std::span(&*frame, 1));
   ++counters_.can_frames;
+}
+
+void MavlinkDut::HandleGps(const mavlink::HilGps& gps) {
+  std::optional<host::GnssMessage> fix = host::GnssFrom(gps);
+  if (!fix) {
+    ++counters_.ignored;
+    return;
+  }
+  // The newest fix reaches the controller with the next step.
+  fix_held_ = *fix;
+  ++counters_.gps_fixes;
 }
 
 MavResult MavlinkDut::HandleGripper(const mavlink::CommandLong& command) {

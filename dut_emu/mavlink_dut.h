@@ -3,10 +3,11 @@
 // MAVLink path can be driven without PX4.
 //
 // MavlinkDut is the flight stack's side of the protocol with no socket in it: decoded messages of
-// both links in (ODOMETRY, CAN_FRAME and HIL_SENSOR on the TCP simulator link, COMMAND_LONG and
-// SET_POSITION_TARGET_LOCAL_NED on the UDP API link), NED/FRD turned into the rig's ENU/FLU, one
-// controller step per HIL_SENSOR, encoded frames for each link out. RunMavlinkDut puts it on POSIX
-// sockets. The DUT's only clock is HIL_SENSOR's time_usec; the OS clock bounds socket waits only.
+// both links in (ODOMETRY, CAN_FRAME, HIL_GPS and HIL_SENSOR on the TCP simulator link,
+// COMMAND_LONG and SET_POSITION_TARGET_LOCAL_NED on the UDP API link), NED/FRD turned into the
+// rig's ENU/FLU, one controller step per HIL_SENSOR, encoded frames for each link out.
+// RunMavlinkDut puts it on POSIX sockets. The DUT's only clock is HIL_SENSOR's time_usec; the OS
+// clock bounds socket waits only.
 #pragma once
 
 #include <array>
@@ -103,6 +104,7 @@ struct MavlinkDutCounters {
   std::uint64_t poses = 0;       // ODOMETRY handed to the controller
   std::uint64_t setpoints = 0;   // SET_POSITION_TARGET_LOCAL_NED taken
   std::uint64_t can_frames = 0;  // CAN_FRAME handed to the controller's bus
+  std::uint64_t gps_fixes = 0;   // HIL_GPS taken
   std::uint64_t commands = 0;    // COMMAND_LONG answered
   std::uint64_t heartbeats_received = 0;
   // Messages it does not take: ones a link does not carry in the contract, ones addressed to
@@ -144,10 +146,11 @@ class MavlinkDut {
   // Decodes `frame` and handles it; a frame the codec cannot decode ends the DUT (kUndecodable).
   // Does not allocate unless it ends the DUT (the reason's text).
   const MavlinkReplies& HandleFrame(const mavlink::Frame& frame, MavlinkLink link);
-  // ODOMETRY: held for the next step. CAN_FRAME: onto the controller's CAN bus, which it reads at
-  // the next step. HIL_SENSOR: one step (time checks, the stale rule, the held poses and setpoint,
-  // the IMU reading, the controller's step) answered with one HIL_ACTUATOR_CONTROLS of the same
-  // time_usec, after the controller's estimates (DEBUG_FLOAT_ARRAY) and, once a second, a
+  // ODOMETRY and HIL_GPS: held for the next step. CAN_FRAME: onto the controller's CAN bus,
+  // which it reads at the next step. HIL_SENSOR: one step (time checks, the stale rule, the held
+  // poses, fix and setpoint, the IMU reading and the magnetometer and barometer readings its
+  // fields_updated marks, the controller's step) answered with one HIL_ACTUATOR_CONTROLS of the
+  // same time_usec, after the controller's estimates (DEBUG_FLOAT_ARRAY) and, once a second, a
   // HEARTBEAT on the API link. COMMAND_LONG: arm/disarm (400), set mode (176) and the gripper
   // (211, the grasp) are accepted when well-formed, others unsupported, each answered with a
   // COMMAND_ACK. SET_POSITION_TARGET_LOCAL_NED: held for the next step. A
@@ -171,6 +174,7 @@ class MavlinkDut {
   void HandleCommand(const mavlink::CommandLong& command, MavlinkSender sender);
   void HandleSetpoint(const mavlink::SetPositionTargetLocalNed& target);
   void HandleCanFrame(const mavlink::CanFrame& message);
+  void HandleGps(const mavlink::HilGps& gps);
   MavResult HandleGripper(const mavlink::CommandLong& command);
   // Whether the stale rule fires with this reading.
   bool RepeatsStale(const mavlink::HilSensor& sensor);
@@ -188,10 +192,14 @@ class MavlinkDut {
   std::array<host::VioMessage, kMaxPosesPerStep> poses_{};
   std::size_t poses_held_ = 0;
   std::optional<host::SetpointMessage> setpoint_held_;
+  std::optional<host::GnssMessage> fix_held_;
   host::SetpointMessage last_setpoint_;
   std::uint64_t imu_sequence_ = 0;
   std::uint64_t vio_sequence_ = 0;
   std::uint64_t setpoint_sequence_ = 0;
+  std::uint64_t mag_sequence_ = 0;
+  std::uint64_t baro_sequence_ = 0;
+  std::uint64_t gnss_sequence_ = 0;
   std::uint64_t tick_ = 0;
   std::optional<std::uint64_t> last_time_usec_;
   std::uint64_t next_heartbeat_usec_ = kHeartbeatPeriodUsec;

@@ -93,6 +93,9 @@ class DutPort {
 
   // Hands the DUT one sensor message or the setpoint, in the order they happen.
   virtual void Send(const DutInput& input) = 0;
+  // Whether the DUT fuses a magnetometer, barometer and GNSS (a flight stack over MAVLink): the
+  // runner emulates them only then. The rig's own controller does not.
+  virtual bool TakesNavigationSensors() const { return false; }
 
   // Runs the DUT's control step for control tick `tick` at `now_ns` and returns its command; an
   // error means the DUT did not answer properly (timeout, bad message) and ends the run.

@@ -38,6 +38,11 @@ class BasicInProcessDut final : public DutPort {
   void Take(const ImuMessage& message);
   void Take(const VioMessage& message);
   void Take(const SetpointMessage& message);
+  // The rig's controller fuses no magnetometer, barometer or GNSS (VIO gives it heading and
+  // position): it takes them and leaves them.
+  void Take(const MagnetometerMessage&) {}
+  void Take(const BarometerMessage&) {}
+  void Take(const GnssMessage&) {}
   void DrainBus(std::int64_t now_ns);
 
   dut_fw::DutCore<S> core_;

@@ -67,6 +67,37 @@ proto::LinkMessage ToLink(const SetpointMessage& message) {
   return link;
 }
 
+proto::LinkMessage ToLink(const MagnetometerMessage& message) {
+  proto::LinkMessage link;
+  proto::MagnetometerSample* mag = link.mutable_mag();
+  PutStamp(message.stamp, mag->mutable_header());
+  PutVector(message.field_body_t, mag->mutable_field_body_t());
+  return link;
+}
+
+proto::LinkMessage ToLink(const BarometerMessage& message) {
+  proto::LinkMessage link;
+  proto::BarometerSample* baro = link.mutable_baro();
+  PutStamp(message.stamp, baro->mutable_header());
+  baro->set_pressure_pa(message.pressure_pa);
+  baro->set_temperature_c(message.temperature_c);
+  return link;
+}
+
+proto::LinkMessage ToLink(const GnssMessage& message) {
+  proto::LinkMessage link;
+  proto::GnssFix* gnss = link.mutable_gnss();
+  PutStamp(message.stamp, gnss->mutable_header());
+  gnss->set_latitude_deg(message.latitude_deg);
+  gnss->set_longitude_deg(message.longitude_deg);
+  gnss->set_altitude_m(message.altitude_m);
+  PutVector(message.velocity_m_s, gnss->mutable_velocity_m_s());
+  gnss->set_horizontal_accuracy_m(message.horizontal_accuracy_m);
+  gnss->set_vertical_accuracy_m(message.vertical_accuracy_m);
+  gnss->set_satellites(message.satellites);
+  return link;
+}
+
 ImuMessage FromLink(const proto::ImuSample& message) {
   return {GetStamp(message.header()), GetVector(message.gyro_rad_s()),
           GetVector(message.accel_m_s2())};
@@ -88,6 +119,25 @@ SetpointMessage FromLink(const proto::PositionSetpoint& message) {
           message.grasp_regulate(),
           message.grasp_force_n(),
           message.grasp_reference_angle_rad()};
+}
+
+MagnetometerMessage FromLink(const proto::MagnetometerSample& message) {
+  return {GetStamp(message.header()), GetVector(message.field_body_t())};
+}
+
+BarometerMessage FromLink(const proto::BarometerSample& message) {
+  return {GetStamp(message.header()), message.pressure_pa(), message.temperature_c()};
+}
+
+GnssMessage FromLink(const proto::GnssFix& message) {
+  return {GetStamp(message.header()),
+          message.latitude_deg(),
+          message.longitude_deg(),
+          message.altitude_m(),
+          GetVector(message.velocity_m_s()),
+          message.horizontal_accuracy_m(),
+          message.vertical_accuracy_m(),
+          static_cast<std::uint8_t>(std::min<std::uint32_t>(message.satellites(), 255))};
 }
 
 // Where each DutInput alternative sits on the link: its payload in a LinkMessage, and the field
@@ -125,6 +175,37 @@ struct LinkStream<SetpointMessage> {
   static void SetTaken(proto::ActuatorCommand& c, std::uint64_t s) {
     c.set_last_setpoint_sequence(s);
   }
+};
+
+template <>
+struct LinkStream<MagnetometerMessage> {
+  static constexpr auto kPayload = proto::LinkMessage::kMag;
+  static const proto::MagnetometerSample& Payload(const proto::LinkMessage& link) {
+    return link.mag();
+  }
+  static bool HasTaken(const proto::ActuatorCommand& c) { return c.has_last_mag_sequence(); }
+  static std::uint64_t Taken(const proto::ActuatorCommand& c) { return c.last_mag_sequence(); }
+  static void SetTaken(proto::ActuatorCommand& c, std::uint64_t s) { c.set_last_mag_sequence(s); }
+};
+
+template <>
+struct LinkStream<BarometerMessage> {
+  static constexpr auto kPayload = proto::LinkMessage::kBaro;
+  static const proto::BarometerSample& Payload(const proto::LinkMessage& link) {
+    return link.baro();
+  }
+  static bool HasTaken(const proto::ActuatorCommand& c) { return c.has_last_baro_sequence(); }
+  static std::uint64_t Taken(const proto::ActuatorCommand& c) { return c.last_baro_sequence(); }
+  static void SetTaken(proto::ActuatorCommand& c, std::uint64_t s) { c.set_last_baro_sequence(s); }
+};
+
+template <>
+struct LinkStream<GnssMessage> {
+  static constexpr auto kPayload = proto::LinkMessage::kGnss;
+  static const proto::GnssFix& Payload(const proto::LinkMessage& link) { return link.gnss(); }
+  static bool HasTaken(const proto::ActuatorCommand& c) { return c.has_last_gnss_sequence(); }
+  static std::uint64_t Taken(const proto::ActuatorCommand& c) { return c.last_gnss_sequence(); }
+  static void SetTaken(proto::ActuatorCommand& c, std::uint64_t s) { c.set_last_gnss_sequence(s); }
 };
 
 template <std::size_t kIndex>
@@ -217,6 +298,12 @@ const proto::LinkHeader* HeaderOf(const proto::LinkMessage& message) {
       return &message.vio().header();
     case proto::LinkMessage::kSetpoint:
       return &message.setpoint().header();
+    case proto::LinkMessage::kMag:
+      return &message.mag().header();
+    case proto::LinkMessage::kBaro:
+      return &message.baro().header();
+    case proto::LinkMessage::kGnss:
+      return &message.gnss().header();
     case proto::LinkMessage::kCommand:
       return &message.command().header();
     case proto::LinkMessage::kHello:
@@ -245,6 +332,12 @@ proto::LinkHeader* MutableHeaderOf(proto::LinkMessage& message) {
       return message.mutable_vio()->mutable_header();
     case proto::LinkMessage::kSetpoint:
       return message.mutable_setpoint()->mutable_header();
+    case proto::LinkMessage::kMag:
+      return message.mutable_mag()->mutable_header();
+    case proto::LinkMessage::kBaro:
+      return message.mutable_baro()->mutable_header();
+    case proto::LinkMessage::kGnss:
+      return message.mutable_gnss()->mutable_header();
     case proto::LinkMessage::kCommand:
       return message.mutable_command()->mutable_header();
     case proto::LinkMessage::kHello:

@@ -79,6 +79,10 @@ rig::Result<std::string> EncodeLinkFrame(const proto::LinkMessage& message,
 const proto::LinkHeader* HeaderOf(const proto::LinkMessage& message);
 proto::LinkHeader* MutableHeaderOf(proto::LinkMessage& message);
 
+// One slot per LinkMessage payload field number, the highest being GnssFix's: a payload numbered
+// past it must raise this (tests/host/link/hil_link_codec_test.cc checks every payload fits).
+inline constexpr std::size_t kLinkPayloadSlots = proto::LinkMessage::kGnssFieldNumber + 1;
+
 // Next sequence number per stream (payload type) on the sending side; stamps the header of the
 // messages whose sequence the sender does not already track (hello, config, step, bye).
 class LinkSequencer {
@@ -88,7 +92,7 @@ class LinkSequencer {
   void Stamp(proto::LinkMessage& message, std::int64_t time_ns, bool assign_sequence = true);
 
  private:
-  std::array<std::uint64_t, proto::LinkMessage::kTargetInfoFieldNumber + 1> next_{};
+  std::array<std::uint64_t, kLinkPayloadSlots> next_{};
 };
 
 using LinkEvent = std::variant<proto::LinkMessage, LinkError>;
@@ -121,7 +125,7 @@ class LinkDecoder {
   std::vector<std::uint8_t> buffer_;
   std::size_t read_at_ = 0;
   bool broken_ = false;
-  std::array<std::optional<std::uint64_t>, proto::LinkMessage::kTargetInfoFieldNumber + 1> last_{};
+  std::array<std::optional<std::uint64_t>, kLinkPayloadSlots> last_{};
   LinkCounters counters_;
 };
 

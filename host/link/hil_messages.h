@@ -74,9 +74,39 @@ struct ActuatorMessage {
   Eigen::Vector3d external_force_world_n = Eigen::Vector3d::Zero();
 };
 
+// The navigation sensors a flight stack fuses besides the IMU and VIO (PX4's EKF2: magnetometer,
+// barometer, GNSS). The rig's own controller takes its heading and position from the VIO and
+// takes none of them; the runner emulates them only for a DUT that says it takes them
+// (DutPort::TakesNavigationSensors).
+struct MagnetometerMessage {
+  static constexpr const char* kStream = "mag";
+  LinkStamp stamp;
+  Eigen::Vector3d field_body_t = Eigen::Vector3d::Zero();  // FLU body frame, tesla
+};
+
+struct BarometerMessage {
+  static constexpr const char* kStream = "baro";
+  LinkStamp stamp;
+  double pressure_pa = 0;
+  double temperature_c = 0;
+};
+
+struct GnssMessage {
+  static constexpr const char* kStream = "gnss";
+  LinkStamp stamp;
+  double latitude_deg = 0;
+  double longitude_deg = 0;
+  double altitude_m = 0;                                   // above mean sea level
+  Eigen::Vector3d velocity_m_s = Eigen::Vector3d::Zero();  // the rig's world: east, north, up
+  double horizontal_accuracy_m = 0;                        // one standard deviation
+  double vertical_accuracy_m = 0;
+  std::uint8_t satellites = 0;
+};
+
 // Everything the runner sends to the DUT, one alternative per stream. A new DUT-facing stream is
 // one more alternative here; the in-process DUT and the link codec then say how they take it.
-using DutInput = std::variant<ImuMessage, VioMessage, SetpointMessage>;
+using DutInput = std::variant<ImuMessage, VioMessage, SetpointMessage, MagnetometerMessage,
+                              BarometerMessage, GnssMessage>;
 inline constexpr std::size_t kDutInputStreams = std::variant_size_v<DutInput>;
 
 // Calls `take` with the message `input` holds. Like std::visit, but a chain of index compares the

@@ -5,6 +5,8 @@
 #include <limits>
 #include <numbers>
 
+#include "rig/standard_atmosphere.h"
+
 namespace hilrig::host {
 namespace {
 
@@ -16,6 +18,9 @@ constexpr std::uint8_t kModeArmed = 128;         // MAV_MODE_FLAG_SAFETY_ARMED
 constexpr std::uint8_t kModeCustom = 1;          // MAV_MODE_FLAG_CUSTOM_MODE_ENABLED
 constexpr std::uint64_t kFlagLockstep = 1;       // HIL_ACTUATOR_CONTROLS_FLAGS_LOCKSTEP
 constexpr int kServoOutput = 4;
+constexpr double kGaussPerTesla = 1e4;
+constexpr double kPaPerHpa = 100;
+constexpr std::uint8_t kGpsFix3d = 3;  // GPS_FIX_TYPE_3D_FIX
 constexpr float kGripperInstance = 1;
 constexpr float kGripperRelease = 0;  // GRIPPER_ACTION_RELEASE
 constexpr float kGripperGrab = 1;     // GRIPPER_ACTION_GRAB
@@ -83,7 +88,8 @@ double NedYawFromWorldYaw(double world_yaw_rad) {
   return std::remainder(std::numbers::pi / 2 - world_yaw_rad, 2 * std::numbers::pi);
 }
 
-mavlink::HilSensor HilSensorFrom(const ImuMessage& imu, std::uint64_t time_usec) {
+mavlink::HilSensor HilSensorFrom(const ImuMessage& imu, std::uint64_t time_usec,
+                                 const MagnetometerMessage* mag, const BarometerMessage* baro) {
   mavlink::HilSensor sensor;
   sensor.time_usec = time_usec;
   const Eigen::Vector3d accel = FrdFromFlu(imu.accel_m_s2);
@@ -95,7 +101,84 @@ mavlink::HilSensor HilSensorFrom(const ImuMessage& imu, std::uint64_t time_usec)
   sensor.ygyro_rad_s = static_cast<float>(gyro.y());
   sensor.zgyro_rad_s = static_cast<float>(gyro.z());
   sensor.fields_updated = kHilSensorAccelGyro;
+  if (mag != nullptr) {
+    const Eigen::Vector3d field_gauss = FrdFromFlu(mag->field_body_t) * kGaussPerTesla;
+    sensor.xmag_gauss = static_cast<float>(field_gauss.x());
+    sensor.ymag_gauss = static_cast<float>(field_gauss.y());
+    sensor.zmag_gauss = static_cast<float>(field_gauss.z());
+    sensor.fields_updated |= kHilSensorMag;
+  }
+  if (baro != nullptr) {
+    sensor.abs_pressure_hpa = static_cast<float>(baro->pressure_pa / kPaPerHpa);
+    sensor.pressure_alt = static_cast<float>(rig::StandardAltitudeM(baro->pressure_pa));
+    sensor.temperature_degc = static_cast<float>(baro->temperature_c);
+    sensor.fields_updated |= kHilSensorBaro;
+  }
   return sensor;
+}
+
+std::optional<MagnetometerMessage> MagnetometerFrom(const mavlink::HilSensor& sensor) {
+  if ((sensor.fields_updated & kHilSensorMag) != kHilSensorMag) return std::nullopt;
+  MagnetometerMessage mag;
+  mag.field_body_t =
+      FrdFromFlu(Vector(sensor.xmag_gauss, sensor.ymag_gauss, sensor.zmag_gauss)) / kGaussPerTesla;
+  if (!mag.field_body_t.allFinite()) return std::nullopt;
+  return mag;
+}
+
+std::optional<BarometerMessage> BarometerFrom(const mavlink::HilSensor& sensor) {
+  if ((sensor.fields_updated & kHilSensorBaro) != kHilSensorBaro) return std::nullopt;
+  BarometerMessage baro;
+  baro.pressure_pa = double{sensor.abs_pressure_hpa} * kPaPerHpa;
+  baro.temperature_c = sensor.temperature_degc;
+  if (!std::isfinite(baro.pressure_pa) || !std::isfinite(baro.temperature_c)) return std::nullopt;
+  return baro;
+}
+
+mavlink::HilGps HilGpsFrom(const GnssMessage& fix, std::uint64_t time_unix_usec) {
+  const auto scaled = [](double value, double scale, double low, double high) {
+    const double v = std::isfinite(value) ? std::round(value * scale) : 0.0;
+    return std::clamp(v, low, high);
+  };
+  constexpr double kInt16Max = std::numeric_limits<std::int16_t>::max();
+  constexpr double kUint16Max = std::numeric_limits<std::uint16_t>::max();
+  constexpr double kInt32Max = std::numeric_limits<std::int32_t>::max();
+  mavlink::HilGps gps;
+  gps.time_usec = time_unix_usec;
+  gps.lat_deg_e7 = static_cast<std::int32_t>(scaled(fix.latitude_deg, 1e7, -9e8, 9e8));
+  gps.lon_deg_e7 = static_cast<std::int32_t>(scaled(fix.longitude_deg, 1e7, -1.8e9, 1.8e9));
+  gps.alt_mm = static_cast<std::int32_t>(scaled(fix.altitude_m, 1e3, -kInt32Max, kInt32Max));
+  // eph and epv: the fix's accuracy in cm, capped below UINT16_MAX (which says "unknown").
+  gps.eph = static_cast<std::uint16_t>(scaled(fix.horizontal_accuracy_m, 100, 1, kUint16Max - 1));
+  gps.epv = static_cast<std::uint16_t>(scaled(fix.vertical_accuracy_m, 100, 1, kUint16Max - 1));
+  const Eigen::Vector3d velocity_ned = NedFromEnu(fix.velocity_m_s);
+  gps.vn_cm_s = static_cast<std::int16_t>(scaled(velocity_ned.x(), 100, -kInt16Max, kInt16Max));
+  gps.ve_cm_s = static_cast<std::int16_t>(scaled(velocity_ned.y(), 100, -kInt16Max, kInt16Max));
+  gps.vd_cm_s = static_cast<std::int16_t>(scaled(velocity_ned.z(), 100, -kInt16Max, kInt16Max));
+  const double ground_speed = std::hypot(velocity_ned.x(), velocity_ned.y());
+  gps.vel_cm_s = static_cast<std::uint16_t>(scaled(ground_speed, 100, 0, kUint16Max - 1));
+  // Course over ground, degrees from north in [0, 360); UINT16_MAX when standing still.
+  double course_deg = std::atan2(velocity_ned.y(), velocity_ned.x()) * 180 / std::numbers::pi;
+  if (course_deg < 0) course_deg += 360;
+  gps.cog_cdeg = ground_speed > 0 && std::isfinite(course_deg)
+                     ? static_cast<std::uint16_t>(std::min(std::round(course_deg * 100), 35999.0))
+                     : std::numeric_limits<std::uint16_t>::max();
+  gps.fix_type = kGpsFix3d;
+  gps.satellites_visible = fix.satellites;
+  return gps;
+}
+
+std::optional<GnssMessage> GnssFrom(const mavlink::HilGps& gps) {
+  if (gps.fix_type < kGpsFix3d) return std::nullopt;
+  GnssMessage fix;
+  fix.latitude_deg = gps.lat_deg_e7 * 1e-7;
+  fix.longitude_deg = gps.lon_deg_e7 * 1e-7;
+  fix.altitude_m = gps.alt_mm * 1e-3;
+  fix.velocity_m_s = NedFromEnu(Eigen::Vector3d(gps.vn_cm_s, gps.ve_cm_s, gps.vd_cm_s) * 1e-2);
+  fix.horizontal_accuracy_m = gps.eph * 1e-2;
+  fix.vertical_accuracy_m = gps.epv * 1e-2;
+  fix.satellites = gps.satellites_visible;
+  return fix;
 }
 
 ImuMessage ImuFrom(const mavlink::HilSensor& sensor) {

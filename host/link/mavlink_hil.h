@@ -44,10 +44,33 @@ inline constexpr int kStandInExitSensorsStale = 4;
 // HIL_SENSOR's fields_updated for an accelerometer and a gyro (x, y, z each).
 inline constexpr std::uint32_t kHilSensorAccelGyro = 0x3F;
 
-// The IMU reading as HIL_SENSOR (accelerometer and gyro, FRD), and back (the stamp left for the
-// caller).
-mavlink::HilSensor HilSensorFrom(const ImuMessage& imu, std::uint64_t time_usec);
+// HIL_SENSOR's fields_updated for the magnetometer (x, y, z) and the barometer (absolute
+// pressure, pressure altitude, temperature).
+inline constexpr std::uint32_t kHilSensorMag = 0x1C0;
+inline constexpr std::uint32_t kHilSensorBaro = 0x1A00;
+
+// The readings of a sensor step as HIL_SENSOR: the IMU (accelerometer and gyro, FRD) always; the
+// magnetometer (gauss, FRD) and the barometer (hPa, the standard atmosphere's altitude of that
+// pressure, °C) when given, that is when they have a reading newer than the last step's, each
+// with its fields_updated bits. Back: each reading whose bits are all set (the stamps left for
+// the caller); nullopt for one whose bits are not, or whose values are not finite.
+mavlink::HilSensor HilSensorFrom(const ImuMessage& imu, std::uint64_t time_usec,
+                                 const MagnetometerMessage* mag = nullptr,
+                                 const BarometerMessage* baro = nullptr);
 ImuMessage ImuFrom(const mavlink::HilSensor& sensor);
+std::optional<MagnetometerMessage> MagnetometerFrom(const mavlink::HilSensor& sensor);
+std::optional<BarometerMessage> BarometerFrom(const mavlink::HilSensor& sensor);
+
+// HIL_GPS carries UTC; a lockstep run has no date, so its time 0 is this one
+// (2026-01-01T00:00:00Z), the same for every run.
+inline constexpr std::uint64_t kRunEpochUnixUsec = 1'767'225'600'000'000;
+
+// A GNSS fix as HIL_GPS at Unix time `time_unix_usec`: a 3D fix, position in degE7 and mm,
+// velocities in cm/s (NED, clamped to int16), course over ground from the velocity, and eph / epv
+// the fix's accuracy in cm (as PX4 reads them). Back: nullopt for no 3D fix; the stamp is left
+// for the caller.
+mavlink::HilGps HilGpsFrom(const GnssMessage& fix, std::uint64_t time_unix_usec);
+std::optional<GnssMessage> GnssFrom(const mavlink::HilGps& gps);
 
 // A VIO pose as ODOMETRY (estimator VIO, pose in LOCAL_NED, twist FRD and unknown). Back: the
 // pose, its capture time time_usec x 1000 ns, the stamp left for the caller; nullopt for a pose

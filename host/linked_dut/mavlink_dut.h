@@ -23,13 +23,15 @@ rig::Result<void> ValidateMavlinkDutPortOptions(const MavlinkDutPortOptions& opt
 
 class MavlinkDut final : public LinkedDut {
  public:
-  // `runner_bus` is the DUT's endpoint on the runner's bus: MAVLink carries no CAN frame, so the
-  // tactile frames that reach it are counted and go no further. Nothing starts until Start.
+  // `runner_bus` is the DUT's endpoint on the runner's bus: the frames that reach it go to the DUT
+  // as CAN_FRAME. Nothing starts until Start.
   MavlinkDut(const DutFirmware& firmware, std::unique_ptr<rig::CanBus> runner_bus,
              double control_period_s, const MavlinkDutPortOptions& options);
 
   // Refuses real-time pacing by name, then starts as every linked DUT does.
   rig::Result<void> Start() override;
+  // A flight stack fuses them: HIL_SENSOR carries the magnetometer and barometer, HIL_GPS the fix.
+  bool TakesNavigationSensors() const override { return true; }
 
  private:
   MavlinkDutPortOptions options_;

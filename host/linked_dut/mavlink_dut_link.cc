@@ -286,6 +286,12 @@ rig::Result<void> MavlinkDutLink::Input(const DutInput& input, bool, std::int64_
     imu_ = *imu;
   } else if (const auto* vio = std::get_if<VioMessage>(&input)) {
     poses_.push_back(*vio);
+  } else if (const auto* mag = std::get_if<MagnetometerMessage>(&input)) {
+    mag_ = *mag;
+  } else if (const auto* baro = std::get_if<BarometerMessage>(&input)) {
+    baro_ = *baro;
+  } else if (const auto* fix = std::get_if<GnssMessage>(&input)) {
+    fix_ = *fix;
   } else if (const auto* setpoint = std::get_if<SetpointMessage>(&input)) {
     setpoint_ = *setpoint;
     if (!SameGrasp(*setpoint, grasp_)) {
@@ -331,7 +337,17 @@ rig::Result<void> MavlinkDutLink::Request(const LinkRequest& request) {
     ++odometry_sent_;
   }
   poses_.clear();
-  if (auto sent = SendSim(HilSensorFrom(*imu_, time_usec)); !sent) return sent;
+  if (fix_) {
+    if (auto sent = SendSim(HilGpsFrom(*fix_, kRunEpochUnixUsec + time_usec)); !sent) return sent;
+    ++gps_sent_;
+    fix_.reset();
+  }
+  // A magnetometer or barometer reading goes with the first sensor step after it, once.
+  const MagnetometerMessage* mag = mag_ ? &*mag_ : nullptr;
+  const BarometerMessage* baro = baro_ ? &*baro_ : nullptr;
+  if (auto sent = SendSim(HilSensorFrom(*imu_, time_usec, mag, baro)); !sent) return sent;
+  mag_.reset();
+  baro_.reset();
   ++sensor_steps_;
   awaited_ = Awaited{request.tick, time_usec, false};
   answer_at_once_ns_ = clock_->NowNs() + rig::NsFromSeconds(options_.first_answer_wait_s);
@@ -553,6 +569,7 @@ std::vector<rig::Metric> MavlinkDutLink::metrics(bool) const {
                                     {"mavlink_odometry_sent", odometry_sent_},
                                     {"mavlink_setpoints_sent", setpoints_sent_},
                                     {"mavlink_can_frames_sent", can_frames_sent_},
+                                    {"mavlink_gps_sent", gps_sent_},
                                     {"mavlink_can_frames_not_carried", can_frames_not_carried_},
                                     {"mavlink_estimates_received", telemetry_received_},
                                     {"mavlink_controls_received", controls_received_},

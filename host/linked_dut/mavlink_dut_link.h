@@ -4,11 +4,13 @@
 // running the rig's controller) and waits for it to connect and to send its API heartbeat. A
 // request sends a sensor step on the control ticks that fall on the sensor period (250 Hz): the
 // setpoint and commands (the grasp as MAV_CMD_DO_GRIPPER) on the API link, the VIO poses as
-// ODOMETRY and one HIL_SENSOR; the DUT's HIL_ACTUATOR_CONTROLS of the same time answers it, and
-// its estimates for the trace come as DEBUG_FLOAT_ARRAY on the API link. The ticks between sensor
-// steps are answered at once with the last command, as the vehicle's motors hold it. Every tick's
-// tactile CAN frames go on the simulator link as CAN_FRAME, as they reach the runner's DUT end.
-// Every frame both ways goes into the run folder's mavlink.tlog, stamped with the run's time.
+// ODOMETRY, a new GNSS fix as HIL_GPS, and one HIL_SENSOR (with the magnetometer and barometer
+// readings that are new since the step before); the DUT's HIL_ACTUATOR_CONTROLS of the same time
+// answers it, and its estimates for the trace come as DEBUG_FLOAT_ARRAY on the API link. The ticks
+// between sensor steps are answered at once with the last command, as the vehicle's motors hold it.
+// Every tick's tactile CAN frames go on the simulator link as CAN_FRAME, as they reach the runner's
+// DUT end. Every frame both ways goes into the run folder's mavlink.tlog, stamped with the run's
+// time.
 #pragma once
 
 #include <array>
@@ -135,6 +137,10 @@ class MavlinkDutLink final : public DutLink {
   std::optional<ImuMessage> imu_;
   std::vector<VioMessage> poses_;            // delivered since the last sensor step
   std::optional<SetpointMessage> setpoint_;  // a new setpoint not sent yet
+  // The navigation sensors' readings since the last sensor step (the newest of each).
+  std::optional<MagnetometerMessage> mag_;
+  std::optional<BarometerMessage> baro_;
+  std::optional<GnssMessage> fix_;
   // The offboard mode and the arming, from the first setpoint on, and the grasp since it last
   // changed, each until the DUT accepts it.
   struct Command {
@@ -173,6 +179,7 @@ class MavlinkDutLink final : public DutLink {
   std::uint64_t odometry_sent_ = 0;
   std::uint64_t setpoints_sent_ = 0;
   std::uint64_t can_frames_sent_ = 0;
+  std::uint64_t gps_sent_ = 0;
   std::uint64_t can_frames_not_carried_ = 0;  // CAN FD and error frames: CAN_FRAME has no room
   std::uint64_t telemetry_received_ = 0;
   std::uint64_t controls_received_ = 0;

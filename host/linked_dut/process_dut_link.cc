@@ -203,6 +203,7 @@ void ProcessDutLink::LogSend(SendLog& log, std::uint64_t key, std::int64_t wall_
     ++latency_samples_dropped_;
   }
   log.pending.push_back({key, wall_ns});
+  log.used = true;
 }
 
 void ProcessDutLink::Cover(SendLog& log, std::uint64_t up_to_key, std::int64_t arrival_wall_ns) {
@@ -229,6 +230,9 @@ void ProcessDutLink::RecordCoverage(const proto::ActuatorCommand& command,
 std::vector<StreamLatency> ProcessDutLink::input_latencies() const {
   std::vector<StreamLatency> latencies;
   for (std::size_t index = 0; index < kDutInputStreams; ++index) {
+    // A stream the DUT was never sent (the navigation sensors, for the rig's own controller) has
+    // no latency to report.
+    if (!input_logs_[index].used) continue;
     latencies.push_back({DutInputStream(index), input_logs_[index].latency.Summary()});
   }
   latencies.push_back({"can", can_log_.latency.Summary()});

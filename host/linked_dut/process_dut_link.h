@@ -59,6 +59,7 @@ class ProcessDutLink final : public DutLink {
     };
     rig::RingBuffer<Sent> pending;
     rig::DurationHistogram latency;
+    bool used = false;  // anything sent on the stream
   };
   rig::Result<void> Send(const proto::LinkMessage& message, bool realtime);
   // Puts one frame on its way: into the request (no forward bus) or onto the bus.

@@ -17,6 +17,7 @@
 #include "host/runner/dut_faults.h"
 #include "host/runner/gripper_scene.h"
 #include "host/runner/model_list.h"
+#include "host/runner/navigation_devices.h"
 #include "host/runner/realtime_pacer.h"
 #include "host/runner/run_statistics.h"
 #include "host/runner/scene_devices.h"
@@ -182,6 +183,13 @@ ScenarioRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
                : MakeRestingQuadrotor(config.vehicle, start_m.x(), start_m.y(),
                                       config.initial_reference.yaw_rad);
   plant_view_.emplace(PlantView{plant_, gripper_ ? gripper_->pad_forces() : kNoPadForce});
+  // The navigation sensors after the scene's own devices, for a DUT that takes them.
+  if (dut_started_ && dut_->TakesNavigationSensors()) {
+    for (std::unique_ptr<DeviceEmulator>& device :
+         MakeNavigationDevices(config.navigation, config.earth_field, config.seed)) {
+      devices_.push_back(std::move(device));
+    }
+  }
   for (const std::unique_ptr<DeviceEmulator>& device : devices_) device_schedule_.Add(*device);
   for (DeviceEmulator* device : control.added_devices) device_schedule_.Add(*device);
   if (dut_started_) device_schedule_.Initialize(*plant_view_, *dut_);

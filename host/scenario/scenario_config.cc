@@ -110,6 +110,19 @@ void ResolveSensors(const proto::Scenario& spec, ScenarioConfig& config) {
   if (spec.environment().has_earth_field_world_t()) {
     config.earth_field.field_world_t = ToEigen(spec.environment().earth_field_world_t());
   }
+  if (spec.environment().has_geodetic_origin()) {
+    const proto::GeodeticOrigin& origin = spec.environment().geodetic_origin();
+    config.navigation.origin = {origin.latitude_deg(), origin.longitude_deg(), origin.altitude_m()};
+  }
+  // The navigation sensors sample on ticks too, at most once per tick.
+  NavigationSensorsConfig& navigation = config.navigation;
+  for (double* rate_hz : {&navigation.magnetometer.rate_hz, &navigation.barometer.rate_hz,
+                          &navigation.gnss.rate_hz}) {
+    *rate_hz = std::min(*rate_hz, physics_rate_hz);
+  }
+  navigation.magnetometer.noise_enabled = noise;
+  navigation.barometer.noise_enabled = noise;
+  navigation.gnss.noise_enabled = noise;
 }
 
 void ResolveHallSensors(const proto::Scenario& spec, const std::string& spec_directory,

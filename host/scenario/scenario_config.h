@@ -22,6 +22,7 @@
 #include "host/scenario/reference_trajectory.h"
 #include "host/sensors/earth_field.h"
 #include "host/sensors/imu_emulator.h"
+#include "host/sensors/navigation_sensors.h"
 #include "host/sensors/tactile/film_field.h"
 #include "host/sensors/tactile/sensor_layout.h"
 #include "host/sensors/vio_emulator.h"
@@ -137,6 +138,8 @@ struct ScenarioConfig {
   HallSensorConfig hall_sensors;
   GripperConfig gripper;
   EarthField earth_field;
+  // The magnetometer, barometer and GNSS, emulated for a DUT that takes them.
+  NavigationSensorsConfig navigation;
 
   ReferenceSample initial_reference;  // also where the vehicle starts, at rest
   std::vector<SetpointCommand> setpoints;

@@ -423,6 +423,19 @@ void CheckTarget(const proto::Scenario& scenario, const ProblemList& problems) {
                   "work_max_fraction_max", problems);
 }
 
+// The tangent-plane GNSS model and the troposphere's barometer hold in these ranges.
+void CheckGeodeticOrigin(const proto::GeodeticOrigin& origin, const ProblemList& problems) {
+  if (!(std::abs(origin.latitude_deg()) <= 85)) {
+    problems.Add("latitude_deg", "must be within -85 .. 85");
+  }
+  if (!(std::abs(origin.longitude_deg()) <= 180)) {
+    problems.Add("longitude_deg", "must be within -180 .. 180");
+  }
+  if (!(origin.altitude_m() >= -400 && origin.altitude_m() <= 8000)) {
+    problems.Add("altitude_m", "must be within -400 .. 8000 m (the troposphere's barometer)");
+  }
+}
+
 // With every rotor at full thrust the vehicle must at least hover, or no scenario can fly it.
 void CheckCanLift(const proto::Scenario& scenario, const ProblemList& problems) {
   const proto::Vehicle& vehicle = scenario.vehicle();
@@ -477,6 +490,10 @@ std::vector<FieldProblem> ValidateScenario(const proto::Scenario& scenario) {
   CheckTarget(scenario, root.Nested("target"));
   if (scenario.environment().has_gravity_m_s2() && !(scenario.environment().gravity_m_s2() > 0)) {
     root.Nested("environment").Add("gravity_m_s2", "must be > 0");
+  }
+  if (scenario.environment().has_geodetic_origin()) {
+    CheckGeodeticOrigin(scenario.environment().geodetic_origin(),
+                        root.Nested("environment").Nested("geodetic_origin"));
   }
   return problems;
 }

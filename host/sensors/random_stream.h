@@ -26,6 +26,9 @@ enum class StreamId : std::uint64_t {
   kVio = 2,
   kReferenceMagnetometer = 3,
   kDisturbance = 4,  // wind gusts and other plant disturbances
+  kMagnetometer = 5,
+  kBarometer = 6,
+  kGnss = 7,
   // Tactile sensor nodes 0..6 use kTactileFirst + index.
   kTactileFirst = 10,
   kTactileLast = 16,

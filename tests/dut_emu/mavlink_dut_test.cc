@@ -390,6 +390,42 @@ TEST(MavlinkDutTest, PutsCanFramesOnTheControllersBusAndReportsItsEstimatesEachS
   EXPECT_EQ(telemetry.data[7], 0.0f) << "the pads are not zeroed yet";
 }
 
+TEST(MavlinkDutTest, HandsTheFixMagnetometerAndBarometerToTheControllerWithTheStep) {
+  std::vector<host::DutInput> inputs;
+  MavlinkDut dut(std::make_unique<RecordingPort>(inputs), host::ActuatorScale{4.0, 0.0, 1.6});
+  host::GnssMessage fix;
+  fix.latitude_deg = 47.3769;
+  fix.altitude_m = 408;
+  fix.satellites = 12;
+  dut.Handle(host::HilGpsFrom(fix, host::kRunEpochUnixUsec), MavlinkLink::kSimulator);
+  mavlink::HilGps no_fix = host::HilGpsFrom(fix, host::kRunEpochUnixUsec);
+  no_fix.fix_type = 0;
+  dut.Handle(no_fix, MavlinkLink::kSimulator);
+  EXPECT_EQ(dut.counters().gps_fixes, 1u);
+  EXPECT_EQ(dut.counters().ignored, 1u) << "no fix, nothing to take";
+  EXPECT_TRUE(inputs.empty());
+
+  host::ImuMessage imu;
+  imu.accel_m_s2 = {0, 0, 9.81};
+  host::MagnetometerMessage mag;
+  mag.field_body_t = {24e-6, 0, -41.6e-6};
+  host::BarometerMessage baro;
+  baro.pressure_pa = 96500;
+  dut.Handle(host::HilSensorFrom(imu, 4'000, &mag, &baro), MavlinkLink::kSimulator);
+  ASSERT_EQ(inputs.size(), 4u);
+  const auto& gnss = std::get<host::GnssMessage>(inputs[0]);
+  EXPECT_NEAR(gnss.latitude_deg, 47.3769, 1e-7);
+  EXPECT_EQ(gnss.stamp.time_ns, 4'000'000);
+  EXPECT_NEAR(std::get<host::MagnetometerMessage>(inputs[1]).field_body_t.x(), 24e-6, 1e-11);
+  EXPECT_NEAR(std::get<host::BarometerMessage>(inputs[2]).pressure_pa, 96500, 0.01);
+  EXPECT_TRUE(std::holds_alternative<host::ImuMessage>(inputs[3]));
+
+  // A step whose fields_updated has only the IMU hands over only the IMU.
+  dut.Handle(host::HilSensorFrom(imu, 8'000), MavlinkLink::kSimulator);
+  ASSERT_EQ(inputs.size(), 5u);
+  EXPECT_TRUE(std::holds_alternative<host::ImuMessage>(inputs[4]));
+}
+
 TEST(MavlinkDutTest, TheStaleRuleFiresAtExactlyOneHundredIdenticalReadings) {
   MavlinkDut dut(HoverFirmware(), kSensorPeriodS);
   std::uint64_t time_usec = 0;

@@ -365,6 +365,20 @@ void Fill(SetpointMessage& m) {
   m.grasp_force_n = kAlmostOne;
   m.grasp_reference_angle_rad = kTiny;
 }
+void Fill(MagnetometerMessage& m) { m.field_body_t = {kTiny, -kThird * 1e-4, kAlmostOne * 1e-4}; }
+void Fill(BarometerMessage& m) {
+  m.pressure_pa = 101325 - kThird;
+  m.temperature_c = kAlmostOne;
+}
+void Fill(GnssMessage& m) {
+  m.latitude_deg = 47 + kThird;
+  m.longitude_deg = -kAlmostOne;
+  m.altitude_m = 408 + kTiny;
+  m.velocity_m_s = {kThird, -kTiny, kAlmostOne};
+  m.horizontal_accuracy_m = kThird;
+  m.vertical_accuracy_m = kAlmostOne;
+  m.satellites = 255;
+}
 
 // Alternative `index` of DutInput with every field set, the first of its stream, stamped with a
 // time that names the index.
@@ -394,6 +408,17 @@ TEST(HilLinkCodecTest, EveryDutInputRoundTripsBitExactThroughTheLink) {
     EXPECT_EQ(StampOf(*received).time_ns, 1'000'000'007 + static_cast<std::int64_t>(index));
     // Serialization writes doubles bit for bit, so equal bytes mean every field survived.
     EXPECT_EQ(ToLink(*received).SerializeAsString(), link.SerializeAsString());
+  }
+}
+
+// The sequencer and decoder keep one slot per payload field number.
+TEST(HilLinkCodecTest, EveryPayloadHasASequenceSlot) {
+  const google::protobuf::OneofDescriptor* payload =
+      proto::LinkMessage::descriptor()->FindOneofByName("payload");
+  ASSERT_NE(payload, nullptr);
+  for (int i = 0; i < payload->field_count(); ++i) {
+    EXPECT_LT(static_cast<std::size_t>(payload->field(i)->number()), kLinkPayloadSlots)
+        << payload->field(i)->name();
   }
 }
 

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "rig/standard_atmosphere.h"
+
 namespace hilrig::host {
 namespace {
 
@@ -34,6 +36,80 @@ TEST(MavlinkHilTest, AtRestTheAccelerometerReadsMinusGAlongFrdZ) {
   const ImuMessage back = ImuFrom(sensor);
   ExpectNear(back.accel_m_s2, imu.accel_m_s2, 1e-6);
   ExpectNear(back.gyro_rad_s, imu.gyro_rad_s, 1e-6);
+}
+
+TEST(MavlinkHilTest, TheMagnetometerAndBarometerGoInGaussAndHectopascalsWithTheirBits) {
+  ImuMessage imu;
+  imu.accel_m_s2 = {0, 0, 9.81};
+  const mavlink::HilSensor imu_only = HilSensorFrom(imu, 4000);
+  EXPECT_EQ(imu_only.fields_updated, 0x3Fu);
+  EXPECT_FALSE(MagnetometerFrom(imu_only));
+  EXPECT_FALSE(BarometerFrom(imu_only));
+
+  MagnetometerMessage mag;
+  mag.field_body_t = {24e-6, 0, -41.6e-6};  // facing north, level: 0.24 G ahead, 0.416 G down
+  BarometerMessage baro;
+  baro.pressure_pa = rig::StandardPressurePa(408);  // 96519 Pa
+  baro.temperature_c = 12.3;
+  const mavlink::HilSensor sensor = HilSensorFrom(imu, 8000, &mag, &baro);
+  EXPECT_EQ(sensor.fields_updated, 0x3Fu | 0x1C0u | 0x1A00u);
+  EXPECT_FLOAT_EQ(sensor.xmag_gauss, 0.24f);
+  EXPECT_FLOAT_EQ(sensor.ymag_gauss, 0.0f);
+  EXPECT_FLOAT_EQ(sensor.zmag_gauss, 0.416f) << "down is FRD's +z";
+  EXPECT_FLOAT_EQ(sensor.abs_pressure_hpa, static_cast<float>(baro.pressure_pa / 100));
+  EXPECT_NEAR(sensor.pressure_alt, 408, 0.01);
+  EXPECT_FLOAT_EQ(sensor.temperature_degc, 12.3f);
+  const std::optional<MagnetometerMessage> mag_back = MagnetometerFrom(sensor);
+  ASSERT_TRUE(mag_back);
+  ExpectNear(mag_back->field_body_t, mag.field_body_t, 1e-11);
+  const std::optional<BarometerMessage> baro_back = BarometerFrom(sensor);
+  ASSERT_TRUE(baro_back);
+  EXPECT_NEAR(baro_back->pressure_pa, baro.pressure_pa, 0.01);
+
+  mavlink::HilSensor partial = sensor;
+  partial.fields_updated &= ~0x80u;  // the magnetometer's y missing
+  EXPECT_FALSE(MagnetometerFrom(partial));
+  partial.abs_pressure_hpa = std::nanf("");
+  EXPECT_FALSE(BarometerFrom(partial));
+}
+
+TEST(MavlinkHilTest, AGnssFixGoesAsHilGpsInItsUnitsAndBack) {
+  GnssMessage fix;
+  fix.latitude_deg = 47.3769;
+  fix.longitude_deg = 8.5417;
+  fix.altitude_m = 409.25;
+  fix.velocity_m_s = {1.0, 0.0, -0.5};  // east, sinking
+  fix.horizontal_accuracy_m = 0.3;
+  fix.vertical_accuracy_m = 0.5;
+  fix.satellites = 12;
+  const mavlink::HilGps gps = HilGpsFrom(fix, kRunEpochUnixUsec + 4000);
+  EXPECT_EQ(gps.time_usec, 1'767'225'600'004'000u);
+  EXPECT_EQ(gps.lat_deg_e7, 473769000);
+  EXPECT_EQ(gps.lon_deg_e7, 85417000);
+  EXPECT_EQ(gps.alt_mm, 409250);
+  EXPECT_EQ(gps.eph, 30);
+  EXPECT_EQ(gps.epv, 50);
+  EXPECT_EQ(gps.vn_cm_s, 0);
+  EXPECT_EQ(gps.ve_cm_s, 100);
+  EXPECT_EQ(gps.vd_cm_s, 50);
+  EXPECT_EQ(gps.vel_cm_s, 100);
+  EXPECT_EQ(gps.cog_cdeg, 9000) << "due east";
+  EXPECT_EQ(gps.fix_type, 3);
+  EXPECT_EQ(gps.satellites_visible, 12);
+  const std::optional<GnssMessage> back = GnssFrom(gps);
+  ASSERT_TRUE(back);
+  EXPECT_NEAR(back->latitude_deg, fix.latitude_deg, 1e-7);
+  EXPECT_NEAR(back->altitude_m, fix.altitude_m, 1e-3);
+  ExpectNear(back->velocity_m_s, fix.velocity_m_s, 1e-9);
+
+  GnssMessage still = fix;
+  still.velocity_m_s = Eigen::Vector3d::Zero();
+  EXPECT_EQ(HilGpsFrom(still, 0).cog_cdeg, 65535) << "no course standing still";
+  still.velocity_m_s = {0, 400, 0};  // past int16 cm/s
+  EXPECT_EQ(HilGpsFrom(still, 0).vn_cm_s, 32767);
+  mavlink::HilGps no_fix = gps;
+  no_fix.fix_type = 1;
+  EXPECT_FALSE(GnssFrom(no_fix));
 }
 
 TEST(MavlinkHilTest, AVehicleFacingEastHasANedYawOfAQuarterTurn) {

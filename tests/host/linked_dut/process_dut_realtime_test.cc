@@ -191,6 +191,19 @@ TEST_F(ProcessDutRealtimeTest, EveryDutInputStreamHasItsLatency) {
   EXPECT_EQ(latencies[kDutInputStreams + 1].stream, "command");
 }
 
+// The rig's own controller is never sent the navigation sensors: no latency line for them.
+TEST_F(ProcessDutRealtimeTest, AStreamNeverSentHasNoLatency) {
+  auto dut = Start({}, 50e-3);
+  ASSERT_NE(dut, nullptr);
+  dut->Send(ImuAt(0, kTickNs));
+  dut->RequestStep(1, kTickNs);
+  auto answer = PollUntilAnswer(*dut);
+  ASSERT_TRUE(answer.ok()) << answer.error().message;
+  std::vector<std::string> streams;
+  for (const StreamLatency& latency : dut->response_latencies()) streams.push_back(latency.stream);
+  EXPECT_EQ(streams, (std::vector<std::string>{"imu", "can", "command"}));
+}
+
 TEST_F(ProcessDutRealtimeTest, NewestCommandWinsAndTheOlderOnesAreCounted) {
   auto dut = Start();
   ASSERT_NE(dut, nullptr);

@@ -7,7 +7,8 @@
 //      frames; the rig's parser (mavlink_vectors read) must decode every field to the same value.
 //   3. with RUN_TLOGs, runs' mavlink.tlog: node-mavlink finds every frame valid, the rate 250 Hz,
 //      each HIL_SENSOR answered at its own time and its estimates reported with it; in hover's
-//      log the accelerometer at rest reads -g in m/s² along FRD, in load_ramp's the tactile
+//      log the accelerometer at rest reads -g in m/s² along FRD, the magnetometer, barometer and
+//      GNSS come at their rates with plausible values; in load_ramp's the tactile
 //      frames travel as CAN_FRAME and the grasp as MAV_CMD_DO_GRIPPER with its 4 N set-point.
 // Usage: node node_mavlink_check.mjs NODE_MODULES_PARENT MAVLINK_VECTORS WORK_DIR
 //          [hover=RUN_TLOG] [load_ramp=RUN_TLOG]
@@ -201,13 +202,16 @@ async function checkRunLog(scene, path) {
     fail(`the run's log: ${records.length} records, node-mavlink found ${valid} valid and ` +
          `${invalid} invalid frames`);
   }
-  const allowed = new Set([0, 76, 77, 84, 93, 107, 331, 350, 386]);
+  const allowed = new Set([0, 76, 77, 84, 93, 107, 113, 331, 350, 386]);
   const sensorTimes = [];
   const answered = new Set();
   const estimated = new Set();
   const grasps = [];
   let canFrames = 0;
   let firstZacc = null;
+  const magGauss = [];
+  const pressuresHpa = [];
+  const fixes = [];
   records.slice(1).forEach((record, index) => {
     if (record.timeUs < records[index].timeUs) fail(`the log's time goes back at record ${index + 1}`);
   });
@@ -220,7 +224,11 @@ async function checkRunLog(scene, path) {
     if (id === 107) {
       sensorTimes.push(data.timeUsec);
       if (firstZacc === null) firstZacc = data.zacc;
+      // HIL_SENSOR_UPDATED_FLAGS: the magnetometer's three bits, the barometer's three.
+      if ((data.fieldsUpdated & 0x1c0) === 0x1c0) magGauss.push(Math.hypot(data.xmag, data.ymag, data.zmag));
+      if ((data.fieldsUpdated & 0x1a00) === 0x1a00) pressuresHpa.push(data.absPressure);
     }
+    if (id === 113) fixes.push(data);
     if (id === 93) answered.add(String(data.timeUsec));
     if (id === 350 && data.name === 'hilrig' && data.arrayId === 1) {
       estimated.add(String(data.timeUsec));
@@ -248,6 +256,17 @@ async function checkRunLog(scene, path) {
     if (!(firstZacc < -9.3 && firstZacc > -10.3)) {
       fail(`the first HIL_SENSOR's zacc is ${firstZacc}, not about -9.81 m/s² (FRD at rest)`);
     }
+    // The magnetometer at 100 Hz reads the default Earth field, 0.48 G; the barometer at 50 Hz
+    // the standard atmosphere near Zürich's 408 m (966 hPa); GNSS at 10 Hz there.
+    const seconds = sensorTimes.length / 250;
+    if (Math.abs(magGauss.length - 100 * seconds) > 2) fail(`${magGauss.length} magnetometer readings`);
+    if (magGauss.some((g) => Math.abs(g - 0.48) > 0.01)) fail('a magnetometer reading is not ~0.48 G');
+    if (Math.abs(pressuresHpa.length - 50 * seconds) > 2) fail(`${pressuresHpa.length} barometer readings`);
+    if (pressuresHpa.some((p) => p < 960 || p > 968)) fail('a barometer reading is not ~966 hPa');
+    if (Math.abs(fixes.length - 10 * seconds) > 2) fail(`${fixes.length} HIL_GPS`);
+    if (fixes.some((fix) => Math.abs(fix.lat - 473769000) > 1000 || fix.fixType !== 3)) {
+      fail('a HIL_GPS is not a 3D fix at the default origin, 47.3769 N');
+    }
   }
   if (scene === 'load_ramp') {
     if (canFrames < 1000) fail(`load_ramp's log has ${canFrames} CAN_FRAME, not the tactile traffic`);
@@ -257,8 +276,9 @@ async function checkRunLog(scene, path) {
     }
   }
   console.log(`node-mavlink read ${scene}'s ${packets.length} frames: ${sensorTimes.length} ` +
-              `HIL_SENSOR at 250 Hz, each answered with its estimates; ${canFrames} CAN_FRAME, ` +
-              `${grasps.length} gripper commands`);
+              `HIL_SENSOR at 250 Hz, each answered with its estimates (${magGauss.length} with ` +
+              `the magnetometer, ${pressuresHpa.length} with the barometer); ${fixes.length} ` +
+              `HIL_GPS; ${canFrames} CAN_FRAME, ${grasps.length} gripper commands`);
 }
 
 const expectedIds = JSON.parse(execFileSync(vectorsBin, ['tlog', `${workDir}/ids.tlog`]).toString())

@@ -1,8 +1,10 @@
 // The runner's side of the DUT lifecycle: Start before anything else, no message nor step for a
-// DUT that did not start, and Stop once at the end of every run.
+// DUT that did not start, and Stop once at the end of every run; the navigation sensors only for
+// a DUT that takes them.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -16,6 +18,7 @@ namespace {
 // What the runner did to a DUT, in order ("start", "send", "step", "stop").
 struct DutCalls {
   std::vector<std::string> calls;
+  std::map<std::string, int> sent;  // by stream
   int Count(const std::string& call) const {
     return static_cast<int>(std::count(calls.begin(), calls.end(), call));
   }
@@ -23,8 +26,8 @@ struct DutCalls {
 
 class RecordingDut final : public DutPort {
  public:
-  RecordingDut(DutCalls& log, std::string start_error)
-      : log_(log), start_error_(std::move(start_error)) {}
+  RecordingDut(DutCalls& log, std::string start_error, bool navigation = false)
+      : log_(log), start_error_(std::move(start_error)), navigation_(navigation) {}
 
   rig::Result<void> Start() override {
     log_.calls.push_back("start");
@@ -32,7 +35,11 @@ class RecordingDut final : public DutPort {
     return {};
   }
   void Stop() override { log_.calls.push_back("stop"); }
-  void Send(const DutInput&) override { log_.calls.push_back("send"); }
+  void Send(const DutInput& input) override {
+    log_.calls.push_back("send");
+    ++log_.sent[DutInputStream(input.index())];
+  }
+  bool TakesNavigationSensors() const override { return navigation_; }
   rig::Result<ActuatorMessage> Step(std::uint64_t, std::int64_t) override {
     log_.calls.push_back("step");
     return ActuatorMessage();
@@ -43,6 +50,7 @@ class RecordingDut final : public DutPort {
  private:
   DutCalls& log_;
   std::string start_error_;
+  bool navigation_;
 };
 
 ScenarioConfig ShortHover() {
@@ -63,10 +71,10 @@ proto::Report RunWith(const ScenarioConfig& config, DutFactory factory) {
   return RunScenario(config, {}, control);
 }
 
-DutFactory Recording(DutCalls& log, const std::string& start_error) {
-  return [&log, start_error](const ScenarioConfig&, std::unique_ptr<rig::CanBus>,
-                             double) -> rig::Result<std::unique_ptr<DutPort>> {
-    return std::unique_ptr<DutPort>(std::make_unique<RecordingDut>(log, start_error));
+DutFactory Recording(DutCalls& log, const std::string& start_error, bool navigation = false) {
+  return [&log, start_error, navigation](const ScenarioConfig&, std::unique_ptr<rig::CanBus>,
+                                         double) -> rig::Result<std::unique_ptr<DutPort>> {
+    return std::unique_ptr<DutPort>(std::make_unique<RecordingDut>(log, start_error, navigation));
   };
 }
 
@@ -122,6 +130,23 @@ TEST(DutLifecycleTest, AFailedFactoryReportsNoDut) {
          double) -> rig::Result<std::unique_ptr<DutPort>> { return rig::MakeError("no dut_emu"); });
   EXPECT_EQ(report.stop_reason(), "dut failed to start: no dut_emu");
   EXPECT_EQ(ModelFidelity(report, "dut"), "none (failed to start)");
+}
+
+// A flight stack that fuses a magnetometer, barometer and GNSS gets them on their own periods
+// (100, 50 and 10 Hz, from time 0); the rig's own controller, which takes none, is sent none.
+TEST(DutLifecycleTest, OnlyADutThatTakesThemIsSentTheNavigationSensors) {
+  ScenarioConfig config = ShortHover();
+  config.duration_s = 1.0;
+  DutCalls flight_stack;
+  RunWith(config, Recording(flight_stack, "", /*navigation=*/true));
+  EXPECT_EQ(flight_stack.sent["mag"], 100);
+  EXPECT_EQ(flight_stack.sent["baro"], 50);
+  EXPECT_EQ(flight_stack.sent["gnss"], 10);
+  EXPECT_EQ(flight_stack.sent["imu"], 1000);
+  DutCalls own;
+  RunWith(config, Recording(own, ""));
+  EXPECT_EQ(own.sent["imu"], 1000);
+  EXPECT_EQ(own.sent.count("mag") + own.sent.count("baro") + own.sent.count("gnss"), 0u);
 }
 
 }  // namespace

@@ -33,6 +33,32 @@ TEST(ResolveSensorsTest, DefaultSensorRatesAreCappedAtTheTickRate) {
   EXPECT_EQ(ResolveScenario(spec, std::nullopt).imu.rate_hz, 250);
 }
 
+// The navigation sensors: the scene's geodetic origin (Zürich by default), their rates capped at
+// the tick rate as the IMU's, their noise with the scene's.
+TEST(ResolveSensorsTest, TheNavigationSensorsTakeTheOriginTheTickRateAndTheNoiseSwitch) {
+  const ScenarioConfig defaults = TickingAt(1000);
+  EXPECT_EQ(defaults.navigation.origin.latitude_deg, 47.3769);
+  EXPECT_EQ(defaults.navigation.magnetometer.rate_hz, 100);
+  EXPECT_EQ(defaults.navigation.gnss.rate_hz, 10);
+  EXPECT_TRUE(defaults.navigation.barometer.noise_enabled);
+  EXPECT_EQ(TickingAt(40).navigation.magnetometer.rate_hz, 40);
+  EXPECT_EQ(TickingAt(40).navigation.barometer.rate_hz, 40);
+  proto::Scenario spec;
+  spec.set_name("place");
+  spec.mutable_simulation()->set_duration_s(1);
+  spec.mutable_models()->set_noise(proto::NOISE_OFF);
+  proto::GeodeticOrigin* origin = spec.mutable_environment()->mutable_geodetic_origin();
+  origin->set_latitude_deg(-33.9);
+  origin->set_longitude_deg(18.4);
+  origin->set_altitude_m(10);
+  const ScenarioConfig config = ResolveScenario(spec, std::nullopt);
+  EXPECT_EQ(config.navigation.origin.latitude_deg, -33.9);
+  EXPECT_EQ(config.navigation.origin.longitude_deg, 18.4);
+  EXPECT_EQ(config.navigation.origin.altitude_m, 10);
+  EXPECT_FALSE(config.navigation.magnetometer.noise_enabled);
+  EXPECT_FALSE(config.navigation.gnss.noise_enabled);
+}
+
 // Each envelope of the spec resolves into the plain struct the checks read, field by field; a bound
 // or window the spec leaves out stays unset (an open side), from_s defaults to the start.
 TEST(ResolveEnvelopesTest, EveryFieldOfTheSpecsEnvelopesIsResolved) {

@@ -147,6 +147,20 @@ TEST(ScenarioValidationTest, PositionsFarFromTheBenchAreRejected) {
   EXPECT_TRUE(ParseScenario(edge, "spec.textproto").ok());
 }
 
+TEST(ScenarioValidationTest, AGeodeticOriginOffTheModelsRangeIsNamed) {
+  std::string spec = kGraspScene;
+  spec +=
+      "environment { geodetic_origin { latitude_deg: 90 longitude_deg: 200 altitude_m: 9000 } }";
+  const std::string error = ErrorOf(spec);
+  EXPECT_THAT(error,
+              HasSubstr("environment.geodetic_origin.latitude_deg: must be within -85 .. 85"));
+  EXPECT_THAT(error, HasSubstr("environment.geodetic_origin.longitude_deg"));
+  EXPECT_THAT(error, HasSubstr("environment.geodetic_origin.altitude_m"));
+  spec = kGraspScene;
+  spec += "environment { geodetic_origin { latitude_deg: 52.31 longitude_deg: 4.77 } }";
+  EXPECT_TRUE(ParseScenario(spec, "spec.textproto").ok());
+}
+
 TEST(ScenarioValidationTest, HandOverWithoutAnObjectIsRejected) {
   const std::string error = ErrorOf(R"(name: "x"
 simulation { duration_s: 2 }
