@@ -42,7 +42,8 @@ int main(int argc, char** argv) {
   }
   // PX4 SITL's part on the MAVLink simulator link, its options in any order. MAVLink has no link
   // token: like PX4, the stand-in proves nothing to the rig.
-  if (std::find(args.begin() + 1, args.end(), "--mavlink") != args.end()) {
+  if (std::find(args.begin() + 1, args.end(), "--mavlink") != args.end() ||
+      std::find(args.begin() + 1, args.end(), "--mavlink-serial") != args.end()) {
     auto mavlink = hilrig::dut_emu::ParseMavlinkArgs(args);
     if (!mavlink) {
       std::cerr << "dut_emu: " << mavlink.error().message << "\n"

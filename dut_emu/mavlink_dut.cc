@@ -23,6 +23,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "dut_emu/mavlink_serial_dut.h"
 #include "dut_link/posix/line_io.h"
 #include "host/dut/in_process_dut.h"
 #include "proto/hil_link.pb.h"
@@ -358,11 +359,13 @@ mavlink::HilActuatorControls MavlinkDut::MakeControls(std::uint64_t time_usec,
 
 const char* const kMavlinkDutUsage =
     "   or: dut_emu --mavlink HOST:PORT --api HOST:PORT --config FILE\n"
+    "   or: dut_emu --mavlink-serial DEVICE[,baud=N] --config FILE\n"
     "Plays PX4 SITL on the rig's MAVLink simulator link (docs/mavlink.md) with the rig's own\n"
     "flight controller: announces itself with a HEARTBEAT to the API port (UDP), dials the\n"
     "simulator link (TCP, for up to 10 s) and answers each HIL_SENSOR with a\n"
-    "HIL_ACTUATOR_CONTROLS. FILE is the binary DutConfig the runner writes (firmware and\n"
-    "sensor period).\n"
+    "HIL_ACTUATOR_CONTROLS. With --mavlink-serial it plays PX4 on a board (HITL): both\n"
+    "links on the serial DEVICE, a HEARTBEAT once a second until the first HIL_SENSOR. FILE\n"
+    "is the binary DutConfig the runner writes (firmware and sensor period).\n"
     "Exit codes: 0 the simulator closed the link after a step or a signal stopped it, 1 the\n"
     "link, the configuration or the simulator's messages failed, 2 bad usage, 4 the\n"
     "accelerometer and gyro readings repeated 100 times (stale sensors).\n";
@@ -388,11 +391,39 @@ rig::Result<std::pair<std::string, std::uint16_t>> ParseHostPort(const std::stri
 
 }  // namespace
 
+namespace {
+
+// --mavlink-serial DEVICE[,baud=N] --config FILE.
+rig::Result<MavlinkDutOptions> ParseSerialArgs(const rig::CliArgs& cli, const std::string& line) {
+  const std::string* config = cli.Option("--config");
+  if (config == nullptr || config->empty()) return rig::MakeError("--config FILE is required");
+  if (cli.Option("--mavlink") != nullptr || cli.Option("--api") != nullptr) {
+    return rig::MakeError("--mavlink-serial takes neither --mavlink nor --api");
+  }
+  MavlinkDutOptions options;
+  options.config_path = *config;
+  const std::size_t comma = line.find(',');
+  options.serial_device = line.substr(0, comma);
+  if (options.serial_device.empty()) return rig::MakeError("--mavlink-serial: expected a device");
+  if (comma == std::string::npos) return options;
+  const std::string option = line.substr(comma + 1);
+  if (!option.starts_with("baud=")) {
+    return rig::MakeError("--mavlink-serial: unknown option \"" + option + "\"");
+  }
+  auto baud = rig::ParseNumber<unsigned>(option.substr(5), "--mavlink-serial baud");
+  if (!baud) return baud.error();
+  options.baud = baud.value();
+  return options;
+}
+
+}  // namespace
+
 rig::Result<MavlinkDutOptions> ParseMavlinkArgs(const std::vector<std::string>& args) {
-  auto parsed = rig::ParseCliArgs(args, {"--mavlink", "--api", "--config"});
+  auto parsed = rig::ParseCliArgs(args, {"--mavlink", "--api", "--config", "--mavlink-serial"});
   if (!parsed) return parsed.error();
   const rig::CliArgs& cli = parsed.value();
   if (!cli.positional.empty()) return rig::MakeError("unexpected argument " + cli.positional[0]);
+  if (const std::string* line = cli.Option("--mavlink-serial")) return ParseSerialArgs(cli, *line);
   const std::string* simulator = cli.Option("--mavlink");
   const std::string* api = cli.Option("--api");
   const std::string* config = cli.Option("--config");
@@ -425,15 +456,7 @@ rig::Result<host::DutSetup> LoadMavlinkDutSetup(const std::string& path) {
   return setup;
 }
 
-namespace {
-
-// How often a wait on a socket looks at the stop request, and how long a failed dial waits before
-// the next: both on the OS clock, which only ever bounds waits on sockets.
-constexpr int kStopCheckMs = 100;
-constexpr long kRedialNs = 5'000'000;
-
-// Why a parser dropped bytes; nullopt while it dropped none. Every drop ends the run: a link that
-// carries only the contract's messages over loopback has nothing to drop.
+// Every drop ends the run: a link that carries only the contract's messages has nothing to drop.
 std::optional<const char*> DropReason(const mavlink::ParserCounters& counters) {
   if (counters.crc_failures > 0) return "a frame that fails its checksum";
   if (counters.unknown_message_ids > 0) return "a frame of a message id the codec does not know";
@@ -444,6 +467,21 @@ std::optional<const char*> DropReason(const mavlink::ParserCounters& counters) {
   if (counters.bytes_skipped > 0) return "bytes that are no MAVLink frame";
   return std::nullopt;
 }
+
+MavlinkLink LinkOf(std::uint32_t message_id) {
+  return message_id == mavlink::CommandLong::kId ||
+                 message_id == mavlink::SetPositionTargetLocalNed::kId ||
+                 message_id == mavlink::Heartbeat::kId
+             ? MavlinkLink::kApi
+             : MavlinkLink::kSimulator;
+}
+
+namespace {
+
+// How often a wait on a socket looks at the stop request, and how long a failed dial waits before
+// the next: both on the OS clock, which only ever bounds waits on sockets.
+constexpr int kStopCheckMs = 100;
+constexpr long kRedialNs = 5'000'000;
 
 struct Address {
   sockaddr_storage storage{};
@@ -734,6 +772,10 @@ int RunMavlinkDut(const MavlinkDutOptions& options, const std::atomic<bool>* sto
   if (!setup) {
     log << "dut_emu: " << setup.error().message << "\n";
     return kExitFailed;
+  }
+  if (!options.serial_device.empty()) {
+    MavlinkDut dut(setup.value().firmware, setup.value().control_period_s);
+    return RunMavlinkSerialDut(options, stop_requested, log, dut);
   }
   auto api = ResolveDatagramAddress(options.api_host, options.api_port);
   if (!api) {

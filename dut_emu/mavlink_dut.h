@@ -214,6 +214,10 @@ class MavlinkDut {
 };
 
 struct MavlinkDutOptions {
+  // --mavlink-serial DEVICE[,baud=N]: both links on one serial line, as PX4 on a board (HITL);
+  // empty: the simulator link over TCP and the API link over UDP, as PX4 SITL.
+  std::string serial_device;
+  unsigned baud = 921600;
   std::string simulator_host;  // --mavlink: where the simulator link listens (TCP)
   std::uint16_t simulator_port = 0;
   std::string api_host;  // --api: the rig's API port (UDP)
@@ -224,8 +228,9 @@ struct MavlinkDutOptions {
 
 extern const char* const kMavlinkDutUsage;
 
-// argv of dut_emu with --mavlink: --mavlink HOST:PORT --api HOST:PORT --config FILE, in any
-// order; an error names what is missing or malformed. Allocates; not on a per-step path.
+// argv of dut_emu with --mavlink: --mavlink HOST:PORT --api HOST:PORT --config FILE, or
+// --mavlink-serial DEVICE[,baud=N] --config FILE, in any order; an error names what is missing or
+// malformed. Allocates; not on a per-step path.
 rig::Result<MavlinkDutOptions> ParseMavlinkArgs(const std::vector<std::string>& args);
 
 // The firmware and control period in the binary proto::DutConfig at `path`; fails, naming the file
@@ -239,5 +244,12 @@ rig::Result<host::DutSetup> LoadMavlinkDutSetup(const std::string& path);
 // not, beyond the controller's own step.
 int RunMavlinkDut(const MavlinkDutOptions& options, const std::atomic<bool>* stop_requested,
                   std::ostream& log);
+
+// Why a parser dropped bytes; nullopt while it dropped none.
+std::optional<const char*> DropReason(const mavlink::ParserCounters& counters);
+
+// The link a message belongs to on a line that carries both: commands and setpoints are the API
+// link's, the rest the simulator link's.
+MavlinkLink LinkOf(std::uint32_t message_id);
 
 }  // namespace hilrig::dut_emu

@@ -34,11 +34,13 @@ rig::Result<DutKind> ParseKind(const std::optional<std::string>& dut) {
   if (dut->starts_with("serial:")) return DutKind::kSerial;
   if (*dut == "mavlink-emu") return DutKind::kMavlinkEmu;
   if (*dut == "px4-sitl" || dut->starts_with("px4-sitl:")) return DutKind::kPx4Sitl;
+  if (*dut == "mavlink-emu-hitl") return DutKind::kMavlinkEmuHitl;
+  if (dut->starts_with("px4-hitl:")) return DutKind::kPx4Hitl;
   return rig::MakeError("--dut \"" + *dut +
                         "\": expected inproc, inproc-float, process, exec:PROGRAM[,ARG...], "
                         "listen:ADDRESS:PORT[,token=FILE], qemu, "
-                        "serial:DEVICE[,baud=N][,bridge=DEVICE][,bridge_baud=N], mavlink-emu or "
-                        "px4-sitl[:PORT]");
+                        "serial:DEVICE[,baud=N][,bridge=DEVICE][,bridge_baud=N], mavlink-emu, "
+                        "px4-sitl[:PORT], mavlink-emu-hitl or px4-hitl:DEVICE[,baud=N]");
 }
 
 // A process the rig talks to over the HIL link: dut_emu, a user's program it starts, or one that
@@ -47,7 +49,14 @@ bool AProcess(DutKind kind) {
   return kind == DutKind::kProcess || kind == DutKind::kExec || kind == DutKind::kListen;
 }
 
-bool OverMavlink(DutKind kind) { return kind == DutKind::kMavlinkEmu || kind == DutKind::kPx4Sitl; }
+// A flight stack on a board, in real time.
+bool OnABoard(DutKind kind) {
+  return kind == DutKind::kMavlinkEmuHitl || kind == DutKind::kPx4Hitl;
+}
+
+bool OverMavlink(DutKind kind) {
+  return kind == DutKind::kMavlinkEmu || kind == DutKind::kPx4Sitl || OnABoard(kind);
+}
 
 bool OverALink(DutKind kind) {
   return AProcess(kind) || kind == DutKind::kQemu || kind == DutKind::kSerial || OverMavlink(kind);
@@ -60,8 +69,8 @@ rig::Result<void> CheckOptionsFit(DutKind kind, const DutArguments& arguments) {
   }
   if (arguments.timeout_s && !OverALink(kind)) {
     return rig::MakeError(
-        "--dut-timeout-s needs --dut process, exec:, listen:, qemu, serial:, mavlink-emu or "
-        "px4-sitl");
+        "--dut-timeout-s needs --dut process, exec:, listen:, qemu, serial:, mavlink-emu, "
+        "px4-sitl, mavlink-emu-hitl or px4-hitl:");
   }
   const bool line = arguments.link && *arguments.link == "line";
   if (arguments.link && !line && (!AProcess(kind) || kind == DutKind::kListen)) {
@@ -212,8 +221,31 @@ rig::Result<void> ParseLineOptions(const DutArguments& arguments, DutChoice& cho
   return ParseSerialOptions(arguments, choice);
 }
 
+// "px4-hitl:DEVICE[,baud=N]": the board's serial device and its baud rate.
+rig::Result<void> ParseBoardPort(const std::string& word, MavlinkDutOptions& link) {
+  const std::string details = word.substr(std::string("px4-hitl:").size());
+  const std::size_t comma = details.find(',');
+  link.start_stand_in = false;
+  link.start_timeout_s = kListenStartTimeoutS;
+  link.serial_device = details.substr(0, comma);
+  if (link.serial_device.empty()) {
+    return rig::MakeError("--dut \"" + word + "\": no device (px4-hitl:DEVICE[,baud=N])");
+  }
+  if (comma == std::string::npos) return {};
+  const std::string option = details.substr(comma + 1);
+  if (!option.starts_with("baud=")) {
+    return rig::MakeError("--dut \"" + word + "\": unknown option \"" + option +
+                          "\" (px4-hitl:DEVICE[,baud=N])");
+  }
+  auto baud = rig::ParseNumber<unsigned>(option.substr(5), "baud");
+  if (!baud) return rig::MakeError("--dut \"" + word + "\": " + baud.error().message);
+  link.baud = baud.value();
+  return {};
+}
+
 // mavlink-emu, px4-sitl[:PORT]: the watchdog, lockstep only (MakeDutFactory refuses real time);
-// PX4 is waited for on its own ports, and a person starts it.
+// PX4 is waited for on its own ports, and a person starts it. mavlink-emu-hitl,
+// px4-hitl:DEVICE[,baud=N]: a board on a serial line, real time only.
 rig::Result<void> ParseMavlinkOptions(const DutArguments& arguments, DutChoice& choice) {
   MavlinkDutOptions& link = choice.mavlink.link;
   if (choice.kind == DutKind::kPx4Sitl) {
@@ -233,11 +265,21 @@ rig::Result<void> ParseMavlinkOptions(const DutArguments& arguments, DutChoice& 
       link.sim_port = number.value();
     }
   }
+  if (OnABoard(choice.kind)) {
+    link.hitl = true;
+    if (choice.kind == DutKind::kPx4Hitl) {
+      if (auto board = ParseBoardPort(*arguments.dut, link); !board) return board;
+    }
+  }
   LinkedDutOptions& session = choice.mavlink.session;
   auto seconds = ParseTimeout(arguments.timeout_s, session.answer_timeout_s);
   if (!seconds) return seconds.error();
   session.answer_timeout_s = seconds.value();
-  if (auto valid = ValidateMavlinkDutPortOptions(choice.mavlink); !valid) {
+  if (auto valid = ValidateMavlinkDutOptions(link); !valid) {
+    return rig::MakeError("--dut " + *arguments.dut + ": " + valid.error().message);
+  }
+  // The pacing is the run's: MakeDutFactory refuses the one the kind cannot take.
+  if (auto valid = ValidateLinkedDutOptions(session); !valid) {
     return rig::MakeError("--dut-timeout-s: " + valid.error().message);
   }
   return {};
@@ -246,8 +288,15 @@ rig::Result<void> ParseMavlinkOptions(const DutArguments& arguments, DutChoice& 
 DutFactory MavlinkFactory(MavlinkDutPortOptions options, const DutFactorySeams& seams) {
   options.link.stop_requested = seams.stop_requested;
   options.link.notes = seams.notes;
-  return [options](const ScenarioConfig& config, std::unique_ptr<rig::CanBus> bus,
-                   double control_period_s) -> rig::Result<std::unique_ptr<DutPort>> {
+  // A board runs in real time on a wall clock of the DUT's own, as a serial DUT does.
+  std::shared_ptr<const rig::SteadyClock> dut_clock;
+  if (options.link.hitl) {
+    dut_clock = std::make_shared<const rig::SteadyClock>();
+    options.session.clock = dut_clock.get();
+    options.session.pacing = DutPacing::kRealtime;
+  }
+  return [options, dut_clock](const ScenarioConfig& config, std::unique_ptr<rig::CanBus> bus,
+                              double control_period_s) -> rig::Result<std::unique_ptr<DutPort>> {
     return std::unique_ptr<DutPort>(std::make_unique<MavlinkDut>(
         FirmwareFor(config), std::move(bus), control_period_s, options));
   };
@@ -318,6 +367,10 @@ const char* DutKindName(DutKind kind) {
       return "mavlink-emu";
     case DutKind::kPx4Sitl:
       return "px4-sitl";
+    case DutKind::kMavlinkEmuHitl:
+      return "mavlink-emu-hitl";
+    case DutKind::kPx4Hitl:
+      return "px4-hitl";
   }
   return "unknown";
 }
@@ -368,6 +421,14 @@ rig::Result<DutFactory> MakeDutFactory(const DutChoice& choice, bool realtime,
     }
     case DutKind::kSerial:
       return SerialFactory(SerialPortLines(choice.port), choice.serial, realtime);
+    case DutKind::kMavlinkEmuHitl:
+    case DutKind::kPx4Hitl:
+      if (!realtime) {
+        return rig::MakeError(std::string("--dut ") + DutKindName(choice.kind) +
+                              " runs in real time only: a board keeps its own clock (add "
+                              "--realtime)");
+      }
+      return MavlinkFactory(choice.mavlink, seams);
     case DutKind::kMavlinkEmu:
     case DutKind::kPx4Sitl:
       if (realtime) {

@@ -29,11 +29,13 @@ enum class DutKind {
   kSerial,          // a board on serial devices
   kMavlinkEmu,      // PX4's stand-in (dut_emu --mavlink) over MAVLink, as PX4 SITL is driven
   kPx4Sitl,         // PX4 SITL the user starts, over MAVLink
+  kMavlinkEmuHitl,  // PX4's stand-in on a pseudo-terminal, in real time, as a board is driven
+  kPx4Hitl,         // PX4 on a board, over MAVLink on its serial port, in real time
 };
 
 // The word `--dut` takes for a kind ("inproc", "inproc-float", "process", "exec", "listen",
-// "qemu", "serial", "mavlink-emu", "px4-sitl"); exec, listen and serial take their details after a
-// colon, px4-sitl may take its simulator port.
+// "qemu", "serial", "mavlink-emu", "px4-sitl", "mavlink-emu-hitl", "px4-hitl"); exec, listen,
+// serial and px4-hitl take their details after a colon, px4-sitl may take its simulator port.
 const char* DutKindName(DutKind kind);
 
 // The command line's words, unparsed; unset: the option was not given.

@@ -3,7 +3,11 @@
 namespace hilrig::host {
 
 rig::Result<void> ValidateMavlinkDutPortOptions(const MavlinkDutPortOptions& options) {
-  if (options.session.pacing != DutPacing::kLockstep) {
+  if (options.link.hitl && options.session.pacing != DutPacing::kRealtime) {
+    return rig::MakeError(
+        "a MAVLink board runs in real time only: it keeps its own clock (add --realtime)");
+  }
+  if (!options.link.hitl && options.session.pacing != DutPacing::kLockstep) {
     return rig::MakeError(
         "a MAVLink DUT runs in lockstep only: PX4's simulator contract gives it no clock but the "
         "sensor steps (leave out --realtime)");

@@ -18,7 +18,8 @@ struct MavlinkDutPortOptions {
   LinkedDutOptions session;  // its pacing must be lockstep
 };
 
-// Checks both parts; real-time pacing is refused by name.
+// Checks both parts; the wrong pacing is refused by name (lockstep for a board, real time for
+// the simulator link).
 rig::Result<void> ValidateMavlinkDutPortOptions(const MavlinkDutPortOptions& options);
 
 class MavlinkDut final : public LinkedDut {
@@ -28,7 +29,7 @@ class MavlinkDut final : public LinkedDut {
   MavlinkDut(const DutFirmware& firmware, std::unique_ptr<rig::CanBus> runner_bus,
              double control_period_s, const MavlinkDutPortOptions& options);
 
-  // Refuses real-time pacing by name, then starts as every linked DUT does.
+  // Refuses the wrong pacing by name, then starts as every linked DUT does.
   rig::Result<void> Start() override;
   // A flight stack fuses them: HIL_SENSOR carries the magnetometer and barometer, HIL_GPS the fix.
   bool TakesNavigationSensors() const override { return true; }

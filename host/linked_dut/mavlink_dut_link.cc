@@ -9,6 +9,8 @@
 
 #include "host/link/dut_config_codec.h"
 #include "host/link/hil_link_socket.h"
+#include "host/link/open_byte_stream.h"
+#include "host/link/pseudo_terminal.h"
 #include "host/linked_dut/linked_dut.h"
 #include "host/linked_dut/peer_wait.h"
 #include "rig/number_text.h"
@@ -66,6 +68,19 @@ rig::Result<void> ValidateMavlinkDutOptions(const MavlinkDutOptions& options) {
                           rig::NumberText(options.first_answer_wait_s) +
                           " s: must be from 0 to 1 s");
   }
+  if (options.hitl && !options.start_stand_in && options.serial_device.empty()) {
+    return rig::MakeError("a MAVLink board needs its serial device");
+  }
+  if (options.hitl && options.baud < MavlinkDutOptions::kHitlMinimumBaud) {
+    return rig::MakeError("baud " + std::to_string(options.baud) + " is too slow for HITL: the " +
+                          "sensor steps, poses and setpoints need about 40 kB/s (at least " +
+                          std::to_string(MavlinkDutOptions::kHitlMinimumBaud) + ")");
+  }
+  if (options.hitl &&
+      !(Positive(options.controls_timeout_s) && Positive(options.first_controls_timeout_s))) {
+    return rig::MakeError("mavlink controls timeout " +
+                          rig::NumberText(options.controls_timeout_s) + " s: must be positive");
+  }
   if (!Positive(options.sensor_period_s) || options.sensor_period_s > 1) {
     return rig::MakeError("mavlink sensor period " + rig::NumberText(options.sensor_period_s) +
                           " s: must be positive and at most 1 s");
@@ -118,8 +133,7 @@ rig::Result<std::string> MavlinkDutLink::WriteConfigFile() const {
   return path;
 }
 
-rig::Result<void> MavlinkDutLink::StartStandIn(const std::string& sim_endpoint,
-                                               const std::string& api_endpoint) {
+rig::Result<void> MavlinkDutLink::StartStandIn(std::vector<std::string> link_arguments) {
   std::string program = options_.dut_emu_path;
   if (program.empty()) {
     auto directory = ExecutableDirectory();
@@ -132,8 +146,9 @@ rig::Result<void> MavlinkDutLink::StartStandIn(const std::string& sim_endpoint,
   auto config = WriteConfigFile();
   if (!config) return config.error();
   config_path_ = config.value();
-  std::vector<std::string> argv = {program,      "--mavlink", sim_endpoint, "--api",
-                                   api_endpoint, "--config",  config_path_};
+  std::vector<std::string> argv = {program};
+  argv.insert(argv.end(), link_arguments.begin(), link_arguments.end());
+  argv.insert(argv.end(), {"--config", config_path_});
   argv.insert(argv.end(), options_.extra_args.begin(), options_.extra_args.end());
   auto child = ChildProcess::Spawn(argv);
   if (!child) return child.error();
@@ -150,6 +165,14 @@ rig::Result<void> MavlinkDutLink::Open(const rig::Clock& clock) {
     if (!tlog_file_) return rig::MakeError("cannot write " + options_.tlog_path);
     tlog_ = std::make_unique<mavlink::TlogWriter>(tlog_file_);
   }
+  auto opened =
+      options_.hitl ? OpenSerialLine(clock, deadline_ns) : OpenSockets(clock, deadline_ns);
+  if (!opened) return opened;
+  opened_ = true;
+  return {};
+}
+
+rig::Result<void> MavlinkDutLink::OpenSockets(const rig::Clock& clock, std::int64_t deadline_ns) {
   auto listener = LinkListener::Listen(options_.address, options_.sim_port);
   if (!listener) return listener.error();
   auto api = UdpSocket::Bind(options_.address, options_.api_port);
@@ -159,7 +182,9 @@ rig::Result<void> MavlinkDutLink::Open(const rig::Clock& clock) {
       options_.address + ":" + std::to_string(listener.value()->port());
   const std::string api_endpoint = options_.address + ":" + std::to_string(api_->port());
   if (options_.start_stand_in) {
-    if (auto started = StartStandIn(sim_endpoint, api_endpoint); !started) return started;
+    if (auto started = StartStandIn({"--mavlink", sim_endpoint, "--api", api_endpoint}); !started) {
+      return started;
+    }
   } else if (options_.notes != nullptr) {
     *options_.notes << "hilrig: waiting up to " << rig::SecondsText(options_.start_timeout_s)
                     << " for a flight stack on the MAVLink simulator link tcp " << sim_endpoint
@@ -194,8 +219,61 @@ rig::Result<void> MavlinkDutLink::Open(const rig::Clock& clock) {
   // The stand-in read its configuration before it dialled.
   if (!config_path_.empty()) ::unlink(config_path_.c_str());
   config_path_.clear();
-  if (auto heard = AwaitPeer(clock, deadline_ns); !heard) return heard;
-  opened_ = true;
+  return AwaitPeer(clock, deadline_ns);
+}
+
+rig::Result<void> MavlinkDutLink::OpenSerialLine(const rig::Clock& clock,
+                                                 std::int64_t deadline_ns) {
+  std::string where = options_.serial_device;
+  if (options_.start_stand_in) {
+    auto pair = OpenPseudoTerminal();
+    if (!pair) return pair.error();
+    sim_ = std::move(pair.value().master);
+    slave_hold_ = std::move(pair.value().slave_hold);
+    where = pair.value().slave_path;
+    if (auto started = StartStandIn({"--mavlink-serial", where}); !started) return started;
+  } else {
+    auto port = OpenSerialPort(options_.serial_device, options_.baud);
+    if (!port) return port.error();
+    sim_ = std::move(port).value();
+    if (options_.notes != nullptr) {
+      *options_.notes << "hilrig: waiting up to " << rig::SecondsText(options_.start_timeout_s)
+                      << " for a flight stack's heartbeat on " << sim_->name()
+                      << " (docs/px4.md)\n";
+    }
+  }
+  const PeerWait wait{&clock, deadline_ns, child_ ? &*child_ : nullptr, options_.stop_requested};
+  auto heard = WaitForPeer(
+      wait,
+      [&](int slice_ms) -> std::optional<rig::Result<void>> {
+        auto next = NextSimFrame(slice_ms);
+        if (!next) return rig::Result<void>(next.error());
+        if (!next.value()) return std::nullopt;
+        LogReceived(*next.value());
+        if (next.value()->message_id != mavlink::Heartbeat::kId) return std::nullopt;
+        return rig::Result<void>();
+      },
+      [&](const PeerWaitFailure& failure) -> rig::Result<void> {
+        switch (failure.end) {
+          case PeerWaitEnd::kStopped:
+            return rig::MakeError(rig::ErrorCode::kInterrupted,
+                                  "stopped while waiting for the dut's heartbeat");
+          case PeerWaitEnd::kPeerExited:
+            return rig::MakeError("the dut's PX4 stand-in " + failure.exit +
+                                  " before its heartbeat");
+          case PeerWaitEnd::kTimedOut:
+            break;
+        }
+        return rig::MakeError(rig::ErrorCode::kTimeout,
+                              "no flight stack sent a heartbeat on " + where + " within " +
+                                  rig::SecondsText(options_.start_timeout_s));
+      });
+  if (!heard) return heard;
+  line_name_ = sim_->name();
+  // The stand-in holds the line's far end now.
+  slave_hold_.reset();
+  if (!config_path_.empty()) ::unlink(config_path_.c_str());
+  config_path_.clear();
   return {};
 }
 
@@ -278,6 +356,13 @@ rig::Result<void> MavlinkDutLink::SendApi(const mavlink::AnyMessage& message) {
   const std::size_t size =
       mavlink::EncodeMessage(message, api_sequence_++, kApiSystem, kApiComponent, frame);
   Log(std::span(frame.data(), size));
+  if (api_ == nullptr) {
+    // HITL: the ground station's frames share the board's serial line.
+    if (auto written = sim_->WriteAll(std::span(frame.data(), size), kWriteTimeoutMs); !written) {
+      return rig::MakeError(written.error().code, "the mavlink line: " + written.error().message);
+    }
+    return {};
+  }
   return api_->Send(std::span(frame.data(), size));
 }
 
@@ -349,7 +434,9 @@ rig::Result<void> MavlinkDutLink::Request(const LinkRequest& request) {
   mag_.reset();
   baro_.reset();
   ++sensor_steps_;
-  awaited_ = Awaited{request.tick, time_usec, false};
+  // A board answers on its own clock: every tick is answered at once with its latest outputs.
+  awaited_ = Awaited{request.tick, time_usec, options_.hitl};
+  if (options_.hitl && sensor_steps_ == 1) first_step_wall_ns_ = clock_->NowNs();
   answer_at_once_ns_ = clock_->NowNs() + rig::NsFromSeconds(options_.first_answer_wait_s);
   return {};
 }
@@ -380,6 +467,7 @@ rig::Result<void> MavlinkDutLink::SendCommandsDue() {
 }
 
 rig::Result<void> MavlinkDutLink::DrainApi() {
+  if (api_ == nullptr) return {};  // HITL: the line's frames are read as they come
   std::array<std::uint8_t, mavlink::kMaxSignedFrameBytes> datagram;
   while (true) {
     auto got = api_->Receive(datagram, 0);
@@ -390,24 +478,27 @@ rig::Result<void> MavlinkDutLink::DrainApi() {
     Log(bytes);
     mavlink::FrameParser parser(&mavlink::FindWireInfo);
     parser.Feed(bytes, [&](const mavlink::Frame& frame) {
-      const auto message = mavlink::DecodeMessage(frame);
-      const auto* array = message ? std::get_if<mavlink::DebugFloatArray>(&*message) : nullptr;
-      if (array != nullptr && IsTelemetry(*array)) {
-        telemetry_ = *array;
-        ++telemetry_received_;
-        return;
-      }
-      const auto* ack = message ? std::get_if<mavlink::CommandAck>(&*message) : nullptr;
-      if (ack == nullptr) return;
-      for (Command& command : commands_) {
-        if (command.message.command != ack->command || command.accepted) continue;
-        command.accepted = ack->result == kResultAccepted;
-        if (!command.accepted) {
-          command.last_refusal = ack->result;
-          ++commands_refused_;
-        }
-      }
+      if (const auto message = mavlink::DecodeMessage(frame)) TakeApiMessage(*message);
     });
+  }
+}
+
+void MavlinkDutLink::TakeApiMessage(const mavlink::AnyMessage& message) {
+  if (const auto* array = std::get_if<mavlink::DebugFloatArray>(&message)) {
+    if (!IsTelemetry(*array)) return;
+    telemetry_ = *array;
+    ++telemetry_received_;
+    return;
+  }
+  const auto* ack = std::get_if<mavlink::CommandAck>(&message);
+  if (ack == nullptr) return;
+  for (Command& command : commands_) {
+    if (command.message.command != ack->command || command.accepted) continue;
+    command.accepted = ack->result == kResultAccepted;
+    if (!command.accepted) {
+      command.last_refusal = ack->result;
+      ++commands_refused_;
+    }
   }
 }
 
@@ -454,7 +545,56 @@ rig::Result<std::optional<mavlink::Frame>> MavlinkDutLink::NextSimFrame(int time
   }
 }
 
+DutLinkEvent MavlinkDutLink::ReceiveHitl() {
+  while (true) {
+    auto next = NextSimFrame(0);
+    if (!next) {
+      const bool closed = next.error().code == rig::ErrorCode::kLinkClosed ||
+                          next.error().code == rig::ErrorCode::kIo;
+      return {closed ? DutLinkEventKind::kClosed : DutLinkEventKind::kFailed, 0, next.error()};
+    }
+    if (!next.value()) break;
+    const mavlink::Frame& frame = *next.value();
+    LogReceived(frame);
+    const auto message = mavlink::DecodeMessage(frame);
+    if (!message) continue;
+    if (const auto* controls = std::get_if<mavlink::HilActuatorControls>(&*message)) {
+      for (int output = 0; output < 16; ++output) {
+        if (!std::isfinite(controls->controls[output])) {
+          return {DutLinkEventKind::kFailed, 0,
+                  rig::MakeError("the dut sent a non-finite actuator output " +
+                                 std::to_string(output))};
+        }
+      }
+      ++controls_received_;
+      last_controls_ = *controls;
+      last_controls_wall_ns_ = clock_->NowNs();
+      continue;
+    }
+    ++api_frames_received_;
+    TakeApiMessage(*message);
+  }
+  if (auto overdue = CommandOverdue()) return {DutLinkEventKind::kFailed, 0, *overdue};
+  const std::int64_t now_ns = clock_->NowNs();
+  const double limit_s =
+      last_controls_wall_ns_ ? options_.controls_timeout_s : options_.first_controls_timeout_s;
+  std::optional<std::int64_t> since_ns = last_controls_wall_ns_;
+  if (!since_ns && sensor_steps_ > 0) since_ns = first_step_wall_ns_;
+  if (since_ns && now_ns - *since_ns > rig::NsFromSeconds(limit_s)) {
+    return {DutLinkEventKind::kFailed, 0,
+            rig::MakeError(std::string("the board sent no HIL_ACTUATOR_CONTROLS for ") +
+                           rig::SecondsText(limit_s) +
+                           (last_controls_wall_ns_ ? "" : " after the first sensor step"))};
+  }
+  if (!awaited_) return {};
+  answered_tick_ = awaited_->tick;
+  awaited_.reset();
+  estimates_due_ = false;
+  return {DutLinkEventKind::kAnswer, answered_tick_, std::nullopt};
+}
+
 DutLinkEvent MavlinkDutLink::Receive(int timeout_ms) {
+  if (options_.hitl) return ReceiveHitl();
   // A tick between sensor steps is answered without a look at either socket.
   if (awaited_ && awaited_->immediate) {
     answered_tick_ = awaited_->tick;
@@ -551,12 +691,16 @@ std::string MavlinkDutLink::timeout_detail() const {
 }
 
 std::string MavlinkDutLink::description() const {
-  std::string text = options_.start_stand_in
-                         ? "PX4's stand-in (dut_emu --mavlink) over MAVLink"
-                         : "a flight stack on the MAVLink simulator link (PX4 SITL)";
+  std::string text =
+      options_.start_stand_in
+          ? (options_.hitl ? "PX4's stand-in (dut_emu --mavlink-serial) on a serial line"
+                           : "PX4's stand-in (dut_emu --mavlink) over MAVLink")
+          : (options_.hitl ? "a flight stack on a board over MAVLink (PX4 HITL)"
+                           : "a flight stack on the MAVLink simulator link (PX4 SITL)");
   if (!opened_) return text + " (not started)";
   if (child_) text += " (pid " + std::to_string(child_->pid()) + ")";
   text += ", HIL_SENSOR every " + std::to_string(sensor_every_ticks_) + " control ticks";
+  if (api_ == nullptr) return text + ", both links on " + line_name_ + ", in real time";
   text += ", API link on udp " + std::to_string(api_->port()) + " to " + api_->peer();
   return text;
 }

@@ -64,6 +64,24 @@ struct MavlinkDutOptions {
   // Where the run's mavlink.tlog goes (LinkedDut passes the run folder); empty: no log.
   std::string tlog_path;
   const std::atomic<bool>* stop_requested = nullptr;  // ends the wait for the DUT early
+
+  // HITL: a flight stack on a board, over one serial line that carries both links, in real time.
+  // The board keeps its own clock: it streams HIL_ACTUATOR_CONTROLS at its own rate and stamps
+  // them with its time, so each control tick is answered at once with the latest outputs, and
+  // the run stops when none came for controls_timeout_s (first_controls_timeout_s from the
+  // first sensor step, for a board that has just seen its first one). With start_stand_in the rig
+  // opens a pseudo-terminal pair and starts PX4's stand-in on its other end (dut_emu
+  // --mavlink-serial); otherwise serial_device is the board's port, opened at `baud`.
+  bool hitl = false;
+  std::string serial_device;
+  unsigned baud = kHitlDefaultBaud;
+  double controls_timeout_s = 0.5;
+  double first_controls_timeout_s = 5.0;
+
+  // PX4's HITL default; at least kHitlMinimumBaud: the sensor steps, poses and setpoints alone
+  // are about 40 kB/s.
+  static constexpr unsigned kHitlDefaultBaud = 921600;
+  static constexpr unsigned kHitlMinimumBaud = 460800;
 };
 
 // Checks the options: an IPv4 address, positive finite periods and timeouts.
@@ -108,8 +126,17 @@ class MavlinkDutLink final : public DutLink {
   // an error.
   rig::Result<std::optional<mavlink::Frame>> NextSimFrame(int timeout_ms);
   rig::Result<void> AwaitPeer(const rig::Clock& clock, std::int64_t deadline_ns);
-  // Starts the stand-in, dialling `sim_endpoint` and `api_endpoint`.
-  rig::Result<void> StartStandIn(const std::string& sim_endpoint, const std::string& api_endpoint);
+  // Starts the stand-in with these link arguments (after dut_emu's own).
+  rig::Result<void> StartStandIn(std::vector<std::string> link_arguments);
+  // The simulator link over TCP and the API link over UDP (SITL, the stand-in in lockstep).
+  rig::Result<void> OpenSockets(const rig::Clock& clock, std::int64_t deadline_ns);
+  // Both links on one serial line, and the board's first heartbeat on it (HITL).
+  rig::Result<void> OpenSerialLine(const rig::Clock& clock, std::int64_t deadline_ns);
+  // HITL: takes what the line brought without waiting, then answers the awaited tick with the
+  // latest outputs, or fails when they have gone stale.
+  DutLinkEvent ReceiveHitl();
+  // A frame of the API link's kind (an acknowledgement, the DUT's estimates), wherever it came.
+  void TakeApiMessage(const mavlink::AnyMessage& message);
   // The answer a HIL_ACTUATOR_CONTROLS is: the awaited step's, a late one, or a fault.
   DutLinkEvent Answer(const mavlink::HilActuatorControls& controls);
   rig::Result<std::string> WriteConfigFile() const;
@@ -122,8 +149,12 @@ class MavlinkDutLink final : public DutLink {
 
   bool opened_ = false;
   std::optional<ChildProcess> child_;
-  std::unique_ptr<ByteStream> sim_;  // closed by Close
-  std::unique_ptr<UdpSocket> api_;
+  std::unique_ptr<ByteStream> sim_;   // closed by Close
+  std::unique_ptr<UdpSocket> api_;    // null in HITL: the API frames share the serial line
+  std::shared_ptr<void> slave_hold_;  // HITL with the stand-in: the pseudo-terminal's far end
+  std::string line_name_;             // HITL: the serial line, for the description
+  std::optional<std::int64_t> last_controls_wall_ns_;  // HITL: when the latest outputs came
+  std::int64_t first_step_wall_ns_ = 0;                // HITL: when the first sensor step went
   std::string config_path_;  // the configuration file dut_emu reads at start; removed after
   std::ofstream tlog_file_;
   std::unique_ptr<mavlink::TlogWriter> tlog_;

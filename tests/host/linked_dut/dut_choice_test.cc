@@ -127,8 +127,8 @@ TEST(DutChoiceTest, AnOptionTheKindDoesNotTakeIsRefusedByName) {
   DutArguments timeout = Dut("inproc-float");
   timeout.timeout_s = "2";
   EXPECT_EQ(ErrorOf(timeout),
-            "--dut-timeout-s needs --dut process, exec:, listen:, qemu, serial:, mavlink-emu or "
-            "px4-sitl");
+            "--dut-timeout-s needs --dut process, exec:, listen:, qemu, serial:, mavlink-emu, "
+            "px4-sitl, mavlink-emu-hitl or px4-hitl:");
   DutArguments link = Dut("qemu");
   link.link = "tcp";
   EXPECT_EQ(ErrorOf(link), "--dut-link needs --dut process or exec:");
@@ -209,6 +209,32 @@ TEST(DutChoiceTest, Px4SitlIsWaitedForOnPx4sPorts) {
   EXPECT_EQ(choice.value().mavlink.link.sim_port, 4561);
   EXPECT_THAT(ErrorOf(Dut("px4-sitl:x")), HasSubstr("port \"x\" is not a whole number"));
   EXPECT_FALSE(MakeDutFactory(choice.value(), /*realtime=*/true).ok());
+}
+
+TEST(DutChoiceTest, Px4HitlIsABoardOnItsSerialPortInRealTime) {
+  auto choice = ParseDutChoice(Dut("px4-hitl:/dev/ttyACM0"));
+  ASSERT_TRUE(choice.ok()) << choice.error().message;
+  EXPECT_EQ(choice.value().kind, DutKind::kPx4Hitl);
+  EXPECT_STREQ(DutKindName(choice.value().kind), "px4-hitl");
+  const MavlinkDutOptions& link = choice.value().mavlink.link;
+  EXPECT_TRUE(link.hitl);
+  EXPECT_FALSE(link.start_stand_in);
+  EXPECT_EQ(link.serial_device, "/dev/ttyACM0");
+  EXPECT_EQ(link.baud, 921600u);
+  choice = ParseDutChoice(Dut("px4-hitl:/dev/ttyUSB1,baud=460800"));
+  ASSERT_TRUE(choice.ok()) << choice.error().message;
+  EXPECT_EQ(choice.value().mavlink.link.baud, 460800u);
+  EXPECT_THAT(ErrorOf(Dut("px4-hitl:/dev/ttyUSB1,baud=57600")), HasSubstr("too slow for HITL"));
+  EXPECT_THAT(ErrorOf(Dut("px4-hitl:")), HasSubstr("no device"));
+  EXPECT_THAT(ErrorOf(Dut("px4-hitl:/dev/ttyUSB1,speed=1")), HasSubstr("unknown option"));
+  const auto lockstep = MakeDutFactory(choice.value(), /*realtime=*/false);
+  ASSERT_FALSE(lockstep.ok());
+  EXPECT_THAT(lockstep.error().message, HasSubstr("real time only"));
+  EXPECT_TRUE(MakeDutFactory(choice.value(), /*realtime=*/true).ok());
+  choice = ParseDutChoice(Dut("mavlink-emu-hitl"));
+  ASSERT_TRUE(choice.ok()) << choice.error().message;
+  EXPECT_TRUE(choice.value().mavlink.link.hitl);
+  EXPECT_TRUE(choice.value().mavlink.link.start_stand_in);
 }
 
 TEST(MakeDutFactoryTest, MavlinkIsLockstepOnlyAndTakesTheWatchdog) {

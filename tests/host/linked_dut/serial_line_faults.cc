@@ -6,11 +6,16 @@
 // frame, not the run, and the trace stays as close; a line that damages every twentieth byte, or
 // a DUT that dies, stops the run by name with a complete report folder, never a hang. Every wait
 // is for an event (a line the null modem prints, a process's exit) with a bound.
+#include <gmock/gmock.h>
 #include <google/protobuf/util/json_util.h>
 #include <gtest/gtest.h>
+#include <poll.h>
 #include <signal.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <array>
+#include <atomic>
 #include <cinttypes>
 #include <cmath>
 #include <filesystem>
@@ -19,11 +24,14 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
+#include "host/mavlink/mavlink_messages.h"
 #include "proto/report.pb.h"
 #include "rig/clock.h"
 #include "tests/support/child_waits.h"
+#include "tests/support/serial_line_peer.h"
 #include "tests/support/test_files.h"
 #include "tests/support/test_paths.h"
 
@@ -111,14 +119,13 @@ struct RunResult {
   }
 };
 
-// balloon_grasp into `out` with the DUT `dut` and more `options` (--duration-s S cuts it).
-ChildProcess StartRun(const fs::path& out, const std::string& dut,
-                      const std::string& options = "") {
+// `scene` into `out` with the DUT `dut` and more `options` (--duration-s S cuts it).
+ChildProcess StartSceneRun(const std::string& scene, const fs::path& out, const std::string& dut,
+                           const std::string& options) {
   fs::create_directories(out);
-  return StartShellCommand(HilrigBinary() + " run " + Scene("balloon_grasp") +
-                           " --no-reference --out " + out.string() + " --dut " + dut + " " +
-                           options + " >" + (out / "stdout.txt").string() + " 2>" +
-                           (out / "stderr.txt").string());
+  return StartShellCommand(HilrigBinary() + " run " + Scene(scene) + " --no-reference --out " +
+                           out.string() + " --dut " + dut + " " + options + " >" +
+                           (out / "stdout.txt").string() + " 2>" + (out / "stderr.txt").string());
 }
 
 RunResult FinishRun(ChildProcess& child, const fs::path& out, double bound_s = kRunBoundS) {
@@ -135,6 +142,11 @@ RunResult FinishRun(ChildProcess& child, const fs::path& out, double bound_s = k
       google::protobuf::util::JsonStringToMessage(ReadFile(out / "report.json"), &run.report).ok())
       << out;
   return run;
+}
+
+ChildProcess StartRun(const fs::path& out, const std::string& dut,
+                      const std::string& options = "") {
+  return StartSceneRun("balloon_grasp", out, dut, options);
 }
 
 // The DUT side: dut_emu on the null modem's DUT ends of both lines.
@@ -350,6 +362,58 @@ TEST(SerialLineTest, StopsByNameWithinASecondWhenTheDutIsKilled) {
   EXPECT_LT(run.report.simulated_s(), 34);
   EXPECT_EQ(dut.PollExit(), "killed by signal 9");
   modem.Stop();
+}
+
+// MAVLink HITL without a board: PX4's stand-in on a pseudo-terminal the rig opens, both links on
+// the one line, the rig in real time answering each tick with the board's latest outputs.
+TEST(MavlinkHitlTest, AStandInBoardFliesHoverInRealTime) {
+  const fs::path out = FreshTestDir("mavlink_hitl_hover");
+  ChildProcess run = StartSceneRun("hover", out, "mavlink-emu-hitl", "--realtime --duration-s 3");
+  const RunResult result = FinishRun(run, out);
+  ExpectCompleteFolder(result);
+  EXPECT_EQ(result.report.stop_kind(), proto::STOP_COMPLETED) << result.report.stop_detail();
+  EXPECT_EQ(result.Metric("mavlink_sensor_steps"), 749);  // 4 ms to 2.996 s
+  EXPECT_GE(result.Metric("mavlink_controls_received"), 700) << "about one per sensor step";
+  EXPECT_GT(result.Metric("mavlink_gps_sent"), 25);
+  // The envelopes whose windows the first 3 s reach.
+  int checked = 0;
+  for (const proto::EnvelopeResult& envelope : result.report.envelopes()) {
+    if (envelope.name() != "takeoff_position_error" && envelope.name() != "tilt") continue;
+    EXPECT_TRUE(envelope.meets_expectation()) << envelope.name();
+    ++checked;
+  }
+  EXPECT_EQ(checked, 2);
+  EXPECT_TRUE(fs::exists(out / "mavlink.tlog"));
+}
+
+// A board that says it is there and then answers nothing: the run stops by name once the first
+// sensor step has gone unanswered for 5 s, with its folder complete.
+TEST(MavlinkHitlTest, ASilentBoardIsNamedWithinItsTimeout) {
+  const fs::path out = FreshTestDir("mavlink_hitl_silent");
+  dut_fw::Pty board = dut_fw::OpenPty();
+  std::array<std::uint8_t, mavlink::kMaxFrameBytes> frame;
+  const std::size_t size = mavlink::EncodeMessage(mavlink::Heartbeat{}, 0, 1, 1, frame);
+  ASSERT_EQ(::write(board.master.get(), frame.data(), size), ssize_t(size));
+  // The board reads what the rig sends and throws it away, so the rig's writes never block.
+  std::atomic<bool> done = false;
+  std::thread drain([&] {
+    std::array<char, 4096> bytes;
+    while (!done) {
+      pollfd in{board.master.get(), POLLIN, 0};
+      if (::poll(&in, 1, 50) > 0) (void)!::read(board.master.get(), bytes.data(), bytes.size());
+    }
+  });
+  ChildProcess run =
+      StartSceneRun("hover", out, "px4-hitl:" + board.slave_path, "--realtime --duration-s 20");
+  const RunResult result = FinishRun(run, out, 30);
+  done = true;
+  drain.join();
+  ExpectCompleteFolder(result);
+  EXPECT_EQ(result.report.stop_kind(), proto::STOP_DUT_FAILED) << result.report.stop_reason();
+  EXPECT_THAT(result.report.stop_reason(),
+              ::testing::HasSubstr("the board sent no HIL_ACTUATOR_CONTROLS for 5 s after the "
+                                   "first sensor step"));
+  EXPECT_LT(result.wall_s, 15);
 }
 
 }  // namespace
