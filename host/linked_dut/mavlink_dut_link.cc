@@ -242,32 +242,17 @@ rig::Result<void> MavlinkDutLink::OpenSerialLine(const rig::Clock& clock,
                       << " (docs/px4.md)\n";
     }
   }
-  const PeerWait wait{&clock, deadline_ns, child_ ? &*child_ : nullptr, options_.stop_requested};
-  auto heard = WaitForPeer(
-      wait,
-      [&](int slice_ms) -> std::optional<rig::Result<void>> {
-        auto next = NextSimFrame(slice_ms);
-        if (!next) return rig::Result<void>(next.error());
-        if (!next.value()) return std::nullopt;
-        LogReceived(*next.value());
-        if (next.value()->message_id != mavlink::Heartbeat::kId) return std::nullopt;
-        return rig::Result<void>();
-      },
-      [&](const PeerWaitFailure& failure) -> rig::Result<void> {
-        switch (failure.end) {
-          case PeerWaitEnd::kStopped:
-            return rig::MakeError(rig::ErrorCode::kInterrupted,
-                                  "stopped while waiting for the dut's heartbeat");
-          case PeerWaitEnd::kPeerExited:
-            return rig::MakeError("the dut's PX4 stand-in " + failure.exit +
-                                  " before its heartbeat");
-          case PeerWaitEnd::kTimedOut:
-            break;
-        }
-        return rig::MakeError(rig::ErrorCode::kTimeout,
-                              "no flight stack sent a heartbeat on " + where + " within " +
-                                  rig::SecondsText(options_.start_timeout_s));
-      });
+  auto heard = AwaitHeartbeat(clock, deadline_ns, "on " + where,
+                              [&](int slice_ms) -> std::optional<rig::Result<void>> {
+                                auto next = NextSimFrame(slice_ms);
+                                if (!next) return rig::Result<void>(next.error());
+                                if (!next.value()) return std::nullopt;
+                                LogReceived(*next.value());
+                                if (next.value()->message_id != mavlink::Heartbeat::kId) {
+                                  return std::nullopt;
+                                }
+                                return rig::Result<void>();
+                              });
   if (!heard) return heard;
   line_name_ = sim_->name();
   // The stand-in holds the line's far end now.
@@ -279,33 +264,35 @@ rig::Result<void> MavlinkDutLink::OpenSerialLine(const rig::Clock& clock,
 
 rig::Result<void> MavlinkDutLink::AwaitPeer(const rig::Clock& clock, std::int64_t deadline_ns) {
   std::array<std::uint8_t, mavlink::kMaxSignedFrameBytes> datagram;
+  return AwaitHeartbeat(clock, deadline_ns, "to the API port " + std::to_string(api_->port()),
+                        [&](int slice_ms) -> std::optional<rig::Result<void>> {
+                          auto got = api_->Receive(datagram, slice_ms);
+                          if (!got) return rig::Result<void>(got.error());
+                          if (!got.value()) return std::nullopt;
+                          ++api_frames_received_;
+                          Log(std::span(datagram.data(), *got.value()));
+                          return rig::Result<void>();
+                        });
+}
+
+rig::Result<void> MavlinkDutLink::AwaitHeartbeat(const rig::Clock& clock, std::int64_t deadline_ns,
+                                                 const std::string& where,
+                                                 const HeartbeatProbe& probe) {
   const PeerWait wait{&clock, deadline_ns, child_ ? &*child_ : nullptr, options_.stop_requested};
-  return WaitForPeer(
-      wait,
-      [&](int slice_ms) -> std::optional<rig::Result<void>> {
-        auto got = api_->Receive(datagram, slice_ms);
-        if (!got) return rig::Result<void>(got.error());
-        if (!got.value()) return std::nullopt;
-        ++api_frames_received_;
-        Log(std::span(datagram.data(), *got.value()));
-        return rig::Result<void>();
-      },
-      [&](const PeerWaitFailure& failure) -> rig::Result<void> {
-        switch (failure.end) {
-          case PeerWaitEnd::kStopped:
-            return rig::MakeError(rig::ErrorCode::kInterrupted,
-                                  "stopped while waiting for the dut's heartbeat");
-          case PeerWaitEnd::kPeerExited:
-            return rig::MakeError("the dut's PX4 stand-in " + failure.exit +
-                                  " before its API heartbeat");
-          case PeerWaitEnd::kTimedOut:
-            break;
-        }
-        return rig::MakeError(rig::ErrorCode::kTimeout,
-                              "the dut sent no heartbeat to the API port " +
-                                  std::to_string(api_->port()) + " within " +
-                                  rig::SecondsText(options_.start_timeout_s));
-      });
+  return WaitForPeer(wait, probe, [&](const PeerWaitFailure& failure) -> rig::Result<void> {
+    switch (failure.end) {
+      case PeerWaitEnd::kStopped:
+        return rig::MakeError(rig::ErrorCode::kInterrupted,
+                              "stopped while waiting for the dut's heartbeat");
+      case PeerWaitEnd::kPeerExited:
+        return rig::MakeError("the dut's PX4 stand-in " + failure.exit + " before its heartbeat");
+      case PeerWaitEnd::kTimedOut:
+        break;
+    }
+    return rig::MakeError(rig::ErrorCode::kTimeout, "the dut sent no heartbeat " + where +
+                                                        " within " +
+                                                        rig::SecondsText(options_.start_timeout_s));
+  });
 }
 
 std::optional<std::string> MavlinkDutLink::PeerExit() {

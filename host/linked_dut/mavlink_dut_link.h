@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <deque>
 #include <fstream>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <ostream>
@@ -125,7 +126,13 @@ class MavlinkDutLink final : public DutLink {
   // The next frame of the simulator link, waiting at most timeout_ms; a closed or failed link is
   // an error.
   rig::Result<std::optional<mavlink::Frame>> NextSimFrame(int timeout_ms);
+  // The stand-in's or flight stack's heartbeat on the API link.
   rig::Result<void> AwaitPeer(const rig::Clock& clock, std::int64_t deadline_ns);
+  // Waits for a heartbeat that `probe` (a WaitForPeer attempt) looks for; `where` says where it
+  // was awaited ("to the API port 14540") in the timeout's error.
+  using HeartbeatProbe = std::function<std::optional<rig::Result<void>>(int slice_ms)>;
+  rig::Result<void> AwaitHeartbeat(const rig::Clock& clock, std::int64_t deadline_ns,
+                                   const std::string& where, const HeartbeatProbe& probe);
   // Starts the stand-in with these link arguments (after dut_emu's own).
   rig::Result<void> StartStandIn(std::vector<std::string> link_arguments);
   // The simulator link over TCP and the API link over UDP (SITL, the stand-in in lockstep).
