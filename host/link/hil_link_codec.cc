@@ -36,6 +36,8 @@ proto::LinkMessage ToLink(const ImuMessage& message) {
   PutStamp(message.stamp, imu->mutable_header());
   PutVector(message.gyro_rad_s, imu->mutable_gyro_rad_s());
   PutVector(message.accel_m_s2, imu->mutable_accel_m_s2());
+  imu->set_gyro_clipped(message.gyro_clipped);
+  imu->set_accel_clipped(message.accel_clipped);
   return link;
 }
 
@@ -100,7 +102,7 @@ proto::LinkMessage ToLink(const GnssMessage& message) {
 
 ImuMessage FromLink(const proto::ImuSample& message) {
   return {GetStamp(message.header()), GetVector(message.gyro_rad_s()),
-          GetVector(message.accel_m_s2())};
+          GetVector(message.accel_m_s2()), message.gyro_clipped(), message.accel_clipped()};
 }
 
 VioMessage FromLink(const proto::VioPose& message) {

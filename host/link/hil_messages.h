@@ -31,6 +31,9 @@ struct ImuMessage {
   LinkStamp stamp;
   Eigen::Vector3d gyro_rad_s = Eigen::Vector3d::Zero();
   Eigen::Vector3d accel_m_s2 = Eigen::Vector3d::Zero();
+  // An axis read its full scale: the reading is the range, not the motion.
+  bool gyro_clipped = false;
+  bool accel_clipped = false;
 };
 
 struct VioMessage {

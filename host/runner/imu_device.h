@@ -1,5 +1,6 @@
 // The IMU as a device: one gyro and accelerometer reading per IMU period (host/sensors/
-// imu_emulator.h), sent to the DUT as an ImuMessage stamped with the tick it was taken at.
+// imu_emulator.h), sent to the DUT as an ImuMessage stamped with the tick it was taken at, with
+// the flags of the axes that hit their full scale.
 #pragma once
 
 #include <cstdint>
@@ -15,6 +16,9 @@ class ImuDevice final : public DeviceEmulator {
   ImuDevice(const ImuParams& params, std::uint64_t seed);
 
   std::int64_t Tick(std::int64_t now_ns, const PlantView& plant, DutPort& dut) override;
+  // How many readings had an axis at its full scale (imu_gyro_clipped_samples,
+  // imu_accel_clipped_samples): a touchdown or a crash shows there.
+  std::vector<rig::Metric> metrics() const override;
 
  private:
   const ImuParams& params_;
@@ -23,6 +27,8 @@ class ImuDevice final : public DeviceEmulator {
   std::int64_t period_ns_;
   std::int64_t next_sample_ns_ = 0;
   std::uint64_t sequence_ = 0;
+  std::uint64_t gyro_clipped_samples_ = 0;
+  std::uint64_t accel_clipped_samples_ = 0;
 };
 
 }  // namespace hilrig::host

@@ -95,6 +95,10 @@ void ResolveSensors(const proto::Scenario& spec, ScenarioConfig& config) {
   config.imu.accel_bias_sigma_m_s2 =
       Or(imu.has_accel_bias_sigma_m_s2(), imu.accel_bias_sigma_m_s2(),
          config.imu.accel_bias_sigma_m_s2);
+  config.imu.accel_range_m_s2 =
+      Or(imu.has_accel_range_m_s2(), imu.accel_range_m_s2(), config.imu.accel_range_m_s2);
+  config.imu.gyro_range_rad_s =
+      Or(imu.has_gyro_range_rad_s(), imu.gyro_range_rad_s(), config.imu.gyro_range_rad_s);
   config.imu.noise_enabled = noise;
 
   const proto::Vio& vio = spec.models().vio();

@@ -135,6 +135,10 @@ void CheckSensors(const proto::Models& models, double physics_rate_hz,
                      "gyro_bias_sigma_rad_s", imu);
   RequireNonNegative(models.imu().has_accel_bias_sigma_m_s2(), models.imu().accel_bias_sigma_m_s2(),
                      "accel_bias_sigma_m_s2", imu);
+  RequirePositive(models.imu().has_accel_range_m_s2(), models.imu().accel_range_m_s2(),
+                  "accel_range_m_s2", imu);
+  RequirePositive(models.imu().has_gyro_range_rad_s(), models.imu().gyro_range_rad_s(),
+                  "gyro_range_rad_s", imu);
   const ProblemList vio = problems.Nested("vio");
   RequireTickedRate(models.vio().has_rate_hz(), models.vio().rate_hz(), physics_rate_hz, vio);
   RequireNonNegative(models.vio().has_latency_s(), models.vio().latency_s(), "latency_s", vio);

@@ -37,6 +37,29 @@ ImuReading SampleImu(const ImuParams& params, ImuState& state,
                    specific_force_body_m_s2, time_ns);
 }
 
+namespace {
+
+// Each axis of `value` held within ±range; true when one was outside it (a value that is no
+// number passes through: the run stops on it elsewhere).
+bool Clip(Eigen::Vector3d& value, double range) {
+  bool clipped = false;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (std::abs(value[axis]) > range) {
+      value[axis] = std::copysign(range, value[axis]);
+      clipped = true;
+    }
+  }
+  return clipped;
+}
+
+ImuReading Saturated(const ImuParams& params, ImuReading reading) {
+  reading.gyro_clipped = Clip(reading.gyro_rad_s, params.gyro_range_rad_s);
+  reading.accel_clipped = Clip(reading.accel_m_s2, params.accel_range_m_s2);
+  return reading;
+}
+
+}  // namespace
+
 ImuReading SampleImu(const ImuParams& params, const ImuNoiseScales& scales, ImuState& state,
                      const Eigen::Vector3d& angular_velocity_body_rad_s,
                      const Eigen::Vector3d& specific_force_body_m_s2, std::int64_t time_ns) {
@@ -45,7 +68,7 @@ ImuReading SampleImu(const ImuParams& params, const ImuNoiseScales& scales, ImuS
   if (!params.noise_enabled) {
     reading.gyro_rad_s = angular_velocity_body_rad_s;
     reading.accel_m_s2 = specific_force_body_m_s2;
-    return reading;
+    return Saturated(params, reading);
   }
   // Draw order is fixed (gyro noise, accel noise, gyro walk, accel walk, x y z each): it is part
   // of the stream's reproducibility. One batch keeps the generator in registers for all twelve.
@@ -60,7 +83,7 @@ ImuReading SampleImu(const ImuParams& params, const ImuNoiseScales& scales, ImuS
       specific_force_body_m_s2 + state.accel_bias_m_s2 + scales.accel_noise_m_s2 * axes(3);
   state.gyro_bias_rad_s += scales.gyro_walk_rad_s * axes(6);
   state.accel_bias_m_s2 += scales.accel_walk_m_s2 * axes(9);
-  return reading;
+  return Saturated(params, reading);
 }
 
 }  // namespace hilrig::host

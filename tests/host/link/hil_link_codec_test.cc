@@ -350,6 +350,8 @@ TEST(HilLinkCodecTest, AnErrorOfAnotherCodeHasNoLinkKind) {
 void Fill(ImuMessage& m) {
   m.gyro_rad_s = {kThird, -kTiny, kAlmostOne};
   m.accel_m_s2 = {-kThird, 9.81, kTiny};
+  m.gyro_clipped = true;
+  m.accel_clipped = true;
 }
 void Fill(VioMessage& m) {
   m.capture_time_ns = -7;

@@ -19,6 +19,7 @@ namespace {
 struct DutCalls {
   std::vector<std::string> calls;
   std::map<std::string, int> sent;  // by stream
+  int accel_clipped = 0;            // IMU messages flagged
   int Count(const std::string& call) const {
     return static_cast<int>(std::count(calls.begin(), calls.end(), call));
   }
@@ -38,6 +39,7 @@ class RecordingDut final : public DutPort {
   void Send(const DutInput& input) override {
     log_.calls.push_back("send");
     ++log_.sent[DutInputStream(input.index())];
+    if (const auto* imu = std::get_if<ImuMessage>(&input)) log_.accel_clipped += imu->accel_clipped;
   }
   bool TakesNavigationSensors() const override { return navigation_; }
   rig::Result<ActuatorMessage> Step(std::uint64_t, std::int64_t) override {
@@ -130,6 +132,29 @@ TEST(DutLifecycleTest, AFailedFactoryReportsNoDut) {
          double) -> rig::Result<std::unique_ptr<DutPort>> { return rig::MakeError("no dut_emu"); });
   EXPECT_EQ(report.stop_reason(), "dut failed to start: no dut_emu");
   EXPECT_EQ(ModelFidelity(report, "dut"), "none (failed to start)");
+}
+
+double MetricOf(const proto::Report& report, const std::string& name) {
+  for (const proto::Metric& metric : report.metrics()) {
+    if (metric.name() == name) return metric.value();
+  }
+  ADD_FAILURE() << "no metric " << name;
+  return -1;
+}
+
+// On the ground an accelerometer whose full scale is below gravity reads its range at every
+// sample: the DUT is told on each, and the report counts them.
+TEST(DutLifecycleTest, ClippedImuReadingsAreFlaggedToTheDutAndCounted) {
+  ScenarioConfig config = ShortHover();
+  config.duration_s = 0.1;
+  config.initial_reference.position_m = Eigen::Vector3d::Zero();  // at rest on the ground
+  config.imu.accel_range_m_s2 = 5.0;
+  DutCalls log;
+  const proto::Report report = RunWith(config, Recording(log, ""));
+  EXPECT_EQ(log.sent["imu"], 100);
+  EXPECT_EQ(log.accel_clipped, 100);
+  EXPECT_EQ(MetricOf(report, "imu_accel_clipped_samples"), 100);
+  EXPECT_EQ(MetricOf(report, "imu_gyro_clipped_samples"), 0);
 }
 
 // A flight stack that fuses a magnetometer, barometer and GNSS gets them on their own periods

@@ -31,6 +31,13 @@ TEST(ResolveSensorsTest, DefaultSensorRatesAreCappedAtTheTickRate) {
   spec.mutable_simulation()->set_physics_rate_hz(500);
   spec.mutable_models()->mutable_imu()->set_rate_hz(250);
   EXPECT_EQ(ResolveScenario(spec, std::nullopt).imu.rate_hz, 250);
+  // The full scales: ±16 g and ±2000 °/s unless the spec names its part's.
+  EXPECT_NEAR(TickingAt(1000).imu.accel_range_m_s2, 156.9, 0.01);
+  EXPECT_NEAR(TickingAt(1000).imu.gyro_range_rad_s, 34.91, 0.01);
+  spec.mutable_models()->mutable_imu()->set_accel_range_m_s2(78.5);
+  spec.mutable_models()->mutable_imu()->set_gyro_range_rad_s(17.4);
+  EXPECT_EQ(ResolveScenario(spec, std::nullopt).imu.accel_range_m_s2, 78.5);
+  EXPECT_EQ(ResolveScenario(spec, std::nullopt).imu.gyro_range_rad_s, 17.4);
 }
 
 // The navigation sensors: the scene's geodetic origin (Zürich by default), their rates capped at

@@ -147,6 +147,15 @@ TEST(ScenarioValidationTest, PositionsFarFromTheBenchAreRejected) {
   EXPECT_TRUE(ParseScenario(edge, "spec.textproto").ok());
 }
 
+TEST(ScenarioValidationTest, AnImuFullScaleMustBePositive) {
+  std::string spec = kGraspScene;
+  spec.replace(spec.find("models {"), 8,
+               "models {\n  imu { accel_range_m_s2: 0 gyro_range_rad_s: -1 }");
+  const std::string error = ErrorOf(spec);
+  EXPECT_THAT(error, HasSubstr("models.imu.accel_range_m_s2: must be > 0"));
+  EXPECT_THAT(error, HasSubstr("models.imu.gyro_range_rad_s: must be > 0"));
+}
+
 TEST(ScenarioValidationTest, AGeodeticOriginOffTheModelsRangeIsNamed) {
   std::string spec = kGraspScene;
   spec +=

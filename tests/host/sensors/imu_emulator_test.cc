@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 
 namespace hilrig::host {
 namespace {
@@ -127,6 +128,32 @@ TEST(ImuEmulatorTest, BiasRandomWalkStepMatchesDensityOverSqrtRate) {
   }
   const double expected = 1e-3 / std::sqrt(1000.0);
   EXPECT_NEAR(std::sqrt(sum_sq / (3 * kSamples)) / expected, 1.0, 0.05);
+}
+
+// A touchdown's spike (about 13 000 m/s² at a hard landing) and a spin past the gyro's range read
+// as a real MEMS IMU reads them: each axis at its full scale, ±16 g and ±2000 °/s, and flagged.
+TEST(ImuEmulatorTest, AReadingPastFullScaleSaturatesAndIsFlagged) {
+  for (const bool noise : {false, true}) {
+    ImuParams params;
+    params.noise_enabled = noise;
+    ImuState state = MakeImuState(params, RandomStream::FromSeed(3, StreamId::kImu));
+    const ImuReading spike = SampleImu(params, state, Eigen::Vector3d(0, -60.0, 1.0),
+                                       Eigen::Vector3d(0.5, 0, -13000.0), 0);
+    EXPECT_EQ(spike.accel_m_s2.z(), -16 * 9.80665) << noise;
+    EXPECT_NEAR(spike.accel_m_s2.x(), 0.5, 0.5) << "an axis within range is untouched";
+    EXPECT_NEAR(spike.gyro_rad_s.y(), -2000 * std::numbers::pi / 180, 1e-12) << noise;
+    EXPECT_TRUE(spike.accel_clipped);
+    EXPECT_TRUE(spike.gyro_clipped);
+    const ImuReading calm = SampleImu(params, state, kRate, kSpecificForce, 1);
+    EXPECT_FALSE(calm.accel_clipped);
+    EXPECT_FALSE(calm.gyro_clipped);
+  }
+  ImuParams narrow;
+  narrow.noise_enabled = false;
+  narrow.accel_range_m_s2 = 2 * 9.80665;  // a ±2 g part
+  ImuState state = MakeImuState(narrow, RandomStream::FromSeed(3, StreamId::kImu));
+  EXPECT_EQ(SampleImu(narrow, state, kRate, Eigen::Vector3d(0, 0, 30), 0).accel_m_s2.z(),
+            2 * 9.80665);
 }
 
 }  // namespace
