@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <optional>
 
 namespace hilrig::host {
 
@@ -46,8 +47,10 @@ enum class Integrator {
   // v += a dt, p += v_new dt (symplectic Euler); the body rate by the implicit midpoint rule on
   // Euler's equations (a fixed-point iteration, Newton where it contracts too slowly),
   // q *= exp(w_mean dt / 2) with the step's mean rate. A torque-free body keeps its rotational
-  // energy and |L| to the solve's tolerance at any step (an explicit gyroscopic term would gain
-  // energy every step and tumble to NaN). First-order accurate, from the translation.
+  // energy and the magnitude of its angular momentum |L| (not L's direction) to the solve's
+  // tolerance at every step the body turns less than kMaxRotationPerStepRad (an explicit
+  // gyroscopic term would gain energy every step and tumble to NaN). First-order accurate, from
+  // the translation.
   kSemiImplicitEuler,
   // Classic fourth-order Runge-Kutta on (p, v, q, w). With the force held constant over the
   // step the translational part is exact, so it is evaluated in closed form.
@@ -58,6 +61,18 @@ enum class Integrator {
   // dt under error control, so the cost follows how hard the motion is.
   kDormandPrince,
 };
+
+// The largest rotation |w| h per step that a fixed-step integrator resolves. Past one radian a step
+// spans more than a sixth of a turn: the explicit Runge-Kutta rules' error terms in (|w| h)^k are
+// no longer small (RK4 is unstable on a rotation past 2.83), and the implicit rate rule's answer,
+// though finite, is not the motion. A run stops there rather than carry finite nonsense.
+inline constexpr double kMaxRotationPerStepRad = 1.0;
+// kMaxRotationPerStepRad for a fixed-step integrator; nullopt for the adaptive one, which
+// subdivides its step instead. Cannot fail.
+inline std::optional<double> MaxRotationPerStepRad(Integrator integrator) {
+  if (integrator == Integrator::kDormandPrince) return std::nullopt;
+  return kMaxRotationPerStepRad;
+}
 
 // Settings of the adaptive integrator; the fixed-step ones ignore them.
 struct RigidBodyIntegratorOptions {

@@ -94,6 +94,9 @@ class ScenarioRunner::Impl {
   bool ControlStep(std::uint64_t control_tick, std::int64_t now_ns);
   void StepPlant(std::int64_t now_ns);
   bool PlantFinite() const;
+  // Whether the integrator resolves the vehicle's spin at this step (see kMaxRotationPerStepRad);
+  // keeps the run's largest rotation per step for the report.
+  bool SpinResolved();
   void FillGraspTrace(TraceSample& sample) const;
   bool RecordTrace(std::int64_t now_ns);
   void AppendBusMetrics(std::int64_t now_ns, proto::Report& report);
@@ -141,6 +144,7 @@ class ScenarioRunner::Impl {
   RunStop stop_;
   std::uint64_t can_frames_logged_ = 0;
   std::uint64_t non_finite_samples_ = 0;
+  double max_rotation_per_step_rad_ = 0;
   DutFaultTally dut_faults_;
   std::int64_t next_progress_wall_ns_ = kProgressPeriodNs;
   std::int64_t wall_start_ns_ = 0;
@@ -305,6 +309,22 @@ void ScenarioRunner::Impl::StepPlant(std::int64_t now_ns) {
   }
 }
 
+bool ScenarioRunner::Impl::SpinResolved() {
+  const double substep_s = SecondsFromNs(config_.physics_step_ns) / config_.plant_substeps;
+  const double rate_rad_s = plant_.body.angular_velocity_rad_s.norm();
+  const double rotation_rad = rate_rad_s * substep_s;
+  max_rotation_per_step_rad_ = std::max(max_rotation_per_step_rad_, rotation_rad);
+  const std::optional<double> limit_rad = MaxRotationPerStepRad(config_.vehicle.integrator);
+  if (!limit_rad || rotation_rad <= *limit_rad) return true;
+  stop_ = {StopReason::kNumericalInstability,
+           "the vehicle turns " + rig::NumberText(rotation_rad) + " rad per plant step at " +
+               rig::NumberText(SecondsFromNs(clock_.NowNs())) + " s (" +
+               rig::NumberText(rate_rad_s) + " rad/s), past the " + rig::NumberText(*limit_rad) +
+               " rad a fixed-step integrator resolves: raise simulation.plant_substeps or use "
+               "INTEGRATOR_DORMAND_PRINCE"};
+  return false;
+}
+
 bool ScenarioRunner::Impl::PlantFinite() const {
   const RigidBodyState& body = plant_.body;
   return body.position_m.allFinite() && body.velocity_m_s.allFinite() &&
@@ -419,6 +439,10 @@ bool ScenarioRunner::Impl::Step() {
     // through the trace.
     stop_ = {StopReason::kNumericalInstability, "the plant state is not finite after " +
                                                     rig::NumberText(SecondsFromNs(now_ns)) + " s"};
+    ended_ = true;
+    return false;
+  }
+  if (!SpinResolved()) {
     ended_ = true;
     return false;
   }
@@ -544,6 +568,8 @@ proto::Report ScenarioRunner::Impl::Finish() {
   AppendBusMetrics(now_ns, report);
   AddMetric(report, {"ground_impacts", double(plant_.ground_impacts), rig::Unit::kCount});
   AddMetric(report, rig::CountMetric("non_finite_trace_samples", non_finite_samples_));
+  AddMetric(report, {"plant_max_rotation_per_step_deg",
+                     max_rotation_per_step_rad_ * 180 / std::numbers::pi, rig::Unit::kDegrees});
   for (const DeviceEmulator* device : device_schedule_.devices()) {
     for (const rig::Metric& metric : device->metrics()) AddMetric(report, metric);
   }

@@ -1,5 +1,6 @@
-// Integrators and vehicle fidelity levels through the whole runner: an unstable step stops the
-// run with "numerical instability" (and a complete report, no NaN in the trace), the reduced
+// Integrators and vehicle fidelity levels through the whole runner: an unstable step, or a spin
+// the step cannot resolve, stops the run with "numerical instability" (and a complete report, no
+// NaN in the trace), the reduced
 // fidelity levels show in the trace what they promise and name themselves in the model list,
 // and the hover scenario passes its envelopes with every integrator.
 #include <gmock/gmock.h>
@@ -88,6 +89,14 @@ std::string VehicleModel(const proto::Report& report) {
   return "";
 }
 
+double Metric(const proto::Report& report, const std::string& name) {
+  for (const proto::Metric& metric : report.metrics()) {
+    if (metric.name() == name) return metric.value();
+  }
+  ADD_FAILURE() << "no metric " << name;
+  return -1;
+}
+
 // ---- Numerical instability --------------------------------------------------------------
 
 // 10 Hz physics with the explicit midpoint rule, and a body whose roll inertia is 300x smaller
@@ -132,17 +141,24 @@ TEST(IntegratorStabilityRunTest, SameSpecWithRk4AtOneKilohertzDoesNotBlowUp) {
   spec.replace(spec.find("duration_s: 30"), 14, "duration_s: 3");
   const RunOutput output = RunToEnd(ConfigFrom(spec));
   EXPECT_EQ(output.report.stop_reason(), "completed");
+  // The largest rotation in one step, reported, stays far inside what RK4 resolves.
+  EXPECT_LT(Metric(output.report, "plant_max_rotation_per_step_deg"), 1.0);
 }
 
-TEST(IntegratorStabilityRunTest, SemiImplicitEulerKeepsTheSameBodyFiniteAtTenHertz) {
-  // Its implicit rate update cannot gain rotational energy from the gyroscopic terms at any step:
-  // the overshooting attitude loop tumbles the vehicle (the tilt envelope fails), but the state
-  // stays finite for the whole run.
+TEST(IntegratorStabilityRunTest, ASpinTheStepCannotResolveStopsTheRunThoughTheStateIsFinite) {
+  // Semi-implicit Euler's implicit rate update cannot gain rotational energy from the gyroscopic
+  // terms, so the state stays finite: but the overshooting attitude loop spins the vehicle to
+  // thousands of rad/s, hundreds of radians per 100 ms step, which is no motion any more. The run
+  // stops on it by name, as on a state that is not finite, and its trace holds no NaN.
   std::string spec = kUnstable;
   spec.replace(spec.find("INTEGRATOR_MIDPOINT"), 19, "INTEGRATOR_SEMI_IMPLICIT_EULER");
   const RunOutput output = RunToEnd(ConfigFrom(spec));
-  EXPECT_EQ(output.report.stop_reason(), "completed");
-  EXPECT_EQ(output.report.simulated_s(), 30.0);
+  EXPECT_EQ(output.report.stop_kind(), proto::STOP_NUMERICAL_INSTABILITY);
+  EXPECT_THAT(output.report.stop_reason(), HasSubstr("rad per plant step at 0.2 s"));
+  EXPECT_THAT(output.report.stop_reason(),
+              HasSubstr("past the 1 rad a fixed-step integrator resolves"));
+  EXPECT_LT(output.report.simulated_s(), 1.0);
+  EXPECT_GT(Metric(output.report, "plant_max_rotation_per_step_deg"), 57.3);
   EXPECT_EQ(output.trace.find("nan"), std::string::npos);
 }
 
