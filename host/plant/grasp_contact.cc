@@ -187,6 +187,13 @@ double Sum(const std::array<double, kGripperPadCount>& values) {
   return sum;
 }
 
+// The normal force the pads press beyond the symmetric squeeze's six, nonzero only with released
+// pads.
+double ReleasedExtra(const StepContext& ctx, const PadNormals& normals, const GraspForces& out) {
+  if (out.released_pads == 0) return 0.0;
+  return std::max(0.0, Sum(normals) - kGripperPadCount * ctx.contact.force_n);
+}
+
 double ShearEnergy(const StepContext& ctx, double shear_n) {
   return shear_n * shear_n / (2.0 * ctx.shear_stiffness_n_per_m);
 }
@@ -273,6 +280,7 @@ void StepHeld(const StepContext& ctx, GraspState& s, GraspForces& out) {
   const ObjectParams& object = ctx.params.object;
   const Eigen::Vector3d required_n = ctx.mass_kg * ctx.vehicle.specific_force_body_m_s2;
   const PadNormals normals = ImbalancedNormals(ctx, required_n, out);
+  s.released_extra_normal_n = ReleasedExtra(ctx, normals, out);
   const double shear = required_n.z();
   FillPadForces(normals, shear, out);
   out.payload_mass_kg = ctx.mass_kg;
@@ -298,6 +306,7 @@ void StepSliding(const StepContext& ctx, GraspState& s, GraspForces& out) {
   const Eigen::Vector3d horizontal_n(ctx.mass_kg * specific_force.x(),
                                      ctx.mass_kg * specific_force.y(), 0.0);
   const PadNormals normals = ImbalancedNormals(ctx, horizontal_n, out);
+  s.released_extra_normal_n = ReleasedExtra(ctx, normals, out);
   const double grasp = Sum(normals);
 
   double friction = 0.0;
@@ -555,7 +564,9 @@ double GraspServoLoad::TorqueAndSlopeAt(double angle_rad, double* slope_nm_per_r
   const SeriesContact c = SolveSeriesContact(params_.object, params_.pad_stiffness_n_per_m.z(),
                                              params_.pad_stiffening_per_m2, overlap, seed_);
   if (overlap > 0) seed_ = SeedOf(c, overlap);
-  const double torque = closing * kGripperPadCount * c.force_n;
+  // Pads a push released leave the others pressing harder, and the frame holds their sum.
+  const double extra_n = overlap > 0 ? state_.released_extra_normal_n : 0.0;
+  const double torque = closing * (kGripperPadCount * c.force_n + extra_n);
   if (!(torque >= 0) || !std::isfinite(torque) || !std::isfinite(c.stiffness_n_per_m)) return 0.0;
   // d(overlap)/d(angle) = closing while the pads have not reached the centre.
   *slope_nm_per_rad = radius > 0 ? closing * closing * kGripperPadCount * c.stiffness_n_per_m : 0.0;
@@ -611,6 +622,7 @@ void StepGrasp(const GraspSceneParams& params, const GraspSceneConstants& consta
   for (;;) {
     const GraspMode mode = state.mode;
     if (visited != 0) out = GraspForces{};  // a re-run starts from clean forces
+    state.released_extra_normal_n = 0.0;    // the held and sliding steps set it
     visited |= 1u << static_cast<unsigned>(mode);
     switch (mode) {
       case GraspMode::kOnStand:
@@ -632,6 +644,7 @@ void StepGrasp(const GraspSceneParams& params, const GraspSceneConstants& consta
   }
   if (!HasObject(state.mode)) {  // dropped this step: nothing touches the pads any more
     state.gripped = false;
+    state.released_extra_normal_n = 0.0;
     out = GraspForces{};
     return;
   }

@@ -141,6 +141,10 @@ struct GraspState {
   // The last contact solve, which warm-starts the next one (SeriesSeed): from one tick to the next
   // the overlap moves little, so its first-order prediction is usually already converged.
   SeriesSeed contact_seed;
+  // What the pads pressed beyond six times the symmetric squeeze in the last step: zero while all
+  // six touch (the imbalance sums to zero), positive once a push released some, since the object
+  // then shifts onto the others. The servo holds it too (GraspServoLoad), one step late.
+  double released_extra_normal_n = 0.0;
 };
 
 // On the stand with the params' mass at the stand height; kNoObject when the scene does not

@@ -646,6 +646,15 @@ TEST(GraspContactTest, PadsThatWouldPullLetGoAndThoseLeftStillCarryTheHold) {
     EXPECT_EQ(released, push.released) << push.azimuth_rad;
     EXPECT_EQ(forces.released_pads, push.released) << push.azimuth_rad;
     EXPECT_LT(forces.unbalanced_horizontal_n, 1e-12);
+    // The frame holds every pad's push: the pads still touching press more than the six equal
+    // squeezes would, and the servo's load says so.
+    double sum_n = 0.0;
+    for (const double normal : forces.normal_force_n) sum_n += normal;
+    EXPECT_GT(sum_n, kGripperPadCount * n0 * 1.01) << push.azimuth_rad;
+    const GraspServoLoad load(scene, state);
+    EXPECT_NEAR(load.TorqueAt(AngleForOverlap(scene, overlap)),
+                scene.frame.closing_m_per_rad * sum_n, 1e-9 * sum_n)
+        << push.azimuth_rad;
   }
 }
 
