@@ -26,6 +26,7 @@
 #include "dut_emu/mavlink_serial_dut.h"
 #include "dut_link/posix/line_io.h"
 #include "host/dut/in_process_dut.h"
+#include "host/link/open_byte_stream.h"
 #include "proto/hil_link.pb.h"
 #include "rig/check.h"
 #include "rig/command_args.h"
@@ -42,8 +43,6 @@ constexpr std::uint8_t kMavStateStandby = 3;
 constexpr std::uint8_t kMavStateActive = 4;
 constexpr std::uint8_t kModeFlagCustomModeEnabled = 1;
 constexpr std::uint8_t kModeFlagSafetyArmed = 128;
-constexpr std::uint16_t kMavCmdComponentArmDisarm = 400;
-constexpr std::uint16_t kMavCmdDoSetMode = 176;
 
 // The rig's time is int64 nanoseconds; a time_usec past this does not fit.
 constexpr std::uint64_t kMaxTimeUsec =
@@ -311,11 +310,11 @@ void MavlinkDut::HandleCommand(const mavlink::CommandLong& command, MavlinkSende
   }
   ++counters_.commands;
   MavResult result = MavResult::kUnsupported;
-  if (command.command == kMavCmdComponentArmDisarm) {
+  if (command.command == host::kMavCmdComponentArmDisarm) {
     const std::optional<std::uint8_t> arm = SmallWholeNumber(command.param1);
     result = arm && *arm <= 1 ? MavResult::kAccepted : MavResult::kDenied;
     if (result == MavResult::kAccepted) arm_commanded_ = *arm == 1;
-  } else if (command.command == kMavCmdDoSetMode) {
+  } else if (command.command == host::kMavCmdDoSetMode) {
     // param1: MAV_MODE_FLAG bits; param2, param3: PX4's main and sub mode.
     const std::optional<std::uint8_t> flags = SmallWholeNumber(command.param1);
     const std::optional<std::uint8_t> main_mode = SmallWholeNumber(command.param2);
@@ -402,17 +401,10 @@ rig::Result<MavlinkDutOptions> ParseSerialArgs(const rig::CliArgs& cli, const st
   }
   MavlinkDutOptions options;
   options.config_path = *config;
-  const std::size_t comma = line.find(',');
-  options.serial_device = line.substr(0, comma);
-  if (options.serial_device.empty()) return rig::MakeError("--mavlink-serial: expected a device");
-  if (comma == std::string::npos) return options;
-  const std::string option = line.substr(comma + 1);
-  if (!option.starts_with("baud=")) {
-    return rig::MakeError("--mavlink-serial: unknown option \"" + option + "\"");
-  }
-  auto baud = rig::ParseNumber<unsigned>(option.substr(5), "--mavlink-serial baud");
-  if (!baud) return baud.error();
-  options.baud = baud.value();
+  auto port = host::ParseSerialDevice(line, options.baud);
+  if (!port) return rig::MakeError("--mavlink-serial \"" + line + "\": " + port.error().message);
+  options.serial_device = port.value().device;
+  options.baud = port.value().baud;
   return options;
 }
 

@@ -343,7 +343,7 @@ mavlink::DebugFloatArray TelemetryFrom(const ActuatorMessage& command, std::uint
   mavlink::DebugFloatArray array;
   array.time_usec = time_usec;
   array.array_id = kTelemetryArrayId;
-  std::copy_n(kTelemetryName, sizeof kTelemetryName - 1, array.name.begin());
+  array.name = kTelemetryName;
   const auto put = [&array](std::size_t at, const Eigen::Vector3d& vector) {
     for (int axis = 0; axis < 3; ++axis) array.data[at + axis] = static_cast<float>(vector[axis]);
   };
@@ -358,9 +358,7 @@ mavlink::DebugFloatArray TelemetryFrom(const ActuatorMessage& command, std::uint
 }
 
 bool IsTelemetry(const mavlink::DebugFloatArray& array) {
-  std::array<char, 10> name{};
-  std::copy_n(kTelemetryName, sizeof kTelemetryName - 1, name.begin());
-  return array.array_id == kTelemetryArrayId && array.name == name;
+  return array.array_id == kTelemetryArrayId && array.name == kTelemetryName;
 }
 
 void ApplyTelemetry(const mavlink::DebugFloatArray& telemetry, ActuatorMessage& command) {

@@ -89,8 +89,10 @@ mavlink::SetPositionTargetLocalNed PositionTargetFrom(const SetpointMessage& set
 std::optional<SetpointMessage> SetpointFrom(const mavlink::SetPositionTargetLocalNed& target,
                                             const SetpointMessage& previous);
 
-// MAV_CMD_DO_GRIPPER, the common set's gripper command.
+// The common set's commands both ends of the link use.
+inline constexpr std::uint16_t kMavCmdDoSetMode = 176;
 inline constexpr std::uint16_t kMavCmdDoGripper = 211;
+inline constexpr std::uint16_t kMavCmdComponentArmDisarm = 400;
 
 // The grasp a setpoint carries as MAV_CMD_DO_GRIPPER to system 1, component 1: gripper 1, grab
 // (regulate the grasp force) or release (open). Params 3 and 4, empty in the definition, carry the
@@ -116,7 +118,7 @@ std::optional<rig::CanFrame> CanFrameFrom(const mavlink::CanFrame& message);
 // stack reports on the API link (docs/px4.md gives the layout): its position estimate and
 // external force (both NED), its grasp force estimate, whether its pads are zeroed, and the six
 // pads' forces in their sensor frames.
-inline constexpr char kTelemetryName[] = "hilrig";
+inline constexpr std::array<char, 10> kTelemetryName = {'h', 'i', 'l', 'r', 'i', 'g'};
 inline constexpr std::uint16_t kTelemetryArrayId = 1;
 mavlink::DebugFloatArray TelemetryFrom(const ActuatorMessage& command, std::uint64_t time_usec);
 // Whether `array` is the DUT's telemetry (by its name and id).

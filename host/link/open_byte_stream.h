@@ -13,6 +13,20 @@
 
 namespace hilrig::host {
 
+// The fastest baud a command line may name: USB CDC ports accept any number, UARTs far less.
+inline constexpr unsigned kMaxSerialBaud = 12'000'000;
+
+// A baud rate as a command line writes it: a whole number in 1..kMaxSerialBaud.
+rig::Result<unsigned> ParseBaud(const std::string& text);
+
+// A serial device as a command line names it, "DEVICE[,baud=N]"; `default_baud` when no baud is
+// given. The errors say what is wrong ("no device", "unknown option ..."), the caller where.
+struct SerialDeviceSpec {
+  std::string device;
+  unsigned baud = 0;
+};
+rig::Result<SerialDeviceSpec> ParseSerialDevice(const std::string& text, unsigned default_baud);
+
 // Opens `device` 8N1, no flow control, raw (no echo, no line editing, no CR/LF mapping) at `baud`.
 rig::Result<std::unique_ptr<ByteStream>> OpenSerialPort(const std::string& device, unsigned baud);
 

@@ -3,6 +3,7 @@
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/serial_port.hpp>
 #include <cerrno>
+#include <charconv>
 
 #include "host/link/fd_byte_stream.h"
 #include "host/link/open_byte_stream.h"
@@ -18,6 +19,32 @@ struct SerialPort {
 };
 
 }  // namespace
+
+rig::Result<unsigned> ParseBaud(const std::string& text) {
+  unsigned baud = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), baud);
+  if (error != std::errc() || end != text.data() + text.size() || baud == 0 ||
+      baud > kMaxSerialBaud) {
+    return rig::MakeError("baud \"" + text + "\" is not a whole number in 1.." +
+                          std::to_string(kMaxSerialBaud));
+  }
+  return baud;
+}
+
+rig::Result<SerialDeviceSpec> ParseSerialDevice(const std::string& text, unsigned default_baud) {
+  const std::size_t comma = text.find(',');
+  SerialDeviceSpec spec{text.substr(0, comma), default_baud};
+  if (spec.device.empty()) return rig::MakeError("no device");
+  if (comma == std::string::npos) return spec;
+  const std::string option = text.substr(comma + 1);
+  if (!option.starts_with("baud=")) {
+    return rig::MakeError("unknown option \"" + option + "\" (expected baud=N)");
+  }
+  auto baud = ParseBaud(option.substr(5));
+  if (!baud) return baud.error();
+  spec.baud = baud.value();
+  return spec;
+}
 
 rig::Result<std::unique_ptr<ByteStream>> OpenSerialPort(const std::string& device, unsigned baud) {
   auto serial = std::make_shared<SerialPort>();

@@ -8,6 +8,7 @@
 
 #include "host/dut/firmware_config.h"
 #include "host/dut/in_process_dut.h"
+#include "host/link/open_byte_stream.h"
 #include "rig/clock.h"
 #include "rig/command_args.h"
 
@@ -223,23 +224,15 @@ rig::Result<void> ParseLineOptions(const DutArguments& arguments, DutChoice& cho
 
 // "px4-hitl:DEVICE[,baud=N]": the board's serial device and its baud rate.
 rig::Result<void> ParseBoardPort(const std::string& word, MavlinkDutOptions& link) {
-  const std::string details = word.substr(std::string("px4-hitl:").size());
-  const std::size_t comma = details.find(',');
+  auto port = ParseSerialDevice(word.substr(std::string("px4-hitl:").size()), link.baud);
+  if (!port) {
+    return rig::MakeError("--dut \"" + word + "\": " + port.error().message +
+                          " (px4-hitl:DEVICE[,baud=N])");
+  }
   link.start_stand_in = false;
   link.start_timeout_s = kListenStartTimeoutS;
-  link.serial_device = details.substr(0, comma);
-  if (link.serial_device.empty()) {
-    return rig::MakeError("--dut \"" + word + "\": no device (px4-hitl:DEVICE[,baud=N])");
-  }
-  if (comma == std::string::npos) return {};
-  const std::string option = details.substr(comma + 1);
-  if (!option.starts_with("baud=")) {
-    return rig::MakeError("--dut \"" + word + "\": unknown option \"" + option +
-                          "\" (px4-hitl:DEVICE[,baud=N])");
-  }
-  auto baud = rig::ParseNumber<unsigned>(option.substr(5), "baud");
-  if (!baud) return rig::MakeError("--dut \"" + word + "\": " + baud.error().message);
-  link.baud = baud.value();
+  link.serial_device = port.value().device;
+  link.baud = port.value().baud;
   return {};
 }
 

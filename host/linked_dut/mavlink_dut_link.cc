@@ -22,11 +22,9 @@ constexpr std::uint8_t kSimSystem = 1;
 constexpr std::uint8_t kSimComponent = 51;
 constexpr std::uint8_t kApiSystem = 255;  // a ground station
 constexpr std::uint8_t kApiComponent = 190;
-constexpr std::uint16_t kCommandArmDisarm = 400;  // MAV_CMD_COMPONENT_ARM_DISARM
-constexpr std::uint16_t kCommandSetMode = 176;    // MAV_CMD_DO_SET_MODE
-constexpr float kCustomModeEnabled = 1;           // MAV_MODE_FLAG_CUSTOM_MODE_ENABLED
-constexpr float kPx4OffboardMode = 6;             // PX4_CUSTOM_MAIN_MODE_OFFBOARD
-constexpr std::uint8_t kResultAccepted = 0;       // MAV_RESULT_ACCEPTED
+constexpr float kCustomModeEnabled = 1;      // MAV_MODE_FLAG_CUSTOM_MODE_ENABLED
+constexpr float kPx4OffboardMode = 6;        // PX4_CUSTOM_MAIN_MODE_OFFBOARD
+constexpr std::uint8_t kResultAccepted = 0;  // MAV_RESULT_ACCEPTED
 constexpr std::int64_t kHeartbeatPeriodNs = 1'000'000'000;
 constexpr std::int64_t kCommandRetryNs = 1'000'000'000;
 constexpr int kWriteTimeoutMs = 1000;
@@ -36,15 +34,26 @@ constexpr std::size_t kReadChunkBytes = 4096;
 // The name of a command the link sends, for its errors.
 const char* CommandName(std::uint16_t command) {
   switch (command) {
-    case kCommandArmDisarm:
+    case kMavCmdComponentArmDisarm:
       return "MAV_CMD_COMPONENT_ARM_DISARM";
-    case kCommandSetMode:
+    case kMavCmdDoSetMode:
       return "MAV_CMD_DO_SET_MODE";
     case kMavCmdDoGripper:
       return "MAV_CMD_DO_GRIPPER";
     default:
       return "MAV_CMD";
   }
+}
+
+// The first output of `controls` that is not a number, as the run's error.
+std::optional<rig::Error> NonFiniteOutput(const mavlink::HilActuatorControls& controls) {
+  for (std::size_t output = 0; output < controls.controls.size(); ++output) {
+    if (!std::isfinite(controls.controls[output])) {
+      return rig::MakeError("the dut sent a non-finite actuator output " + std::to_string(output) +
+                            " at " + std::to_string(controls.time_usec) + " us");
+    }
+  }
+  return std::nullopt;
 }
 
 bool Positive(double seconds) { return std::isfinite(seconds) && seconds > 0 && seconds <= 3600; }
@@ -94,10 +103,10 @@ MavlinkDutLink::MavlinkDutLink(const DutFirmware& firmware, double control_perio
       control_period_s_(control_period_s),
       options_(options),
       scale_(ActuatorScaleOf(firmware)) {
-  commands_[0].message.command = kCommandSetMode;
+  commands_[0].message.command = kMavCmdDoSetMode;
   commands_[0].message.param1 = kCustomModeEnabled;
   commands_[0].message.param2 = kPx4OffboardMode;
-  commands_[1].message.command = kCommandArmDisarm;
+  commands_[1].message.command = kMavCmdComponentArmDisarm;
   commands_[1].message.param1 = 1;
   for (Command& command : commands_) {
     command.message.target_system = command.message.target_component = 1;
@@ -424,7 +433,10 @@ rig::Result<void> MavlinkDutLink::Request(const LinkRequest& request) {
   // A board answers on its own clock: every tick is answered at once with its latest outputs.
   awaited_ = Awaited{request.tick, time_usec, options_.hitl};
   if (options_.hitl && sensor_steps_ == 1) first_step_wall_ns_ = clock_->NowNs();
-  answer_at_once_ns_ = clock_->NowNs() + rig::NsFromSeconds(options_.first_answer_wait_s);
+  // Only a booting flight stack's step has a give-up time: the lockstep tick reads no clock.
+  if (options_.first_answers_late && !answering_) {
+    answer_at_once_ns_ = clock_->NowNs() + rig::NsFromSeconds(options_.first_answer_wait_s);
+  }
   return {};
 }
 
@@ -546,13 +558,7 @@ DutLinkEvent MavlinkDutLink::ReceiveHitl() {
     const auto message = mavlink::DecodeMessage(frame);
     if (!message) continue;
     if (const auto* controls = std::get_if<mavlink::HilActuatorControls>(&*message)) {
-      for (int output = 0; output < 16; ++output) {
-        if (!std::isfinite(controls->controls[output])) {
-          return {DutLinkEventKind::kFailed, 0,
-                  rig::MakeError("the dut sent a non-finite actuator output " +
-                                 std::to_string(output))};
-        }
-      }
+      if (auto bad = NonFiniteOutput(*controls)) return {DutLinkEventKind::kFailed, 0, *bad};
       ++controls_received_;
       last_controls_ = *controls;
       last_controls_wall_ns_ = clock_->NowNs();
@@ -626,13 +632,7 @@ DutLinkEvent MavlinkDutLink::Receive(int timeout_ms) {
 DutLinkEvent MavlinkDutLink::Answer(const mavlink::HilActuatorControls& controls) {
   ++controls_received_;
   answering_ = true;
-  for (int output = 0; output < 16; ++output) {
-    if (!std::isfinite(controls.controls[output])) {
-      return {DutLinkEventKind::kFailed, 0,
-              rig::MakeError("the dut sent a non-finite actuator output " + std::to_string(output) +
-                             " at " + std::to_string(controls.time_usec) + " us")};
-    }
-  }
+  if (auto bad = NonFiniteOutput(controls)) return {DutLinkEventKind::kFailed, 0, *bad};
   if (controls.time_usec != 0 && controls.time_usec <= answered_at_once_usec_) {
     // A late answer to a step answered at once: the vehicle's outputs from now on.
     ++late_answers_;

@@ -17,22 +17,11 @@ namespace hilrig::host {
 namespace {
 
 constexpr const char* kSerialScheme = "serial:";
-constexpr unsigned kMaxBaud = 12'000'000;  // USB CDC ports accept any number; UARTs far less
 constexpr int kConnectAttemptMs = 100;
 // A byte from the host to QEMU's STM32 USART over a TCP chardev: about 110 us, measured with an
 // echo image (the emulated USART paces its receive side).
 constexpr double kQemuByteTimeS = 110e-6;
 constexpr double kBitsPerSerialByte = 10;  // 8N1: start, 8 data, stop
-
-rig::Result<unsigned> ParseBaud(const std::string& text) {
-  unsigned baud = 0;
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), baud);
-  if (error != std::errc() || end != text.data() + text.size() || baud == 0 || baud > kMaxBaud) {
-    return rig::MakeError("baud \"" + text + "\" is not a whole number in 1.." +
-                          std::to_string(kMaxBaud));
-  }
-  return baud;
-}
 
 // Connects to the emulator's chardev on `port`, retrying while it is still starting up.
 rig::Result<std::unique_ptr<ByteStream>> ConnectChardev(ChildProcess& qemu, std::uint16_t port,

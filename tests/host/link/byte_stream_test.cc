@@ -111,6 +111,22 @@ struct Listener {
   ~Listener() { ::close(fd); }
 };
 
+TEST(SerialPortStreamTest, ParsesADeviceAndItsBaudAsACommandLineNamesThem) {
+  auto plain = ParseSerialDevice("/dev/ttyACM0", 921600);
+  ASSERT_TRUE(plain.ok()) << plain.error().message;
+  EXPECT_EQ(plain.value().device, "/dev/ttyACM0");
+  EXPECT_EQ(plain.value().baud, 921600u);
+  auto fast = ParseSerialDevice("/dev/ttyUSB1,baud=2000000", 921600);
+  ASSERT_TRUE(fast.ok()) << fast.error().message;
+  EXPECT_EQ(fast.value().baud, 2000000u);
+  EXPECT_EQ(ParseSerialDevice(",baud=9600", 1).error().message, "no device");
+  EXPECT_EQ(ParseSerialDevice("/dev/x,speed=1", 1).error().message,
+            "unknown option \"speed=1\" (expected baud=N)");
+  for (const char* bad : {"/dev/x,baud=0", "/dev/x,baud=12000001", "/dev/x,baud=9k"}) {
+    EXPECT_FALSE(ParseSerialDevice(bad, 1).ok()) << bad;
+  }
+}
+
 TEST(TcpByteStreamTest, CarriesBytesBothWaysAndSeesTheClose) {
   Listener listener;
   ASSERT_NE(listener.port, 0);
