@@ -24,6 +24,8 @@ const char* UnitSymbol(Unit unit) {
       return "N";
     case Unit::kJoules:
       return "J";
+    case Unit::kMetresPerSecond:
+      return "m/s";
   }
   return "count";
 }

@@ -21,9 +21,10 @@ enum class Unit : std::uint8_t {
   kDegrees,
   kNewtons,
   kJoules,
+  kMetresPerSecond,
 };
 
-// "count", "fraction", "s", "Hz", "B", "cycles", "m", "deg", "N", "J". Cannot fail.
+// "count", "fraction", "s", "Hz", "B", "cycles", "m", "deg", "N", "J", "m/s". Cannot fail.
 const char* UnitSymbol(Unit unit);
 
 struct Metric {

@@ -30,6 +30,37 @@ void HoldOnStand(const QuadrotorParams& params, QuadrotorState& next) {
       next.body.orientation.conjugate() * Eigen::Vector3d(0.0, 0.0, params.gravity_m_s2);
 }
 
+// The gear's force on a body whose origin is below the ground, held over a step of dt_s with the
+// other forces `other_world_n` (gravity included) on `mass_kg`. Linearly implicit: the normal
+// force is -k z - c v_z at the end-of-step velocity v + dt (F + N) / m and position z + dt v_end
+// it produces, so it cannot overshoot into a pull or an oscillation however stiff the gear or
+// long the step; it never pulls. The horizontal hold is -c v_h at the end of the step, at most
+// friction x N. O(1), no allocation.
+Eigen::Vector3d GearForceWorld(const LandingGearParams& gear, const RigidBodyState& body,
+                               const Eigen::Vector3d& other_world_n, double mass_kg, double dt_s) {
+  const double z = body.position_m.z();
+  if (!(z < 0.0)) return Eigen::Vector3d::Zero();
+  const double k = gear.stiffness_n_per_m;
+  const double c = gear.damping_n_s_per_m;
+  const double velocity_gain = c + k * dt_s;  // dN / d(v_end)
+  const double free_end_speed = body.velocity_m_s.z() + dt_s * other_world_n.z() / mass_kg;
+  const double normal = std::max(
+      0.0, -(k * z + velocity_gain * free_end_speed) / (1.0 + velocity_gain * dt_s / mass_kg));
+  const Eigen::Vector2d free_end_velocity =
+      body.velocity_m_s.head<2>() + dt_s * other_world_n.head<2>() / mass_kg;
+  Eigen::Vector2d hold = -c * free_end_velocity / (1.0 + c * dt_s / mass_kg);
+  const double hold_limit = gear.friction * normal;
+  if (hold.norm() > hold_limit) hold *= hold_limit / hold.norm();
+  return {hold.x(), hold.y(), normal};
+}
+
+// Back at rest on the ground: z = 0, no motion (the gear gives its compression back).
+void ComeToRest(RigidBodyState& body) {
+  body.position_m.z() = 0.0;
+  body.velocity_m_s.setZero();
+  body.angular_velocity_rad_s.setZero();
+}
+
 }  // namespace
 
 QuadrotorStepSize MakeQuadrotorStepSize(const QuadrotorParams& params, double dt_s) {
@@ -89,18 +120,31 @@ void AdvanceQuadrotor(const QuadrotorParams& params, QuadrotorState& state,
   wrench.torque_body_nm =
       on_rail ? Eigen::Vector3d::Zero() : RotorTorqueBody(params.rotors, state.rotors);
 
-  if (state.on_ground && wrench.force_world_n.z() <= mass * g) {
-    body_state.position_m.z() = 0.0;
-    body_state.velocity_m_s.setZero();
-    body_state.angular_velocity_rad_s.setZero();
+  const bool rotors_lift = wrench.force_world_n.z() > mass * g;
+  if (state.on_ground && !rotors_lift) {
+    ComeToRest(body_state);
     state.specific_force_body_m_s2 = r_wb.transpose() * Eigen::Vector3d(0.0, 0.0, g);
+    state.ground_normal_force_n = mass * g - wrench.force_world_n.z();
+    state.max_ground_normal_force_n =
+        std::max(state.max_ground_normal_force_n, state.ground_normal_force_n);
     return;
   }
 
   state.on_ground = false;
   state.airborne_once = true;
-  // The touch-down below needs the velocity the step started with; the step overwrites the body.
-  const Eigen::Vector3d start_velocity_m_s = body_state.velocity_m_s;
+  Eigen::Vector3d gear_force_world_n = Eigen::Vector3d::Zero();
+  if (state.gear_compressed) {
+    gear_force_world_n =
+        GearForceWorld(params.landing_gear, body_state,
+                       wrench.force_world_n - Eigen::Vector3d(0.0, 0.0, mass * g), mass, dt_s);
+    if (on_rail) gear_force_world_n.head<2>().setZero();
+  }
+  wrench.force_world_n += gear_force_world_n;
+  non_thrust_force += gear_force_world_n;
+  state.ground_normal_force_n = gear_force_world_n.z();
+  state.max_ground_normal_force_n =
+      std::max(state.max_ground_normal_force_n, state.ground_normal_force_n);
+
   RigidBodyIntegratorOptions options;
   options.tolerance = params.integrator_tolerance;
   IntegratorStats stats;
@@ -112,21 +156,21 @@ void AdvanceQuadrotor(const QuadrotorParams& params, QuadrotorState& state,
   state.specific_force_body_m_s2 = (r_wb.transpose() * non_thrust_force) / mass;
   state.specific_force_body_m_s2.z() += collective / mass;
 
-  if (body_state.position_m.z() < 0.0) {
+  const bool below_ground = body_state.position_m.z() < 0.0;
+  if (!state.gear_compressed && below_ground) {
     const double impact_speed = std::max(0.0, -body_state.velocity_m_s.z());
-    // The ground removed the whole velocity within this step; the accelerometer sees that
-    // average deceleration as a spike, as a real one would (smeared over one tick).
-    const Eigen::Vector3d accel_world = -start_velocity_m_s / dt_s + Eigen::Vector3d(0.0, 0.0, g);
-    state.specific_force_body_m_s2 = body_state.orientation.conjugate() * accel_world;
-    body_state.position_m.z() = 0.0;
-    body_state.velocity_m_s.setZero();
-    body_state.angular_velocity_rad_s.setZero();
-    state.on_ground = true;
+    state.gear_compressed = true;
     state.ground_contact = true;
     state.touched_down_after_takeoff = true;
     ++state.ground_impacts;
     state.last_impact_speed_m_s = impact_speed;
     state.max_impact_speed_m_s = std::max(state.max_impact_speed_m_s, impact_speed);
+  } else if (state.gear_compressed && !below_ground) {
+    state.gear_compressed = false;  // lifted off before the gear stopped it
+  } else if (state.gear_compressed && body_state.velocity_m_s.z() >= 0.0 && !rotors_lift) {
+    ComeToRest(body_state);  // the gear has stopped the descent and does not spring back
+    state.gear_compressed = false;
+    state.on_ground = true;
   }
 }
 

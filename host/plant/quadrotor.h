@@ -3,15 +3,24 @@
 // velocity and the external force (e.g. the gripper's contact with an object) are held constant
 // over the step (zero-order hold), evaluated at the attitude at the start of the step.
 //
-// Ground model (deliberately simple and unconditionally stable, not a contact simulation):
+// Ground model (the landing gear as a spring-damper, not a contact simulation of the legs):
 // - Resting: while on the ground and the net upward force (thrust, drag, external) does not
 //   exceed the weight, the vehicle sits still at z = 0: the normal force and static friction of
 //   the legs cancel everything else, rotor torques do not tilt it, velocities are zero.
 // - Take-off: as soon as the net upward force exceeds the weight the body integrates freely.
-// - Touch-down: a step that would end below z = 0 puts the vehicle back on the ground with all
-//   velocity and angular rate removed (no bounce, no sliding), and records the impact (count,
-//   downward speed, `ground_contact` for that one step). Touching down after any time in the air,
-//   gentle landings included, counts; checks decide by the impact speed what was a crash.
+// - Touch-down: a step that ends below z = 0 after being clear of the ground records the impact
+//   (count, downward speed at that step's end, `ground_contact` for that one step). From then on,
+//   while z < 0, the gear pushes up with N = max(0, -k z - c v_z) and the ground holds the
+//   horizontal motion with -c v_h, at most friction x N; both act at the body origin (no torque).
+//   N is solved linearly implicitly over the step (with the end-of-step velocity and position
+//   it produces), so any k, c and step are stable and the force converges as the step shrinks:
+//   the deceleration, and with it what a held object presses on the pads, is that of the gear,
+//   about v_impact sqrt(k / m), not the whole velocity removed in one step. The gear does not
+//   spring back: once it stops compressing (v_z >= 0) without the rotors lifting the vehicle, the
+//   vehicle is at rest again at z = 0 with all velocity and angular rate removed (no bounce; the
+//   compression, v_impact / sqrt(k / m) at most, is given back in that step). Touching down after
+//   any time in the air, gentle landings included, counts; checks decide by the impact speed
+//   what was a crash.
 //
 // Fidelity levels reduce the motion while the rotors and the accelerometer's view stay real:
 // kVertical1Dof rides a frictionless vertical rail (level, yaw fixed, no rotation; the rail takes
@@ -36,8 +45,17 @@ enum class VehicleFidelity {
   kFixedStand,    // bolted to a test stand: nothing moves, rotors and sensors run
 };
 
+// The legs' compliance at touch-down (see the ground model above). The defaults are a light
+// carbon undercarriage: about 1 mm of sag under the default 0.556 kg, damping ratio 0.7.
+struct LandingGearParams {
+  double stiffness_n_per_m = 1.0e4;
+  double damping_n_s_per_m = 104.0;
+  double friction = 0.5;  // horizontal hold at most this times the normal force
+};
+
 struct QuadrotorParams {
   RigidBodyParams body;
+  LandingGearParams landing_gear;
   RotorParams rotors;
   double linear_drag_n_s_per_m = 0.05;  // F_drag = -c v, world frame, isotropic
   double gravity_m_s2 = 9.81;
@@ -54,6 +72,12 @@ struct QuadrotorState {
   bool airborne_once = false;  // has been off the ground at some point
   // True only for the step in which the vehicle touched down.
   bool ground_contact = false;
+  // The gear is compressing after a touch-down (z < 0), until the vehicle rests or lifts off.
+  bool gear_compressed = false;
+  // The ground's push in the last step: the gear's while it stops a touch-down, weight less thrust
+  // at rest, 0 in the air; and its largest so far.
+  double ground_normal_force_n = 0.0;
+  double max_ground_normal_force_n = 0.0;
   // Touched the ground after having been airborne; stays true once set.
   bool touched_down_after_takeoff = false;
   std::uint32_t ground_impacts = 0;

@@ -20,6 +20,7 @@ const char* SignalUnit(proto::Signal signal) {
     case proto::GRASP_FORCE_ERROR_N:
     case proto::LOAD_N:
     case proto::LOAD_ESTIMATE_ERROR_N:
+    case proto::GROUND_FORCE_N:
       return "N";
     case proto::SERVO_ANGLE_RAD:
       return "rad";

@@ -106,6 +106,11 @@ void GripperScene::Step(double time_s, double servo_command_rad, const Quadrotor
   peak_elastic_energy_j_ = std::isnan(forces_.elastic_energy_j)
                                ? forces_.elastic_energy_j
                                : std::max(peak_elastic_energy_j_, forces_.elastic_energy_j);
+  for (const Eigen::Vector3d& pad_force_n : forces_.pad_force_n) {
+    const double magnitude_n = pad_force_n.norm();
+    peak_pad_force_n_ =
+        std::isnan(magnitude_n) ? magnitude_n : std::max(peak_pad_force_n_, magnitude_n);
+  }
   if (forces_.released_pads > 0) {
     ++pad_release_ticks_;
     unbalanced_horizontal_max_n_ =

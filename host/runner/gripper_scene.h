@@ -58,9 +58,16 @@ class GripperScene {
   // Has any object been damaged / dropped so far.
   bool any_damaged() const { return any_damaged_; }
   bool any_dropped() const { return any_dropped_; }
+  // Is an object on the pads now (held or sliding), so that the vehicle's motion reaches it.
+  bool holds_object() const {
+    return grasp_.mode == GraspMode::kHeld || grasp_.mode == GraspMode::kSliding;
+  }
   // Largest elastic energy stored in pads and object so far, and the bound physics puts on it: the
   // servo cannot do more work on the grasp than its stall torque over its whole range.
   double peak_elastic_energy_j() const { return peak_elastic_energy_j_; }
+  // Largest force (normal and shear together) any pad's film has felt so far: the physics step,
+  // not the 100 Hz trace, sees a touch-down's short peak.
+  double peak_pad_force_n() const { return peak_pad_force_n_; }
   double elastic_energy_bound_j() const;
   // Ticks in which holding the object horizontally released a pad (it would have had to pull),
   // and the largest horizontal force the pads then left unapplied (0 while the pads in contact
@@ -103,6 +110,7 @@ class GripperScene {
   bool any_damaged_ = false;
   bool any_dropped_ = false;
   double peak_elastic_energy_j_ = 0;
+  double peak_pad_force_n_ = 0;
   std::uint64_t pad_release_ticks_ = 0;
   double unbalanced_horizontal_max_n_ = 0;
 };

@@ -145,6 +145,7 @@ class ScenarioRunner::Impl {
   std::uint64_t can_frames_logged_ = 0;
   std::uint64_t non_finite_samples_ = 0;
   double max_rotation_per_step_rad_ = 0;
+  std::uint64_t touchdowns_holding_object_ = 0;  // touch-downs with an object on the pads
   DutFaultTally dut_faults_;
   std::int64_t next_progress_wall_ns_ = kProgressPeriodNs;
   std::int64_t wall_start_ns_ = 0;
@@ -306,6 +307,7 @@ void ScenarioRunner::Impl::StepPlant(std::int64_t now_ns) {
   for (int i = 0; i < config_.plant_substeps; ++i) {
     AdvanceQuadrotor(config_.vehicle, plant_, command().rotor_thrust_n, force_world_n,
                      plant_substep_, payload);
+    if (plant_.ground_contact && gripper_ && gripper_->holds_object()) ++touchdowns_holding_object_;
   }
 }
 
@@ -350,6 +352,7 @@ bool ScenarioRunner::Impl::RecordTrace(std::int64_t now_ns) {
   TraceSample sample;
   sample.time_s = SecondsFromNs(now_ns);
   sample.position_m = plant_.body.position_m;
+  sample.ground_force_n = plant_.ground_normal_force_n;
   sample.reference_m = reference_.Evaluate(sample.time_s).position_m;
   sample.velocity_m_s = plant_.body.velocity_m_s;
   sample.roll_pitch_yaw_deg = RollPitchYawDeg(plant_.body.orientation);
@@ -567,6 +570,10 @@ proto::Report ScenarioRunner::Impl::Finish() {
   }
   AppendBusMetrics(now_ns, report);
   AddMetric(report, {"ground_impacts", double(plant_.ground_impacts), rig::Unit::kCount});
+  AddMetric(report, rig::CountMetric("ground_impacts_holding_object", touchdowns_holding_object_));
+  AddMetric(report,
+            {"ground_impact_speed_max", plant_.max_impact_speed_m_s, rig::Unit::kMetresPerSecond});
+  AddMetric(report, {"ground_force_max", plant_.max_ground_normal_force_n, rig::Unit::kNewtons});
   AddMetric(report, rig::CountMetric("non_finite_trace_samples", non_finite_samples_));
   AddMetric(report, {"plant_max_rotation_per_step_deg",
                      max_rotation_per_step_rad_ * 180 / std::numbers::pi, rig::Unit::kDegrees});
@@ -582,6 +589,7 @@ proto::Report ScenarioRunner::Impl::Finish() {
     AddMetric(report,
               {"grasp_elastic_energy_bound", gripper_->elastic_energy_bound_j(), Unit::kJoules});
     AddMetric(report, rig::CountMetric("grasp_pad_release_ticks", gripper_->pad_release_ticks()));
+    AddMetric(report, {"grasp_pad_force_peak", gripper_->peak_pad_force_n(), Unit::kNewtons});
     AddMetric(report, {"grasp_unbalanced_horizontal_force_max",
                        gripper_->unbalanced_horizontal_max_n(), Unit::kNewtons});
   }

@@ -64,6 +64,11 @@ QuadrotorParams ResolveVehicle(const proto::Scenario& spec) {
   rotors.instantaneous = spec.models().rotors() == proto::ROTORS_INSTANTANEOUS;
   params.linear_drag_n_s_per_m = Or(vehicle.has_linear_drag_n_s_per_m(),
                                     vehicle.linear_drag_n_s_per_m(), params.linear_drag_n_s_per_m);
+  LandingGearParams& gear = params.landing_gear;
+  gear.stiffness_n_per_m = Or(vehicle.has_landing_gear_stiffness_n_per_m(),
+                              vehicle.landing_gear_stiffness_n_per_m(), gear.stiffness_n_per_m);
+  gear.damping_n_s_per_m = Or(vehicle.has_landing_gear_damping_n_s_per_m(),
+                              vehicle.landing_gear_damping_n_s_per_m(), gear.damping_n_s_per_m);
   params.gravity_m_s2 = Or(spec.environment().has_gravity_m_s2(), spec.environment().gravity_m_s2(),
                            params.gravity_m_s2);
   params.integrator = ResolveIntegrator(spec.models().integrator());

@@ -75,6 +75,18 @@ void RequireNonNegative(bool has, double value, const char* field, const Problem
   if (has && !(value >= 0)) problems.Add(field, "must be >= 0, got " + rig::NumberText(value));
 }
 
+// A finite value > 0 (strictly) or >= 0.
+void RequireFiniteAtLeast(bool has, double value, bool strictly, const char* field,
+                          const ProblemList& problems) {
+  if (!has) return;
+  const bool ok = std::isfinite(value) && (strictly ? value > 0 : value >= 0);
+  if (!ok) {
+    problems.Add(field,
+                 std::string(strictly ? "must be finite and > 0" : "must be finite and >= 0") +
+                     ", got " + rig::NumberText(value));
+  }
+}
+
 void CheckVehicle(const proto::Vehicle& vehicle, const ProblemList& problems) {
   RequirePositive(vehicle.has_mass_kg(), vehicle.mass_kg(), "mass_kg", problems);
   RequirePositive(vehicle.has_arm_length_m(), vehicle.arm_length_m(), "arm_length_m", problems);
@@ -86,6 +98,13 @@ void CheckVehicle(const proto::Vehicle& vehicle, const ProblemList& problems) {
                      "rotor_time_constant_s", problems);
   RequireNonNegative(vehicle.has_linear_drag_n_s_per_m(), vehicle.linear_drag_n_s_per_m(),
                      "linear_drag_n_s_per_m", problems);
+  // Finite as well: an infinitely stiff gear is the one-step stop the gear exists to avoid.
+  RequireFiniteAtLeast(vehicle.has_landing_gear_stiffness_n_per_m(),
+                       vehicle.landing_gear_stiffness_n_per_m(), /*strictly=*/true,
+                       "landing_gear_stiffness_n_per_m", problems);
+  RequireFiniteAtLeast(vehicle.has_landing_gear_damping_n_s_per_m(),
+                       vehicle.landing_gear_damping_n_s_per_m(), /*strictly=*/false,
+                       "landing_gear_damping_n_s_per_m", problems);
   if (vehicle.has_inertia_kg_m2()) {
     const auto& inertia = vehicle.inertia_kg_m2();
     if (!(inertia.x() > 0 && inertia.y() > 0 && inertia.z() > 0)) {

@@ -26,6 +26,7 @@ double LoadEstimateErrorN(const TraceSample& s) { return std::abs(s.load_estimat
 double ObjectDamaged(const TraceSample& s) { return s.object_damaged ? 1.0 : 0.0; }
 double ObjectDropped(const TraceSample& s) { return s.object_dropped ? 1.0 : 0.0; }
 double ServoAngleRad(const TraceSample& s) { return s.servo_angle_rad; }
+double GroundForceN(const TraceSample& s) { return s.ground_force_n; }
 double NoSignal(const TraceSample&) { return std::numeric_limits<double>::quiet_NaN(); }
 
 }  // namespace
@@ -64,6 +65,8 @@ SignalReader SignalReaderFor(proto::Signal signal) {
       return ObjectDropped;
     case proto::SERVO_ANGLE_RAD:
       return ServoAngleRad;
+    case proto::GROUND_FORCE_N:
+      return GroundForceN;
     default:
       return NoSignal;
   }
@@ -80,7 +83,7 @@ bool AllSignalsFinite(const TraceSample& sample) {
   // exactly where the norm would), |a - b| when a - b is (which also covers a and b alone: a
   // difference with a non-finite operand is never finite), and the horizontal and altitude errors
   // whenever the whole position error is. The flags are 0 or 1.
-  static_assert(proto::Signal_ARRAYSIZE == 17,
+  static_assert(proto::Signal_ARRAYSIZE == 18,
                 "a new Signal must be covered here (and in SignalReaderFor)");
   const Eigen::Vector3d error_m = PositionError(sample);
   return std::isfinite(error_m.squaredNorm()) && std::isfinite(sample.position_m.z()) &&
@@ -89,7 +92,7 @@ bool AllSignalsFinite(const TraceSample& sample) {
          std::isfinite(sample.tactile_force_error_max_n) &&
          std::isfinite(sample.grasp_force_estimate_n - sample.grasp_force_n) &&
          std::isfinite(sample.load_estimate_n - sample.load_n) &&
-         std::isfinite(sample.servo_angle_rad);
+         std::isfinite(sample.servo_angle_rad) && std::isfinite(sample.ground_force_n);
 }
 
 }  // namespace hilrig::host

@@ -34,6 +34,7 @@ struct TraceSample {
   double servo_command_rad = 0;
   bool object_damaged = false;
   bool object_dropped = false;
+  double ground_force_n = 0;  // the ground's push on the vehicle (GROUND_FORCE_N)
 };
 
 // Reads one signal from a sample. A check that watches one signal resolves its reader once and

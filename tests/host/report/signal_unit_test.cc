@@ -13,6 +13,7 @@ TEST(SignalUnitTest, EachSignalHasTheUnitItsNameEndsIn) {
   EXPECT_EQ(std::string(SignalUnit(proto::SPEED_M_S)), "m/s");
   EXPECT_EQ(std::string(SignalUnit(proto::GRASP_FORCE_N)), "N");
   EXPECT_EQ(std::string(SignalUnit(proto::SERVO_ANGLE_RAD)), "rad");
+  EXPECT_EQ(std::string(SignalUnit(proto::GROUND_FORCE_N)), "N");
   EXPECT_EQ(std::string(SignalUnit(proto::OBJECT_DROPPED)), "");
 }
 

@@ -26,6 +26,7 @@ TraceSample Sample() {
   s.load_estimate_n = 3;
   s.object_dropped = true;
   s.servo_angle_rad = 0.75;
+  s.ground_force_n = 6.5;
   return s;
 }
 
@@ -48,6 +49,7 @@ TEST(SignalValueTest, EverySignalReadsItsQuantity) {
   EXPECT_DOUBLE_EQ(SignalValue(s, proto::OBJECT_DAMAGED), 0.0);
   EXPECT_DOUBLE_EQ(SignalValue(s, proto::OBJECT_DROPPED), 1.0);
   EXPECT_DOUBLE_EQ(SignalValue(s, proto::SERVO_ANGLE_RAD), 0.75);
+  EXPECT_DOUBLE_EQ(SignalValue(s, proto::GROUND_FORCE_N), 6.5);
   EXPECT_TRUE(std::isnan(SignalValue(s, proto::SIGNAL_UNSPECIFIED)));
   EXPECT_TRUE(std::isnan(SignalValue(s, static_cast<proto::Signal>(999))));
 }
@@ -149,6 +151,7 @@ TEST(AllSignalsFiniteTest, AgreesWithEverySignalOneByOne) {
     s.load_n = field();
     s.load_estimate_n = field();
     s.servo_angle_rad = field();
+    s.ground_force_n = field();
     s.object_damaged = rng() % 2 == 0;
     const bool expected = EverySignalFinite(s);
     ASSERT_EQ(AllSignalsFinite(s), expected) << "sample " << i;
