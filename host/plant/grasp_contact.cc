@@ -547,7 +547,7 @@ GraspServoLoad::GraspServoLoad(const GraspSceneParams& params, const GraspSceneC
                                const GraspState& state)
     : params_(params),
       state_(state),
-      loads_(HasObject(state.mode) && constants.scene_usable),
+      loads_(HasObject(state.mode) && constants.scene_usable && !state.out_of_reach),
       seed_(state.contact_seed) {}
 
 double GraspServoLoad::TorqueAt(double angle_rad) const {
@@ -598,15 +598,20 @@ void StepGrasp(const GraspSceneParams& params, const GraspSceneConstants& consta
       !constants.scene_usable) {
     return;
   }
-  const double overlap =
-      params.object.half_width_m - PadSurfaceRadius(params.frame, frame_angle_rad);
   const Eigen::Quaterniond world_from_body = vehicle.orientation.normalized();
   const double body_up_z = BodyUpZ(world_from_body);
+  const double frame_height_m = vehicle.position_m.z() + body_up_z * params.frame.height_m;
+  // Only an object on its stand can be out of reach: a held or sliding one moves with the pads.
+  state.out_of_reach = state.mode == GraspMode::kOnStand &&
+                       !PadsReach(params, frame_height_m, state.object_height_m);
+  const double overlap = state.out_of_reach ? 0.0
+                                            : params.object.half_width_m -
+                                                  PadSurfaceRadius(params.frame, frame_angle_rad);
   StepContext ctx{params,
                   constants,
                   vehicle,
                   world_from_body,
-                  vehicle.position_m.z() + body_up_z * params.frame.height_m,
+                  frame_height_m,
                   body_up_z,
                   SolveSeriesContact(params.object, params.pad_stiffness_n_per_m.z(),
                                      params.pad_stiffening_per_m2, overlap, state.contact_seed),
@@ -662,6 +667,11 @@ void StepGrasp(const GraspSceneParams& params, const GraspSceneConstants& consta
   }
   state.peak_indentation_m = std::max(state.peak_indentation_m, out.indentation_m);
   RecordDamage(params.object, largest_finite_normal_n, out.indentation_m, state);
+}
+
+bool PadsReach(const GraspSceneParams& params, double frame_height_m, double object_height_m) {
+  return std::abs(frame_height_m - object_height_m) <
+         params.object.half_height_m + params.pad_half_height_m;
 }
 
 void PourMass(GraspState& state, double added_mass_kg) {

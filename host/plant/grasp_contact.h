@@ -17,7 +17,9 @@
 //
 // Modes. Body z (the pads' y_S) is the sliding direction; "frame height" is the world z of the
 // frame centre (body origin + R_WB (0, 0, height_m)); k_t = 6 x the pad's shear stiffness (y).
-// - kOnStand: the object rests with its centre at stand_height_m. When the pads start gripping
+// - kOnStand: the object rests with its centre at stand_height_m. The pads touch it only while
+//   they reach it (PadsReach: the frame within the object's half height plus the pads' half
+//   height of its centre); beyond that the frame closes on nothing. When the pads start gripping
 //   (normal force after none) the stick anchor is set to frame height - object height; the pads
 //   then carry shear k_t ((frame height - object height) - anchor) + c_t (frame's vertical
 //   speed), c_t = 6 x the pad's shear damping (y), capped at +-mu_s x grasp force
@@ -145,7 +147,15 @@ struct GraspState {
   // six touch (the imbalance sums to zero), positive once a push released some, since the object
   // then shifts onto the others. The servo holds it too (GraspServoLoad), one step late.
   double released_extra_normal_n = 0.0;
+  // The object on its stand is out of the pads' reach (PadsReach): the frame closes on nothing.
+  // The servo's load reads it, one step late like the released pads.
+  bool out_of_reach = false;
 };
+
+// Whether pads whose ring plane is at world height `frame_height_m` reach an object whose centre
+// is at `object_height_m`: |frame - object| < object.half_height_m + params.pad_half_height_m.
+// False for non-finite heights.
+bool PadsReach(const GraspSceneParams& params, double frame_height_m, double object_height_m);
 
 // On the stand with the params' mass at the stand height; kNoObject when the scene does not
 // validate (an invalid object is never put in the scene). Also how an object is replaced (the

@@ -43,6 +43,9 @@ rig::Result<void> ValidateObject(const ObjectParams& object) {
   if (!PositiveFinite(object.half_width_m)) {
     return FieldError(object, "half_width_m", "must be finite and > 0");
   }
+  if (!PositiveFinite(object.half_height_m)) {
+    return FieldError(object, "half_height_m", "must be finite and > 0");
+  }
   if (!(std::isfinite(object.inertia_factor) && object.inertia_factor >= 0)) {
     return FieldError(object, "inertia_factor", "must be finite and >= 0");
   }

@@ -24,6 +24,9 @@ struct ObjectParams {
   std::string name;
   double mass_kg = 0.05;
   double half_width_m = 0.03;  // centre to contact surface along each pad normal
+  // Centre to top and to bottom along the pads' height (world z on the stand, body z when held):
+  // the pads reach the object only within this (plus their own half height) of its centre.
+  double half_height_m = 0.03;
   // Moment of inertia about any axis through the centre, as a multiple of m half_width^2: 2/5 a
   // solid ball (the default; near enough for the compact fixtures), 2/3 a thin spherical shell.
   double inertia_factor = 0.4;

@@ -500,6 +500,43 @@ TEST(GraspContactTest, TakingTheStandAwayHangsAWellGrippedObjectOnThePads) {
   EXPECT_EQ(state.mode, GraspMode::kHeld);
 }
 
+// The pads reach an object on its stand only within its half height (30 mm) plus theirs (10 mm)
+// of its centre: 20 cm below it the frame closes on nothing, the servo feels no load, and taking
+// the stand away leaves the object where it was instead of hanging it on the pads.
+TEST(GraspContactTest, PadsFarBelowTheObjectGripNothing) {
+  GraspSceneParams scene = Scene();
+  GraspState state = InitialGraspState(scene);
+  const double angle = AngleForOverlap(scene, 2e-3);
+  const GraspVehicleSample below = HoverAt(scene.stand_height_m - 0.20);
+  GraspForces forces = StepGrasp(scene, state, below, angle, kDt);
+  EXPECT_TRUE(state.out_of_reach);
+  EXPECT_EQ(forces.grasp_force_n, 0.0);
+  EXPECT_FALSE(state.gripped);
+  EXPECT_EQ(GraspServoLoad(scene, state).TorqueAt(angle), 0.0);
+  scene.stand_present = false;
+  forces = StepGrasp(scene, state, below, angle, kDt);
+  EXPECT_EQ(state.mode, GraspMode::kDropped);
+  EXPECT_EQ(forces.payload_mass_kg, 0.0);
+  EXPECT_EQ(forces.payload_inertia_kg_m2, Eigen::Vector3d::Zero());
+}
+
+TEST(GraspContactTest, PadsReachTheObjectWithinItsHalfHeightPlusTheirs) {
+  const GraspSceneParams scene = Scene();  // half height 30 mm, pads 10 mm
+  EXPECT_TRUE(PadsReach(scene, 0.5, 0.5));
+  EXPECT_TRUE(PadsReach(scene, 0.5 - 0.0399, 0.5));
+  EXPECT_TRUE(PadsReach(scene, 0.5 + 0.0399, 0.5));
+  EXPECT_FALSE(PadsReach(scene, 0.5 - 0.0401, 0.5));
+  EXPECT_FALSE(PadsReach(scene, 0.5 + 0.0401, 0.5));
+  EXPECT_FALSE(PadsReach(scene, kNaN, 0.5));
+  // Within reach, off centre, the grip is the symmetric squeeze it always was.
+  GraspState state = InitialGraspState(scene);
+  const double angle = AngleForOverlap(scene, 2e-3);
+  const GraspForces forces =
+      StepGrasp(scene, state, HoverAt(scene.stand_height_m - 0.035), angle, kDt);
+  EXPECT_FALSE(state.out_of_reach);
+  EXPECT_NEAR(forces.grasp_force_n, 6 * LinearSeriesForce(2000.0, 2e-3), 1e-12);
+}
+
 TEST(GraspContactTest, TakingTheStandAwayFromAnUngrippedObjectDropsIt) {
   GraspSceneParams scene = Scene();
   GraspState state = InitialGraspState(scene);

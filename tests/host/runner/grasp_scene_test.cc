@@ -152,6 +152,23 @@ envelopes { name: "altitude" signal: ALTITUDE_ERROR_M upper: 0.05 from_s: 8 }
   EXPECT_EQ(report.objects(0).final_state(), "held");
 }
 
+// The bottle on a stand 20 cm above the frame is beyond the pads' reach (55 mm half height plus
+// the pads' 10 mm): the frame closes on nothing, and the hand-over drops the bottle instead of
+// hanging it, off centre, on the pads.
+TEST(GraspSceneTest, ABottleAboveThePadsIsNotGripped) {
+  const proto::Report report =
+      RunGrasp(GraspSpec(R"(fixture: "water_bottle" stand_height_m: 0.7)", 3.5, R"(
+timeline { at_s: 5 remove_support {} }
+envelopes { name: "nothing_gripped" signal: GRASP_FORCE_N upper: 0 }
+envelopes { name: "no_load" signal: LOAD_N upper: 0.01 }
+)"));
+  EXPECT_EQ(Envelope(report, "nothing_gripped").verdict(), proto::PASS)
+      << Envelope(report, "nothing_gripped").worst_value();
+  EXPECT_EQ(Envelope(report, "no_load").verdict(), proto::PASS)
+      << Envelope(report, "no_load").worst_value();
+  EXPECT_EQ(report.objects(0).final_state(), "dropped");
+}
+
 // A gripped object still on its stand ties the vehicle to the world through the pads' shear
 // stiffness (6 x 1.5 N/mm). Undamped and sampled once per tick, that spring and the DUT's load
 // feedforward rang between the friction limits (-3 N .. +1.3 N); the pads' shear damping holds
