@@ -26,6 +26,8 @@ namespace hilrig::host {
 struct PlantView {
   const QuadrotorState& vehicle;
   const std::array<Eigen::Vector3d, kGripperPadCount>& pad_force_n;
+  // The tactile chips where the gripper frame has them now (body frame); null without a gripper.
+  const std::array<Eigen::Vector3d, kGripperPadCount>* chip_position_body_m = nullptr;
 };
 
 class DeviceEmulator {

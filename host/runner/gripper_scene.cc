@@ -39,6 +39,7 @@ GripperScene::GripperScene(const ScenarioConfig& config,
     body_from_pad_[i] = pads[i].mounting_body_from_sensor.toRotationMatrix();
   }
   servo_.angle_rad = config_.servo.min_angle_rad;
+  UpdateChipPositions();
   Present(config_.objects[0]);
   next_object_ = 1;
 }
@@ -97,6 +98,7 @@ void GripperScene::Step(double time_s, double servo_command_rad, const Quadrotor
   sample.velocity_m_s = vehicle.body.velocity_m_s;
   sample.gravity_m_s2 = gravity_m_s2_;
   StepGrasp(scene_, scene_constants_, grasp_, sample, servo_.angle_rad, dt_s, forces_);
+  UpdateChipPositions();
   if (grasp_.damage != DamageMode::kNone && damaged_at_s_ < 0) {
     damaged_at_s_ = time_s;
     any_damaged_ = true;
@@ -115,6 +117,12 @@ void GripperScene::Step(double time_s, double servo_command_rad, const Quadrotor
     ++pad_release_ticks_;
     unbalanced_horizontal_max_n_ =
         std::max(unbalanced_horizontal_max_n_, forces_.unbalanced_horizontal_n);
+  }
+}
+
+void GripperScene::UpdateChipPositions() {
+  for (int pad = 0; pad < kTactileSensorCount; ++pad) {
+    chip_position_body_m_[pad] = ChipPositionBody(scene_.frame, pad, servo_.angle_rad);
   }
 }
 

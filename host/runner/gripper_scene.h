@@ -51,6 +51,10 @@ class GripperScene {
   const std::array<Eigen::Vector3d, kTactileSensorCount>& pad_forces() const {
     return forces_.pad_force_n;
   }
+  // The Hall chips where the frame's angle puts them (ChipPositionBody), body frame.
+  const std::array<Eigen::Vector3d, kTactileSensorCount>& chip_positions() const {
+    return chip_position_body_m_;
+  }
   // The contacts' force on the vehicle in the world frame, summed from the pad forces: what ideal
   // pads would tell the DUT. Includes the held object's share that the vehicle step carries as
   // payload mass.
@@ -84,6 +88,7 @@ class GripperScene {
 
  private:
   void Present(const ObjectPlacement& placement);
+  void UpdateChipPositions();
   proto::ObjectOutcome CurrentOutcome() const;
 
   const GripperConfig& config_;
@@ -100,6 +105,7 @@ class GripperScene {
   double servo_decay_dt_s_ = -1;
   double servo_decay_ = 0;
   GraspForces forces_;
+  std::array<Eigen::Vector3d, kTactileSensorCount> chip_position_body_m_;
   std::size_t next_object_ = 0;
   std::size_t next_support_removal_ = 0;
   TimeCursor grasp_cursor_;

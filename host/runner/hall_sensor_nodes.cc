@@ -5,6 +5,7 @@
 #include <span>
 
 #include "host/sensors/earth_field.h"
+#include "host/sensors/tactile/film_field_factory.h"
 #include "host/sensors/tactile/memoized_film_field.h"
 #include "rig/check.h"
 
@@ -43,12 +44,35 @@ HallSensorNodes::HallSensorNodes(const HallSensorConfig& config, const EarthFiel
         [&](const StrayFieldEvent& stray) { return stray.node_id == params.node_id; });
     nodes_.push_back({&params, MakeTactileSensorConstants(params, SamplePeriodS(firmware)),
                       InitialTactileSensorState(params, seed), PadFieldMemo{}, firmware,
-                      std::move(stray_field_t)});
+                      std::move(stray_field_t), FilmPose{}});
   };
   if (config.tactile_enabled) {
     for (const TactileSensorParams& params : config.tactile) add(params);
+    if (config.film_cross_talk) {
+      auto far_field = MakeFilmField(kCrossTalkFilmFidelity);
+      HILRIG_CHECK(far_field.ok(), "a tile level always builds");
+      cross_talk_.emplace(std::move(far_field).value(), config.tactile, config.reference);
+    }
   }
   add(config.reference);
+}
+
+void HallSensorNodes::UpdateCrossTalk(
+    const std::array<Eigen::Vector3d, kTactileSensorCount>* chip_position_body_m) {
+  std::array<Eigen::Vector3d, kTactileSensorCount> chips;
+  std::array<FilmPose, kTactileSensorCount> poses;
+  for (int i = 0; i < kTactileSensorCount; ++i) {
+    chips[i] =
+        chip_position_body_m ? (*chip_position_body_m)[i] : config_.tactile[i].position_body_m;
+    poses[i] = nodes_[i].film_pose;
+  }
+  cross_talk_->Update(chips, poses);
+}
+
+Eigen::Vector3d HallSensorNodes::FilmsFieldAt(std::size_t index) const {
+  if (!cross_talk_) return Eigen::Vector3d::Zero();
+  return index < kTactileSensorCount ? cross_talk_->AtTactileSensor(static_cast<int>(index))
+                                     : cross_talk_->AtReferenceSensor();
 }
 
 // The frame is the one CanFrame::Classic(frame.id, payload) makes, written over the last one:
@@ -68,7 +92,8 @@ void HallSensorNodes::Send(const dut_fw::NodeFrame& frame, std::int64_t now_ns) 
 }
 
 void HallSensorNodes::TickNode(Node& node, const Eigen::Vector3d& pad_force_n,
-                               const Eigen::Vector3d& earth_field_body_t, std::int64_t now_ns) {
+                               const Eigen::Vector3d& earth_field_body_t,
+                               const Eigen::Vector3d& films_field_t, std::int64_t now_ns) {
   if (node.firmware.SampleDue(now_ns)) {
     const double period_s = SamplePeriodS(node.firmware);
     if (period_s != node.constants.silicone.dt_s) {
@@ -77,8 +102,9 @@ void HallSensorNodes::TickNode(Node& node, const Eigen::Vector3d& pad_force_n,
     }
     const TactileReading reading = SampleTactileSensor(
         *node.params, node.constants, node.model, *film_, pad_force_n, earth_field_body_t,
-        config_.temperature_c, node.stray_field_t.At(static_cast<double>(now_ns) / 1e9),
-        &node.pad_memo);
+        config_.temperature_c,
+        node.stray_field_t.At(static_cast<double>(now_ns) / 1e9) + films_field_t, &node.pad_memo);
+    node.film_pose = reading.film_pose;
     Send(node.firmware.TakeSample(now_ns, dut_fw::ChipConversion{reading.code, false}), now_ns);
   }
   if (node.firmware.StatusDue(now_ns)) {
@@ -94,14 +120,18 @@ std::uint64_t HallSensorNodes::stray_field_pieces_stepped() const {
   return stepped;
 }
 
-void HallSensorNodes::Tick(std::int64_t now_ns, const Eigen::Quaterniond& attitude_world_body,
-                           const std::array<Eigen::Vector3d, kTactileSensorCount>& pad_force_n) {
+void HallSensorNodes::Tick(
+    std::int64_t now_ns, const Eigen::Quaterniond& attitude_world_body,
+    const std::array<Eigen::Vector3d, kTactileSensorCount>& pad_force_n,
+    const std::array<Eigen::Vector3d, kTactileSensorCount>* chip_position_body_m) {
   // Only a node's own Take* calls move its schedule (the emulated nodes are sent no configuration
   // frames, the other thing that could), so nothing can fall due before this.
   if (now_ns < next_event_ns_) return;
   // The attitude's part of Earth's field, shared by every node on the vehicle.
   const Eigen::Vector3d earth_field_body_t =
       EarthFieldInBodyFrame(attitude_world_body, earth_field_.field_world_t);
+  // Every node due now sees the films where their last samples left them.
+  if (cross_talk_) UpdateCrossTalk(chip_position_body_m);
   std::int64_t next_event_ns = INT64_MAX;
   for (std::size_t i = 0; i < nodes_.size(); ++i) {
     // A node with nothing due (the others' slots, or a rate not dividing the tick) is skipped
@@ -110,7 +140,7 @@ void HallSensorNodes::Tick(std::int64_t now_ns, const Eigen::Quaterniond& attitu
     if (node.firmware.SampleDue(now_ns) || node.firmware.StatusDue(now_ns)) {
       const bool tactile = config_.tactile_enabled && i < pad_force_n.size();
       TickNode(node, tactile ? pad_force_n[i] : Eigen::Vector3d::Zero(), earth_field_body_t,
-               now_ns);
+               FilmsFieldAt(tactile ? i : kTactileSensorCount), now_ns);
     }
     next_event_ns = std::min(next_event_ns, node.firmware.NextEventNs());
   }
@@ -118,7 +148,7 @@ void HallSensorNodes::Tick(std::int64_t now_ns, const Eigen::Quaterniond& attitu
 }
 
 std::int64_t HallSensorNodes::Tick(std::int64_t now_ns, const PlantView& plant, DutPort&) {
-  Tick(now_ns, plant.vehicle.body.orientation, plant.pad_force_n);
+  Tick(now_ns, plant.vehicle.body.orientation, plant.pad_force_n, plant.chip_position_body_m);
   return next_event_ns_;
 }
 

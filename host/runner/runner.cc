@@ -187,7 +187,8 @@ ScenarioRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
                ? MakeHoveringQuadrotor(config.vehicle, start_m, config.initial_reference.yaw_rad)
                : MakeRestingQuadrotor(config.vehicle, start_m.x(), start_m.y(),
                                       config.initial_reference.yaw_rad);
-  plant_view_.emplace(PlantView{plant_, gripper_ ? gripper_->pad_forces() : kNoPadForce});
+  plant_view_.emplace(PlantView{plant_, gripper_ ? gripper_->pad_forces() : kNoPadForce,
+                                gripper_ ? &gripper_->chip_positions() : nullptr});
   // The navigation sensors after the scene's own devices, for a DUT that takes them.
   if (dut_started_ && dut_->TakesNavigationSensors()) {
     for (std::unique_ptr<DeviceEmulator>& device :

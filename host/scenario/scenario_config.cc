@@ -160,6 +160,10 @@ void ResolveHallSensors(const proto::Scenario& spec, const std::string& spec_dir
   hall.reference = DefaultReferenceSensor();
   hall.reference.chip = base.chip;
   hall.reference.earth_field_enabled = base.earth_field_enabled;
+  if (tactile.has_reference_position_m()) {
+    hall.reference.position_body_m = ToEigen(tactile.reference_position_m());
+  }
+  hall.film_cross_talk = Or(tactile.has_film_cross_talk(), tactile.film_cross_talk(), false);
   hall.field_fidelity =
       Or(tactile.has_field_fidelity(), tactile.field_fidelity(), std::string(kDefaultFilmFidelity));
   hall.node_rate_hz = Or(tactile.has_node_rate_hz(), tactile.node_rate_hz(), kDefaultNodeRateHz);

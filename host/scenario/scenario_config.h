@@ -54,6 +54,7 @@ struct HallSensorConfig {
   double node_rate_hz = 50;
   double temperature_c = 25;
   bool compensation = true;
+  bool film_cross_talk = false;  // the films' fields at each other's chips and at the reference
   double zeroing_s = 1;
   std::string calibration_file;  // resolved against the spec's folder; empty: calibrate at start
   std::optional<proto::Calibration> calibration;  // filled by LoadTactileCalibration (host/setup)

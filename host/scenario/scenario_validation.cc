@@ -187,6 +187,15 @@ void CheckSensors(const proto::Models& models, double physics_rate_hz,
                                  " Hz is above physics_rate_hz (" +
                                  rig::NumberText(physics_rate_hz) + " Hz)");
   }
+  if (tactile.has_reference_position_m()) {
+    const proto::Vector3& p = tactile.reference_position_m();
+    // On the vehicle: a chip 1 m from the body is no part of it. A non-finite one is reported as
+    // such.
+    if (std::isfinite(p.x() + p.y() + p.z()) &&
+        Eigen::Vector3d(p.x(), p.y(), p.z()).cwiseAbs().maxCoeff() > 1.0) {
+      hall.Add("reference_position_m", "must be within 1 m of the body origin on every axis");
+    }
+  }
   RequireNonNegative(tactile.has_zeroing_s(), tactile.zeroing_s(), "zeroing_s", hall);
   if (tactile.has_zeroing_s() && tactile.zeroing_s() > kMaxRunDurationS) {
     hall.Add("zeroing_s", "must be at most 86400 s (the longest run): the DUT would never zero");

@@ -34,7 +34,7 @@ TactileSensorParams DefaultReferenceSensor() {
   reference.film_present = false;
   reference.earth_field_enabled = true;
   reference.mounting_body_from_sensor = Eigen::Quaterniond::Identity();
-  reference.position_body_m = Eigen::Vector3d(0.0, 0.0, 0.020);
+  reference.position_body_m = Eigen::Vector3d(0.0, 0.0, kReferenceHeightM);
   return reference;
 }
 

@@ -8,6 +8,8 @@
 
 #include "host/sensors/earth_field.h"
 #include "host/sensors/tactile/dipole_film_field.h"
+#include "host/sensors/tactile/film_field_factory.h"
+#include "host/sensors/tactile/sensor_layout.h"
 #include "rig/emulated_bus.h"
 #include "rig/tactile_protocol.h"
 
@@ -82,6 +84,7 @@ TEST(HallSensorNodesTest, TicksThatDoNotDivideThePeriodMissNoSlot) {
 TEST(HallSensorNodesTest, TactileNodeReadsWhatTheSensorModelGivesForOnePeriodSteps) {
   HallSensorConfig config = ReferenceOnly(50);
   config.tactile_enabled = true;
+  config.film_cross_talk = false;  // the one-off model call below knows nothing of the others
   for (std::size_t i = 0; i < config.tactile.size(); ++i) {
     config.tactile[i].node_id = static_cast<std::uint8_t>(i + 1);
   }
@@ -105,6 +108,48 @@ TEST(HallSensorNodesTest, TactileNodeReadsWhatTheSensorModelGivesForOnePeriodSte
     if (sample.node_id == 1) node1.push_back(sample.code);
   }
   EXPECT_EQ(node1, expected);
+}
+
+// The reference node's z reading (tesla) in each of its samples.
+std::vector<double> ReferenceZ(const std::vector<rig::TimedCanFrame>& frames,
+                               const HallSensorConfig& config) {
+  std::vector<double> z;
+  for (const rig::TactileSample& sample : Samples(frames)) {
+    if (sample.node_id != tactile_bus::kReferenceNodeId) continue;
+    z.push_back(
+        dut_fw::CodesToTesla<double>(config.reference.chip.setting, sample.code).field_t.z());
+  }
+  return z;
+}
+
+// With the reference 20 mm above an open frame, it reads Earth's field plus the six films' 30 uT
+// (film_cross_talk.h); the same node without the cross-talk reads Earth's alone. Same seed, so the
+// chip noise is the same draw and the difference is the films'.
+TEST(HallSensorNodesTest, AReferenceNearTheRingReadsTheFilmsField) {
+  HallSensorConfig config = ReferenceOnly(50);
+  config.tactile_enabled = true;
+  config.tactile = DefaultTactileLayout();
+  config.reference.position_body_m = {0, 0, 0.020};
+  config.film_cross_talk = true;
+  auto film = std::make_shared<const DipoleFilmField>(DipoleFilmField::FromFilm(FilmGeometry{}));
+  const std::vector<double> with = ReferenceZ(RunNodes(config, kMs, 100 * kMs, film), config);
+  config.film_cross_talk = false;
+  const std::vector<double> without = ReferenceZ(RunNodes(config, kMs, 100 * kMs, film), config);
+
+  FilmCrossTalk expected(MakeFilmField(kCrossTalkFilmFidelity).value(), config.tactile,
+                         config.reference);
+  std::array<Eigen::Vector3d, kTactileSensorCount> chips;
+  for (int i = 0; i < kTactileSensorCount; ++i) chips[i] = config.tactile[i].position_body_m;
+  std::array<FilmPose, kTactileSensorCount> rest;
+  rest.fill(FilmPose{});
+  expected.Update(chips, rest);
+  ASSERT_GT(std::abs(expected.AtReferenceSensor().z()), 10e-6);
+  ASSERT_EQ(with.size(), 5u);
+  ASSERT_EQ(without.size(), 5u);
+  for (std::size_t k = 0; k < with.size(); ++k) {
+    // Within a quantization step (0.242 uT per LSB on z).
+    EXPECT_NEAR(with[k] - without[k], expected.AtReferenceSensor().z(), 0.25e-6) << "sample " << k;
+  }
 }
 
 // The nodes reuse one frame for sending: each must still be the classic frame of its own bytes,
