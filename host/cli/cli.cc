@@ -43,6 +43,8 @@ std::string Usage() {
          "  hilrig calibrate --out DIR [--seed N] [--field F]  calibrate the tactile sensors\n"
          "  hilrig accuracy --calibration FILE --out DIR [--seed N] [--field F]\n"
          "                                                     held-out force error\n"
+         "  hilrig accuracy --budget --out DIR [--seed N] [--field F]\n"
+         "                                                     the error per sensor effect\n"
          "  hilrig decode --calibration FILE                   stdin 'bx by bz' (T) -> S\n"
          "  hilrig listen --can URI [--frames N]               print a CAN bus's frames (candump)\n"
          "      URI: emulated, udp:BASE_PORT[:INDEX[:COUNT]], socketcan:IFACE, gs_usb[:SERIAL]\n"

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "fixtures/calibration/accuracy_budget.h"
 #include "fixtures/calibration/calibration_file.h"
 #include "fixtures/calibration/calibration_procedure.h"
 #include "host/cli/cli.h"
@@ -107,6 +108,30 @@ void PrintAccuracy(const proto::AccuracyReport& report, std::ostream& out) {
   }
 }
 
+std::string AxisTriple(const proto::Vector3& v) {
+  return Format("%8.4f %8.4f %8.4f", v.x(), v.y(), v.z());
+}
+
+void PrintBudget(const proto::AccuracyBudget& budget, std::ostream& out) {
+  out << "force-error budget, compensated, held-out (N); field " << budget.field_fidelity() << "\n"
+      << "configuration                     rmse x   rmse y   rmse z    max x    max y    max z"
+         "    p95 x    p95 y    p95 z\n";
+  for (const proto::BudgetRow& row : budget.rows()) {
+    const proto::ConditionAccuracy& c = row.compensated();
+    char name[40];
+    std::snprintf(name, sizeof(name), "%-31s", row.configuration().c_str());
+    out << name << " " << AxisTriple(c.rmse_n()) << " " << AxisTriple(c.max_n()) << " "
+        << AxisTriple(c.p95_n()) << "\n";
+  }
+  const proto::ConditionAccuracy& decoder = budget.decoding_floor();
+  out << "decoder alone (exact field)     " << AxisTriple(decoder.rmse_n()) << " "
+      << AxisTriple(decoder.max_n()) << " " << AxisTriple(decoder.p95_n()) << "\n"
+      << "floor (none)                    " << AxisTriple(budget.floor_rmse_n()) << "\n"
+      << "floor + effects alone (RSS)     " << AxisTriple(budget.combined_rmse_n()) << "\n"
+      << "measured total (all)            " << AxisTriple(budget.total_rmse_n()) << "\n"
+      << "gap (together beyond alone)     " << AxisTriple(budget.gap_rmse_n()) << "\n";
+}
+
 // Three numbers separated by blanks; strtod, unlike operator>>, reads "nan" and "inf", which the
 // decoder then flags itself.
 std::optional<Eigen::Vector3d> ParseFieldLine(const std::string& line) {
@@ -155,7 +180,36 @@ int CalibrateCommand(const std::vector<std::string>& args, const CliStreams& io)
   return kExitPass;
 }
 
-int AccuracyCommand(const std::vector<std::string>& args, const CliStreams& io) {
+// `accuracy --budget`: every configuration calibrated and measured (AccuracyBudget), budget.json.
+int BudgetCommand(const std::vector<std::string>& args, const CliStreams& io) {
+  auto options =
+      ParseTactileOptions(args, /*needs_out=*/true, /*needs_calibration=*/false, io.stop_requested);
+  if (!options) return Fail(io, "accuracy", options.error().message);
+  const auto folder = rig::FolderLock::Acquire(options.value().out_dir);
+  if (!folder) return Fail(io, "accuracy", folder.error().message);
+  const fixtures::CalibrationBench bench;
+  const auto progress = [&io](const std::string& configuration) {
+    io.err << "hilrig accuracy: budget: calibrating and measuring with " << configuration << "\n";
+  };
+  std::optional<proto::AccuracyBudget> budget = fixtures::MeasureBudgetUnlessStopped(
+      bench, *options.value().film, options.value().seed, io.stop_requested, progress);
+  if (!budget) {
+    io.err << "hilrig accuracy: interrupted, nothing written\n";
+    return kExitCheckFailed;
+  }
+  budget->set_field_fidelity(options.value().fidelity);
+  const fs::path path = fs::path(options.value().out_dir) / "budget.json";
+  if (auto written = WriteJsonFile(*budget, path.string()); !written) {
+    return Fail(io, "accuracy", written.error().message);
+  }
+  PrintBudget(*budget, io.out);
+  io.out << "wrote " << path.string() << "\n";
+  return kExitPass;
+}
+
+int AccuracyCommand(const std::vector<std::string>& args_in, const CliStreams& io) {
+  std::vector<std::string> args = args_in;
+  if (TakeFlag(args, "--budget")) return BudgetCommand(args, io);
   auto options =
       ParseTactileOptions(args, /*needs_out=*/true, /*needs_calibration=*/true, io.stop_requested);
   if (!options) return Fail(io, "accuracy", options.error().message);

@@ -46,6 +46,23 @@ TEST(TactileCommandsTest, AccuracyWritesBothConditions) {
   EXPECT_THAT(json.str(), HasSubstr("\"rmse_n\""));
 }
 
+// --budget calibrates and measures each configuration itself: no --calibration needed.
+TEST(TactileCommandsTest, AccuracyBudgetWritesEveryConfiguration) {
+  const fs::path out = CalibrationDir() / "budget";
+  const CliResult result =
+      Cli({"accuracy", "--budget", "--out", out.string(), "--field", "map:16"});
+  ASSERT_EQ(result.exit_code, kExitPass) << result.err;
+  EXPECT_THAT(result.out, HasSubstr("only chip_noise"));
+  EXPECT_THAT(result.out, HasSubstr("decoder alone (exact field)"));
+  EXPECT_THAT(result.err, HasSubstr("calibrating and measuring with all but earth_field"));
+  std::ifstream file(out / "budget.json");
+  std::stringstream json;
+  json << file.rdbuf();
+  EXPECT_THAT(json.str(), HasSubstr("\"configuration\": \"all + silicone_stiffening\""));
+  EXPECT_THAT(json.str(), HasSubstr("\"p95_n\""));
+  EXPECT_THAT(json.str(), HasSubstr("\"gap_rmse_n\""));
+}
+
 TEST(TactileCommandsTest, DecodePrintsSOrAFlagPerLine) {
   const CliResult result = Cli({"decode", "--calibration", CalibrationFile()},
                                "0.0001 -0.0002 0.0035\n"
