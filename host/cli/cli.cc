@@ -41,7 +41,7 @@ std::string Usage() {
          "      [--timing-repeats N] (more timings of a cheap run, fastest kept; default 20) "
          "[--quick]\n"
          "  hilrig calibrate --out DIR [--seed N] [--field F]  calibrate the tactile sensors\n"
-         "  hilrig accuracy --calibration FILE --out DIR [--seed N] [--field F]\n"
+         "  hilrig accuracy --calibration FILE --out DIR [--seed N] [--field F] [--dut-filter N]\n"
          "                                                     held-out force error\n"
          "  hilrig accuracy --budget --out DIR [--seed N] [--field F]\n"
          "                                                     the error per sensor effect\n"

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <optional>
+#include <set>
 
 #include "fixtures/calibration/accuracy_budget.h"
 #include "fixtures/calibration/calibration_file.h"
@@ -33,14 +34,18 @@ struct TactileOptions {
   std::uint64_t seed = 1;
   std::shared_ptr<const FilmFieldModel> film;
   std::string fidelity;
+  int dut_filter_samples = 1;  // accuracy's --dut-filter
 };
 
 // Parses the options the tactile commands share; `needs_out` / `needs_calibration` say which
 // are required. A map level's tabulation ends early on `stop_requested`.
 rig::Result<TactileOptions> ParseTactileOptions(const std::vector<std::string>& args,
                                                 bool needs_out, bool needs_calibration,
-                                                const std::atomic<bool>* stop_requested) {
-  auto parsed = ParseCliArgs(args, {"--out", "--seed", "--field", "--calibration"});
+                                                const std::atomic<bool>* stop_requested,
+                                                bool takes_dut_filter = false) {
+  std::set<std::string> known = {"--out", "--seed", "--field", "--calibration"};
+  if (takes_dut_filter) known.insert("--dut-filter");
+  auto parsed = ParseCliArgs(args, known);
   if (!parsed) return parsed.error();
   const CliArgs& cli = parsed.value();
   if (!cli.positional.empty()) return rig::MakeError("unexpected argument " + cli.positional[0]);
@@ -55,6 +60,11 @@ rig::Result<TactileOptions> ParseTactileOptions(const std::vector<std::string>& 
     auto seed = ParseSeed(*seed_text);
     if (!seed) return seed.error();
     options.seed = seed.value();
+  }
+  if (const auto* filter = cli.Option("--dut-filter")) {
+    auto samples = ParseWholeNumberOption("--dut-filter", *filter, 1, 16);
+    if (!samples) return samples.error();
+    options.dut_filter_samples = samples.value();
   }
   const auto* fidelity = cli.Option("--field");
   options.fidelity = fidelity != nullptr ? *fidelity : std::string(kDefaultFilmFidelity);
@@ -95,7 +105,7 @@ void PrintCalibration(const proto::Calibration& calibration, std::ostream& out) 
 void PrintAccuracy(const proto::AccuracyReport& report, std::ostream& out) {
   out << "held-out loads: " << report.sensors() << " sensors x " << report.attitudes()
       << " attitudes x " << report.loads_per_attitude() << " loads, field "
-      << report.field_fidelity() << "\n"
+      << report.field_fidelity() << ", DUT filter " << report.dut_filter_samples() << " sample(s)\n"
       << "condition        rmse x   rmse y   rmse z    max x    max y    max z   samples  "
          "flagged\n";
   for (const auto& condition : report.conditions()) {
@@ -210,18 +220,20 @@ int BudgetCommand(const std::vector<std::string>& args, const CliStreams& io) {
 int AccuracyCommand(const std::vector<std::string>& args_in, const CliStreams& io) {
   std::vector<std::string> args = args_in;
   if (TakeFlag(args, "--budget")) return BudgetCommand(args, io);
-  auto options =
-      ParseTactileOptions(args, /*needs_out=*/true, /*needs_calibration=*/true, io.stop_requested);
+  auto options = ParseTactileOptions(args, /*needs_out=*/true, /*needs_calibration=*/true,
+                                     io.stop_requested, /*takes_dut_filter=*/true);
   if (!options) return Fail(io, "accuracy", options.error().message);
   const auto calibration = fixtures::ReadCalibrationFile(options.value().calibration_file);
   if (!calibration) return Fail(io, "accuracy", calibration.error().message);
   const auto folder = rig::FolderLock::Acquire(options.value().out_dir);
   if (!folder) return Fail(io, "accuracy", folder.error().message);
   const fixtures::CalibrationBench bench;
+  fixtures::AccuracyOptions accuracy;
+  accuracy.dut_filter_samples = options.value().dut_filter_samples;
   // Held-out means other noise and other loads than calibration's: a seed of its own.
-  std::optional<proto::AccuracyReport> measured =
-      fixtures::MeasureAccuracyUnlessStopped(bench, *options.value().film, calibration.value(),
-                                             options.value().seed + 1000, io.stop_requested);
+  std::optional<proto::AccuracyReport> measured = fixtures::MeasureAccuracyUnlessStopped(
+      bench, *options.value().film, calibration.value(), options.value().seed + 1000,
+      io.stop_requested, accuracy);
   if (!measured) {
     io.err << "hilrig accuracy: interrupted, nothing written\n";
     return kExitCheckFailed;
