@@ -109,9 +109,9 @@ void GripperScene::Step(double time_s, double servo_command_rad, const Quadrotor
                                ? forces_.elastic_energy_j
                                : std::max(peak_elastic_energy_j_, forces_.elastic_energy_j);
   for (const Eigen::Vector3d& pad_force_n : forces_.pad_force_n) {
-    const double magnitude_n = pad_force_n.norm();
-    peak_pad_force_n_ =
-        std::isnan(magnitude_n) ? magnitude_n : std::max(peak_pad_force_n_, magnitude_n);
+    const double squared_n2 = pad_force_n.squaredNorm();
+    peak_pad_force_squared_n2_ =
+        std::isnan(squared_n2) ? squared_n2 : std::max(peak_pad_force_squared_n2_, squared_n2);
   }
   if (forces_.released_pads > 0) {
     ++pad_release_ticks_;
@@ -121,6 +121,8 @@ void GripperScene::Step(double time_s, double servo_command_rad, const Quadrotor
 }
 
 void GripperScene::UpdateChipPositions() {
+  if (servo_.angle_rad == chip_positions_angle_rad_) return;
+  chip_positions_angle_rad_ = servo_.angle_rad;
   for (int pad = 0; pad < kTactileSensorCount; ++pad) {
     chip_position_body_m_[pad] = ChipPositionBody(scene_.frame, pad, servo_.angle_rad);
   }

@@ -8,8 +8,10 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "host/plant/grasp_contact.h"
@@ -71,7 +73,7 @@ class GripperScene {
   double peak_elastic_energy_j() const { return peak_elastic_energy_j_; }
   // Largest force (normal and shear together) any pad's film has felt so far: the physics step,
   // not the 100 Hz trace, sees a touch-down's short peak.
-  double peak_pad_force_n() const { return peak_pad_force_n_; }
+  double peak_pad_force_n() const { return std::sqrt(peak_pad_force_squared_n2_); }
   double elastic_energy_bound_j() const;
   // Ticks in which holding the object horizontally released a pad (it would have had to pull),
   // and the largest horizontal force the pads then left unapplied (0 while the pads in contact
@@ -88,6 +90,8 @@ class GripperScene {
 
  private:
   void Present(const ObjectPlacement& placement);
+  // Moves the chips to the servo's angle; nothing to do while the angle stays where it was (the
+  // tick calls it every time, and the frame is still most of a run).
   void UpdateChipPositions();
   proto::ObjectOutcome CurrentOutcome() const;
 
@@ -106,6 +110,7 @@ class GripperScene {
   double servo_decay_ = 0;
   GraspForces forces_;
   std::array<Eigen::Vector3d, kTactileSensorCount> chip_position_body_m_;
+  double chip_positions_angle_rad_ = std::numeric_limits<double>::quiet_NaN();  // they are at
   std::size_t next_object_ = 0;
   std::size_t next_support_removal_ = 0;
   TimeCursor grasp_cursor_;
@@ -116,7 +121,7 @@ class GripperScene {
   bool any_damaged_ = false;
   bool any_dropped_ = false;
   double peak_elastic_energy_j_ = 0;
-  double peak_pad_force_n_ = 0;
+  double peak_pad_force_squared_n2_ = 0;  // squared, so the tick takes no square roots
   std::uint64_t pad_release_ticks_ = 0;
   double unbalanced_horizontal_max_n_ = 0;
 };
