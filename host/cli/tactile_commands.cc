@@ -8,11 +8,13 @@
 #include <filesystem>
 #include <optional>
 #include <set>
+#include <vector>
 
 #include "fixtures/calibration/accuracy_budget.h"
 #include "fixtures/calibration/calibration_file.h"
 #include "fixtures/calibration/calibration_procedure.h"
 #include "host/cli/cli.h"
+#include "host/report/accuracy_page.h"
 #include "host/report/report_files.h"
 #include "host/sensors/tactile/film_field_factory.h"
 #include "rig/bounded_line.h"
@@ -158,6 +160,19 @@ std::optional<Eigen::Vector3d> ParseFieldLine(const std::string& line) {
   return field_t;
 }
 
+// A result's JSON and its page (host/report/accuracy_page.h) in `out_dir`, the JSON first; the
+// paths written, for the "wrote" lines.
+rig::Result<std::vector<fs::path>> WriteJsonAndPage(const google::protobuf::Message& message,
+                                                    const std::string& page_html,
+                                                    const std::string& out_dir,
+                                                    const char* json_file, const char* page_file) {
+  const fs::path json = fs::path(out_dir) / json_file;
+  if (auto written = WriteJsonFile(message, json.string()); !written) return written.error();
+  const fs::path page = fs::path(out_dir) / page_file;
+  if (auto written = WriteTextFile(page.string(), page_html); !written) return written.error();
+  return std::vector<fs::path>{json, page};
+}
+
 // An error once a stop was requested is the stop's doing: the command was cut short.
 int Fail(const CliStreams& io, const std::string& command, const std::string& message) {
   io.err << "hilrig " << command << ": " << message << "\n";
@@ -190,7 +205,8 @@ int CalibrateCommand(const std::vector<std::string>& args, const CliStreams& io)
   return kExitPass;
 }
 
-// `accuracy --budget`: every configuration calibrated and measured (AccuracyBudget), budget.json.
+// `accuracy --budget`: every configuration calibrated and measured (AccuracyBudget), budget.json
+// and its page budget.html.
 int BudgetCommand(const std::vector<std::string>& args, const CliStreams& io) {
   auto options =
       ParseTactileOptions(args, /*needs_out=*/true, /*needs_calibration=*/false, io.stop_requested);
@@ -208,12 +224,11 @@ int BudgetCommand(const std::vector<std::string>& args, const CliStreams& io) {
     return kExitCheckFailed;
   }
   budget->set_field_fidelity(options.value().fidelity);
-  const fs::path path = fs::path(options.value().out_dir) / "budget.json";
-  if (auto written = WriteJsonFile(*budget, path.string()); !written) {
-    return Fail(io, "accuracy", written.error().message);
-  }
+  const auto written = WriteJsonAndPage(*budget, BudgetPageHtml(*budget), options.value().out_dir,
+                                        kBudgetJsonFile, kBudgetPageFile);
+  if (!written) return Fail(io, "accuracy", written.error().message);
   PrintBudget(*budget, io.out);
-  io.out << "wrote " << path.string() << "\n";
+  for (const fs::path& path : written.value()) io.out << "wrote " << path.string() << "\n";
   return kExitPass;
 }
 
@@ -240,12 +255,11 @@ int AccuracyCommand(const std::vector<std::string>& args_in, const CliStreams& i
   }
   proto::AccuracyReport& report = *measured;
   report.set_field_fidelity(options.value().fidelity);
-  const fs::path path = fs::path(options.value().out_dir) / "accuracy.json";
-  if (auto written = WriteJsonFile(report, path.string()); !written) {
-    return Fail(io, "accuracy", written.error().message);
-  }
+  const auto written = WriteJsonAndPage(report, AccuracyPageHtml(report), options.value().out_dir,
+                                        kAccuracyJsonFile, kAccuracyPageFile);
+  if (!written) return Fail(io, "accuracy", written.error().message);
   PrintAccuracy(report, io.out);
-  io.out << "wrote " << path.string() << "\n";
+  for (const fs::path& path : written.value()) io.out << "wrote " << path.string() << "\n";
   return kExitPass;
 }
 

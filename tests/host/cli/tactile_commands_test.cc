@@ -20,9 +20,12 @@ namespace {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 const fs::path& CalibrationDir() { return SharedCalibrationDir(); }
 std::string CalibrationFile() { return SharedCalibrationFile(); }
+
+constexpr std::size_t kMaxPageBytes = std::size_t{1} << 20;
 
 TEST(TactileCommandsTest, CalibratePrintsConstantsAndResidualsAndWritesTheFile) {
   ASSERT_TRUE(fs::exists(CalibrationFile()));
@@ -44,6 +47,12 @@ TEST(TactileCommandsTest, AccuracyWritesBothConditions) {
   json << file.rdbuf();
   EXPECT_THAT(json.str(), HasSubstr("\"condition\": \"uncompensated\""));
   EXPECT_THAT(json.str(), HasSubstr("\"rmse_n\""));
+  // The page beside it grades the condition the sweep names compensated.
+  EXPECT_THAT(result.out, HasSubstr("wrote " + (out / "accuracy.html").string()));
+  const auto page = rig::ReadRegularFile((out / "accuracy.html").string(), kMaxPageBytes);
+  ASSERT_TRUE(page) << page.error().message;
+  EXPECT_THAT(page.value(), HasSubstr("<svg"));
+  EXPECT_THAT(page.value(), Not(HasSubstr("no compensated condition")));
 }
 
 // --budget calibrates and measures each configuration itself: no --calibration needed.
@@ -61,6 +70,11 @@ TEST(TactileCommandsTest, AccuracyBudgetWritesEveryConfiguration) {
   EXPECT_THAT(json.str(), HasSubstr("\"configuration\": \"all + silicone_stiffening\""));
   EXPECT_THAT(json.str(), HasSubstr("\"p95_n\""));
   EXPECT_THAT(json.str(), HasSubstr("\"gap_rmse_n\""));
+  EXPECT_THAT(result.out, HasSubstr("wrote " + (out / "budget.html").string()));
+  const auto page = rig::ReadRegularFile((out / "budget.html").string(), kMaxPageBytes);
+  ASSERT_TRUE(page) << page.error().message;
+  EXPECT_THAT(page.value(), HasSubstr("<svg"));
+  EXPECT_THAT(page.value(), HasSubstr("all + silicone_stiffening"));
 }
 
 TEST(TactileCommandsTest, DecodePrintsSOrAFlagPerLine) {
