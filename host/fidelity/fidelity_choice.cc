@@ -1,9 +1,12 @@
 #include "host/fidelity/fidelity_choice.h"
 
+#include <google/protobuf/descriptor.h>
+
 #include <algorithm>
 #include <cstdint>
 
 #include "host/sensors/tactile/film_field_factory.h"
+#include "rig/check.h"
 #include "rig/number_text.h"
 
 namespace hilrig::host {
@@ -13,6 +16,21 @@ constexpr double kReferenceTolerance = 1e-10;
 // Dormand-Prince's tolerance when the spec leaves it to the resolver.
 constexpr double kDefaultTolerance = 1e-6;
 constexpr int kReferenceSubsteps = 8;
+
+// The models.tactile switch of `effect`, found by the effect's name: every effect names its switch
+// (sensor_effect.h), and a test holds each name to an optional bool field of the message.
+const google::protobuf::FieldDescriptor& SwitchOf(SensorEffect effect) {
+  const google::protobuf::FieldDescriptor* field =
+      proto::Tactile::descriptor()->FindFieldByName(SensorEffectName(effect));
+  HILRIG_CHECK(field != nullptr && field->type() == google::protobuf::FieldDescriptor::TYPE_BOOL &&
+                   field->has_presence(),
+               "a sensor effect without its models.tactile switch");
+  return *field;
+}
+
+void SwitchOff(SensorEffect effect, proto::Tactile& tactile) {
+  tactile.GetReflection()->SetBool(&tactile, &SwitchOf(effect), false);
+}
 
 }  // namespace
 
@@ -43,13 +61,15 @@ std::string IntegratorLabel(const FidelityChoice& fidelity) {
 }
 
 std::string FidelityLabel(const FidelityChoice& fidelity) {
-  return IntegratorLabel(fidelity) + " x" + std::to_string(fidelity.plant_substeps) + " " +
-         fidelity.field_fidelity;
+  std::string label = IntegratorLabel(fidelity) + " x" + std::to_string(fidelity.plant_substeps) +
+                      " " + fidelity.field_fidelity;
+  if (fidelity.effect_off) label.append(" without ").append(SensorEffectName(*fidelity.effect_off));
+  return label;
 }
 
 FidelityChoice ReferenceFidelity(bool quick) {
   return {proto::INTEGRATOR_DORMAND_PRINCE, kReferenceTolerance, kReferenceSubsteps,
-          quick ? "tiles:16" : "tiles:64"};
+          quick ? "tiles:16" : "tiles:64", std::nullopt};
 }
 
 FidelityChoice SceneFidelity(const proto::Scenario& spec) {
@@ -80,7 +100,15 @@ proto::Scenario WithFidelity(proto::Scenario spec, const FidelityChoice& fidelit
   if (!fidelity.field_fidelity.empty()) {
     models.mutable_tactile()->set_field_fidelity(fidelity.field_fidelity);
   }
+  if (fidelity.effect_off) SwitchOff(*fidelity.effect_off, *models.mutable_tactile());
   return spec;
+}
+
+bool EffectOn(const proto::Tactile& tactile, SensorEffect effect) {
+  const google::protobuf::FieldDescriptor& field = SwitchOf(effect);
+  const google::protobuf::Reflection& reflection = *tactile.GetReflection();
+  return reflection.HasField(tactile, &field) ? reflection.GetBool(tactile, &field)
+                                              : OnByDefault(effect);
 }
 
 proto::Scenario TruncatedTo(proto::Scenario spec, double duration_s) {

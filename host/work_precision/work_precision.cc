@@ -7,10 +7,12 @@
 #include <limits>
 #include <memory>
 #include <span>
+#include <string_view>
 #include <variant>
 
 #include "host/cache/setup_caches.h"
 #include "host/pipeline/run_pipeline.h"
+#include "host/report/signal_unit.h"
 #include "host/report/stop_reason.h"
 #include "host/runner/run_statistics.h"
 #include "host/sensors/tactile/film_field_factory.h"
@@ -114,6 +116,8 @@ std::string FamilyOf(const RunResult& run) {
       return "field fidelity";
     case RunKind::kDefault:
       return "as shipped";
+    case RunKind::kEffect:
+      return "sensor effect off";
     case RunKind::kReference:
       break;
   }
@@ -128,6 +132,10 @@ std::string PointLabel(const RunResult& run) {
       return run.run.fidelity.field_fidelity;
     case RunKind::kDefault:
       return "default";
+    case RunKind::kEffect:
+      return run.run.fidelity.effect_off
+                 ? std::string("no ") + SensorEffectName(*run.run.fidelity.effect_off)
+                 : "no effect";
     case RunKind::kReference:
       break;
   }
@@ -229,11 +237,14 @@ std::string RunKindName(RunKind kind) {
       return "field";
     case RunKind::kDefault:
       return "default";
+    case RunKind::kEffect:
+      return "effect";
   }
   return "unknown";
 }
 
-std::vector<PlannedRun> PlanSweep(const FidelityChoice& scene, bool has_film, bool quick) {
+std::vector<PlannedRun> PlanSweep(const FidelityChoice& scene, bool has_film, bool quick,
+                                  std::span<const SensorEffect> effects) {
   const std::vector<proto::Integrator> integrators =
       quick ? std::vector<proto::Integrator>{proto::INTEGRATOR_SEMI_IMPLICIT_EULER,
                                              proto::INTEGRATOR_RK4}
@@ -261,6 +272,11 @@ std::vector<PlannedRun> PlanSweep(const FidelityChoice& scene, bool has_film, bo
     FidelityChoice fidelity = scene;
     fidelity.field_fidelity = field;
     runs.push_back({RunKind::kField, fidelity});
+  }
+  for (SensorEffect effect : effects) {
+    FidelityChoice fidelity = scene;
+    fidelity.effect_off = effect;
+    runs.push_back({RunKind::kEffect, fidelity});
   }
   std::vector<PlannedRun> unique;
   for (const PlannedRun& run : runs) {
@@ -338,7 +354,11 @@ rig::Result<SceneResult> SweepScene(const proto::Scenario& spec, const std::stri
   scene.tolerance = options.tolerance;
   std::vector<ScenarioConfig> configs{ref_config};
   const bool has_film = spec.models().tactile().enabled();
-  for (const PlannedRun& planned : PlanSweep(SceneFidelity(spec), has_film, options.quick)) {
+  scene.tightest_force_envelope_n = TightestForceEnvelopeN(spec);
+  const std::vector<SensorEffect> effects =
+      has_film ? SweptEffects(spec) : std::vector<SensorEffect>{};
+  for (const PlannedRun& planned :
+       PlanSweep(SceneFidelity(spec), has_film, options.quick, effects)) {
     if (Interrupted(control)) return rig::MakeError(rig::ErrorCode::kInterrupted, "interrupted");
     auto config = ResolveWithCalibration(WithFidelity(base, planned.fidelity), spec_directory,
                                          ref_config.seed, ref_config.hall_sensors.calibration);
@@ -407,8 +427,8 @@ std::vector<std::size_t> ParetoFront(const std::vector<RunResult>& runs,
   std::vector<std::size_t> candidates;
   for (std::size_t i = 0; i < runs.size(); ++i) {
     const RunResult& run = runs[i];
-    if (run.run.kind == RunKind::kReference || !run.errors.complete()) continue;
-    if (!std::isfinite(run.wall_s_per_sim_s)) continue;
+    if (run.run.kind == RunKind::kReference || run.run.kind == RunKind::kEffect) continue;
+    if (!run.errors.complete() || !std::isfinite(run.wall_s_per_sim_s)) continue;
     if (std::any_of(metrics.begin(), metrics.end(),
                     [&](ErrorMetric metric) { return !std::isfinite(run.RmsError(metric)); })) {
       continue;
@@ -467,30 +487,32 @@ std::string WorkPrecisionCsv(const std::vector<SceneResult>& scenes) {
       "scene,kind,integrator,plant_substeps,step_s,field_fidelity,wall_s_per_sim_s,"
       "real_time_factor,grasp_force_rms_error_n,grasp_force_max_error_n,load_rms_error_n,"
       "position_rms_error_m,position_max_error_m,passes_envelopes,pareto,load_max_error_n,"
-      "samples_compared,samples_missing,timing_runs,stop_reason\n";
+      "samples_compared,samples_missing,timing_runs,stop_reason,effect_off\n";
   for (const SceneResult& scene : scenes) {
     for (const RunResult& run : scene.runs) {
       const ErrorMetrics& e = run.errors;
-      const std::vector<std::string> fields = {scene.scene,
-                                               RunKindName(run.run.kind),
-                                               IntegratorLabel(run.run.fidelity),
-                                               std::to_string(run.run.fidelity.plant_substeps),
-                                               rig::NumberText(run.step_s),
-                                               run.run.fidelity.field_fidelity,
-                                               rig::NumberText(run.wall_s_per_sim_s),
-                                               RealTimeFactor(run.wall_s_per_sim_s),
-                                               rig::NumberText(e.grasp_force_rms_n),
-                                               rig::NumberText(e.grasp_force_max_n),
-                                               rig::NumberText(e.load_rms_n),
-                                               rig::NumberText(e.position_rms_m),
-                                               rig::NumberText(e.position_max_m),
-                                               run.passes_envelopes ? "true" : "false",
-                                               ParetoField(run),
-                                               rig::NumberText(e.load_max_n),
-                                               std::to_string(e.samples_compared),
-                                               std::to_string(e.samples_missing),
-                                               std::to_string(run.timing_runs),
-                                               run.stop_reason};
+      const std::vector<std::string> fields = {
+          scene.scene,
+          RunKindName(run.run.kind),
+          IntegratorLabel(run.run.fidelity),
+          std::to_string(run.run.fidelity.plant_substeps),
+          rig::NumberText(run.step_s),
+          run.run.fidelity.field_fidelity,
+          rig::NumberText(run.wall_s_per_sim_s),
+          RealTimeFactor(run.wall_s_per_sim_s),
+          rig::NumberText(e.grasp_force_rms_n),
+          rig::NumberText(e.grasp_force_max_n),
+          rig::NumberText(e.load_rms_n),
+          rig::NumberText(e.position_rms_m),
+          rig::NumberText(e.position_max_m),
+          run.passes_envelopes ? "true" : "false",
+          ParetoField(run),
+          rig::NumberText(e.load_max_n),
+          std::to_string(e.samples_compared),
+          std::to_string(e.samples_missing),
+          std::to_string(run.timing_runs),
+          run.stop_reason,
+          run.run.fidelity.effect_off ? SensorEffectName(*run.run.fidelity.effect_off) : ""};
       for (std::size_t i = 0; i < fields.size(); ++i) {
         out.append(i > 0 ? "," : "").append(CsvField(fields[i]));
       }
@@ -517,10 +539,76 @@ const RunResult* CheapestPassingFrontRun(const SceneResult& scene) {
   return cheapest;
 }
 
+std::vector<SensorEffect> SweptEffects(const proto::Scenario& spec) {
+  const proto::Tactile& tactile = spec.models().tactile();
+  std::vector<SensorEffect> effects;
+  for (SensorEffect effect : kSensorEffects) {
+    if (effect == SensorEffect::kChipNoise) continue;  // off in every noise-free run
+    if (EffectOn(tactile, effect)) effects.push_back(effect);
+  }
+  return effects;
+}
+
+double TightestForceEnvelopeN(const proto::Scenario& spec) {
+  double tightest = std::numeric_limits<double>::quiet_NaN();
+  for (const proto::Envelope& envelope : spec.envelopes()) {
+    if (envelope.expect() == proto::FAIL) continue;
+    if (std::string_view(SignalUnit(envelope.signal())) != "N") continue;
+    if (!envelope.has_lower() && !envelope.has_upper()) continue;
+    const double width = envelope.has_lower() && envelope.has_upper()
+                             ? envelope.upper() - envelope.lower()
+                             : std::abs(envelope.has_upper() ? envelope.upper() : envelope.lower());
+    if (!(width >= tightest)) tightest = width;  // also replaces the NaN start
+  }
+  return tightest;
+}
+
+std::string EffectTable(const SceneResult& scene) {
+  const RunResult* base = DefaultRun(scene);
+  std::vector<const RunResult*> effect_runs;
+  for (const RunResult& run : scene.runs) {
+    if (run.run.kind == RunKind::kEffect) effect_runs.push_back(&run);
+  }
+  if (effect_runs.empty() || base == nullptr) return "";
+  const double allowed_n = kEffectDropFraction * scene.tightest_force_envelope_n;
+  std::string out =
+      scene.scene + ": each sensor effect switched off (noise-free); may drop: adds <= " +
+      rig::NumberText(kEffectDropFraction * 100) + " % of the tightest force envelope (";
+  out += std::isfinite(allowed_n) ? rig::NumberText(scene.tightest_force_envelope_n) + " N)\n"
+                                  : "none)\n";
+  char line[256];
+  std::snprintf(line, sizeof(line), "  %-20s %-12s %-12s %-12s %-12s %-10s %s\n", "effect off",
+                "grasp err N", "load err N", "adds N", "time/default", "envelopes", "drop?");
+  out += line;
+  const auto added = [&](const RunResult& run, ErrorMetric metric) {
+    const double off = run.RmsError(metric), shipped = base->RmsError(metric);
+    return std::sqrt(std::max(0.0, off * off - shipped * shipped));
+  };
+  for (const RunResult* run : effect_runs) {
+    const double adds_n =
+        std::max(added(*run, ErrorMetric::kGraspForce), added(*run, ErrorMetric::kLoad));
+    // A failure the default shares (a check cut off by --quick) says nothing about the effect.
+    const bool fails_alone = !run->passes_envelopes && base->passes_envelopes;
+    const char* verdict = !std::isfinite(allowed_n) ? "no force envelope"
+                          : fails_alone             ? "no (fails)"
+                          : adds_n <= allowed_n     ? "yes"
+                                                    : "no";
+    std::snprintf(line, sizeof(line), "  %-20s %-12.3g %-12.3g %-12.3g %-12.3g %-10s %s\n",
+                  SensorEffectName(*run->run.fidelity.effect_off),
+                  run->RmsError(ErrorMetric::kGraspForce), run->RmsError(ErrorMetric::kLoad),
+                  adds_n, run->wall_s_per_sim_s / base->wall_s_per_sim_s,
+                  run->passes_envelopes ? "pass" : "FAIL", verdict);
+    out += line;
+  }
+  return out;
+}
+
 std::string FormatParetoTables(const SceneResult& scene) {
   std::string out;
   for (ErrorMetric metric : kErrorMetrics) out += FrontTable(scene, metric) + "\n";
-  return out + DefaultVerdict(scene);
+  out += DefaultVerdict(scene);
+  const std::string effects = EffectTable(scene);
+  return effects.empty() ? out : out + "\n" + effects;
 }
 
 }  // namespace hilrig::host

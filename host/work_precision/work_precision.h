@@ -6,6 +6,7 @@
 // wall clock comes in with RunControl.
 #pragma once
 
+#include <limits>
 #include <optional>
 #include <ostream>
 #include <span>
@@ -20,6 +21,7 @@
 #include "host/runner/runner.h"
 #include "host/scenario/scenario_config.h"
 #include "host/sensors/tactile/film_field_factory.h"
+#include "host/sensors/tactile/sensor_effect.h"
 #include "proto/report.pb.h"
 #include "proto/scenario.pb.h"
 #include "rig/result.h"
@@ -29,9 +31,13 @@ namespace hilrig::host {
 // ---------------------------------------------------------------------------------------------
 // The sweep.
 
-enum class RunKind { kReference, kIntegrator, kField, kDefault };
+// kEffect: the scene's own fidelity with one tactile forward-model effect switched off; such runs
+// answer whether a scene could leave the effect out (EffectTable), and stay off the Pareto fronts,
+// which choose among integrators and field levels of one model.
+enum class RunKind { kReference, kIntegrator, kField, kDefault, kEffect };
 
-std::string RunKindName(RunKind kind);  // "reference", "integrator", "field", "default"
+// "reference", "integrator", "field", "default", "effect"
+std::string RunKindName(RunKind kind);
 
 struct PlannedRun {
   RunKind kind = RunKind::kIntegrator;
@@ -40,10 +46,26 @@ struct PlannedRun {
 
 // Every run of one scene after the reference: integrators x step sizes at the scene's field
 // fidelity, field fidelities at the scene's integrator and step (only when the scene has a film
-// field to vary: `has_film`), and the scene as shipped, last. A configuration is planned once:
-// the sweep's point that is the scene's own configuration is its `default` run, so that one
-// configuration is never timed twice and then split by timing noise.
-std::vector<PlannedRun> PlanSweep(const FidelityChoice& scene, bool has_film, bool quick);
+// field to vary: `has_film`), each of `effects` switched off at the scene's own fidelity, and the
+// scene as shipped, last. A configuration is planned once: the sweep's point that is the scene's
+// own configuration is its `default` run, so that one configuration is never timed twice and then
+// split by timing noise.
+std::vector<PlannedRun> PlanSweep(const FidelityChoice& scene, bool has_film, bool quick,
+                                  std::span<const SensorEffect> effects = {});
+
+// The effects a sweep of `spec` switches off one at a time: those on in the scene (its switch, or
+// the default), except the chip's noise, which the sweep's noise-free runs have off already.
+std::vector<SensorEffect> SweptEffects(const proto::Scenario& spec);
+
+// The narrowest allowed range of the spec's force envelopes (signals in N) that expect a pass:
+// upper - lower, or the one limit's magnitude when only one is set (an error bound). NaN when the
+// spec has none.
+double TightestForceEnvelopeN(const proto::Scenario& spec);
+
+// A scene may leave an effect out when switching it off adds at most this fraction of its
+// tightest force envelope to the force errors and the run passes its envelopes wherever the
+// default passes them.
+inline constexpr double kEffectDropFraction = 0.05;
 
 enum class ErrorMetric { kGraspForce, kLoad, kPosition };
 inline constexpr ErrorMetric kErrorMetrics[] = {ErrorMetric::kGraspForce, ErrorMetric::kLoad,
@@ -100,6 +122,7 @@ struct SceneResult {
   // envelope verdicts then cover only this much, and a check whose window starts later fails
   // for having nothing to judge.
   std::optional<double> cut_to_s;
+  double tightest_force_envelope_n = std::numeric_limits<double>::quiet_NaN();
 };
 
 // The default as shipped, for the whole scene even when the sweep cuts its runs short (a check
@@ -156,8 +179,14 @@ std::string WorkPrecisionCsv(const std::vector<SceneResult>& scenes);
 // One log-log panel per scene and metric: error against wall time per simulated second.
 std::vector<ScatterPlot> WorkPrecisionPlots(const std::vector<SceneResult>& scenes);
 
+// What switching each effect off did (the kEffect runs): its force errors, the error it adds to
+// the default's, sqrt(max(0, e_off^2 - e_default^2)) for the larger of grasp force and load, the
+// time against the default's, and whether the scene could drop it (kEffectDropFraction). Empty
+// when the sweep had no effect runs.
+std::string EffectTable(const SceneResult& scene);
+
 // Per scene and metric, the front as a table; whether the scene's default is on it and passes its
-// envelopes; and the cheapest passing run on the joint front.
+// envelopes; the cheapest passing run on the joint front; and the EffectTable.
 std::string FormatParetoTables(const SceneResult& scene);
 
 }  // namespace hilrig::host

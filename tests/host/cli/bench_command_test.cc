@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "host/cli/cli.h"
 #include "tests/support/cli_runner.h"
@@ -18,7 +20,7 @@ namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
 const std::string kScenarios = ::hilrig::test_support::SourceDir() + "/scenarios";
-constexpr std::size_t kColumns = 20;
+constexpr std::size_t kColumns = 21;
 
 std::vector<std::vector<std::string>> ReadCsv(const fs::path& path) {
   std::ifstream file(path);
@@ -60,9 +62,10 @@ TEST_F(BenchCommandTest, QuickSweepWritesOneRowPerRunAndAZeroErrorReference) {
   const auto rows = ReadCsv(out_dir_ / "work_precision.csv");
 
   ASSERT_EQ(result.exit_code, kExitPass) << result.err;
-  // Shape: the header, the reference, 2 integrators (SIE, RK4) x 2 steps and 2 field levels, and
-  // the default (midpoint x2 opmap:32, not one of the quick sweep's integrator points).
-  ASSERT_EQ(rows.size(), 1u + 1u + 4u + 2u + 1u);
+  // Shape: the header, the reference, 2 integrators (SIE, RK4) x 2 steps and 2 field levels, the
+  // four sensor effects load_ramp has on (Earth's field, damping, saturation, encoding) each off,
+  // and the default (midpoint x2 opmap:32, not one of the quick sweep's integrator points).
+  ASSERT_EQ(rows.size(), 1u + 1u + 4u + 2u + 4u + 1u);
   for (const auto& row : rows) EXPECT_EQ(row.size(), kColumns);
   const auto& header = rows[0];
   EXPECT_EQ(header[0], "scene");
@@ -85,6 +88,19 @@ TEST_F(BenchCommandTest, QuickSweepWritesOneRowPerRunAndAZeroErrorReference) {
     EXPECT_EQ(rows[i][Column(header, "samples_compared")], "300") << i;
     EXPECT_NE(rows[i][Column(header, "position_rms_error_m")], "0") << i;
   }
+  // The effect runs name the effect they switched off, and the table says which could go.
+  std::vector<std::string> effects_off;
+  for (std::size_t i = 2; i < rows.size(); ++i) {
+    if (rows[i][Column(header, "kind")] == "effect") {
+      effects_off.push_back(rows[i][Column(header, "effect_off")]);
+    } else {
+      EXPECT_EQ(rows[i][Column(header, "effect_off")], "") << i;
+    }
+  }
+  EXPECT_THAT(effects_off, ::testing::ElementsAre("earth_field", "silicone_damping",
+                                                  "chip_saturation", "chip_encoding"));
+  EXPECT_THAT(result.out, HasSubstr("load_ramp: each sensor effect switched off"));
+  EXPECT_THAT(result.out, ::testing::ContainsRegex("chip_encoding .* (pass|FAIL) +(yes|no)"));
   // The fronts are printed and drawn.
   EXPECT_THAT(result.out, HasSubstr("load_ramp: vertical load RMS error (N), Pareto front"));
   EXPECT_THAT(result.out, HasSubstr("load_ramp: the default (midpoint x2 opmap:32"));

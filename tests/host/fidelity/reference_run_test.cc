@@ -55,7 +55,8 @@ class FidelityErrorTest : public ::testing::Test {
 };
 
 TEST_F(FidelityErrorTest, TheReferenceAgainstItselfHasNoError) {
-  const FidelityChoice reference = {proto::INTEGRATOR_RK4, std::nullopt, 2, "tiles:32"};
+  const FidelityChoice reference = {proto::INTEGRATOR_RK4, std::nullopt, 2, "tiles:32",
+                                    std::nullopt};
 
   auto error = ErrorOf(reference, Source(reference));
 
@@ -67,10 +68,12 @@ TEST_F(FidelityErrorTest, TheReferenceAgainstItselfHasNoError) {
 }
 
 TEST_F(FidelityErrorTest, ACoarserIntegratorHasASmallNonZeroPositionError) {
-  const FidelityChoice reference = {proto::INTEGRATOR_RK4, std::nullopt, 4, "tiles:32"};
+  const FidelityChoice reference = {proto::INTEGRATOR_RK4, std::nullopt, 4, "tiles:32",
+                                    std::nullopt};
 
-  auto error = ErrorOf({proto::INTEGRATOR_SEMI_IMPLICIT_EULER, std::nullopt, 1, "tiles:32"},
-                       Source(reference));
+  auto error =
+      ErrorOf({proto::INTEGRATOR_SEMI_IMPLICIT_EULER, std::nullopt, 1, "tiles:32", std::nullopt},
+              Source(reference));
 
   ASSERT_TRUE(error.ok()) << error.error().message;
   // First-order steps of 1 ms against a closed loop that holds the vehicle within centimetres:
@@ -83,8 +86,9 @@ TEST_F(FidelityErrorTest, ACoarserIntegratorHasASmallNonZeroPositionError) {
 TEST_F(FidelityErrorTest, AnUnknownReferenceFieldIsAnError) {
   spec_.mutable_models()->mutable_tactile()->set_enabled(true);
 
-  auto error = ErrorOf({proto::INTEGRATOR_RK4, std::nullopt, 1, "map:16"},
-                       Source({proto::INTEGRATOR_RK4, std::nullopt, 1, "tiles:banana"}));
+  auto error =
+      ErrorOf({proto::INTEGRATOR_RK4, std::nullopt, 1, "map:16", std::nullopt},
+              Source({proto::INTEGRATOR_RK4, std::nullopt, 1, "tiles:banana", std::nullopt}));
 
   ASSERT_FALSE(error.ok());
   EXPECT_THAT(error.error().message, ::testing::HasSubstr("field_fidelity"));
@@ -92,7 +96,8 @@ TEST_F(FidelityErrorTest, AnUnknownReferenceFieldIsAnError) {
 
 // A stop request that cuts the reference run short is an interruption, not a failed reference.
 TEST_F(FidelityErrorTest, AReferenceRunAStopRequestEndedIsInterrupted) {
-  const FidelityChoice reference = {proto::INTEGRATOR_RK4, std::nullopt, 2, "tiles:32"};
+  const FidelityChoice reference = {proto::INTEGRATOR_RK4, std::nullopt, 2, "tiles:32",
+                                    std::nullopt};
   const ScenarioConfig chosen = Resolved(reference);
   RunControl control;
   control.wall_clock = &wall_clock_;
@@ -110,9 +115,9 @@ TEST_F(FidelityErrorTest, AReferenceRunAStopRequestEndedIsInterrupted) {
 TEST_F(FidelityErrorTest, TheSecondRunTakesTheReferenceFromTheCacheWithTheSameErrors) {
   const ReferenceCache cache(cache_dir_);
   ReferenceSource source =
-      Source({proto::INTEGRATOR_RK4, std::nullopt, 4, "tiles:32"}, &cache, "code-a");
-  const FidelityChoice chosen = {proto::INTEGRATOR_SEMI_IMPLICIT_EULER, std::nullopt, 1,
-                                 "tiles:32"};
+      Source({proto::INTEGRATOR_RK4, std::nullopt, 4, "tiles:32", std::nullopt}, &cache, "code-a");
+  const FidelityChoice chosen = {proto::INTEGRATOR_SEMI_IMPLICIT_EULER, std::nullopt, 1, "tiles:32",
+                                 std::nullopt};
 
   auto first = ErrorOf(chosen, source);
   auto second = ErrorOf(chosen, source);
@@ -136,7 +141,8 @@ TEST_F(FidelityErrorTest, AReferenceEntryCutDuringTheRunIsAnErrorNotANumber) {
   ASSERT_TRUE(loaded.ok());
   spec_ = TruncatedTo(loaded.value(), 20);  // 2000 samples: more than one block of the entry
   spec_.mutable_models()->set_noise(proto::NOISE_OFF);
-  const FidelityChoice fidelity = {proto::INTEGRATOR_RK4, std::nullopt, 2, "tiles:32"};
+  const FidelityChoice fidelity = {proto::INTEGRATOR_RK4, std::nullopt, 2, "tiles:32",
+                                   std::nullopt};
   const ReferenceCache cache(cache_dir_);
   const ReferenceSource source = Source(fidelity, &cache, "code-a");
   ASSERT_TRUE(ErrorOf(fidelity, source).ok());  // stores the entry

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <optional>
+#include <string>
 
 #include "host/scenario/scenario_loader.h"
 #include "host/setup/scene_setup.h"
@@ -182,6 +184,108 @@ TEST(PlanSweepTest, ASceneWithoutAFilmSweepsNoFieldLevels) {
   EXPECT_EQ(runs.size(), 4u * 4u);
   EXPECT_TRUE(std::none_of(runs.begin(), runs.end(),
                            [](const PlannedRun& run) { return run.kind == RunKind::kField; }));
+}
+
+TEST(PlanSweepTest, EachSweptEffectIsOneRunAtTheScenesOwnFidelityBeforeTheDefault) {
+  FidelityChoice scene;
+  scene.field_fidelity = "opmap:32";
+  const std::vector<SensorEffect> effects = {SensorEffect::kEarthField,
+                                             SensorEffect::kChipEncoding};
+
+  const std::vector<PlannedRun> runs = PlanSweep(scene, /*has_film=*/true, /*quick=*/true, effects);
+
+  ASSERT_EQ(runs.size(), 2u * 2u + 2u + 2u + 1u - 1u);
+  for (std::size_t i = 0; i < effects.size(); ++i) {
+    const PlannedRun& run = runs[runs.size() - 3 + i];
+    EXPECT_EQ(run.kind, RunKind::kEffect);
+    EXPECT_EQ(run.fidelity.effect_off, effects[i]);
+    FidelityChoice without = run.fidelity;
+    without.effect_off.reset();
+    EXPECT_EQ(without, scene);
+  }
+  EXPECT_EQ(runs.back().kind, RunKind::kDefault);
+  EXPECT_EQ(FidelityLabel(runs[runs.size() - 3].fidelity), "RK4 x1 opmap:32 without earth_field");
+}
+
+// Every effect names a switch of models.tactile: switching it off in a spec turns it off there and
+// nothing else.
+TEST(SweptEffectsTest, SwitchingAnEffectOffSetsItsOwnSceneSwitch) {
+  proto::Scenario spec;
+  spec.mutable_models()->mutable_tactile()->set_enabled(true);
+  for (SensorEffect effect : kSensorEffects) {
+    FidelityChoice fidelity = SceneFidelity(spec);
+    fidelity.effect_off = effect;
+    const proto::Scenario off = WithFidelity(spec, fidelity);
+    for (SensorEffect other : kSensorEffects) {
+      EXPECT_EQ(EffectOn(off.models().tactile(), other), other != effect && OnByDefault(other))
+          << SensorEffectName(effect) << " off, " << SensorEffectName(other);
+    }
+  }
+}
+
+TEST(SweptEffectsTest, TheSweepTakesTheScenesOnEffectsButNotTheNoise) {
+  proto::Scenario spec;
+  proto::Tactile& tactile = *spec.mutable_models()->mutable_tactile();
+  tactile.set_enabled(true);
+  EXPECT_THAT(SweptEffects(spec),
+              ElementsAre(SensorEffect::kEarthField, SensorEffect::kSiliconeDamping,
+                          SensorEffect::kChipSaturation, SensorEffect::kChipEncoding));
+  tactile.set_earth_field(false);
+  tactile.set_silicone_stiffening(true);
+  EXPECT_THAT(SweptEffects(spec),
+              ElementsAre(SensorEffect::kSiliconeDamping, SensorEffect::kSiliconeStiffening,
+                          SensorEffect::kChipSaturation, SensorEffect::kChipEncoding));
+}
+
+TEST(SweptEffectsTest, TheTightestForceEnvelopeIsTheNarrowestPassingOneInNewtons) {
+  proto::Scenario spec;
+  const auto add = [&spec](proto::Signal signal, std::optional<double> lower,
+                           std::optional<double> upper, proto::Verdict expect) {
+    proto::Envelope& envelope = *spec.add_envelopes();
+    envelope.set_signal(signal);
+    if (lower) envelope.set_lower(*lower);
+    if (upper) envelope.set_upper(*upper);
+    envelope.set_expect(expect);
+  };
+  EXPECT_TRUE(std::isnan(TightestForceEnvelopeN(spec)));
+  add(proto::GRASP_FORCE_N, 0.25, 0.65, proto::PASS);
+  EXPECT_DOUBLE_EQ(TightestForceEnvelopeN(spec), 0.4);
+  add(proto::ALTITUDE_ERROR_M, std::nullopt, 0.01, proto::PASS);  // metres: not a force
+  add(proto::GRASP_FORCE_N, std::nullopt, 0.001, proto::FAIL);    // an ablation's
+  EXPECT_DOUBLE_EQ(TightestForceEnvelopeN(spec), 0.4);
+  add(proto::GRASP_FORCE_ERROR_N, std::nullopt, 0.05, proto::PASS);
+  EXPECT_DOUBLE_EQ(TightestForceEnvelopeN(spec), 0.05);
+}
+
+// An effect whose removal adds 1 mN to a 0.05 N envelope may go; one that adds 10 mN, or whose run
+// fails, stays. Effect runs are no candidates for the fronts.
+TEST(SweptEffectsTest, TheEffectTableSaysWhichEffectsTheSceneCouldDrop) {
+  SceneResult scene;
+  scene.scene = "grasp";
+  scene.tightest_force_envelope_n = 0.05;
+  scene.runs = {Result(RunKind::kReference, 10, 0), Result(RunKind::kDefault, 2, 0.003)};
+  scene.runs[1].passes_envelopes = true;
+  const auto effect_run = [&](SensorEffect effect, double error_n, bool passes) {
+    RunResult run = Result(RunKind::kEffect, 1, error_n);
+    run.run.fidelity.effect_off = effect;
+    run.passes_envelopes = passes;
+    scene.runs.push_back(run);
+  };
+  effect_run(SensorEffect::kChipEncoding, std::sqrt(0.003 * 0.003 + 0.001 * 0.001), true);
+  effect_run(SensorEffect::kEarthField, std::sqrt(0.003 * 0.003 + 0.01 * 0.01), true);
+  effect_run(SensorEffect::kSiliconeDamping, 0.003, false);
+
+  const std::string table = EffectTable(scene);
+
+  EXPECT_THAT(table, ::testing::ContainsRegex("chip_encoding +0.00316 .* 0.001 .* pass +yes"));
+  EXPECT_THAT(table, ::testing::ContainsRegex("earth_field +0.0104 .* 0.01 .* pass +no"));
+  EXPECT_THAT(table, ::testing::ContainsRegex("silicone_damping .* FAIL +no \\(fails\\)"));
+  EXPECT_THAT(ParetoFront(scene.runs, ErrorMetric::kGraspForce), ElementsAre(1));
+  // Where the default fails too (a sweep cut short), the failure is not the effect's.
+  scene.runs[1].passes_envelopes = false;
+  EXPECT_THAT(EffectTable(scene), ::testing::ContainsRegex("silicone_damping .* FAIL +yes"));
+  scene.tightest_force_envelope_n = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THAT(EffectTable(scene), ::testing::HasSubstr("no force envelope"));
 }
 
 class SweepTimingTest : public ::testing::Test {
