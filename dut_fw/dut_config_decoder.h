@@ -34,6 +34,7 @@ enum class ConfigRefusal : std::uint8_t {
   kChipSetting,        // gain_sel or resolution out of range
   kNonFiniteNumber,    // NaN or infinity where the firmware needs a number
   kTactileCountOrAge,  // zeroing_samples 0, or an age limit not positive
+  kForceAverage,       // force_average_samples above kMaxForceAverageSamples
 };
 
 constexpr const char* Describe(ConfigRefusal refusal) {
@@ -58,6 +59,8 @@ constexpr const char* Describe(ConfigRefusal refusal) {
       return "dut config with a number that is not finite";
     case ConfigRefusal::kTactileCountOrAge:
       return "tactile zeroing_samples and age limits must be positive";
+    case ConfigRefusal::kForceAverage:
+      return "tactile force_average_samples must be at most 16";
   }
   return "refused";
 }
@@ -230,6 +233,7 @@ void DecodeTactile(Decoding<S>& d, wire::Reader& outer, TactileProcessorParams<S
   p.compensation_enabled = false;
   p.max_reference_age_ns = 0;
   p.max_sample_age_ns = 0;
+  p.force_average_samples = 0;
   wire::Reader r = outer.Message();
   std::size_t nodes = 0;
   std::uint32_t gain_sel = 0;
@@ -256,6 +260,7 @@ void DecodeTactile(Decoding<S>& d, wire::Reader& outer, TactileProcessorParams<S
       case field::kCompensationEnabled: p.compensation_enabled = r.Bool(); break;
       case field::kMaxReferenceAgeNs: p.max_reference_age_ns = r.Int64(); break;
       case field::kMaxSampleAgeNs: p.max_sample_age_ns = r.Int64(); break;
+      case field::kForceAverageSamples: p.force_average_samples = r.Uint32(); break;
       default:
         break;
     }
@@ -279,6 +284,9 @@ void DecodeTactile(Decoding<S>& d, wire::Reader& outer, TactileProcessorParams<S
   if (p.zeroing_samples == 0 || p.max_reference_age_ns <= 0 || p.max_sample_age_ns <= 0) {
     d.Refuse(ConfigRefusal::kTactileCountOrAge);
   }
+  // Absent is zero on the wire: a runner that does not filter.
+  if (p.force_average_samples == 0) p.force_average_samples = 1;
+  if (p.force_average_samples > kMaxForceAverageSamples) d.Refuse(ConfigRefusal::kForceAverage);
 }
 
 // Infinite is the grasp firmware's "no travel hold" for the servo rate, so that one number may be

@@ -15,8 +15,10 @@ namespace hilrig::dut_fw {
 template <typename S, int kMaxSamples = 16>
 class ForceAverage {
  public:
+  // No filter (n = 1); implicit so that a state holding one can be reset with `= {}`.
+  ForceAverage() : ForceAverage(1) {}
   // n is clamped to 1..kMaxSamples. Starts empty. Cannot fail.
-  explicit ForceAverage(int samples = 1)
+  explicit ForceAverage(int samples)
       : samples_(samples < 1 ? 1 : (samples > kMaxSamples ? kMaxSamples : samples)) {}
 
   int samples() const { return samples_; }

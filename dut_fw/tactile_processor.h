@@ -6,7 +6,8 @@
 //   f̂_g = Σ_i |f̂_i · n̂_i|
 // for the servo's grasp admittance (DESIGN.md sections 1 and 4). Per tactile sample: codes -> tesla
 // (mlx90393.h), minus the latest reference sample rotated into the node's frame
-// (geomagnetic_compensation.h), -> S -> f = a ⊙ S + b (tactile_decoding.h). The offset b is found
+// (geomagnetic_compensation.h), -> S -> f = a ⊙ S + b (tactile_decoding.h) -> the mean of the
+// node's last `force_average_samples` forces (force_average.h; 1 = none). The offset b is found
 // on the vehicle itself by no-load averaging over the first `zeroing_samples` valid samples of each
 // node, because it drifts with the film's mounting and temperature and the F/T jig only gives a.
 //
@@ -42,6 +43,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "dut_fw/force_average.h"
 #include "dut_fw/geomagnetic_compensation.h"
 #include "dut_fw/mlx90393.h"
 #include "dut_fw/tactile_decoding.h"
@@ -49,6 +51,9 @@
 #include "protocol/tactile_bus.h"
 
 namespace hilrig::dut_fw {
+
+// The longest force average the firmware keeps (fixed storage per node).
+inline constexpr std::uint32_t kMaxForceAverageSamples = 16;
 
 template <typename S>
 struct TactileNodeConfig {
@@ -70,6 +75,9 @@ struct TactileProcessorParams {
   bool compensation_enabled = true;                // false: decode the raw field (the ablation)
   std::int64_t max_reference_age_ns = 60'000'000;  // older reference => sample flagged stale
   std::int64_t max_sample_age_ns = 60'000'000;     // older last force => node out of the sums
+  // Mean of the last n decoded forces per node, 1..kMaxForceAverageSamples; 1 = no filter. It
+  // divides the chip's noise by sqrt(n) and delays a force step by (n - 1) / 2 sample periods.
+  std::uint32_t force_average_samples = 1;
 };
 
 template <typename S>
@@ -78,6 +86,7 @@ struct TactileNodeState {
   Vec3<S> offset_b = Vec3<S>::Zero();  // valid once zeroed
   bool zeroed = false;
   Vec3<S> force_sensor_n = Vec3<S>::Zero();  // last good force, sensor frame; zero until zeroed
+  ForceAverage<S, int(kMaxForceAverageSamples)> average;  // over force_average_samples
   DecodeStatus last_status = DecodeStatus::kOk;
   bool last_reference_stale = false;  // last sample rejected for a missing or old reference
   std::int64_t last_sample_ns = 0;    // last non-duplicate sample, good or flagged
@@ -173,7 +182,8 @@ bool TactileParamsValid(const TactileProcessorParams<S>& params) {
     return false;
   }
   if (!IsValidSetting(params.chip_setting) || params.zeroing_samples == 0 ||
-      params.max_reference_age_ns <= 0 || params.max_sample_age_ns <= 0) {
+      params.max_reference_age_ns <= 0 || params.max_sample_age_ns <= 0 ||
+      params.force_average_samples == 0 || params.force_average_samples > kMaxForceAverageSamples) {
     return false;
   }
   unsigned seen = 0;
@@ -261,6 +271,8 @@ void OnTactileSample(const TactileProcessorParams<S>& params, TactileProcessorSt
   node.last_reference_stale = stale;
   node.last_status = s.status;
   const auto flag = [&node, stale] {
+    // The mean restarts after a gap rather than mixing forces from before it.
+    node.average.Reset();
     internal::SaturatingAdd(node.flagged, 1);
     if (stale) internal::SaturatingAdd(node.stale_reference, 1);
   };
@@ -285,7 +297,10 @@ void OnTactileSample(const TactileProcessorParams<S>& params, TactileProcessorSt
   const ForceResult<S> force = ForceFromS<S>(ForceCalibration<S>{config.gain_a, node.offset_b}, s);
   node.last_status = force.status;
   if (!force.ok()) return flag();
-  node.force_sensor_n = force.force_n;
+  if (node.average.samples() != int(params.force_average_samples)) {
+    node.average = ForceAverage<S, int(kMaxForceAverageSamples)>(int(params.force_average_samples));
+  }
+  node.force_sensor_n = node.average.Add(force.force_n);
   node.last_force_ns = time_ns;
   node.has_force = true;
 }

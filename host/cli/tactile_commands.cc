@@ -10,12 +10,14 @@
 #include <set>
 #include <vector>
 
+#include "dut_fw/tactile_processor.h"
 #include "fixtures/calibration/accuracy_budget.h"
 #include "fixtures/calibration/calibration_file.h"
 #include "fixtures/calibration/calibration_procedure.h"
 #include "host/cli/cli.h"
 #include "host/report/accuracy_page.h"
 #include "host/report/report_files.h"
+#include "host/scenario/scenario_config.h"
 #include "host/sensors/tactile/film_field_factory.h"
 #include "rig/bounded_line.h"
 #include "rig/folder_lock.h"
@@ -36,7 +38,8 @@ struct TactileOptions {
   std::uint64_t seed = 1;
   std::shared_ptr<const FilmFieldModel> film;
   std::string fidelity;
-  int dut_filter_samples = 1;  // accuracy's --dut-filter
+  // accuracy's --dut-filter: the DUT a scene flies unless it sets force_average_samples.
+  int dut_filter_samples = static_cast<int>(kDefaultForceAverageSamples);
 };
 
 // Parses the options the tactile commands share; `needs_out` / `needs_calibration` say which
@@ -64,7 +67,8 @@ rig::Result<TactileOptions> ParseTactileOptions(const std::vector<std::string>& 
     options.seed = seed.value();
   }
   if (const auto* filter = cli.Option("--dut-filter")) {
-    auto samples = ParseWholeNumberOption("--dut-filter", *filter, 1, 16);
+    auto samples = ParseWholeNumberOption("--dut-filter", *filter, 1,
+                                          static_cast<int>(dut_fw::kMaxForceAverageSamples));
     if (!samples) return samples.error();
     options.dut_filter_samples = samples.value();
   }
@@ -125,7 +129,8 @@ std::string AxisTriple(const proto::Vector3& v) {
 }
 
 void PrintBudget(const proto::AccuracyBudget& budget, std::ostream& out) {
-  out << "force-error budget, compensated, held-out (N); field " << budget.field_fidelity() << "\n"
+  out << "force-error budget, compensated, held-out (N); field " << budget.field_fidelity()
+      << ", DUT filter " << budget.dut_filter_samples() << " sample(s)\n"
       << "configuration                     rmse x   rmse y   rmse z    max x    max y    max z"
          "    p95 x    p95 y    p95 z\n";
   for (const proto::BudgetRow& row : budget.rows()) {
@@ -208,8 +213,8 @@ int CalibrateCommand(const std::vector<std::string>& args, const CliStreams& io)
 // `accuracy --budget`: every configuration calibrated and measured (AccuracyBudget), budget.json
 // and its page budget.html.
 int BudgetCommand(const std::vector<std::string>& args, const CliStreams& io) {
-  auto options =
-      ParseTactileOptions(args, /*needs_out=*/true, /*needs_calibration=*/false, io.stop_requested);
+  auto options = ParseTactileOptions(args, /*needs_out=*/true, /*needs_calibration=*/false,
+                                     io.stop_requested, /*takes_dut_filter=*/true);
   if (!options) return Fail(io, "accuracy", options.error().message);
   const auto folder = rig::FolderLock::Acquire(options.value().out_dir);
   if (!folder) return Fail(io, "accuracy", folder.error().message);
@@ -217,8 +222,11 @@ int BudgetCommand(const std::vector<std::string>& args, const CliStreams& io) {
   const auto progress = [&io](const std::string& configuration) {
     io.err << "hilrig accuracy: budget: calibrating and measuring with " << configuration << "\n";
   };
-  std::optional<proto::AccuracyBudget> budget = fixtures::MeasureBudgetUnlessStopped(
-      bench, *options.value().film, options.value().seed, io.stop_requested, progress);
+  fixtures::BudgetOptions budget_options;
+  budget_options.accuracy.dut_filter_samples = options.value().dut_filter_samples;
+  std::optional<proto::AccuracyBudget> budget =
+      fixtures::MeasureBudgetUnlessStopped(bench, *options.value().film, options.value().seed,
+                                           io.stop_requested, progress, budget_options);
   if (!budget) {
     io.err << "hilrig accuracy: interrupted, nothing written\n";
     return kExitCheckFailed;

@@ -39,6 +39,7 @@ std::optional<dut_fw::TactileProcessorParams<S>> FirmwareTactileParamsFor(
       static_cast<std::uint32_t>(std::clamp(std::round(hall.zeroing_s * hall.node_rate_hz), 1.0,
                                             double(std::numeric_limits<std::uint32_t>::max())));
   params.compensation_enabled = hall.compensation;
+  params.force_average_samples = hall.force_average_samples;
   for (int i = 0; i < kTactileSensorCount; ++i) {
     const TactileSensorParams& sensor = hall.tactile[i];
     const Eigen::Matrix3d body_from_sensor = sensor.mounting_body_from_sensor.toRotationMatrix();

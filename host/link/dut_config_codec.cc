@@ -126,6 +126,7 @@ proto::TactileFirmware ToProto(const dut_fw::TactileProcessorParams<double>& p) 
   out.set_compensation_enabled(p.compensation_enabled);
   out.set_max_reference_age_ns(p.max_reference_age_ns);
   out.set_max_sample_age_ns(p.max_sample_age_ns);
+  out.set_force_average_samples(p.force_average_samples);
   return out;
 }
 
@@ -163,6 +164,8 @@ rig::Result<dut_fw::TactileProcessorParams<double>> FromProto(const proto::Tacti
   p.compensation_enabled = in.compensation_enabled();
   p.max_reference_age_ns = in.max_reference_age_ns();
   p.max_sample_age_ns = in.max_sample_age_ns();
+  // Absent (0) is a peer that does not filter.
+  p.force_average_samples = in.force_average_samples() == 0 ? 1 : in.force_average_samples();
   return p;
 }
 

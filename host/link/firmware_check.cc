@@ -121,6 +121,10 @@ void CheckTactile(const dut_fw::TactileProcessorParams<double>& p, Checker& c) {
   c.NonZero("tactile.film.k2", p.film.k2);
   c.Finite("tactile.film.c2", p.film.c2);
   if (p.zeroing_samples == 0) c.Fail("tactile.zeroing_samples is 0: must be at least 1");
+  if (p.force_average_samples < 1 || p.force_average_samples > dut_fw::kMaxForceAverageSamples) {
+    c.Fail("tactile.force_average_samples is " + std::to_string(p.force_average_samples) +
+           ": must lie in [1, " + std::to_string(dut_fw::kMaxForceAverageSamples) + "]");
+  }
   if (p.max_reference_age_ns <= 0) {
     c.Fail("tactile.max_reference_age_ns is " + std::to_string(p.max_reference_age_ns) +
            ": must be > 0");

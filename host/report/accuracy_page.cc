@@ -246,7 +246,8 @@ std::string BudgetPageHtml(const proto::AccuracyBudget& budget) {
   std::string body = "<h1>Force-error budget</h1>\n<p class=\"sub\">" +
                      std::to_string(budget.rows_size()) + " configurations; field " +
                      HtmlText(budget.field_fidelity()) + "; seed " + std::to_string(budget.seed()) +
-                     "</p>\n";
+                     "; DUT filter " + std::to_string(budget.dut_filter_samples()) +
+                     " sample(s)</p>\n";
   body +=
       "<p>Which effects of the forward model make the held-out error what it is: each row is "
       "the bench with only the named effects on, calibrated as a lab would and measured on "

@@ -170,6 +170,8 @@ void ResolveHallSensors(const proto::Scenario& spec, const std::string& spec_dir
   hall.temperature_c = Or(tactile.has_temperature_c(), tactile.temperature_c(), 25.0);
   hall.compensation = Or(tactile.has_compensation(), tactile.compensation(), true);
   hall.zeroing_s = Or(tactile.has_zeroing_s(), tactile.zeroing_s(), 1.0);
+  hall.force_average_samples = Or(tactile.has_force_average_samples(),
+                                  tactile.force_average_samples(), kDefaultForceAverageSamples);
   if (tactile.has_calibration_file()) {
     const std::filesystem::path file(tactile.calibration_file());
     hall.calibration_file = file.is_absolute()

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "dut_fw/sensor_node.h"
+#include "dut_fw/tactile_processor.h"
 #include "fixtures/objects/object_fixtures.h"
 #include "host/plant/quadrotor.h"
 #include "host/scenario/field_problems.h"
@@ -199,6 +200,13 @@ void CheckSensors(const proto::Models& models, double physics_rate_hz,
   RequireNonNegative(tactile.has_zeroing_s(), tactile.zeroing_s(), "zeroing_s", hall);
   if (tactile.has_zeroing_s() && tactile.zeroing_s() > kMaxRunDurationS) {
     hall.Add("zeroing_s", "must be at most 86400 s (the longest run): the DUT would never zero");
+  }
+  if (tactile.has_force_average_samples() &&
+      (tactile.force_average_samples() < 1 ||
+       tactile.force_average_samples() > dut_fw::kMaxForceAverageSamples)) {
+    hall.Add("force_average_samples", "must lie in [1, " +
+                                          std::to_string(dut_fw::kMaxForceAverageSamples) +
+                                          "]: the DUT keeps at most that many forces per pad");
   }
   if (tactile.has_temperature_c() &&
       !(tactile.temperature_c() > -40 && tactile.temperature_c() < 125)) {

@@ -2,9 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
+#include <vector>
 
 #include "dut_fw/mlx90393.h"
 
@@ -442,9 +445,68 @@ TYPED_TEST(TactileProcessorTest, ParamsValidationCatchesDefaultsAndRepeatedIds) 
   TactileProcessorParams<S> repeated = good;
   repeated.nodes[5].node_id = 1;
 
+  TactileProcessorParams<S> no_average = good;
+  no_average.force_average_samples = 0;
+  TactileProcessorParams<S> long_average = good;
+  long_average.force_average_samples = kMaxForceAverageSamples + 1;
+
   EXPECT_TRUE(TactileParamsValid(good));
   EXPECT_FALSE(TactileParamsValid(TactileProcessorParams<S>{}));
   EXPECT_FALSE(TactileParamsValid(repeated));
+  EXPECT_FALSE(TactileParamsValid(no_average));
+  EXPECT_FALSE(TactileParamsValid(long_average));
+}
+
+// With an average of 3 a node's force is the mean of the last three forces the same processor
+// without one gives, and a flagged sample restarts the mean. The geomagnetic compensation is off so
+// that each attitude gives the node another force.
+TYPED_TEST(TactileProcessorTest, ForceAverageIsTheMeanOfTheLastSamplesAndRestartsAfterAFlag) {
+  using S = TypeParam;
+  const Airframe airframe;
+  TactileProcessorParams<S> plain = airframe.Params<S>();
+  plain.compensation_enabled = false;
+  TactileProcessorParams<S> averaged = plain;
+  averaged.force_average_samples = 3;
+  ASSERT_TRUE(TactileParamsValid(averaged));
+  TactileProcessorState<S> plain_state, averaged_state;
+  const Mat3<double> level = Mat3<double>::Identity();
+  Zero(airframe, plain, plain_state, level);
+  Zero(airframe, averaged, averaged_state, level);
+
+  // Node 1's unfiltered force, tick by tick, from the sample that completed the zeroing window
+  // (decoded with its own offset, so it is the first in the mean).
+  std::vector<Vec3<S>> forces = {plain_state.nodes[0].force_sensor_n};
+  int tick = int(plain.zeroing_samples);
+  for (int k = 0; k < 6; ++k, ++tick) {
+    const Mat3<double> attitude = Rotation(0.3 * (k + 1), {1.0, 0.4 * k, -0.2});
+    Tick(airframe, plain, plain_state, attitude, tick);
+    Tick(airframe, averaged, averaged_state, attitude, tick);
+    forces.push_back(plain_state.nodes[0].force_sensor_n);
+    const std::size_t n = std::min<std::size_t>(forces.size(), 3);
+    Vec3<S> mean = Vec3<S>::Zero();
+    for (std::size_t i = forces.size() - n; i < forces.size(); ++i) mean += forces[i];
+    mean /= S(n);
+    const S tolerance_n = std::is_same_v<S, float> ? S(1e-5) : S(1e-12);
+    EXPECT_LT((averaged_state.nodes[0].force_sensor_n - mean).norm(), tolerance_n) << k;
+  }
+  // The three-sample mean differs from the last sample: the average did something.
+  EXPECT_GT((averaged_state.nodes[0].force_sensor_n - forces.back()).norm(), S(1e-3));
+
+  // A saturated sample keeps the previous force; the next good one starts the mean afresh.
+  const Mat3<double> attitude = Rotation(-0.9, {0.3, 1.0, 0.5});
+  const std::uint8_t flagged_sequence = std::uint8_t(tick);
+  OnReferenceSample(averaged, averaged_state, Encode(airframe.ReferenceField(attitude)),
+                    flagged_sequence, false, tick * kPeriodNs);
+  const Vec3<S> held = averaged_state.nodes[0].force_sensor_n;
+  OnTactileSample(averaged, averaged_state, 1, Encode(airframe.SensorField(0, attitude)),
+                  flagged_sequence, true, tick * kPeriodNs);
+  EXPECT_EQ(averaged_state.nodes[0].force_sensor_n, held);
+  ++tick;
+  Tick(airframe, plain, plain_state, attitude, tick);
+  Tick(airframe, averaged, averaged_state, attitude, tick);
+  const S tolerance_n = std::is_same_v<S, float> ? S(1e-5) : S(1e-12);
+  EXPECT_LT((averaged_state.nodes[0].force_sensor_n - plain_state.nodes[0].force_sensor_n).norm(),
+            tolerance_n);
 }
 
 }  // namespace

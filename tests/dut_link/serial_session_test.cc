@@ -155,6 +155,9 @@ TEST_F(SerialDutSessionTest, RefusesABadConfigWithByeAndTheReason) {
        "dut config with a number that is not finite"},
       {"no zeroing", [](proto::DutConfig& c) { c.mutable_tactile()->set_zeroing_samples(0); },
        "tactile zeroing_samples and age limits must be positive"},
+      {"long average",
+       [](proto::DutConfig& c) { c.mutable_tactile()->set_force_average_samples(17); },
+       "tactile force_average_samples must be at most 16"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.what);
@@ -198,6 +201,24 @@ TEST(SerialDutConfigTest, DecodesTheShippedSceneFirmwareExactlyAsTheHostHasIt) {
     ASSERT_TRUE(host_setup.ok()) << host_setup.error().message;
     EXPECT_EQ(host::ToDutConfig(host_setup.value().firmware, kPeriodS).SerializeAsString(), bytes);
   }
+}
+
+// A runner that does not send force_average_samples (zero on the wire) gets a DUT that does not
+// filter, on both readers of the message.
+TEST(SerialDutConfigTest, AnAbsentForceAverageIsNoFilter) {
+  proto::DutConfig config = host::ToDutConfig(BalloonFirmware(), kPeriodS);
+  config.mutable_tactile()->clear_force_average_samples();
+  const std::string bytes = config.SerializeAsString();
+  DutConfigOnTarget<double> decoded;
+  ASSERT_EQ(
+      DecodeDutConfig(std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()),
+                      decoded),
+      ConfigRefusal::kNone);
+  ASSERT_TRUE(decoded.params.tactile.has_value());
+  EXPECT_EQ(decoded.params.tactile->force_average_samples, 1u);
+  const auto host_setup = host::FromDutConfig(config);
+  ASSERT_TRUE(host_setup.ok()) << host_setup.error().message;
+  EXPECT_EQ(host_setup.value().firmware.tactile->force_average_samples, 1u);
 }
 
 // A field the message leaves out is zero on the DUT as on the host, not the struct's default.

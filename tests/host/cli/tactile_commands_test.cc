@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "host/cli/cli.h"
+#include "host/scenario/scenario_config.h"
 #include "rig/file_io.h"
 #include "tests/support/cli_runner.h"
 #include "tests/support/shared_calibration.h"
@@ -47,6 +48,9 @@ TEST(TactileCommandsTest, AccuracyWritesBothConditions) {
   json << file.rdbuf();
   EXPECT_THAT(json.str(), HasSubstr("\"condition\": \"uncompensated\""));
   EXPECT_THAT(json.str(), HasSubstr("\"rmse_n\""));
+  // Without --dut-filter the sweep decodes through the filter a scene's DUT has.
+  EXPECT_THAT(json.str(),
+              HasSubstr("\"dut_filter_samples\": " + std::to_string(kDefaultForceAverageSamples)));
   // The page beside it grades the condition the sweep names compensated.
   EXPECT_THAT(result.out, HasSubstr("wrote " + (out / "accuracy.html").string()));
   const auto page = rig::ReadRegularFile((out / "accuracy.html").string(), kMaxPageBytes);
@@ -58,8 +62,8 @@ TEST(TactileCommandsTest, AccuracyWritesBothConditions) {
 // --budget calibrates and measures each configuration itself: no --calibration needed.
 TEST(TactileCommandsTest, AccuracyBudgetWritesEveryConfiguration) {
   const fs::path out = CalibrationDir() / "budget";
-  const CliResult result =
-      Cli({"accuracy", "--budget", "--out", out.string(), "--field", "map:16"});
+  const CliResult result = Cli(
+      {"accuracy", "--budget", "--out", out.string(), "--field", "map:16", "--dut-filter", "2"});
   ASSERT_EQ(result.exit_code, kExitPass) << result.err;
   EXPECT_THAT(result.out, HasSubstr("only chip_noise"));
   EXPECT_THAT(result.out, HasSubstr("decoder alone (exact field)"));
@@ -70,6 +74,7 @@ TEST(TactileCommandsTest, AccuracyBudgetWritesEveryConfiguration) {
   EXPECT_THAT(json.str(), HasSubstr("\"configuration\": \"all + silicone_stiffening\""));
   EXPECT_THAT(json.str(), HasSubstr("\"p95_n\""));
   EXPECT_THAT(json.str(), HasSubstr("\"gap_rmse_n\""));
+  EXPECT_THAT(json.str(), HasSubstr("\"dut_filter_samples\": 2"));
   EXPECT_THAT(result.out, HasSubstr("wrote " + (out / "budget.html").string()));
   const auto page = rig::ReadRegularFile((out / "budget.html").string(), kMaxPageBytes);
   ASSERT_TRUE(page) << page.error().message;

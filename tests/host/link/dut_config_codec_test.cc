@@ -27,6 +27,7 @@ DutFirmware DistinctFirmware() {
   tactile.film = {2.27851, 0.0010535, 0.878725, -0.0000785667};
   tactile.chip_setting = {5, 2};
   tactile.zeroing_samples = 17;
+  tactile.force_average_samples = 5;
   tactile.compensation_enabled = false;
   tactile.max_sample_age_ns = 123'456'789;
   firmware.tactile = tactile;
@@ -61,6 +62,7 @@ TEST(DutConfigCodecTest, RoundTripsEveryFieldBitExact) {
   EXPECT_EQ(t.chip_setting.gain_sel, 5);
   EXPECT_EQ(t.chip_setting.resolution, 2);
   EXPECT_EQ(t.zeroing_samples, 17u);
+  EXPECT_EQ(t.force_average_samples, 5u);
   EXPECT_FALSE(t.compensation_enabled);
   EXPECT_EQ(t.max_sample_age_ns, 123'456'789);
   EXPECT_EQ(Bits(received.firmware.grasp.damping), Bits(kThird));
@@ -148,6 +150,8 @@ const BadFirmware kBadFirmware[] = {
      [](DutFirmware& f) { f.tactile->film.k2 = 0; }},
     {"tactile.zeroing_samples is 0: must be at least 1",
      [](DutFirmware& f) { f.tactile->zeroing_samples = 0; }},
+    {"tactile.force_average_samples is 17: must lie in [1, 16]",
+     [](DutFirmware& f) { f.tactile->force_average_samples = 17; }},
     {"tactile.max_sample_age_ns is -5: must be > 0",
      [](DutFirmware& f) { f.tactile->max_sample_age_ns = -5; }},
     {"grasp.mass is nan: must be finite and > 0", [](DutFirmware& f) { f.grasp.mass = kNan; }},

@@ -5,6 +5,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "host/scenario/scenario_config.h"
 #include "host/scenario/scenario_loader.h"
 #include "tests/support/test_paths.h"
 
@@ -131,6 +132,31 @@ TEST(ScenarioValidationTest, ZeroingWindowLongerThanAnyRunIsRejected) {
   std::string longest = kGraspScene;
   longest.replace(longest.find("enabled: true"), 13, "enabled: true zeroing_s: 86400");
   EXPECT_TRUE(ParseScenario(longest, "spec.textproto").ok());
+}
+
+// The DUT keeps at most 16 forces per pad; 0 would be no force at all.
+TEST(ScenarioValidationTest, ForceAverageOutsideWhatTheDutKeepsIsRejected) {
+  for (const char* samples : {"0", "17"}) {
+    std::string spec = kGraspScene;
+    spec.replace(spec.find("enabled: true"), 13,
+                 std::string("enabled: true force_average_samples: ") + samples);
+    EXPECT_THAT(ErrorOf(spec),
+                HasSubstr("models.tactile.force_average_samples: must lie in [1, 16]"))
+        << samples;
+  }
+  for (const char* samples : {"1", "16"}) {
+    std::string spec = kGraspScene;
+    spec.replace(spec.find("enabled: true"), 13,
+                 std::string("enabled: true force_average_samples: ") + samples);
+    const auto parsed = ParseScenario(spec, "spec.textproto");
+    ASSERT_TRUE(parsed.ok()) << samples;
+    EXPECT_EQ(ResolveScenario(parsed.value(), std::nullopt).hall_sensors.force_average_samples,
+              std::stoul(samples));
+  }
+  const auto defaulted = ParseScenario(kGraspScene, "spec.textproto");
+  ASSERT_TRUE(defaulted.ok());
+  EXPECT_EQ(ResolveScenario(defaulted.value(), std::nullopt).hall_sensors.force_average_samples,
+            kDefaultForceAverageSamples);
 }
 
 TEST(ScenarioValidationTest, PositionsFarFromTheBenchAreRejected) {
