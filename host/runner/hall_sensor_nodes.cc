@@ -5,7 +5,6 @@
 #include <span>
 
 #include "host/sensors/earth_field.h"
-#include "host/sensors/tactile/film_field_factory.h"
 #include "host/sensors/tactile/memoized_film_field.h"
 #include "rig/check.h"
 
@@ -49,9 +48,7 @@ HallSensorNodes::HallSensorNodes(const HallSensorConfig& config, const EarthFiel
   if (config.tactile_enabled) {
     for (const TactileSensorParams& params : config.tactile) add(params);
     if (config.film_cross_talk) {
-      auto far_field = MakeFilmField(kCrossTalkFilmFidelity);
-      HILRIG_CHECK(far_field.ok(), "a tile level always builds");
-      cross_talk_.emplace(std::move(far_field).value(), config.tactile, config.reference);
+      cross_talk_.emplace(MakeCrossTalkFarField(), config.tactile, config.reference);
     }
   }
   add(config.reference);

@@ -4,7 +4,9 @@
 // even the default 2 x 2 dipoles (one per quadrant, carrying that quadrant's moment) are off by
 // tens of percent at the chip. It does have the right symmetry and signs (Bz > 0 above the centre,
 // Bx = By = 0 there, B pointing away from the film centre), costs a few tens of nanoseconds,
-// and is smooth everywhere away from the dipoles.
+// and is smooth everywhere away from the dipoles. Far from the film, with finer cells, it is a
+// model: at 8 x 8 cells it is the films' field at the other chips and at the reference
+// (film_cross_talk.h), within 1.2 % of fine tiles there.
 #pragma once
 
 #include <Eigen/Core>

@@ -2,6 +2,9 @@
 
 #include <utility>
 
+#include "host/sensors/tactile/dipole_film_field.h"
+#include "host/sensors/tactile/film_magnet.h"
+
 namespace hilrig::host {
 namespace {
 
@@ -10,6 +13,11 @@ bool SamePose(const FilmPose& a, const FilmPose& b) {
 }
 
 }  // namespace
+
+std::shared_ptr<const FilmFieldModel> MakeCrossTalkFarField() {
+  return std::make_shared<const DipoleFilmField>(
+      DipoleFilmField::FromFilm(FilmGeometry{}, kCrossTalkDipolesPerSide));
+}
 
 FilmCrossTalk::FilmCrossTalk(std::shared_ptr<const FilmFieldModel> far_field,
                              const std::array<TactileSensorParams, kTactileSensorCount>& tactile,

@@ -136,8 +136,7 @@ TEST(HallSensorNodesTest, AReferenceNearTheRingReadsTheFilmsField) {
   config.film_cross_talk = false;
   const std::vector<double> without = ReferenceZ(RunNodes(config, kMs, 100 * kMs, film), config);
 
-  FilmCrossTalk expected(MakeFilmField(kCrossTalkFilmFidelity).value(), config.tactile,
-                         config.reference);
+  FilmCrossTalk expected(MakeCrossTalkFarField(), config.tactile, config.reference);
   std::array<Eigen::Vector3d, kTactileSensorCount> chips;
   for (int i = 0; i < kTactileSensorCount; ++i) chips[i] = config.tactile[i].position_body_m;
   std::array<FilmPose, kTactileSensorCount> rest;
