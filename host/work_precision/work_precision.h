@@ -11,6 +11,7 @@
 #include <ostream>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "host/cache/calibration_store.h"
@@ -63,8 +64,8 @@ std::vector<SensorEffect> SweptEffects(const proto::Scenario& spec);
 double TightestForceEnvelopeN(const proto::Scenario& spec);
 
 // A scene may leave an effect out when switching it off adds at most this fraction of its
-// tightest force envelope to the force errors and the run passes its envelopes wherever the
-// default passes them.
+// tightest force envelope to the force errors, moves none of its force checks by more, and the run
+// passes its envelopes wherever the default passes them.
 inline constexpr double kEffectDropFraction = 0.05;
 
 enum class ErrorMetric { kGraspForce, kLoad, kPosition };
@@ -80,6 +81,10 @@ struct RunResult {
   int timing_runs = 0;
   ErrorMetrics errors;
   bool passes_envelopes = false;
+  // The worst value of each force check (an envelope on a signal in N that expects a pass and saw
+  // samples), by name: what the run's own DUT estimates did, which the errors against the
+  // reference (true forces only) do not show.
+  std::vector<std::pair<std::string, double>> force_check_worst_n;
   std::string stop_reason;
   std::vector<ErrorMetric> pareto;  // the metrics on whose single-error front this run lies
   // On the front of time against all three errors at once: no other run is as fast and as
@@ -180,9 +185,10 @@ std::string WorkPrecisionCsv(const std::vector<SceneResult>& scenes);
 std::vector<ScatterPlot> WorkPrecisionPlots(const std::vector<SceneResult>& scenes);
 
 // What switching each effect off did (the kEffect runs): its force errors, the error it adds to
-// the default's, sqrt(max(0, e_off^2 - e_default^2)) for the larger of grasp force and load, the
-// time against the default's, and whether the scene could drop it (kEffectDropFraction). Empty
-// when the sweep had no effect runs.
+// the default's, sqrt(max(0, e_off^2 - e_default^2)) for the larger of grasp force and load, how
+// far it moves the scene's force checks (the largest change of a check's worst value against the
+// default's), the time against the default's, and whether the scene could drop it: the larger of
+// the two within kEffectDropFraction. Empty when the sweep had no effect runs.
 std::string EffectTable(const SceneResult& scene);
 
 // Per scene and metric, the front as a table; whether the scene's default is on it and passes its

@@ -274,11 +274,17 @@ TEST(SweptEffectsTest, TheEffectTableSaysWhichEffectsTheSceneCouldDrop) {
   effect_run(SensorEffect::kChipEncoding, std::sqrt(0.003 * 0.003 + 0.001 * 0.001), true);
   effect_run(SensorEffect::kEarthField, std::sqrt(0.003 * 0.003 + 0.01 * 0.01), true);
   effect_run(SensorEffect::kSiliconeDamping, 0.003, false);
+  // Without saturation the true forces are the default's, but a check on the DUT's estimate
+  // moves by 4 mN: more than 5 % of 0.05 N.
+  effect_run(SensorEffect::kChipSaturation, 0.003, true);
+  scene.runs[1].force_check_worst_n = {{"estimate", 0.010}};
+  scene.runs.back().force_check_worst_n = {{"estimate", 0.014}};
 
   const std::string table = EffectTable(scene);
 
   EXPECT_THAT(table, ::testing::ContainsRegex("chip_encoding +0.00316 .* 0.001 .* pass +yes"));
   EXPECT_THAT(table, ::testing::ContainsRegex("earth_field +0.0104 .* 0.01 .* pass +no"));
+  EXPECT_THAT(table, ::testing::ContainsRegex("chip_saturation +0.003 .* 0 +0.004 .* pass +no"));
   EXPECT_THAT(table, ::testing::ContainsRegex("silicone_damping .* FAIL +no \\(fails\\)"));
   EXPECT_THAT(ParetoFront(scene.runs, ErrorMetric::kGraspForce), ElementsAre(1));
   // Where the default fails too (a sweep cut short), the failure is not the effect's.
