@@ -21,7 +21,12 @@ struct CliArgs {
   const std::string* Option(const std::string& name) const;
 };
 
-// Parses args[1..] (args[0] is the command or subcommand); every option takes one value.
+// " (did you mean X?)" when `word` is within two edits of one of `candidates` (the closest, the
+// first of equals), else "". O(candidates x |word| x |candidate|); allocates.
+std::string DidYouMean(const std::string& word, const std::set<std::string>& candidates);
+
+// Parses args[1..] (args[0] is the command or subcommand); every option takes one value. An unknown
+// option's error suggests the nearest allowed one (DidYouMean).
 Result<CliArgs> ParseCliArgs(const std::vector<std::string>& args,
                              const std::set<std::string>& allowed_options);
 

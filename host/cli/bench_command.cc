@@ -8,6 +8,7 @@
 
 #include "host/cache/setup_caches.h"
 #include "host/cli/cli.h"
+#include "host/cli/command_help.h"
 #include "host/report/report_files.h"
 #include "host/report/scatter_plot.h"
 #include "host/scenario/scenario_loader.h"
@@ -20,9 +21,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kBenchUsage =
-    "usage: hilrig bench --out DIR [--scenes balloon_grasp,load_ramp|all] [--scenarios DIR]\n"
-    "                    [--duration-s S] [--timing-repeats N] [--quick]\n";
 constexpr int kPlotColumns = 3;
 
 struct BenchOptions {
@@ -104,7 +102,7 @@ rig::Result<void> WriteOutputs(const std::vector<SceneResult>& scenes, const fs:
 int BenchCommand(const std::vector<std::string>& args, const CliStreams& io) {
   auto parsed = ParseBenchOptions(args);
   if (!parsed) {
-    io.err << "hilrig bench: " << parsed.error().message << "\n" << kBenchUsage;
+    io.err << "hilrig bench: " << parsed.error().message << "\n" << HelpPointer("bench");
     return kExitBadInput;
   }
   const BenchOptions& options = parsed.value();

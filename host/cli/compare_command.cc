@@ -4,6 +4,7 @@
 #include <tuple>
 
 #include "host/cli/cli.h"
+#include "host/cli/command_help.h"
 #include "host/compare/comparison_text.h"
 #include "host/compare/result_folder.h"
 #include "host/compare/run_comparison.h"
@@ -25,11 +26,7 @@ struct CompareOptions {
 };
 
 int Usage(const CliStreams& io, const std::string& why) {
-  io.err << "hilrig compare: " << why
-         << "\nusage: hilrig compare BASE CANDIDATE [--margin-tolerance F]\n"
-            "                      [--pass-rate-tolerance P] [--confidence C]\n"
-            "                      [--trace-atol A] [--trace-rtol R] [--out FILE]\n"
-            "  BASE, CANDIDATE: two run folders or two sweep folders\n";
+  io.err << "hilrig compare: " << why << "\n" << HelpPointer("compare");
   return kExitBadInput;
 }
 

@@ -12,6 +12,7 @@
 
 #include "host/cache/setup_caches.h"
 #include "host/cli/cli.h"
+#include "host/cli/command_help.h"
 #include "host/linked_dut/dut_choice.h"
 #include "host/pipeline/run_pipeline.h"
 #include "host/report/report_files.h"
@@ -326,7 +327,7 @@ int RunFolder(const RunOptions& options, const CliStreams& io) {
 int RunCommand(const std::vector<std::string>& args, const CliStreams& io) {
   auto options = ParseRunOptions(args, io);
   if (!options) {
-    io.err << "hilrig run: " << options.error().message << "\nusage:\n" << kRunUsage;
+    io.err << "hilrig run: " << options.error().message << "\n" << HelpPointer("run");
     return kExitBadInput;
   }
   const SetupCaches caches = MakeSetupCaches(options.value().reference_cache_dir, io.err);

@@ -14,6 +14,7 @@
 
 #include "host/cache/setup_caches.h"
 #include "host/cli/cli.h"
+#include "host/cli/command_help.h"
 #include "host/cli/sweep_slurm.h"
 #include "host/link/child_process.h"
 #include "host/sweep/case_run.h"
@@ -61,12 +62,7 @@ struct SweepOptions {
 };
 
 int Usage(const CliStreams& io, const std::string& why) {
-  io.err << "hilrig sweep: " << why
-         << "\nusage: hilrig sweep SWEEP.textproto --out DIR [--jobs N] [--keep-runs]\n"
-            "       hilrig sweep SWEEP.textproto --out DIR --slurm [--jobs SHARDS]\n"
-            "                    [--partition P] [--max-parallel K] [--wait]\n"
-            "       hilrig sweep SWEEP.textproto --out DIR --shard I/N\n"
-            "       hilrig sweep --merge DIR\n";
+  io.err << "hilrig sweep: " << why << "\n" << HelpPointer("sweep");
   return kExitBadInput;
 }
 

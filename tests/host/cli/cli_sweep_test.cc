@@ -151,7 +151,7 @@ TEST(CliSweepTest, ABadSweepOrUsageIsRefusedWithExitTwo) {
                                              {"sweep", "--merge", "o", "--jobs", "2"}}) {
     const CliResult usage = Cli(args);
     EXPECT_EQ(usage.exit_code, 2) << args.size();
-    EXPECT_THAT(usage.err, HasSubstr("usage: hilrig sweep"));
+    EXPECT_THAT(usage.err, HasSubstr("see `hilrig help sweep`"));
   }
   for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
            {"sweep", "a", "--out", "o", "--partition", "short"},
@@ -161,7 +161,7 @@ TEST(CliSweepTest, ABadSweepOrUsageIsRefusedWithExitTwo) {
            {"sweep", "a", "--out", "o", "--slurm", "--partition", "a b"}}) {
     const CliResult slurm = Cli(args);
     EXPECT_EQ(slurm.exit_code, 2) << args.back();
-    EXPECT_THAT(slurm.err, HasSubstr("usage: hilrig sweep"));
+    EXPECT_THAT(slurm.err, HasSubstr("see `hilrig help sweep`"));
   }
   // #SBATCH --output cannot take a path with a space: refused before anything is submitted.
   const fs::path good = HoverSweepFolder("cli_sweep_space", 0.05, 1);
