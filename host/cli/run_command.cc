@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "host/cache/setup_caches.h"
+#include "host/cli/build_info.h"
 #include "host/cli/cli.h"
 #include "host/cli/command_help.h"
 #include "host/linked_dut/dut_choice.h"
@@ -95,6 +96,7 @@ struct RunOptions {
   int realtime_priority = kDefaultRealtimePriority;  // --rt-priority; 0: default scheduler
   FilmFieldModels* film_models = nullptr;            // films shared between the runs of one command
   const FileCalibrationStore* calibrations = nullptr;  // calibrations kept between runs
+  proto::Provenance provenance;  // this build and the command line, for every run's report
 };
 
 // --dut and its options (host/linked_dut/dut_choice.h); a DUT's waits end on the command's stop
@@ -167,6 +169,28 @@ rig::Result<RunOptions> ParseRunOptions(std::vector<std::string> args, const Cli
   return options;
 }
 
+// `text` as a shell would need it: bare when it has nothing a shell reads, else single-quoted.
+std::string ShellWord(const std::string& text) {
+  if (!text.empty() && text.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                              "0123456789-_./=:,+@%") == std::string::npos) {
+    return text;
+  }
+  std::string quoted = "'";
+  for (char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+// This build and `hilrig` followed by `args` (args[0] is "run"), as a report records them.
+proto::Provenance CommandProvenance(const std::vector<std::string>& args) {
+  proto::Provenance provenance;
+  provenance.set_rig_commit(ThisBuild().commit);
+  provenance.set_build_type(ThisBuild().build_type);
+  std::string line = "hilrig";
+  for (const std::string& arg : args) line.append(" ").append(ShellWord(arg));
+  provenance.set_command_line(line);
+  return provenance;
+}
+
 struct ScenarioOutcome {
   std::string name;
   int exit_code = kExitBadInput;
@@ -191,6 +215,7 @@ ScenarioOutcome RunOneFile(const std::string& path, const fs::path& out_dir,
   request.film_models = options.film_models;
   request.calibrations = options.calibrations;
   request.reference = reference;
+  request.provenance = options.provenance;
   const rig::SteadyClock wall_clock;
   const RunSeams seams{&wall_clock, options.realtime ? &wall_clock : nullptr, io.stop_requested,
                        &io.err};
@@ -330,6 +355,7 @@ int RunCommand(const std::vector<std::string>& args, const CliStreams& io) {
     io.err << "hilrig run: " << options.error().message << "\n" << HelpPointer("run");
     return kExitBadInput;
   }
+  options.value().provenance = CommandProvenance(args);
   const SetupCaches caches = MakeSetupCaches(options.value().reference_cache_dir, io.err);
   options.value().film_models = caches.film_models.get();
   options.value().calibrations = caches.calibrations.get();

@@ -224,6 +224,12 @@ RunOutcome Fly(PreparedRun& prepared, const RunRequest& request, const RunSeams&
   }
   scheduling.reset();  // writing files and plots is no real-time work
   if (!request.spec_path.empty()) outcome.report.set_spec_file(request.spec_path);
+  proto::Provenance& provenance = *outcome.report.mutable_provenance() = request.provenance;
+  for (const auto& [path, value] : request.overrides) {
+    proto::SpecOverride* applied = provenance.add_overrides();
+    applied->set_path(path);
+    applied->set_value(value);
+  }
   // Calibrating at start and tabulating field maps happen before the first tick; the real-time
   // factor is the stepping loop's, and this is the rest.
   outcome.report.set_setup_s(static_cast<double>(seams.wall_clock->NowNs() -

@@ -46,6 +46,9 @@ struct RunRequest {
   FilmFieldModels* film_models = nullptr;  // films shared between runs (null: built per run)
   const FileCalibrationStore* calibrations = nullptr;  // calibrations kept between runs
   const ReferenceSource* reference = nullptr;          // unset: no comparison with a reference
+  // The build and command that asked for the run, copied into the report; the overrides above are
+  // added to it as they are applied.
+  proto::Provenance provenance;
 };
 
 // What the pipeline does not own: the clocks, the stop request and where its notes go.

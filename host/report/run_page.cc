@@ -224,12 +224,27 @@ std::string ModelSection(const proto::Report& report) {
          HtmlTable({"model", "fidelity"}, rows) + "</details>\n";
 }
 
+// What made the run: the rig's build, the command and the numbers --set changed in the spec.
+std::string ProvenanceSection(const proto::Report& report) {
+  if (!report.has_provenance()) return "";
+  const proto::Provenance& made = report.provenance();
+  std::vector<std::vector<HtmlCell>> rows = {
+      {TextCell("rig commit"), TextCell(made.rig_commit())},
+      {TextCell("build type"), TextCell(made.build_type())},
+      {TextCell("command"), {"<code>" + HtmlText(made.command_line()) + "</code>"}}};
+  for (const proto::SpecOverride& set : made.overrides()) {
+    rows.push_back({TextCell("--set " + set.path()), NumberCell(set.value())});
+  }
+  return "<h2>Made by</h2>\n" + HtmlTable({"what", "value"}, rows);
+}
+
 }  // namespace
 
 std::string RunPageHtml(const proto::Report& report, const std::vector<RunPagePlot>& plots) {
   const std::string body = Heading(report) + EnvelopeTable(report) + ObjectTable(report) +
                            RunTable(report) + FidelitySection(report) + PlotSection(plots) +
                            ChecksSection(report) + MetricSection(report) + ModelSection(report) +
+                           ProvenanceSection(report) +
                            HtmlFileLinks({"report.json", "junit.xml", "trace.csv", "can.log"});
   return HtmlDocument(report.scenario() + ": " + RunVerdict(report).word, body);
 }
