@@ -33,7 +33,7 @@ constexpr std::string_view kCompareUsage =
     "      [--trace-atol A] [--trace-rtol R] (default 1e-9, 1e-6)\n";
 
 constexpr std::string_view kBenchUsage =
-    "  hilrig bench --out DIR [--scenes balloon_grasp,load_ramp|all]\n"
+    "  hilrig bench --out DIR [--scenes a,b|all] (default balloon_grasp,load_ramp)\n"
     "      [--scenarios DIR] (where the scenes are, default scenarios/) [--duration-s S]\n"
     "      [--timing-repeats N] (more timings of a cheap run, fastest kept; default 20)\n"
     "      [--quick] (3 s of each scene, 2 integrators x 2 steps, 2 field levels)\n";

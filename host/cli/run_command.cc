@@ -20,6 +20,7 @@
 #include "host/report/stop_reason.h"
 #include "host/report/suite_page.h"
 #include "host/scenario/scenario_loader.h"
+#include "host/sweep/shell_words.h"
 #include "rig/clock.h"
 #include "rig/folder_lock.h"
 #include "rig/realtime_scheduling.h"
@@ -169,24 +170,13 @@ rig::Result<RunOptions> ParseRunOptions(std::vector<std::string> args, const Cli
   return options;
 }
 
-// `text` as a shell would need it: bare when it has nothing a shell reads, else single-quoted.
-std::string ShellWord(const std::string& text) {
-  if (!text.empty() && text.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                                              "0123456789-_./=:,+@%") == std::string::npos) {
-    return text;
-  }
-  std::string quoted = "'";
-  for (char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return quoted + "'";
-}
-
 // This build and `hilrig` followed by `args` (args[0] is "run"), as a report records them.
 proto::Provenance CommandProvenance(const std::vector<std::string>& args) {
   proto::Provenance provenance;
   provenance.set_rig_commit(ThisBuild().commit);
   provenance.set_build_type(ThisBuild().build_type);
   std::string line = "hilrig";
-  for (const std::string& arg : args) line.append(" ").append(ShellWord(arg));
+  for (const std::string& arg : args) line.append(" ").append(ShellQuoted(arg));
   provenance.set_command_line(line);
   return provenance;
 }

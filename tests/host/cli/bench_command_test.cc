@@ -114,7 +114,7 @@ TEST_F(BenchCommandTest, QuickSweepWritesOneRowPerRunAndAZeroErrorReference) {
 }
 
 TEST_F(BenchCommandTest, HelpNamesEveryBenchOption) {
-  const CliResult help = Cli({"help"});
+  const CliResult help = Cli({"help", "bench"});
 
   for (const char* option : {"--out DIR", "--scenes a,b|all", "--scenarios DIR", "--duration-s S",
                              "--timing-repeats N", "--quick"}) {

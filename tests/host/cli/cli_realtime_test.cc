@@ -90,7 +90,7 @@ TEST_F(CliRealtimeTest, PriorityZeroKeepsTheDefaultSchedulerAndSaysSo) {
 }
 
 TEST_F(CliRealtimeTest, HelpNamesTheFlag) {
-  const CliResult help = Cli({"help"});
+  const CliResult help = Cli({"help", "run"});
 
   EXPECT_THAT(help.out, HasSubstr("[--realtime]"));
 }
