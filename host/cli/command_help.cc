@@ -16,7 +16,8 @@ constexpr std::string_view kCheckUsage =
     "      run would write more than is sensible\n";
 
 constexpr std::string_view kSweepUsage =
-    "  hilrig sweep SWEEP.textproto --out DIR [--jobs N] [--keep-runs]\n"
+    "  hilrig sweep SWEEP.textproto --out DIR [--jobs N] [--keep-runs] [--set PATH=VALUE,...]\n"
+    "      (--set: numbers of every case's scenario, before the axes; failing.txt carries them)\n"
     "  hilrig sweep SWEEP.textproto --out DIR --slurm [--jobs SHARDS] [--partition P]\n"
     "               [--max-parallel K] [--wait]\n"
     "      a Slurm job array of --jobs shards, default 64, and a merge job after it\n"

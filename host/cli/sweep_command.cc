@@ -59,6 +59,7 @@ struct SweepOptions {
   bool wait = false;   // --slurm: return when the merge job has ended
   std::optional<std::string> partition;
   std::optional<std::uint32_t> max_parallel;
+  std::vector<std::pair<std::string, double>> sets;  // --set: numbers of every case
 };
 
 int Usage(const CliStreams& io, const std::string& why) {
@@ -97,7 +98,7 @@ rig::Result<SweepOptions> ParseSweepOptions(std::vector<std::string> args) {
   options.slurm = TakeFlag(args, "--slurm");
   options.wait = TakeFlag(args, "--wait");
   auto parsed = ParseCliArgs(args, {"--out", "--jobs", "--shard", "--merge", "--reference-cache",
-                                    "--partition", "--max-parallel"});
+                                    "--partition", "--max-parallel", "--set"});
   if (!parsed) return parsed.error();
   const CliArgs& cli = parsed.value();
   if (const std::string* merge = cli.Option("--merge")) {
@@ -132,6 +133,14 @@ rig::Result<SweepOptions> ParseSweepOptions(std::vector<std::string> args) {
     auto value = ParseShardSpec(*shard);
     if (!value) return value.error();
     options.shard = value.value();
+  }
+  if (const std::string* sets = cli.Option("--set")) {
+    // A shard reads its sets from the folder's sweep.textproto, where the sweep wrote them.
+    if (options.shard)
+      return rig::MakeError("--shard runs the folder's sweep as written; not --set");
+    auto parsed_sets = ParseSetOption(*sets);
+    if (!parsed_sets) return parsed_sets.error();
+    options.sets = std::move(parsed_sets).value();
   }
   return options;
 }
@@ -467,6 +476,10 @@ int SweepCommand(const std::vector<std::string>& args, const CliStreams& io) {
   auto sweep = LoadSweep(options.value().sweep_path);
   if (!sweep) {
     io.err << sweep.error().message << "\n";
+    return kExitBadInput;
+  }
+  if (auto added = AddSweepSets(sweep.value(), options.value().sets); !added.ok()) {
+    io.err << options.value().sweep_path << ": " << added.error().message << "\n";
     return kExitBadInput;
   }
   const SweepOptions& opts = options.value();

@@ -158,6 +158,10 @@ rig::Result<proto::Scenario> CaseScenario(const LoadedSweep& sweep, const SweepC
   scenario.set_seed(sweep_case.seed);
   const std::string context = "case " + std::to_string(sweep_case.index) + " (" + scenario.name() +
                               ", " + CaseLabel(sweep, sweep_case) + "): ";
+  for (const proto::SweepSet& every_case : sweep.spec.set()) {
+    auto set = SetNumberAt(scenario, every_case.path(), every_case.value());
+    if (!set.ok()) return rig::InContext(context, set.error());
+  }
   for (int a = 0; a < sweep.spec.axis_size(); ++a) {
     auto set = SetNumberAt(scenario, sweep.spec.axis(a).path(), sweep_case.values[a]);
     if (!set.ok()) return rig::InContext(context, set.error());

@@ -129,6 +129,10 @@ std::string ReproduceCommand(const LoadedSweep& sweep, const proto::SweepCaseRes
                         ShellQuoted(scenario != nullptr ? scenario->path : row.scenario()) +
                         " --seed " + std::to_string(row.seed());
   std::string sets;
+  for (const proto::SweepSet& every_case : sweep.spec.set()) {
+    sets +=
+        (sets.empty() ? "" : ",") + every_case.path() + "=" + rig::ExactNumber(every_case.value());
+  }
   for (int a = 0; a < sweep.spec.axis_size() && a < row.value_size(); ++a) {
     sets += (sets.empty() ? "" : ",") + sweep.spec.axis(a).path() + "=" +
             rig::ExactNumber(row.value(a));

@@ -1,7 +1,10 @@
 #include "host/sweep/sweep_spec.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <set>
 
 #include "host/scenario/field_path.h"
@@ -10,6 +13,7 @@
 #include "host/scenario/spec_limits.h"
 #include "host/scenario/text_spec.h"
 #include "host/sweep/sweep_cases.h"
+#include "host/sweep/sweep_statistics.h"
 #include "rig/file_io.h"
 #include "rig/number_text.h"
 
@@ -95,6 +99,34 @@ void CheckDistribution(const proto::Distribution& distribution, const ProblemLis
     case proto::Distribution::KIND_NOT_SET:
       problems.AddHere("uniform, normal or log_uniform is required");
       return;
+  }
+}
+
+// What is wrong with setting `path` to `value` in every case of `sweep`, or nothing.
+std::optional<std::string> SetProblem(const proto::Sweep& sweep,
+                                      const std::vector<SweepScenario>& scenarios,
+                                      const std::string& path, double value) {
+  if (path.empty()) return "a path is required";
+  if (path == "seed") return "the seed is swept by `seeds`, not set";
+  for (const proto::Axis& axis : sweep.axis()) {
+    if (axis.path() == path) return "\"" + path + "\" is swept by an axis, which would undo it";
+  }
+  if (!Finite(value)) return "the value of " + path + " is not a finite number";
+  for (const SweepScenario& scenario : scenarios) {
+    if (auto checked = CheckNumberPath(scenario.spec, path); !checked.ok()) {
+      return "in " + scenario.path + ": " + checked.error().message;
+    }
+  }
+  return std::nullopt;
+}
+
+void CheckSets(const proto::Sweep& sweep, const std::vector<SweepScenario>& scenarios,
+               const ProblemList& root) {
+  for (int i = 0; i < sweep.set_size(); ++i) {
+    const proto::SweepSet& set = sweep.set(i);
+    if (auto problem = SetProblem(sweep, scenarios, set.path(), set.value())) {
+      root.Element("set", i).AddHere(std::move(*problem));
+    }
   }
 }
 
@@ -224,6 +256,45 @@ std::vector<SweepScenario> LoadScenarios(const proto::Sweep& sweep, const std::s
   return scenarios;
 }
 
+// The fewest cases whose all passing gives a Wilson lower bound of at least `min_pass_rate` at
+// `confidence`, or nullopt when no sweep of at most kMaxSweepCases does (a rate of 1 never).
+// O(log kMaxSweepCases): the bound of n of n grows with n.
+std::optional<std::uint64_t> CasesNeeded(double min_pass_rate, double confidence) {
+  const auto reaches = [&](std::uint64_t n) {
+    return WilsonInterval(n, n, confidence).lower >= min_pass_rate;
+  };
+  if (!reaches(kMaxSweepCases)) return std::nullopt;
+  std::uint64_t low = 0, high = kMaxSweepCases;  // reaches(high), not reaches(low)
+  while (high - low > 1) {
+    const std::uint64_t middle = low + (high - low) / 2;
+    (reaches(middle) ? high : low) = middle;
+  }
+  return high;
+}
+
+// A pass-rate criterion that a scenario's cases could not meet even if every one passed: the
+// sweep would run for hours to a verdict known now. Every scenario of a sweep has the same cases.
+void CheckPassRatesReachable(const proto::Sweep& sweep, const ProblemList& root) {
+  const auto per_scenario =
+      static_cast<std::uint64_t>(CaseCountEstimate(sweep) / std::max(1, sweep.scenario_size()));
+  for (int i = 0; i < sweep.criterion_size(); ++i) {
+    const proto::Criterion& criterion = sweep.criterion(i);
+    if (!criterion.has_min_pass_rate()) continue;
+    const double confidence =
+        criterion.has_confidence() ? criterion.confidence() : kDefaultPassRateConfidence;
+    const double best = WilsonInterval(per_scenario, per_scenario, confidence).lower;
+    if (best >= criterion.min_pass_rate()) continue;
+    const std::optional<std::uint64_t> needed = CasesNeeded(criterion.min_pass_rate(), confidence);
+    root.Element("criterion", i)
+        .Add("min_pass_rate",
+             "cannot be met: with all " + std::to_string(per_scenario) +
+                 " cases of a scenario passing, the pass rate's lower bound at " +
+                 rig::NumberText(confidence) + " confidence is " + rig::NumberText(best) +
+                 (needed ? "; it needs at least " + std::to_string(*needed) + " cases per scenario"
+                         : "; no number of cases reaches it"));
+  }
+}
+
 std::vector<FieldProblem> ValidateSweep(const proto::Sweep& sweep, const std::string& folder,
                                         std::vector<SweepScenario>& scenarios) {
   std::vector<FieldProblem> problems;
@@ -238,18 +309,36 @@ std::vector<FieldProblem> ValidateSweep(const proto::Sweep& sweep, const std::st
   scenarios = LoadScenarios(sweep, folder, root);
   if (sweep.has_seeds()) CheckSeeds(sweep.seeds(), root.Nested("seeds"));
   CheckAxes(sweep, scenarios, root);
+  CheckSets(sweep, scenarios, root);
   CheckCriteria(sweep, scenarios, root);
   if (problems.empty()) {
     const double cases = CaseCountEstimate(sweep);
     if (cases > double(kMaxSweepCases)) {
       root.AddHere(rig::NumberText(cases) + " cases: at most " + std::to_string(kMaxSweepCases) +
                    " per sweep");
+    } else {
+      CheckPassRatesReachable(sweep, root);
     }
   }
   return problems;
 }
 
 }  // namespace
+
+rig::Result<void> AddSweepSets(LoadedSweep& sweep,
+                               const std::vector<std::pair<std::string, double>>& sets) {
+  for (const auto& [path, value] : sets) {
+    if (auto problem = SetProblem(sweep.spec, sweep.scenarios, path, value)) {
+      return rig::MakeError("--set " + path + ": " + *problem);
+    }
+  }
+  for (const auto& [path, value] : sets) {
+    proto::SweepSet* set = sweep.spec.add_set();
+    set->set_path(path);
+    set->set_value(value);
+  }
+  return {};
+}
 
 rig::Result<LoadedSweep> ParseSweep(const std::string& text, const std::string& file_label,
                                     const std::string& folder) {

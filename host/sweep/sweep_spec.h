@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "proto/scenario.pb.h"
@@ -33,6 +34,12 @@ inline constexpr std::uint64_t kMaxSweepCases = 1'000'000;
 // Reads the sweep file (a regular file, at most the scenario size limit) and loads what it names;
 // relative scenario paths are taken from the sweep file's folder.
 rig::Result<LoadedSweep> LoadSweep(const std::string& path);
+
+// Adds `sets` (`hilrig sweep --set PATH=VALUE,...`) to the sweep's own `set` entries, checked as
+// those are: a number at PATH in every scenario, not "seed", not a path an axis sweeps, a finite
+// value. Fails on the first bad one, naming it, and then changes nothing.
+rig::Result<void> AddSweepSets(LoadedSweep& sweep,
+                               const std::vector<std::pair<std::string, double>>& sets);
 
 // Parses and validates sweep text that came from `file_label`; scenario paths are relative to
 // `folder`. For tests and for LoadSweep.

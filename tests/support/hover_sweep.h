@@ -14,7 +14,7 @@ namespace hilrig::host {
 
 inline std::filesystem::path HoverSweepFolder(
     const std::string& name, double altitude_upper_m, int seeds,
-    const std::string& criteria = "criterion { min_pass_rate: 0.5 }", double duration_s = 1) {
+    const std::string& criteria = "criterion { min_pass_rate: 0.3 }", double duration_s = 1) {
   const std::filesystem::path dir = FreshTestDir(name);
   std::ofstream(dir / "hover.textproto")
       << "name: \"hover_sweep\"\n"

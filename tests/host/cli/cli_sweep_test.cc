@@ -134,6 +134,26 @@ TEST(CliSweepTest, FailsWhenTheCriteriaAreNotMetAndNamesACommandPerFailingCase) 
             ReadFile(out / "runs" / "case-0000003" / "trace.csv"));
 }
 
+// `--set` changes every case for one sweep: the folder's sweep keeps it, so a merge and each
+// failing case's command carry it; a path an axis sweeps is refused before anything runs.
+TEST(CliSweepTest, SetChangesEveryCaseAndTravelsWithTheSweep) {
+  const fs::path dir = HoverSweepFolder("cli_sweep_set", 1e-6, 1);
+  const fs::path out = dir / "out";
+  const CliResult result = Cli({"sweep", (dir / "sweep.textproto").string(), "--out", out.string(),
+                                "--jobs", "1", "--set", "models.vio.latency_s=0.05"});
+  EXPECT_EQ(result.exit_code, 1) << result.err << result.out;
+  EXPECT_THAT(ReadFile(out / "sweep.textproto"),
+              HasSubstr("set {\n  path: \"models.vio.latency_s\"\n  value: 0.05\n}"));
+  EXPECT_THAT(ReadFile(out / "failing.txt"),
+              HasSubstr(" --seed 1 --set models.vio.latency_s=0.05,vehicle.mass_kg=0.5 "));
+  const CliResult swept = Cli({"sweep", (dir / "sweep.textproto").string(), "--out",
+                               (dir / "out2").string(), "--set", "vehicle.mass_kg=0.7"});
+  EXPECT_EQ(swept.exit_code, 2);
+  EXPECT_THAT(swept.err,
+              HasSubstr("--set vehicle.mass_kg: \"vehicle.mass_kg\" is swept by an axis"));
+  EXPECT_FALSE(fs::exists(dir / "out2" / "runs.csv"));
+}
+
 TEST(CliSweepTest, ABadSweepOrUsageIsRefusedWithExitTwo) {
   const fs::path dir =
       HoverSweepFolder("cli_sweep_bad", 0.05, 2, "criterion { envelope: \"nope\" }");

@@ -32,7 +32,7 @@ LoadedSweep Sweep(const std::string& name, const std::string& body) {
                                                              << kSceneBody;
   }
   const std::string text =
-      std::string("name: \"s\"\n").append(body).append("criterion { min_pass_rate: 0.5 }\n");
+      std::string("name: \"s\"\n").append(body).append("criterion { min_pass_rate: 0.2 }\n");
   auto sweep = ParseSweep(text, "s.textproto", dir.string());
   EXPECT_TRUE(sweep.ok()) << sweep.error().message;
   return sweep.ok() ? std::move(sweep).value() : LoadedSweep{};
@@ -65,6 +65,23 @@ axis { path: "timeline[0].grasp.force_n" grid { from: 1 to: 3 count: 3 } }
   EXPECT_EQ(scenario.value().seed(), 6u);
   EXPECT_EQ(scenario.value().object().mass_kg(), 0.2);
   EXPECT_EQ(scenario.value().timeline(0).grasp().force_n(), 3);
+}
+
+// A sweep's `set` reaches every case before its axes: the vehicle's mass set, the object's swept.
+TEST(SweepCasesTest, SetsReachEveryCaseBeforeTheAxes) {
+  LoadedSweep sweep = Sweep("sweep_cases_sets", R"(scenario: "a.textproto"
+axis { path: "object.mass_kg" list { value: 0.1 value: 0.2 } }
+set { path: "vehicle.mass_kg" value: 0.9 }
+)");
+  ASSERT_TRUE(AddSweepSets(sweep, {{"timeline[0].grasp.force_n", 2.5}}).ok());
+  const SweepCaseSpace cases(sweep);
+  for (std::uint64_t i = 0; i < cases.case_count(); ++i) {
+    auto scenario = CaseScenario(sweep, cases.CaseAt(i));
+    ASSERT_TRUE(scenario.ok()) << scenario.error().message;
+    EXPECT_EQ(scenario.value().vehicle().mass_kg(), 0.9);
+    EXPECT_EQ(scenario.value().timeline(0).grasp().force_n(), 2.5);
+    EXPECT_EQ(scenario.value().object().mass_kg(), cases.CaseAt(i).values[0]);
+  }
 }
 
 TEST(SweepCasesTest, WithoutSeedsEachScenarioKeepsItsOwn) {

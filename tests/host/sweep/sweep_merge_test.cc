@@ -62,6 +62,12 @@ TEST(SweepMergeTest, TheReproducingCommandRunsTheCaseAlone) {
   EXPECT_EQ(command, "'/opt/hil rig/hilrig' run " + sweep.scenarios[0].path +
                          " --seed 7 --set vehicle.mass_kg=0.30000000000000004 --no-reference"
                          " --out /out/runs/case-0000012");
+  // The sweep's own sets come first, as the case applied them.
+  LoadedSweep with_sets = sweep;
+  ASSERT_TRUE(AddSweepSets(with_sets, {{"models.vio.latency_s", 0.05}}).ok());
+  EXPECT_THAT(ReproduceCommand(with_sets, row, "hilrig", "/out/runs"),
+              ::testing::HasSubstr(
+                  " --set models.vio.latency_s=0.05,vehicle.mass_kg=0.30000000000000004 "));
 }
 
 std::string JsonLine(const proto::SweepCaseResult& row) {

@@ -6,6 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "tests/support/bottle_scene.h"
 #include "tests/support/test_files.h"
@@ -28,7 +31,7 @@ scenario: "bottle.textproto"
 seeds { count: 4 }
 axis { path: "object.mass_kg" list { value: 0.18 value: 0.3 } }
 axis { path: "timeline[1].grasp.force_n" grid { from: 1 to: 4 count: 4 } }
-criterion { envelope: "not_dropped" min_pass_rate: 0.9 }
+criterion { envelope: "not_dropped" min_pass_rate: 0.8 }
 )";
   auto sweep = LoadSweep((dir / "sweep.textproto").string());
   ASSERT_TRUE(sweep.ok()) << sweep.error().message;
@@ -100,8 +103,59 @@ TEST(SweepSpecTest, AMarginCriterionNeedsAnEnvelopeExpectedToPass) {
   EXPECT_THAT(named.error().message,
               HasSubstr("criterion[0].quantile: every envelope the criterion names is expected to "
                         "fail (expect: FAIL)"));
-  EXPECT_TRUE(load("criterion { envelope: \"holds\" min_pass_rate: 0.9 }\n").ok());
+  EXPECT_TRUE(load("criterion { envelope: \"holds\" min_pass_rate: 0.2 }\n").ok());
   EXPECT_TRUE(load("criterion { quantile: 0.5 }\n").ok());  // not_dropped is expected to pass
+}
+
+// 30 cases that all pass give a Wilson lower bound of 0.886 at 95 %: a criterion of 0.9 could only
+// fail, so the sweep is refused before it runs, with the 35 cases it needs; 1.0 no sweep reaches.
+TEST(SweepSpecTest, RefusesAPassRateItsCasesCannotReach) {
+  const std::filesystem::path dir = FolderWithBottle("sweep_spec_reachable");
+  const auto load = [&](int seeds, const std::string& rate) {
+    return ParseSweep("name: \"s\"\nscenario: \"bottle.textproto\"\nseeds { count: " +
+                          std::to_string(seeds) + " }\ncriterion { min_pass_rate: " + rate + " }\n",
+                      "s.textproto", dir.string());
+  };
+  const auto short_of_it = load(30, "0.9");
+  ASSERT_FALSE(short_of_it.ok());
+  EXPECT_THAT(short_of_it.error().message,
+              HasSubstr("criterion[0].min_pass_rate: cannot be met: with all 30 cases of a "
+                        "scenario passing, the pass rate's lower bound at 0.95 confidence is "
+                        "0.886487; it needs at least 35 cases per scenario"));
+  EXPECT_TRUE(load(35, "0.9").ok());
+  EXPECT_FALSE(load(34, "0.9").ok());
+  const auto never = load(100, "1");
+  ASSERT_FALSE(never.ok());
+  EXPECT_THAT(never.error().message, HasSubstr("no number of cases reaches it"));
+}
+
+// A set must name a number of every scenario, and not one the seeds or an axis already sweep.
+TEST(SweepSpecTest, SetsAreCheckedInTheFileAndFromTheCommandLine) {
+  const std::filesystem::path dir = FolderWithBottle("sweep_spec_sets");
+  const auto load = [&](const std::string& body) {
+    return ParseSweep(
+        "name: \"s\"\nscenario: \"bottle.textproto\"\n"
+        "axis { path: \"object.mass_kg\" list { value: 0.2 } }\n" +
+            body + "criterion { min_pass_rate: 0.2 }\n",
+        "s.textproto", dir.string());
+  };
+  const auto swept = load("set { path: \"object.mass_kg\" value: 0.3 }\n");
+  ASSERT_FALSE(swept.ok());
+  EXPECT_THAT(swept.error().message,
+              HasSubstr("set[0]: \"object.mass_kg\" is swept by an axis, which would undo it"));
+  auto sweep = load("set { path: \"vehicle.mass_kg\" value: 0.9 }\n");
+  ASSERT_TRUE(sweep.ok()) << sweep.error().message;
+  for (const auto& [path, why] : std::vector<std::pair<std::string, std::string>>{
+           {"seed", "--set seed: the seed is swept by `seeds`, not set"},
+           {"object.mass_kg", "--set object.mass_kg: \"object.mass_kg\" is swept by an axis"},
+           {"vehicle.weight_kg", "--set vehicle.weight_kg: in "}}) {
+    const auto added = AddSweepSets(sweep.value(), {{"vehicle.mass_kg", 1.0}, {path, 1.0}});
+    ASSERT_FALSE(added.ok()) << path;
+    EXPECT_THAT(added.error().message, HasSubstr(why));
+    EXPECT_EQ(sweep.value().spec.set_size(), 1) << "a refused --set changes nothing";
+  }
+  ASSERT_TRUE(AddSweepSets(sweep.value(), {{"vehicle.mass_kg", 1.0}}).ok());
+  EXPECT_EQ(sweep.value().spec.set_size(), 2);
 }
 
 TEST(SweepSpecTest, RefusesAGridThatExpandsPastTheCaseLimit) {
