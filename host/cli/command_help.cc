@@ -26,8 +26,8 @@ constexpr std::string_view kSweepUsage =
 
 constexpr std::string_view kCompareUsage =
     "  hilrig compare BASE CANDIDATE [--out FILE]\n"
-    "      BASE, CANDIDATE: two run folders or two sweep folders; exit 1 when the candidate\n"
-    "      is worse; --out writes the comparison as JSON\n"
+    "      BASE, CANDIDATE: two run folders, two folder runs (hilrig run DIR/) or two sweep\n"
+    "      folders; exit 1 when the candidate is worse; --out writes the comparison as JSON\n"
     "      [--margin-tolerance F] (a margin may shrink by F of the base's, default 0.1)\n"
     "      [--pass-rate-tolerance P] (default 0)\n"
     "      [--confidence C] (a pass-rate drop counts when significant at C, default 0.95)\n"

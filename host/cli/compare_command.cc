@@ -1,5 +1,7 @@
 #include "host/cli/compare_command.h"
 
+#include <algorithm>
+#include <filesystem>
 #include <optional>
 #include <tuple>
 
@@ -17,6 +19,8 @@
 
 namespace hilrig::host {
 namespace {
+
+namespace fs = std::filesystem;
 
 struct CompareOptions {
   std::string base_dir;
@@ -79,26 +83,58 @@ rig::Result<CompareOptions> ParseCompareOptions(const std::vector<std::string>& 
   return options;
 }
 
-rig::Result<proto::RunComparison> CompareRunFolders(const CompareOptions& options) {
-  auto base = ReadRunReport(options.base_dir);
+rig::Result<proto::RunComparison> CompareRunFolders(const std::string& base_dir,
+                                                    const std::string& candidate_dir,
+                                                    const proto::CompareTolerances& tolerances) {
+  auto base = ReadRunReport(base_dir);
   if (!base) return base.error();
-  auto candidate = ReadRunReport(options.candidate_dir);
+  auto candidate = ReadRunReport(candidate_dir);
   if (!candidate) return candidate.error();
   if (base.value().scenario() != candidate.value().scenario()) {
     return rig::MakeError("the runs are of different scenarios: " + base.value().scenario() +
                           " and " + candidate.value().scenario());
   }
-  proto::RunComparison comparison =
-      CompareRuns(base.value(), candidate.value(), options.tolerances);
+  proto::RunComparison comparison = CompareRuns(base.value(), candidate.value(), tolerances);
   // Only regular files: a FIFO planted as a trace must not block the comparison.
-  auto base_trace = rig::InputFile::Open(RunTracePath(options.base_dir));
-  auto candidate_trace = rig::InputFile::Open(RunTracePath(options.candidate_dir));
+  auto base_trace = rig::InputFile::Open(RunTracePath(base_dir));
+  auto candidate_trace = rig::InputFile::Open(RunTracePath(candidate_dir));
   if (!base_trace || !candidate_trace) {
     comparison.mutable_trace()->set_problem(
         (base_trace ? candidate_trace.error() : base_trace.error()).message);
   } else {
-    *comparison.mutable_trace() = CompareTraces(
-        base_trace.value()->stream(), candidate_trace.value()->stream(), options.tolerances);
+    *comparison.mutable_trace() =
+        CompareTraces(base_trace.value()->stream(), candidate_trace.value()->stream(), tolerances);
+  }
+  return comparison;
+}
+
+// Two folder runs, scene by scene: the run folders both have compared, the others listed.
+rig::Result<proto::SuiteComparison> CompareSuiteFolders(const CompareOptions& options) {
+  auto base = SuiteRunNames(options.base_dir);
+  if (!base) return base.error();
+  auto candidate = SuiteRunNames(options.candidate_dir);
+  if (!candidate) return candidate.error();
+  proto::SuiteComparison comparison;
+  for (const std::string& name : base.value()) {
+    if (!std::binary_search(candidate.value().begin(), candidate.value().end(), name)) {
+      comparison.add_only_in_base(name);
+      continue;
+    }
+    auto run =
+        CompareRunFolders((fs::path(options.base_dir) / name).string(),
+                          (fs::path(options.candidate_dir) / name).string(), options.tolerances);
+    if (!run) return rig::InContext(name + ": ", run.error());
+    for (const std::string& reason : run.value().reason())
+      comparison.add_reason(name + ": " + reason);
+    comparison.set_worse(comparison.worse() || run.value().worse());
+    proto::SuiteComparison::Scene* scene = comparison.add_scene();
+    scene->set_name(name);
+    *scene->mutable_run() = std::move(run).value();
+  }
+  for (const std::string& name : candidate.value()) {
+    if (!std::binary_search(base.value().begin(), base.value().end(), name)) {
+      comparison.add_only_in_candidate(name);
+    }
   }
   return comparison;
 }
@@ -111,6 +147,18 @@ rig::Result<proto::SweepComparison> CompareSweepFolders(const CompareOptions& op
   return CompareSweeps(base.value(), candidate.value(), options.tolerances);
 }
 
+const char* KindName(ResultFolderKind kind) {
+  switch (kind) {
+    case ResultFolderKind::kRun:
+      return "a run";
+    case ResultFolderKind::kSweep:
+      return "a sweep";
+    case ResultFolderKind::kSuite:
+      return "a folder run";
+  }
+  return "unknown";
+}
+
 // Fills `comparison` from the two folders; fails when they are not of one kind or unreadable.
 rig::Result<void> CompareFolders(const CompareOptions& options, proto::Comparison& comparison) {
   auto base_kind = ResultFolderKindOf(options.base_dir);
@@ -118,19 +166,32 @@ rig::Result<void> CompareFolders(const CompareOptions& options, proto::Compariso
   auto candidate_kind = ResultFolderKindOf(options.candidate_dir);
   if (!candidate_kind) return candidate_kind.error();
   if (base_kind.value() != candidate_kind.value()) {
-    return rig::MakeError("one folder holds a run and the other a sweep: " + options.base_dir +
-                          ", " + options.candidate_dir);
+    return rig::MakeError("the folders hold different kinds of result (" +
+                          std::string(KindName(base_kind.value())) + ", " +
+                          KindName(candidate_kind.value()) + "): " + options.base_dir + ", " +
+                          options.candidate_dir);
   }
-  if (base_kind.value() == ResultFolderKind::kRun) {
-    auto run = CompareRunFolders(options);
-    if (!run) return run.error();
-    *comparison.mutable_run() = std::move(run.value());
-  } else {
-    auto sweep = CompareSweepFolders(options);
-    if (!sweep) return sweep.error();
-    *comparison.mutable_sweep() = std::move(sweep.value());
+  switch (base_kind.value()) {
+    case ResultFolderKind::kRun: {
+      auto run = CompareRunFolders(options.base_dir, options.candidate_dir, options.tolerances);
+      if (!run) return run.error();
+      *comparison.mutable_run() = std::move(run.value());
+      return {};
+    }
+    case ResultFolderKind::kSweep: {
+      auto sweep = CompareSweepFolders(options);
+      if (!sweep) return sweep.error();
+      *comparison.mutable_sweep() = std::move(sweep.value());
+      return {};
+    }
+    case ResultFolderKind::kSuite: {
+      auto suite = CompareSuiteFolders(options);
+      if (!suite) return suite.error();
+      *comparison.mutable_suite() = std::move(suite.value());
+      return {};
+    }
   }
-  return {};
+  return rig::MakeError("unknown result folder kind");
 }
 
 }  // namespace
@@ -146,13 +207,18 @@ int CompareCommand(const std::vector<std::string>& args, const CliStreams& io) {
     io.err << "hilrig compare: " << compared.error().message << "\n";
     return kExitBadInput;
   }
-  const bool run = comparison.has_run();
-  const auto lines =
-      run ? RunComparisonLines(comparison.run()) : SweepComparisonLines(comparison.sweep());
-  const bool worse = run ? comparison.run().worse() : comparison.sweep().worse();
-  const auto& reasons = run ? comparison.run().reason() : comparison.sweep().reason();
+  const bool sweep = comparison.has_sweep();
+  const auto lines = comparison.has_run()     ? RunComparisonLines(comparison.run())
+                     : comparison.has_suite() ? SuiteComparisonLines(comparison.suite())
+                                              : SweepComparisonLines(comparison.sweep());
+  const bool worse = comparison.has_run()     ? comparison.run().worse()
+                     : comparison.has_suite() ? comparison.suite().worse()
+                                              : comparison.sweep().worse();
+  const auto& reasons = comparison.has_run()     ? comparison.run().reason()
+                        : comparison.has_suite() ? comparison.suite().reason()
+                                                 : comparison.sweep().reason();
   for (const auto& line : lines) io.out << line << "\n";
-  for (const auto& line : VerdictLines(worse, reasons, comparison.tolerances(), !run)) {
+  for (const auto& line : VerdictLines(worse, reasons, comparison.tolerances(), sweep)) {
     io.out << line << "\n";
   }
   if (options.value().out_file) {

@@ -140,6 +140,23 @@ std::vector<std::string> SweepComparisonLines(const proto::SweepComparison& comp
   return lines;
 }
 
+std::vector<std::string> SuiteComparisonLines(const proto::SuiteComparison& comparison) {
+  const auto names = [](const google::protobuf::RepeatedPtrField<std::string>& list) {
+    std::string joined;
+    for (const std::string& name : list) joined += (joined.empty() ? "" : ", ") + name;
+    return list.empty() ? std::string("none") : joined;
+  };
+  std::vector<std::string> lines = {
+      "folder run: " + std::to_string(comparison.scene_size()) +
+      " scenes in both; only in the base: " + names(comparison.only_in_base()) +
+      "; only in the candidate: " + names(comparison.only_in_candidate())};
+  for (const proto::SuiteComparison::Scene& scene : comparison.scene()) {
+    lines.push_back(scene.name() + ": " + (scene.run().worse() ? "WORSE" : "not worse"));
+    for (const std::string& line : RunComparisonLines(scene.run())) lines.push_back("  " + line);
+  }
+  return lines;
+}
+
 std::vector<std::string> VerdictLines(
     bool worse, const google::protobuf::RepeatedPtrField<std::string>& reasons,
     const proto::CompareTolerances& tolerances, bool sweeps) {

@@ -14,6 +14,8 @@ inline constexpr int kMaxListedSignals = 12;
 
 std::vector<std::string> RunComparisonLines(const proto::RunComparison& comparison);
 std::vector<std::string> SweepComparisonLines(const proto::SweepComparison& comparison);
+// A line for the scenes each side has alone, then each scene's verdict and its run's lines.
+std::vector<std::string> SuiteComparisonLines(const proto::SuiteComparison& comparison);
 
 // "candidate is WORSE than the base (tolerances):" and its reasons, or "candidate is not worse
 // than the base (tolerances)"; the pass-rate tolerances are stated for `sweeps` only.

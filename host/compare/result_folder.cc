@@ -1,5 +1,6 @@
 #include "host/compare/result_folder.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <system_error>
 
@@ -31,8 +32,25 @@ rig::Result<ResultFolderKind> ResultFolderKindOf(const std::string& dir) {
   }
   if (std::filesystem::exists(InFolder(dir, kSummaryFile), error)) return ResultFolderKind::kSweep;
   if (std::filesystem::exists(InFolder(dir, kReportFile), error)) return ResultFolderKind::kRun;
-  return rig::MakeError(dir + " holds neither a run's " + kReportFile + " nor a sweep's " +
-                        kSummaryFile);
+  auto runs = SuiteRunNames(dir);
+  if (runs && !runs.value().empty()) return ResultFolderKind::kSuite;
+  return rig::MakeError(dir + " holds neither a run's " + kReportFile + ", a sweep's " +
+                        kSummaryFile + " nor run folders of a folder run");
+}
+
+rig::Result<std::vector<std::string>> SuiteRunNames(const std::string& dir) {
+  std::error_code error;
+  std::filesystem::directory_iterator entries(dir, error);
+  if (error) return rig::MakeError("cannot list " + dir + ": " + error.message());
+  std::vector<std::string> names;
+  for (const std::filesystem::directory_entry& entry : entries) {
+    if (!entry.is_directory(error)) continue;
+    if (std::filesystem::is_regular_file(entry.path() / kReportFile, error)) {
+      names.push_back(entry.path().filename().string());
+    }
+  }
+  std::sort(names.begin(), names.end());
+  return names;
 }
 
 rig::Result<proto::Report> ReadRunReport(const std::string& dir) {

@@ -57,6 +57,50 @@ TEST(CliCompareTest, AWeakenedGraspControllerIsARegressionAnUnchangedOneIsNot) {
   EXPECT_THAT(ReadFile(json), HasSubstr("\"worse\": true"));
 }
 
+// Two folder runs as ./scripts/run writes them, compared scene by scene: the same scenes at the
+// same seed are not worse; a scene weakened in the candidate is, by name; a scene one side has
+// alone is listed and not graded.
+TEST(CliCompareTest, ComparesTwoFolderRunsSceneByScene) {
+  const fs::path dir = FreshTestDir("cli_compare_folders");
+  fs::create_directories(dir / "scenes");
+  fs::copy_file(kBalloon, dir / "scenes" / "balloon_grasp.textproto");
+  std::ofstream(dir / "scenes" / "hover.textproto")
+      << "name: \"hover\"\nvehicle { initial_position_m { z: 1 } }\n"
+         "simulation { duration_s: 1 }\n"
+         "envelopes { name: \"altitude\" signal: ALTITUDE_ERROR_M upper: 0.05 }\n";
+  const auto run_folder = [&](const std::string& out, const std::vector<std::string>& extra) {
+    std::vector<std::string> args = {"run", (dir / "scenes").string() + "/", "--no-reference",
+                                     "--out", (dir / out).string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return Cli(args);
+  };
+  ASSERT_EQ(run_folder("base", {}).exit_code, 0);
+  ASSERT_EQ(run_folder("same", {}).exit_code, 0);
+  ASSERT_EQ(run_folder("weak", {"--set", kWeakGrasp}).exit_code, 1);
+  // A scene that did not run (a spec that no longer loads) leaves no report in its folder run.
+  fs::remove_all(dir / "weak" / "hover");
+
+  const CliResult same = Cli({"compare", (dir / "base").string(), (dir / "same").string()});
+  EXPECT_EQ(same.exit_code, 0) << same.out << same.err;
+  EXPECT_THAT(same.out, HasSubstr("folder run: 2 scenes in both; only in the base: none; only in "
+                                  "the candidate: none"));
+  EXPECT_THAT(same.out, HasSubstr("balloon_grasp: not worse"));
+  EXPECT_THAT(same.out, HasSubstr("hover: not worse"));
+
+  // The weakened folder run has no hover: listed, not graded.
+  const CliResult weak = Cli({"compare", (dir / "base").string(), (dir / "weak").string()});
+  EXPECT_EQ(weak.exit_code, 1) << weak.out << weak.err;
+  EXPECT_THAT(weak.out, HasSubstr("1 scenes in both; only in the base: hover;"));
+  EXPECT_THAT(weak.out, HasSubstr("balloon_grasp: WORSE"));
+  EXPECT_THAT(weak.out, HasSubstr("balloon_grasp: envelope grasp_force: met in the base, not in "
+                                  "the candidate"));
+  // A folder run against a single run is refused by kind.
+  const CliResult mixed =
+      Cli({"compare", (dir / "base").string(), (dir / "base" / "hover").string()});
+  EXPECT_EQ(mixed.exit_code, 2);
+  EXPECT_THAT(mixed.err, HasSubstr("different kinds of result (a folder run, a run)"));
+}
+
 void WriteSweep(const fs::path& dir, const std::string& name, const std::string& grasp) {
   std::ofstream(dir / (name + ".textproto")) << ReadFile(kBalloon) << grasp << "\n";
   std::ofstream(dir / (name + "_sweep.textproto"))
@@ -97,7 +141,7 @@ TEST(CliCompareTest, RefusesWhatItCannotCompare) {
   const std::string run = (dir / "run").string();
   const CliResult mixed = Cli({"compare", run, (dir / "sweep").string()});
   EXPECT_EQ(mixed.exit_code, 2);
-  EXPECT_THAT(mixed.err, HasSubstr("one folder holds a run and the other a sweep"));
+  EXPECT_THAT(mixed.err, HasSubstr("the folders hold different kinds of result"));
   const CliResult missing = Cli({"compare", run, (dir / "nowhere").string()});
   EXPECT_EQ(missing.exit_code, 2);
   EXPECT_THAT(missing.err, HasSubstr("nowhere is not a folder"));

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <string>
+#include <vector>
 
 #include "tests/support/test_files.h"
 
@@ -22,6 +24,16 @@ TEST(ResultFolderTest, TellsARunFromASweepAndRefusesNeither) {
   std::ofstream(dir / "sweep" / "summary.json") << "{\"sweep\": \"s\", \"cases\": \"3\"}";
   std::ofstream(dir / "sweep" / "runs" / "case-0000001" / "report.json") << "{}";
   fs::create_directories(dir / "empty");
+  // A folder run: a run folder per scenario, beside the summary page.
+  for (const char* scene : {"load_ramp", "hover"}) {
+    fs::create_directories(dir / "suite" / scene);
+    std::ofstream(dir / "suite" / scene / "report.json") << "{}";
+  }
+  fs::create_directories(dir / "suite" / "did_not_run");
+  std::ofstream(dir / "suite" / "index.html") << "<!DOCTYPE html>";
+  EXPECT_EQ(ResultFolderKindOf((dir / "suite").string()).value(), ResultFolderKind::kSuite);
+  EXPECT_EQ(SuiteRunNames((dir / "suite").string()).value(),
+            (std::vector<std::string>{"hover", "load_ramp"}));
   EXPECT_EQ(ResultFolderKindOf((dir / "run").string()).value(), ResultFolderKind::kRun);
   EXPECT_EQ(ResultFolderKindOf((dir / "sweep").string()).value(), ResultFolderKind::kSweep);
   const auto empty = ResultFolderKindOf((dir / "empty").string());
