@@ -1,4 +1,4 @@
-// Grasp force controller of the servo that shrinks the frame (DESIGN.md section 1): an admittance
+// Grasp force controller of the servo that shrinks the frame (docs/design.md section 1): an admittance
 // on the servo angle driven by the grasp-force error, so the frame closes until the pads feel the
 // desired squeeze and then holds it, whatever the object's size and stiffness:
 //

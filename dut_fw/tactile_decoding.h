@@ -1,4 +1,4 @@
-// Force decoding of the magnetic tactile sensors (DESIGN.md section 4): the field at the Hall chip,
+// Force decoding of the magnetic tactile sensors (docs/design.md section 4): the field at the Hall chip,
 // already compensated for Earth's field, is mapped to the feature vector S(B), and the force is
 // f = a ⊙ S + b with per-sensor calibration a, b. The published S is a closed-form expression with
 // divisions by Bz' and Bz'' and an arctangent whose branch jumps; this header evaluates an

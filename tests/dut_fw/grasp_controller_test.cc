@@ -52,7 +52,7 @@ GraspCommand<S> Open() {
 }
 
 // A linear grasp, F = k_g max(0, θ − θ_contact), behind a first-order servo lag, whose force the
-// controller only sees as a 50 Hz zero-order hold: the loop of DESIGN.md section 1 without the
+// controller only sees as a 50 Hz zero-order hold: the loop of docs/design.md section 1 without the
 // host's models.
 struct GraspPlant {
   double stiffness_n_per_rad;
