@@ -13,7 +13,9 @@
 #include "dut_fw/sensor_node.h"
 #include "dut_fw/tactile_processor.h"
 #include "fixtures/objects/object_fixtures.h"
+#include "host/plant/gripper_frame.h"
 #include "host/plant/quadrotor.h"
+#include "host/plant/servo.h"
 #include "host/scenario/field_problems.h"
 #include "host/scenario/scenario_config.h"
 #include "host/scenario/spec_limits.h"
@@ -279,15 +281,28 @@ void CheckObject(const proto::GraspObject& object, const ProblemList& problems) 
   RequirePositive(object.has_stand_height_m(), object.stand_height_m(), "stand_height_m", problems);
 }
 
+// The largest grasp force the servo can hold: by virtual work its torque is the pads' summed
+// normal force times how far they move per radian, so at stall torque the six pads press
+// stall_torque_nm / closing_m_per_rad together (10 N at the defaults, 1.7 N a pad).
+double StallGraspForceN(const proto::Scenario& scenario) {
+  const proto::Gripper& gripper = scenario.models().gripper();
+  const double stall_torque_nm =
+      gripper.has_stall_torque_nm() ? gripper.stall_torque_nm() : ServoParams{}.stall_torque_nm;
+  return stall_torque_nm / GripperFrameParams{}.closing_m_per_rad;
+}
+
 // The grasp force comes from the pads, so a regulating grasp needs them; the servo cannot squeeze
-// harder than its stall torque allows (about 10 N over the six pads), so a larger target is a typo.
+// harder than its stall torque allows, so a larger target could never be reached.
 void CheckGrasp(const proto::Scenario& scenario, const proto::Grasp& grasp,
                 const ProblemList& problems) {
   if (!scenario.has_object()) problems.AddHere("commands the gripper, but the scene has no object");
   if (grasp.open()) return;
   if (!grasp.has_force_n()) problems.AddHere("force_n is required (or open: true)");
-  if (grasp.has_force_n() && !(grasp.force_n() > 0 && grasp.force_n() <= 20)) {
-    problems.Add("force_n", "must be in (0, 20] N");
+  const double max_n = StallGraspForceN(scenario);
+  if (grasp.has_force_n() && !(grasp.force_n() > 0 && grasp.force_n() <= max_n)) {
+    problems.Add("force_n", "must be in (0, " + rig::NumberText(max_n) +
+                                "] N: at its stall torque the servo squeezes at most that over "
+                                "the six pads");
   }
   if (!scenario.models().tactile().enabled()) {
     problems.AddHere("regulates the grasp force, which needs models.tactile.enabled");

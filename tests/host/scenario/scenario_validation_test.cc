@@ -78,10 +78,21 @@ timeline { at_s: 1 grasp { force_n: 2 } }
   EXPECT_THAT(error, HasSubstr("needs models.tactile.enabled"));
 }
 
-TEST(ScenarioValidationTest, GraspForceBeyondTheServoIsATypo) {
+// The default servo (0.25 N m at stall, pads moving 25 mm per radian) squeezes at most 10 N; a
+// stronger servo allows more.
+TEST(ScenarioValidationTest, GraspForceBeyondWhatTheServoCanHoldIsRefused) {
   const std::string error =
-      ErrorOf(std::string(kGraspScene) + "timeline { at_s: 2 grasp { force_n: 65 } }\n");
-  EXPECT_THAT(error, HasSubstr("timeline[1].grasp.force_n: must be in (0, 20] N"));
+      ErrorOf(std::string(kGraspScene) + "timeline { at_s: 2 grasp { force_n: 19 } }\n");
+  EXPECT_THAT(error, HasSubstr("timeline[1].grasp.force_n: must be in (0, 10] N: at its stall "
+                               "torque the servo squeezes at most that over the six pads"));
+  EXPECT_TRUE(
+      ParseScenario(std::string(kGraspScene) + "timeline { at_s: 2 grasp { force_n: 10 } }\n",
+                    "spec.textproto")
+          .ok());
+  std::string stronger = std::string(kGraspScene) + "timeline { at_s: 2 grasp { force_n: 19 } }\n";
+  stronger.replace(stronger.find("tactile { enabled: true }"), 25,
+                   "tactile { enabled: true } gripper { stall_torque_nm: 0.5 }");
+  EXPECT_TRUE(ParseScenario(stronger, "spec.textproto").ok()) << ErrorOf(stronger);
 }
 
 TEST(ScenarioValidationTest, GraspNeedsAForceOrOpen) {
