@@ -73,6 +73,9 @@ struct TargetSummary {
   std::uint32_t work_p50_cycles = 0;
   std::uint32_t work_p99_cycles = 0;
   std::uint32_t work_max_cycles = 0;
+  // QEMU under -icount: the counts are SysTick at core_clock_hz of virtual time in which every
+  // instruction takes 1 ns, so one count is 1e9 / core_clock_hz instructions.
+  bool emulated_core = false;
 };
 
 // Lifecycle: the runner calls Start once before anything else; a DUT that fails to start is

@@ -410,7 +410,9 @@ rig::Result<DutFactory> MakeDutFactory(const DutChoice& choice, bool realtime,
     case DutKind::kQemu: {
       auto image = FindTargetImage(choice.target_image);
       if (!image) return rig::MakeError("--dut qemu: " + image.error().message);
-      return SerialFactory(QemuLines({image.value(), ""}), choice.serial, realtime);
+      SerialDutOptions options = choice.serial;
+      options.emulated_core = true;
+      return SerialFactory(QemuLines({image.value(), ""}), options, realtime);
     }
     case DutKind::kSerial:
       return SerialFactory(SerialPortLines(choice.port), choice.serial, realtime);

@@ -60,6 +60,8 @@ struct SerialDutOptions {
   const rig::Clock* clock = nullptr;
   // Lockstep, or real time (which needs `clock`).
   DutPacing pacing = DutPacing::kLockstep;
+  // The board is QEMU under -icount: its work counts are its virtual time, not core cycles.
+  bool emulated_core = false;
 };
 
 // Checks the options: positive finite timeouts, a retry shorter than the watchdog.

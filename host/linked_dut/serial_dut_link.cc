@@ -476,6 +476,7 @@ std::optional<TargetSummary> SerialDutLink::target() const {
   target.work_p50_cycles = work_cycles_.Quantile(0.5);
   target.work_p99_cycles = work_cycles_.Quantile(0.99);
   target.work_max_cycles = work_cycles_.max();
+  target.emulated_core = options_.emulated_core;
   return target;
 }
 

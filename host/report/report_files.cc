@@ -199,6 +199,27 @@ std::string FormatTimingCheckLine(const proto::TimingCheckResult& result, const 
   return line + "  limit " + FormatTimingValue(result.limit(), result.unit());
 }
 
+namespace {
+
+// What QEMU's counts mean for the real part: under -icount every instruction takes 1 ns of
+// virtual time, so a count at the core clock is 1e9 / clock instructions, and a real core needs
+// at least a cycle for each.
+std::string EmulatedCoreNote(const proto::Target& target) {
+  const double instructions_per_count = 1e9 / target.core_clock_hz();
+  const double p99_instructions = target.work_p99_cycles() * instructions_per_count;
+  const double period_cycles = target.control_period_s() * target.core_clock_hz();
+  char buffer[256];
+  std::snprintf(buffer, sizeof(buffer),
+                " (not cycles: %.3g instructions each, so p99 is %.0f instructions; a real "
+                "%.0f MHz core needs at least as many cycles, %.3g %% of %.0f us or more)",
+                instructions_per_count, p99_instructions, target.core_clock_hz() / 1e6,
+                period_cycles > 0 ? 100 * p99_instructions / period_cycles : 0.0,
+                target.control_period_s() * 1e6);
+  return buffer;
+}
+
+}  // namespace
+
 std::string FormatTargetLine(const proto::Target& target) {
   char buffer[320];
   std::string line = "target " + target.board();
@@ -209,10 +230,13 @@ std::string FormatTargetLine(const proto::Target& target) {
   if (target.steps_measured() == 0) {
     line += ": work per control step not measured";
   } else {
-    std::snprintf(buffer, sizeof(buffer), ": work per control step p50 %u, p99 %u, max %u cycles",
-                  target.work_p50_cycles(), target.work_p99_cycles(), target.work_max_cycles());
+    std::snprintf(buffer, sizeof(buffer), ": work per control step p50 %u, p99 %u, max %u %s",
+                  target.work_p50_cycles(), target.work_p99_cycles(), target.work_max_cycles(),
+                  target.emulated_core() ? "SysTick counts of QEMU's virtual time" : "cycles");
     line += buffer;
-    if (target.core_clock_hz() > 0) {
+    if (target.emulated_core() && target.core_clock_hz() > 0) {
+      line += EmulatedCoreNote(target);
+    } else if (target.core_clock_hz() > 0) {
       std::snprintf(buffer, sizeof(buffer), " (%.3g %%, %.3g %%, %.3g %% of %.0f us)",
                     100 * target.work_p50_fraction(), 100 * target.work_p99_fraction(),
                     100 * target.work_max_fraction(), target.control_period_s() * 1e6);

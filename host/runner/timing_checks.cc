@@ -129,6 +129,7 @@ proto::Target TargetSection(const TargetSummary& target, double control_period_s
   section.set_work_p50_cycles(target.work_p50_cycles);
   section.set_work_p99_cycles(target.work_p99_cycles);
   section.set_work_max_cycles(target.work_max_cycles);
+  section.set_emulated_core(target.emulated_core);
   const double period_cycles = control_period_s * target.core_clock_hz;
   if (period_cycles > 0) {
     section.set_work_p50_fraction(target.work_p50_cycles / period_cycles);

@@ -48,6 +48,11 @@ for field in work_p50_cycles work_p99_cycles work_max_cycles flash_used_bytes ra
   grep -q "\"$field\"" "$work_dir/qemu/report.json" ||
     { echo "FAIL: report.json has no target $field"; exit 1; }
 done
+# QEMU's counts are its virtual time, not cycles of a real core: the report and the line say so.
+grep -q '"emulated_core": true' "$work_dir/qemu/report.json" ||
+  { echo "FAIL: report.json does not mark the target's counts as QEMU's"; exit 1; }
+grep -q "^target .*SysTick counts of QEMU's virtual time (not cycles" "$work_dir/qemu.out" ||
+  { echo "FAIL: the target line calls QEMU's counts cycles"; exit 1; }
 
 # A lockstep step the board took without its announced sensor bytes is not comparable: say so
 # rather than report a tolerance miss.

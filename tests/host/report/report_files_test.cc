@@ -106,6 +106,14 @@ TEST(ReportFilesTest, TargetChecksAreCasesAndTheTargetHasALine) {
             "target stm32f405 at 168 MHz: work per control step p50 1302, p99 1410, max 2210 "
             "cycles (0.775 %, 0.839 %, 1.32 % of 1000 us) over 3000 steps; flash 41234 B, RAM "
             "6120 B");
+  // On QEMU the counts are virtual time, 5.95 instructions each at 168 MHz: the line says so and
+  // what the p99 means for a real core (1410 x 5.95 = 8393 instructions, 5 % of 1 ms).
+  target.set_emulated_core(true);
+  EXPECT_EQ(FormatTargetLine(target),
+            "target stm32f405 at 168 MHz: work per control step p50 1302, p99 1410, max 2210 "
+            "SysTick counts of QEMU's virtual time (not cycles: 5.95 instructions each, so p99 is "
+            "8393 instructions; a real 168 MHz core needs at least as many cycles, 5 % of 1000 us "
+            "or more) over 3000 steps; flash 41234 B, RAM 6120 B");
   // A target that measures nothing and knows neither its clock nor its memory says so.
   proto::Target host;
   host.set_board("host");
