@@ -309,7 +309,7 @@ CaseRunSetup MakeCaseSetup(const LoadedSweep& sweep, const SweepOptions& options
 std::string FormatCheckLine(const proto::SweepCriterionCheck& check) {
   const bool rate = check.kind() == proto::SweepCriterionCheck::PASS_RATE;
   std::ostringstream line;
-  line << (check.passed() ? "PASS" : "FAIL") << "  criterion " << check.criterion() << "  "
+  line << (check.passed() ? "PASS" : "FAIL") << "  criterion[" << check.criterion() << "]  "
        << check.scenario() << " / " << check.envelope() << "  "
        << (rate ? "pass rate (Wilson lower bound) " : "margin quantile ");
   if (check.has_measured()) {

@@ -1,5 +1,6 @@
 #include "host/compare/comparison_text.h"
 
+#include <algorithm>
 #include <string>
 
 #include "host/compare/change.h"
@@ -85,8 +86,20 @@ std::string RateText(std::uint64_t met, std::uint64_t cases) {
          ")";
 }
 
+// The row's word. A pass rate that held while a gated margin quantile shrank beyond the tolerance
+// is among the reasons the candidate is worse, so the row must not read "same".
+std::string EnvelopeChangeText(const proto::PassRateChange& row) {
+  const bool margin_worse = std::any_of(
+      row.quantile().begin(), row.quantile().end(),
+      [](const auto& shift) { return shift.gated() && shift.change() == proto::WORSE; });
+  if (margin_worse && row.change() != proto::WORSE && row.change() != proto::ONLY_IN_BASE) {
+    return "WORSE (margin)";
+  }
+  return ChangeText(row.change());
+}
+
 void AddEnvelopeLines(const proto::PassRateChange& row, std::vector<std::string>& lines) {
-  std::string line = "  " + Padded(ChangeText(row.change()), 26) +
+  std::string line = "  " + Padded(EnvelopeChangeText(row), 26) +
                      Padded(row.scenario() + "/" + row.envelope(), 36);
   if (row.change() == proto::ONLY_IN_BASE) {
     lines.push_back(line);
@@ -130,8 +143,8 @@ std::vector<std::string> SweepComparisonLines(const proto::SweepComparison& comp
                             std::to_string(comparison.candidate_sweep_cases())));
   for (const auto& row : comparison.envelope()) AddEnvelopeLines(row, lines);
   for (const auto& row : comparison.criterion()) {
-    lines.push_back("  " + Padded(ChangeText(row.change()), 26) + "criterion " +
-                    std::to_string(row.criterion() + 1) + " (" + row.scenario() + "/" +
+    lines.push_back("  " + Padded(ChangeText(row.change()), 26) + "criterion[" +
+                    std::to_string(row.criterion()) + "] (" + row.scenario() + "/" +
                     row.envelope() + ") " +
                     (row.change() == proto::ONLY_IN_BASE
                          ? std::string("only in base")

@@ -156,7 +156,7 @@ void GradeSweep(proto::SweepComparison& comparison) {
   }
   for (const auto& row : comparison.criterion()) {
     if (!CountsAsWorse(row.change())) continue;
-    comparison.add_reason("criterion " + std::to_string(row.criterion() + 1) + " (" +
+    comparison.add_reason("criterion[" + std::to_string(row.criterion()) + "] (" +
                           EnvelopeName(row.scenario(), row.envelope()) +
                           "): met in the base, not in the candidate");
   }

@@ -130,7 +130,7 @@ TEST(CliCompareTest, AWeakenedGraspControllerFailsASweepsComparison) {
   EXPECT_EQ(weak.exit_code, 1) << weak.out << weak.err;
   EXPECT_THAT(weak.out, HasSubstr("pass 100 % (6/6) -> 0 % (0/6)  p 0.00108"));
   EXPECT_THAT(weak.out, HasSubstr("balloon_grasp/grasp_force: the pass rate fell significantly"));
-  EXPECT_THAT(weak.out, HasSubstr("criterion 1 (balloon_grasp/grasp_force): met in the base"));
+  EXPECT_THAT(weak.out, HasSubstr("criterion[0] (balloon_grasp/grasp_force): met in the base"));
 }
 
 TEST(CliCompareTest, RefusesWhatItCannotCompare) {

@@ -37,7 +37,7 @@ TEST(CliSweepTest, WritesTheResultsAndPassesWhenTheCriteriaAreMet) {
   EXPECT_EQ(result.exit_code, 0) << result.err << result.out;
   EXPECT_THAT(result.err, HasSubstr("hover_mass: 8 cases in 2 shards"));
   EXPECT_THAT(result.err, HasSubstr("8/8 cases, 0 not passed"));
-  EXPECT_THAT(result.out, HasSubstr("PASS  criterion 0  hover_sweep / altitude"));
+  EXPECT_THAT(result.out, HasSubstr("PASS  criterion[0]  hover_sweep / altitude"));
   EXPECT_THAT(result.out, HasSubstr("hover_mass: PASS"));
   const std::string runs = ReadFile(dir / "out" / "runs.csv");
   EXPECT_THAT(runs, HasSubstr("case,scenario,seed,vehicle.mass_kg,outcome,altitude.met,"));
@@ -109,7 +109,7 @@ TEST(CliSweepTest, FailsWhenTheCriteriaAreNotMetAndNamesACommandPerFailingCase) 
   const CliResult result =
       Cli({"sweep", (dir / "sweep.textproto").string(), "--out", out.string(), "--jobs", "2"});
   EXPECT_EQ(result.exit_code, 1) << result.err << result.out;
-  EXPECT_THAT(result.out, HasSubstr("FAIL  criterion 0  hover_sweep / altitude"));
+  EXPECT_THAT(result.out, HasSubstr("FAIL  criterion[0]  hover_sweep / altitude"));
   EXPECT_THAT(result.out, HasSubstr("hover_mass: FAIL"));
   const std::string failing = ReadFile(out / "failing.txt");
   EXPECT_THAT(failing, HasSubstr("# case 3 failed\n"));

@@ -72,6 +72,30 @@ TEST(ComparisonTextTest, AnAblationsEnvelopeSaysItsMarginsAreNotGraded) {
   EXPECT_THAT(lines[1], HasSubstr("(expected to fail: margins not graded)"));
 }
 
+// The pass rate held but the margin's 1 % quantile shrank beyond the tolerance: the row is one of
+// the reasons the candidate is worse and says so; an ungated shift leaves it "same".
+TEST(ComparisonTextTest, AnEnvelopeWorseByItsMarginDoesNotReadSame) {
+  proto::SweepComparison comparison;
+  proto::PassRateChange& row = *comparison.add_envelope();
+  row.set_scenario("balloon_grasp");
+  row.set_envelope("grasp_force");
+  row.set_base_met(100);
+  row.set_base_cases(100);
+  row.set_candidate_met(100);
+  row.set_candidate_cases(100);
+  row.set_p_value(1);
+  row.set_change(proto::SAME);
+  proto::QuantileShift& shift = *row.add_quantile();
+  shift.set_quantile("q01");
+  shift.set_base(0.05);
+  shift.set_candidate(0.01);
+  shift.set_change(proto::WORSE);
+  shift.set_gated(false);
+  EXPECT_THAT(SweepComparisonLines(comparison)[1], ::testing::StartsWith("  same "));
+  shift.set_gated(true);
+  EXPECT_THAT(SweepComparisonLines(comparison)[1], ::testing::StartsWith("  WORSE (margin) "));
+}
+
 TEST(ComparisonTextTest, TheVerdictStatesItsTolerances) {
   proto::CompareTolerances tolerances;
   tolerances.set_margin_fraction(0.1);

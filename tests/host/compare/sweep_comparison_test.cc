@@ -150,7 +150,7 @@ TEST(CompareSweepsTest, ALostCriterionOrEnvelopeOrAnUnfinishedSweepIsWorse) {
   ASSERT_EQ(comparison.reason_size(), 3);
   EXPECT_THAT(comparison.reason(0), HasSubstr("the candidate sweep is incomplete: 60 of 100"));
   EXPECT_THAT(comparison.reason(1), HasSubstr("altitude_error: in the base sweep, missing"));
-  EXPECT_THAT(comparison.reason(2), HasSubstr("criterion 1 (balloon_grasp/grasp_force): met in"));
+  EXPECT_THAT(comparison.reason(2), HasSubstr("criterion[0] (balloon_grasp/grasp_force): met in"));
   EXPECT_EQ(comparison.envelope(1).change(), proto::ONLY_IN_BASE);
   EXPECT_EQ(comparison.criterion(0).change(), proto::WORSE);
 }
