@@ -1,6 +1,6 @@
-// Grasp force controller of the servo that shrinks the frame (docs/design.md section 1): an admittance
-// on the servo angle driven by the grasp-force error, so the frame closes until the pads feel the
-// desired squeeze and then holds it, whatever the object's size and stiffness:
+// Grasp force controller of the servo that shrinks the frame (docs/design.md section 1): an
+// admittance on the servo angle driven by the grasp-force error, so the frame closes until the pads
+// feel the desired squeeze and then holds it, whatever the object's size and stiffness:
 //
 //   M_θ Δθ̈ + B_θ Δθ̇ + K_θ Δθ = f_d − f̂_g,   θ_d = clamp(θ_r + Δθ, open, closed)
 //

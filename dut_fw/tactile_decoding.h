@@ -1,7 +1,7 @@
-// Force decoding of the magnetic tactile sensors (docs/design.md section 4): the field at the Hall chip,
-// already compensated for Earth's field, is mapped to the feature vector S(B), and the force is
-// f = a ⊙ S + b with per-sensor calibration a, b. The published S is a closed-form expression with
-// divisions by Bz' and Bz'' and an arctangent whose branch jumps; this header evaluates an
+// Force decoding of the magnetic tactile sensors (docs/design.md section 4): the field at the Hall
+// chip, already compensated for Earth's field, is mapped to the feature vector S(B), and the force
+// is f = a ⊙ S + b with per-sensor calibration a, b. The published S is a closed-form expression
+// with divisions by Bz' and Bz'' and an arctangent whose branch jumps; this header evaluates an
 // algebraically equal form that stays continuous wherever the published one is defined and
 // reports every point where it is not, so the controller never consumes a NaN, an Inf, or a value
 // that rounding or a sign flip of noise has thrown to the other side of a branch cut.

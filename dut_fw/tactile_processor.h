@@ -4,8 +4,8 @@
 //   f_body = Σ_i R_BSi f̂_i,
 // for the admittance loop, and the grasp force
 //   f̂_g = Σ_i |f̂_i · n̂_i|
-// for the servo's grasp admittance (docs/design.md sections 1 and 4). Per tactile sample: codes -> tesla
-// (mlx90393.h), minus the latest reference sample rotated into the node's frame
+// for the servo's grasp admittance (docs/design.md sections 1 and 4). Per tactile sample: codes ->
+// tesla (mlx90393.h), minus the latest reference sample rotated into the node's frame
 // (geomagnetic_compensation.h), -> S -> f = a ⊙ S + b (tactile_decoding.h) -> the mean of the
 // node's last `force_average_samples` forces (force_average.h; 1 = none). The offset b is found
 // on the vehicle itself by no-load averaging over the first `zeroing_samples` valid samples of each
