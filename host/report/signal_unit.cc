@@ -12,6 +12,7 @@ const char* SignalUnit(proto::Signal signal) {
     case proto::TILT_DEG:
       return "deg";
     case proto::SPEED_M_S:
+    case proto::SLIP_SPEED_M_S:
       return "m/s";
     case proto::TACTILE_FORCE_N:
     case proto::TACTILE_FORCE_ERROR_N:

@@ -347,6 +347,10 @@ void ScenarioRunner::Impl::FillGraspTrace(TraceSample& sample) const {
   sample.servo_command_rad = command().servo_angle_rad;
   sample.object_damaged = gripper_->any_damaged();
   sample.object_dropped = gripper_->any_dropped();
+  const GraspState& grasp = gripper_->grasp();
+  const bool in_pads = grasp.mode == GraspMode::kHeld || grasp.mode == GraspMode::kSliding;
+  sample.object_held = in_pads;
+  sample.slip_speed_m_s = in_pads ? std::abs(grasp.slip_rate_m_s) : 0.0;
 }
 
 bool ScenarioRunner::Impl::RecordTrace(std::int64_t now_ns) {

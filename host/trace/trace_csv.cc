@@ -45,7 +45,9 @@ std::array<double, TraceCsvWriter::kColumnCount> Columns(const TraceSample& samp
           s.servo_command_rad,
           s.object_damaged ? 1.0 : 0.0,
           s.object_dropped ? 1.0 : 0.0,
-          s.ground_force_n};
+          s.ground_force_n,
+          s.object_held ? 1.0 : 0.0,
+          s.slip_speed_m_s};
 }
 
 }  // namespace
@@ -56,7 +58,7 @@ TraceCsvWriter::TraceCsvWriter(std::ostream& out) : out_(out) {
           "thrust1_n,thrust2_n,thrust3_n,est_x_m,est_y_m,est_z_m,tactile_force_max_n,"
           "tactile_force_error_max_n,grasp_force_n,grasp_force_estimate_n,grasp_force_setpoint_n,"
           "load_n,load_estimate_n,object_mass_kg,servo_angle_rad,servo_command_rad,"
-          "object_damaged,object_dropped,ground_force_n\n";
+          "object_damaged,object_dropped,ground_force_n,object_held,slip_speed_m_s\n";
 }
 
 char* TraceCsvWriter::AppendColumn(double value, ColumnText& previous, char* out) {

@@ -16,7 +16,7 @@ namespace hilrig::host {
 
 class TraceCsvWriter {
  public:
-  static constexpr std::size_t kColumnCount = 37;
+  static constexpr std::size_t kColumnCount = 39;
 
   // Writes the header at once; `out` must outlive the writer.
   explicit TraceCsvWriter(std::ostream& out);

@@ -27,6 +27,8 @@ double ObjectDamaged(const TraceSample& s) { return s.object_damaged ? 1.0 : 0.0
 double ObjectDropped(const TraceSample& s) { return s.object_dropped ? 1.0 : 0.0; }
 double ServoAngleRad(const TraceSample& s) { return s.servo_angle_rad; }
 double GroundForceN(const TraceSample& s) { return s.ground_force_n; }
+double ObjectHeld(const TraceSample& s) { return s.object_held ? 1.0 : 0.0; }
+double SlipSpeedMS(const TraceSample& s) { return s.slip_speed_m_s; }
 double NoSignal(const TraceSample&) { return std::numeric_limits<double>::quiet_NaN(); }
 
 }  // namespace
@@ -67,6 +69,10 @@ SignalReader SignalReaderFor(proto::Signal signal) {
       return ServoAngleRad;
     case proto::GROUND_FORCE_N:
       return GroundForceN;
+    case proto::OBJECT_HELD:
+      return ObjectHeld;
+    case proto::SLIP_SPEED_M_S:
+      return SlipSpeedMS;
     default:
       return NoSignal;
   }
@@ -83,7 +89,7 @@ bool AllSignalsFinite(const TraceSample& sample) {
   // exactly where the norm would), |a - b| when a - b is (which also covers a and b alone: a
   // difference with a non-finite operand is never finite), and the horizontal and altitude errors
   // whenever the whole position error is. The flags are 0 or 1.
-  static_assert(proto::Signal_ARRAYSIZE == 18,
+  static_assert(proto::Signal_ARRAYSIZE == 20,
                 "a new Signal must be covered here (and in SignalReaderFor)");
   const Eigen::Vector3d error_m = PositionError(sample);
   return std::isfinite(error_m.squaredNorm()) && std::isfinite(sample.position_m.z()) &&
@@ -92,7 +98,8 @@ bool AllSignalsFinite(const TraceSample& sample) {
          std::isfinite(sample.tactile_force_error_max_n) &&
          std::isfinite(sample.grasp_force_estimate_n - sample.grasp_force_n) &&
          std::isfinite(sample.load_estimate_n - sample.load_n) &&
-         std::isfinite(sample.servo_angle_rad) && std::isfinite(sample.ground_force_n);
+         std::isfinite(sample.servo_angle_rad) && std::isfinite(sample.ground_force_n) &&
+         std::isfinite(sample.slip_speed_m_s);
 }
 
 }  // namespace hilrig::host

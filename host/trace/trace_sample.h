@@ -35,6 +35,8 @@ struct TraceSample {
   bool object_damaged = false;
   bool object_dropped = false;
   double ground_force_n = 0;  // the ground's push on the vehicle (GROUND_FORCE_N)
+  bool object_held = false;   // off its stand and in the pads (OBJECT_HELD)
+  double slip_speed_m_s = 0;  // |object speed along the pads| while in them (SLIP_SPEED_M_S)
 };
 
 // Reads one signal from a sample. A check that watches one signal resolves its reader once and

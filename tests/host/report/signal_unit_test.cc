@@ -11,6 +11,8 @@ TEST(SignalUnitTest, EachSignalHasTheUnitItsNameEndsIn) {
   EXPECT_EQ(std::string(SignalUnit(proto::ALTITUDE_ERROR_M)), "m");
   EXPECT_EQ(std::string(SignalUnit(proto::TILT_DEG)), "deg");
   EXPECT_EQ(std::string(SignalUnit(proto::SPEED_M_S)), "m/s");
+  EXPECT_EQ(std::string(SignalUnit(proto::SLIP_SPEED_M_S)), "m/s");
+  EXPECT_EQ(std::string(SignalUnit(proto::OBJECT_HELD)), "");
   EXPECT_EQ(std::string(SignalUnit(proto::GRASP_FORCE_N)), "N");
   EXPECT_EQ(std::string(SignalUnit(proto::SERVO_ANGLE_RAD)), "rad");
   EXPECT_EQ(std::string(SignalUnit(proto::GROUND_FORCE_N)), "N");

@@ -47,15 +47,20 @@ Landing LandWithSubsteps(int substeps) {
   return landing;
 }
 
-// The largest value of the trace's last column (ground_force_n).
+// The largest value of the trace's ground_force_n column.
 double LargestGroundForceInTrace(const std::string& trace) {
   std::istringstream lines(trace);
   std::string line;
   std::getline(lines, line);
-  EXPECT_EQ(line.substr(line.rfind(',') + 1), "ground_force_n");
+  std::size_t column = 0;
+  std::istringstream header(line);
+  for (std::string name; std::getline(header, name, ',') && name != "ground_force_n";) ++column;
   double largest = 0;
   while (std::getline(lines, line)) {
-    largest = std::max(largest, std::stod(line.substr(line.rfind(',') + 1)));
+    std::istringstream cells(line);
+    std::string cell;
+    for (std::size_t i = 0; i <= column; ++i) std::getline(cells, cell, ',');
+    largest = std::max(largest, std::stod(cell));
   }
   return largest;
 }

@@ -76,7 +76,8 @@ TEST(TraceCsvTest, HeaderNamesEveryColumnInOrder) {
             "thrust1_n,thrust2_n,thrust3_n,est_x_m,est_y_m,est_z_m,tactile_force_max_n,"
             "tactile_force_error_max_n,grasp_force_n,grasp_force_estimate_n,"
             "grasp_force_setpoint_n,load_n,load_estimate_n,object_mass_kg,servo_angle_rad,"
-            "servo_command_rad,object_damaged,object_dropped,ground_force_n\n");
+            "servo_command_rad,object_damaged,object_dropped,ground_force_n,object_held,"
+            "slip_speed_m_s\n");
   EXPECT_EQ(Split(out.str()).size(), TraceCsvWriter::kColumnCount);
 }
 
@@ -104,9 +105,11 @@ TEST(TraceCsvTest, EveryFieldLandsInItsColumn) {
   s.servo_command_rad = 29;
   s.object_damaged = true;
   s.ground_force_n = 30;
+  s.object_held = true;
+  s.slip_speed_m_s = 31;
   EXPECT_EQ(WriteOne(s).row,
             "1,2,3,4,2,3,5,6,7,8,9,10,11,12,1,0,1,13,14,15,16,17,18,19,20,21,22,23,24,25,26,27,28,"
-            "29,1,0,30");
+            "29,1,0,30,1,31");
 }
 
 TEST(TraceCsvTest, ErrorColumnsAreComputedFromPositionAndReference) {

@@ -27,6 +27,8 @@ TraceSample Sample() {
   s.object_dropped = true;
   s.servo_angle_rad = 0.75;
   s.ground_force_n = 6.5;
+  s.object_held = true;
+  s.slip_speed_m_s = 0.02;
   return s;
 }
 
@@ -50,6 +52,8 @@ TEST(SignalValueTest, EverySignalReadsItsQuantity) {
   EXPECT_DOUBLE_EQ(SignalValue(s, proto::OBJECT_DROPPED), 1.0);
   EXPECT_DOUBLE_EQ(SignalValue(s, proto::SERVO_ANGLE_RAD), 0.75);
   EXPECT_DOUBLE_EQ(SignalValue(s, proto::GROUND_FORCE_N), 6.5);
+  EXPECT_DOUBLE_EQ(SignalValue(s, proto::OBJECT_HELD), 1.0);
+  EXPECT_DOUBLE_EQ(SignalValue(s, proto::SLIP_SPEED_M_S), 0.02);
   EXPECT_TRUE(std::isnan(SignalValue(s, proto::SIGNAL_UNSPECIFIED)));
   EXPECT_TRUE(std::isnan(SignalValue(s, static_cast<proto::Signal>(999))));
 }
@@ -152,7 +156,9 @@ TEST(AllSignalsFiniteTest, AgreesWithEverySignalOneByOne) {
     s.load_estimate_n = field();
     s.servo_angle_rad = field();
     s.ground_force_n = field();
+    s.slip_speed_m_s = field();
     s.object_damaged = rng() % 2 == 0;
+    s.object_held = rng() % 2 == 0;
     const bool expected = EverySignalFinite(s);
     ASSERT_EQ(AllSignalsFinite(s), expected) << "sample " << i;
     non_finite += expected ? 0 : 1;
