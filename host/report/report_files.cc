@@ -289,7 +289,7 @@ std::vector<std::string> FormatRealtimeTiming(const proto::Timing& timing) {
 }
 
 std::string FormatObjectLine(const proto::ObjectOutcome& outcome) {
-  char buffer[200];
+  char buffer[300];
   if (outcome.damage() == "none") {
     std::snprintf(buffer, sizeof(buffer), "object %s: undamaged, %s, peak %.3g N per pad",
                   outcome.fixture().c_str(), outcome.final_state().c_str(),
@@ -299,7 +299,13 @@ std::string FormatObjectLine(const proto::ObjectOutcome& outcome) {
                   outcome.fixture().c_str(), outcome.damage().c_str(), outcome.damaged_at_s(),
                   outcome.final_state().c_str(), outcome.peak_normal_force_n());
   }
-  return buffer;
+  std::string line = buffer;
+  if (outcome.has_damage_force_n()) {
+    std::snprintf(buffer, sizeof(buffer), " (damaged at %.3g N, margin %.3g N)",
+                  outcome.damage_force_n(), outcome.damage_margin_n());
+    line += buffer;
+  }
+  return line;
 }
 
 }  // namespace hilrig::host

@@ -148,15 +148,21 @@ std::string ObjectTable(const proto::Report& report) {
   std::vector<std::vector<HtmlCell>> rows;
   for (const proto::ObjectOutcome& object : report.objects()) {
     const bool damaged = object.damage() != "none";
-    rows.push_back({TextCell(object.fixture()),
-                    TextCell(object.damage(), damaged ? Tone::kFail : Tone::kPass),
-                    damaged ? NumberCell(object.damaged_at_s(), "s") : TextCell("-"),
-                    TextCell(object.final_state()), NumberCell(object.peak_normal_force_n(), "N"),
-                    NumberCell(object.peak_indentation_m(), "m")});
+    rows.push_back(
+        {TextCell(object.fixture()), TextCell(object.damage(), damaged ? Tone::kFail : Tone::kPass),
+         damaged ? NumberCell(object.damaged_at_s(), "s") : TextCell("-"),
+         TextCell(object.final_state()), NumberCell(object.peak_normal_force_n(), "N"),
+         object.has_damage_force_n() ? NumberCell(object.damage_force_n(), "N") : TextCell("-"),
+         object.has_damage_margin_n()
+             ? HtmlCell{NumberCell(object.damage_margin_n(), "N").html,
+                        object.damage_margin_n() > 0 ? Tone::kPass : Tone::kFail, true}
+             : TextCell("-"),
+         NumberCell(object.peak_indentation_m(), "m")});
   }
-  return "<h2>Objects</h2>\n" + HtmlTable({"object", "damage", "at", "final state",
-                                           "peak force per pad", "peak indentation"},
-                                          rows);
+  return "<h2>Objects</h2>\n" +
+         HtmlTable({"object", "damage", "at", "final state", "peak force per pad", "damaged at",
+                    "margin", "peak indentation"},
+                   rows);
 }
 
 std::string FidelitySection(const proto::Report& report) {

@@ -148,6 +148,11 @@ std::vector<proto::ObjectOutcome> GripperScene::Outcomes() const {
 
 proto::ObjectOutcome GripperScene::CurrentOutcome() const {
   proto::ObjectOutcome current = current_;
+  const double limit_n = scene_.object.damage_force_n;
+  if (scene_.object.damage_mode != DamageMode::kNone && std::isfinite(limit_n)) {
+    current.set_damage_force_n(limit_n);
+    current.set_damage_margin_n(limit_n - grasp_.peak_normal_force_n);
+  }
   current.set_damage(DamageModeName(grasp_.damage));
   if (damaged_at_s_ >= 0) current.set_damaged_at_s(damaged_at_s_);
   current.set_final_state(GraspModeName(grasp_.mode));

@@ -247,6 +247,12 @@ ObjectPlacement ResolveObject(const proto::GraspObject& spec, double at_s,
   placement.object = WithStiffnessScale(
       fixture.value(), Or(spec.has_stiffness_scale(), spec.stiffness_scale(), 1.0));
   placement.object.mass_kg = Or(spec.has_mass_kg(), spec.mass_kg(), placement.object.mass_kg);
+  if (spec.has_damage_force_n()) {
+    placement.object.damage_force_n = spec.damage_force_n();
+    if (placement.object.damage_mode == DamageMode::kNone) {
+      placement.object.damage_mode = DamageMode::kCrush;
+    }
+  }
   placement.stand_height_m =
       Or(spec.has_stand_height_m(), spec.stand_height_m(), default_stand_height_m);
   return placement;

@@ -278,6 +278,7 @@ void CheckObject(const proto::GraspObject& object, const ProblemList& problems) 
   RequirePositive(object.has_stiffness_scale(), object.stiffness_scale(), "stiffness_scale",
                   problems);
   RequirePositive(object.has_mass_kg(), object.mass_kg(), "mass_kg", problems);
+  RequirePositive(object.has_damage_force_n(), object.damage_force_n(), "damage_force_n", problems);
   RequirePositive(object.has_stand_height_m(), object.stand_height_m(), "stand_height_m", problems);
 }
 

@@ -95,6 +95,12 @@ TEST(ScenarioValidationTest, GraspForceBeyondWhatTheServoCanHoldIsRefused) {
   EXPECT_TRUE(ParseScenario(stronger, "spec.textproto").ok()) << ErrorOf(stronger);
 }
 
+TEST(ScenarioValidationTest, AnObjectsOwnDamageForceMustBePositive) {
+  std::string spec = kGraspScene;
+  spec.replace(spec.find("fixture: \"balloon\""), 18, "fixture: \"balloon\" damage_force_n: 0");
+  EXPECT_THAT(ErrorOf(spec), HasSubstr("object.damage_force_n: must be > 0"));
+}
+
 TEST(ScenarioValidationTest, GraspNeedsAForceOrOpen) {
   const std::string error = ErrorOf(std::string(kGraspScene) + "timeline { at_s: 2 grasp { } }\n");
   EXPECT_THAT(error, HasSubstr("force_n is required (or open: true)"));
