@@ -17,7 +17,8 @@ proto::Report SqueezeEgg(const std::string& object_extra) {
   const std::string text = R"(name: "egg_limit"
 vehicle { initial_position_m { z: 0.5 } }
 models { tactile { enabled: true field_fidelity: "map:8" } }
-object { fixture: "egg" )" + object_extra + R"( }
+object { fixture: "egg" )" +
+                           object_extra + R"( }
 simulation { duration_s: 4 }
 timeline { at_s: 1 grasp { force_n: 6 } }
 envelopes { name: "not_cracked" signal: OBJECT_DAMAGED upper: 0 }

@@ -29,7 +29,8 @@ vehicle { initial_position_m { z: 0.5 } }
 models { tactile { enabled: true field_fidelity: "map:8" } }
 object { fixture: "egg" }
 simulation { duration_s: 5 }
-timeline { at_s: 1 grasp { force_n: )" + grasp_n + R"( } }
+timeline { at_s: 1 grasp { force_n: )" +
+                           grasp_n + R"( } }
 )" + timeline + R"(
 envelopes { name: "held" signal: OBJECT_HELD lower: 1 from_s: 4 }
 envelopes { name: "not_dropped" signal: OBJECT_DROPPED upper: 0 }
