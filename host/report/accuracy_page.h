@@ -15,12 +15,12 @@ namespace hilrig::host {
 // The held-out target the pages draw and grade against: the compensated maximum error per axis.
 inline constexpr double kHeldOutTargetN = 0.02;
 
-// The condition the held-out sweep names its compensated figures by
-// (fixtures/calibration/calibration_procedure.cc): the accuracy page grades that one.
+// The condition the held-out sweep names its compensated figures by (the procedure,
+// fixtures/calibration/calibration_procedure.cc, names it with this): the page grades that one.
 inline constexpr const char* kCompensatedCondition = "compensated";
 
-// The budget's configuration with every effect off (fixtures/calibration/accuracy_budget.cc):
-// the decoding model's floor, whose z maximum the budget's chart marks.
+// The budget's configuration with every effect off (fixtures/calibration/accuracy_budget.cc names
+// it with this): the decoding model's floor, whose z maximum the budget's chart marks.
 inline constexpr const char* kFloorConfiguration = "none";
 
 // The files the commands write into their output folder; each page links its JSON.

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iterator>
 #include <limits>
 
 #include "host/report/xml_text.h"
@@ -232,13 +231,7 @@ double BarTopPx(const BarLayout& layout, std::size_t category, std::size_t serie
 std::string RenderBarSvg(const BarPlot& plot) {
   const BarLayout layout = BarLayoutOf(plot);
   const Frame frame{layout};
-  std::vector<std::string> colors;
-  std::size_t next_palette_index = 0;
-  for (const BarSeries& series : plot.series) {
-    colors.push_back(EscapeXmlText(
-        series.color.empty() ? kSeriesPalette[next_palette_index++ % std::size(kSeriesPalette)]
-                             : series.color));
-  }
+  const std::vector<std::string> colors = SeriesColors(plot.series);
   return SvgDocumentStart(layout.doc_width_px, layout.doc_height_px) + GridAndAxes(frame) +
          CategoryLabels(plot, frame) + Bars(plot, colors, frame) + ReferenceLines(plot, frame) +
          Labels(plot, frame) + Legend(plot, colors, frame) + Remark(plot, frame) + "</svg>\n";

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iterator>
 
 namespace hilrig::host {
 namespace {
@@ -232,13 +231,7 @@ std::string Note(const ScatterPlot& plot, const Frame& frame) {
 // The body of one plot (everything inside <svg>), with clip ids made unique by `id`.
 std::string Body(const ScatterPlot& plot, const PlotLayout& layout, const std::string& id) {
   const Frame frame = FrameOf(plot, layout);
-  std::vector<std::string> colors;
-  std::size_t next_palette_index = 0;
-  for (const ScatterSeries& series : plot.series) {
-    colors.push_back(EscapeXmlText(
-        series.color.empty() ? kSeriesPalette[next_palette_index++ % std::size(kSeriesPalette)]
-                             : series.color));
-  }
+  const std::vector<std::string> colors = SeriesColors(plot.series);
   const std::string clip_id = "plot-area-" + id;
   std::string out = "<defs><clipPath" + SvgAttr("id", clip_id) + "><rect" +
                     SvgAttr("x", SvgPx(frame.area.left_px - kMarkerRadiusPx)) +

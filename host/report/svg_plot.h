@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstddef>
+#include <iterator>
 #include <limits>
 #include <optional>
 #include <string>
@@ -132,5 +133,19 @@ std::string SvgDocumentStart(int width_px, int height_px);
 
 // `text` cut to at most `max_chars` UTF-8 characters, the last one an ellipsis when cut.
 std::string SvgTruncated(const std::string& text, std::size_t max_chars);
+
+// Each series' colour, escaped for an attribute: its own `color`, or for a series without one the
+// next colour of kSeriesPalette in turn. `Series` is any series type with a `color` string.
+template <typename Series>
+std::vector<std::string> SeriesColors(const std::vector<Series>& series) {
+  std::vector<std::string> colors;
+  std::size_t next_palette_index = 0;
+  for (const Series& one : series) {
+    colors.push_back(EscapeXmlText(
+        one.color.empty() ? kSeriesPalette[next_palette_index++ % std::size(kSeriesPalette)]
+                          : one.color));
+  }
+  return colors;
+}
 
 }  // namespace hilrig::host

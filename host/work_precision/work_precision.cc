@@ -66,6 +66,9 @@ void TimeInRounds(const std::vector<ScenarioConfig>& configs, SceneResult& scene
   }
 }
 
+// A signal in newtons: what the force checks and the tightest force envelope are made of.
+bool IsForceSignal(proto::Signal signal) { return std::string_view(SignalUnit(signal)) == "N"; }
+
 RunResult Evaluate(const PlannedRun& planned, const ScenarioConfig& config,
                    const CapturedRun& captured, const CapturedTrace& reference) {
   RunResult result;
@@ -75,7 +78,7 @@ RunResult Evaluate(const PlannedRun& planned, const ScenarioConfig& config,
   result.passes_envelopes = captured.report.passed();
   for (const proto::EnvelopeResult& envelope : captured.report.envelopes()) {
     if (envelope.expected() != proto::PASS || envelope.not_evaluated()) continue;
-    if (std::string_view(SignalUnit(envelope.signal())) != "N") continue;
+    if (!IsForceSignal(envelope.signal())) continue;
     result.force_check_worst_n.emplace_back(envelope.name(), envelope.worst_value());
   }
   result.stop_reason = captured.report.stop_reason();
@@ -558,7 +561,7 @@ double TightestForceEnvelopeN(const proto::Scenario& spec) {
   double tightest = std::numeric_limits<double>::quiet_NaN();
   for (const proto::Envelope& envelope : spec.envelopes()) {
     if (envelope.expect() == proto::FAIL) continue;
-    if (std::string_view(SignalUnit(envelope.signal())) != "N") continue;
+    if (!IsForceSignal(envelope.signal())) continue;
     if (!envelope.has_lower() && !envelope.has_upper()) continue;
     const double width = envelope.has_lower() && envelope.has_upper()
                              ? envelope.upper() - envelope.lower()

@@ -5,13 +5,9 @@
 // of them. The other five films' field at each chip stays, and biases every pad the same way.
 #include <gtest/gtest.h>
 
-#include <sstream>
 #include <string>
 
-#include "host/runner/runner.h"
-#include "host/scenario/scenario_config.h"
-#include "host/scenario/scenario_loader.h"
-#include "host/setup/scene_setup.h"
+#include "tests/support/scene_text_run.h"
 
 namespace hilrig::host {
 namespace {
@@ -27,13 +23,7 @@ timeline { at_s: 1.5 grasp { force_n: 0.6 } }
 envelopes { name: "pad_force_error" signal: TACTILE_FORCE_ERROR_N upper: 0.05 from_s: 5 }
 envelopes { name: "grasp_estimate" signal: GRASP_FORCE_ERROR_N upper: 0.05 from_s: 5 }
 )";
-  const auto spec = ParseScenario(text, "cross_talk.textproto");
-  EXPECT_TRUE(spec.ok()) << spec.error().message;
-  ScenarioConfig config = ResolveScenario(spec.value(), std::nullopt);
-  EXPECT_TRUE(LoadTactileCalibration(config).ok());
-  std::ostringstream trace;
-  const rig::SimClock wall_clock;
-  return RunScenario(config, {.trace_csv = &trace}, {.wall_clock = &wall_clock});
+  return RunSceneText(text, "cross_talk.textproto");
 }
 
 double Worst(const proto::Report& report, const std::string& envelope) {

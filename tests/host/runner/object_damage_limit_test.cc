@@ -5,10 +5,7 @@
 
 #include <string>
 
-#include "host/runner/runner.h"
-#include "host/scenario/scenario_config.h"
-#include "host/scenario/scenario_loader.h"
-#include "host/setup/scene_setup.h"
+#include "tests/support/scene_text_run.h"
 
 namespace hilrig::host {
 namespace {
@@ -23,12 +20,7 @@ simulation { duration_s: 4 }
 timeline { at_s: 1 grasp { force_n: 6 } }
 envelopes { name: "not_cracked" signal: OBJECT_DAMAGED upper: 0 }
 )";
-  const auto spec = ParseScenario(text, "egg_limit.textproto");
-  EXPECT_TRUE(spec.ok()) << spec.error().message;
-  ScenarioConfig config = ResolveScenario(spec.value(), std::nullopt);
-  EXPECT_TRUE(LoadTactileCalibration(config).ok());
-  const rig::SimClock wall_clock;
-  return RunScenario(config, {}, {.wall_clock = &wall_clock});
+  return RunSceneText(text, "egg_limit.textproto");
 }
 
 TEST(ObjectDamageLimitTest, ASpecsOwnLimitCracksTheEggWhereTheFixturesCannot) {

@@ -4,13 +4,9 @@
 // it is held; gripped at 1.2 N it slides along the pads (SLIP_SPEED_M_S) and falls out.
 #include <gtest/gtest.h>
 
-#include <sstream>
 #include <string>
 
-#include "host/runner/runner.h"
-#include "host/scenario/scenario_config.h"
-#include "host/scenario/scenario_loader.h"
-#include "host/setup/scene_setup.h"
+#include "tests/support/scene_text_run.h"
 
 namespace hilrig::host {
 namespace {
@@ -36,12 +32,7 @@ envelopes { name: "held" signal: OBJECT_HELD lower: 1 from_s: 4 }
 envelopes { name: "not_dropped" signal: OBJECT_DROPPED upper: 0 }
 envelopes { name: "slip" signal: SLIP_SPEED_M_S upper: 1e9 }
 )";
-  const auto spec = ParseScenario(text, "egg_held.textproto");
-  EXPECT_TRUE(spec.ok()) << spec.error().message;
-  ScenarioConfig config = ResolveScenario(spec.value(), std::nullopt);
-  EXPECT_TRUE(LoadTactileCalibration(config).ok());
-  const rig::SimClock wall_clock;
-  return RunScenario(config, {}, {.wall_clock = &wall_clock});
+  return RunSceneText(text, "egg_held.textproto");
 }
 
 TEST(ObjectHeldTest, AnEggLeftOnItsStandIsNotHeldThoughNotDropped) {
