@@ -7,7 +7,7 @@ namespace hilrig::host {
 
 EnvelopeCheck::EnvelopeCheck(EnvelopeSpec spec)
     : spec_(std::move(spec)),
-      read_signal_(SignalReaderFor(spec_.signal)),
+      read_signal_(SignalReaderFor(spec_.signal, spec_.pad)),
       lower_(spec_.lower.value_or(-std::numeric_limits<double>::infinity())),
       upper_(spec_.upper.value_or(std::numeric_limits<double>::infinity())),
       from_s_(spec_.from_s),

@@ -3,6 +3,7 @@
 // the run's plots read it, so none of them needs the spec's message types.
 #pragma once
 
+#include <cstddef>
 #include <optional>
 #include <string>
 
@@ -16,8 +17,9 @@ struct EnvelopeSpec {
   std::string name;
   // The trace signal's key, the enum SignalReaderFor reads and the report names.
   proto::Signal signal = proto::SIGNAL_UNSPECIFIED;
-  std::optional<double> lower;  // unset: no lower bound
-  std::optional<double> upper;  // unset: no upper bound
+  std::optional<std::size_t> pad;  // the pad a PAD_* signal watches (0 = tactile node 1)
+  std::optional<double> lower;     // unset: no lower bound
+  std::optional<double> upper;     // unset: no upper bound
   double from_s = 0;
   std::optional<double> until_s;  // unset: to the end of the run
   EnvelopeVerdict expect = EnvelopeVerdict::kPass;

@@ -22,6 +22,9 @@ const char* SignalUnit(proto::Signal signal) {
     case proto::LOAD_N:
     case proto::LOAD_ESTIMATE_ERROR_N:
     case proto::GROUND_FORCE_N:
+    case proto::PAD_FORCE_N:
+    case proto::PAD_FORCE_ESTIMATE_N:
+    case proto::PAD_FORCE_ERROR_N:
       return "N";
     case proto::SERVO_ANGLE_RAD:
       return "rad";

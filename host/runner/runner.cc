@@ -365,12 +365,15 @@ bool ScenarioRunner::Impl::RecordTrace(std::int64_t now_ns) {
   sample.rotor_thrust_n = plant_.rotors.thrust_n;
   sample.estimated_position_m = command().estimated_position_m;
   const auto& applied_n = gripper_ ? gripper_->pad_forces() : kNoPadForce;
+  static_assert(kTracePadCount == kTactileSensorCount);
   for (int i = 0; i < kTactileSensorCount; ++i) {
-    const double decoded_n = command().tactile_force_sensor_n[i].norm();
-    sample.tactile_force_max_n = std::max(sample.tactile_force_max_n, decoded_n);
+    sample.pad_force_n[i] = applied_n[i].norm();
+    sample.pad_force_estimate_n[i] = command().tactile_force_sensor_n[i].norm();
+    sample.pad_force_error_n[i] = (command().tactile_force_sensor_n[i] - applied_n[i]).norm();
+    sample.tactile_force_max_n =
+        std::max(sample.tactile_force_max_n, sample.pad_force_estimate_n[i]);
     sample.tactile_force_error_max_n =
-        std::max(sample.tactile_force_error_max_n,
-                 (command().tactile_force_sensor_n[i] - applied_n[i]).norm());
+        std::max(sample.tactile_force_error_max_n, sample.pad_force_error_n[i]);
   }
   if (gripper_) FillGraspTrace(sample);
   if (!AllSignalsFinite(sample)) ++non_finite_samples_;

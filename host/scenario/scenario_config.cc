@@ -226,6 +226,7 @@ EnvelopeSpec ResolveEnvelope(const proto::Envelope& envelope) {
   EnvelopeSpec resolved;
   resolved.name = envelope.name();
   resolved.signal = envelope.signal();
+  if (envelope.has_pad()) resolved.pad = envelope.pad();
   resolved.lower = OptionalOf(envelope.has_lower(), envelope.lower());
   resolved.upper = OptionalOf(envelope.has_upper(), envelope.upper());
   resolved.from_s = Or(envelope.has_from_s(), envelope.from_s(), 0.0);

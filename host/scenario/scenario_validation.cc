@@ -20,6 +20,7 @@
 #include "host/scenario/scenario_config.h"
 #include "host/scenario/spec_limits.h"
 #include "host/sensors/tactile/film_field_factory.h"
+#include "host/trace/trace_sample.h"
 #include "rig/number_text.h"
 
 namespace hilrig::host {
@@ -395,6 +396,41 @@ void CheckTimeline(const proto::Scenario& scenario, const ProblemList& problems)
   }
 }
 
+bool WatchesGrasp(proto::Signal signal) {
+  return (signal >= proto::GRASP_FORCE_N && signal <= proto::SERVO_ANGLE_RAD) ||
+         signal == proto::OBJECT_HELD || signal == proto::SLIP_SPEED_M_S;
+}
+
+bool WatchesPads(proto::Signal signal) {
+  return signal == proto::TACTILE_FORCE_N || signal == proto::TACTILE_FORCE_ERROR_N ||
+         IsPadSignal(signal);
+}
+
+// The signal exists in this scene: the pads' signals need the tactile model, the grasp's an
+// object, and a PAD_* signal the pad it watches.
+void CheckEnvelopeSignalFits(const proto::Envelope& envelope, const proto::Scenario& scenario,
+                             const ProblemList& here) {
+  if (WatchesPads(envelope.signal()) && !scenario.models().tactile().enabled()) {
+    here.Add("signal", "watches the tactile pads, but models.tactile.enabled is false");
+  }
+  if (WatchesGrasp(envelope.signal()) && !scenario.has_object()) {
+    here.Add("signal", "watches the grasp, but the scene has no object");
+  }
+  if (IsPadSignal(envelope.signal())) {
+    if (!envelope.has_pad()) {
+      here.AddHere("signal " + proto::Signal_Name(envelope.signal()) +
+                   " needs pad: the tactile pad it watches, 0 to " +
+                   std::to_string(kTracePadCount - 1));
+    } else if (envelope.pad() >= kTracePadCount) {
+      here.Add("pad", "must be 0 to " + std::to_string(kTracePadCount - 1) + " (six pads), got " +
+                          std::to_string(envelope.pad()));
+    }
+  } else if (envelope.has_pad()) {
+    here.Add("pad", "only a PAD_* signal watches one pad; " +
+                        proto::Signal_Name(envelope.signal()) + " does not");
+  }
+}
+
 void CheckEnvelopes(const proto::Scenario& scenario, const ProblemList& problems) {
   std::set<std::string> names;
   for (int i = 0; i < scenario.envelopes_size(); ++i) {
@@ -419,16 +455,7 @@ void CheckEnvelopes(const proto::Scenario& scenario, const ProblemList& problems
     }
     RequireNonNegative(envelope.has_from_s(), envelope.from_s(), "from_s", here);
     RequirePositive(envelope.has_mean_over_s(), envelope.mean_over_s(), "mean_over_s", here);
-    const bool tactile_signal = envelope.signal() == proto::TACTILE_FORCE_N ||
-                                envelope.signal() == proto::TACTILE_FORCE_ERROR_N;
-    if (tactile_signal && !scenario.models().tactile().enabled()) {
-      here.Add("signal", "watches the tactile pads, but models.tactile.enabled is false");
-    }
-    const bool grasp_signal =
-        envelope.signal() >= proto::GRASP_FORCE_N && envelope.signal() <= proto::SERVO_ANGLE_RAD;
-    if (grasp_signal && !scenario.has_object()) {
-      here.Add("signal", "watches the grasp, but the scene has no object");
-    }
+    CheckEnvelopeSignalFits(envelope, scenario, here);
   }
 }
 

@@ -16,7 +16,9 @@ namespace hilrig::host {
 
 class TraceCsvWriter {
  public:
-  static constexpr std::size_t kColumnCount = 39;
+  // The scalar columns, then each pad's true force and each pad's DUT estimate.
+  static constexpr std::size_t kScalarColumnCount = 39;
+  static constexpr std::size_t kColumnCount = kScalarColumnCount + 2 * kTracePadCount;
 
   // Writes the header at once; `out` must outlive the writer.
   explicit TraceCsvWriter(std::ostream& out);

@@ -1,7 +1,9 @@
 #include "host/trace/trace_sample.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace hilrig::host {
 namespace {
@@ -29,11 +31,44 @@ double ServoAngleRad(const TraceSample& s) { return s.servo_angle_rad; }
 double GroundForceN(const TraceSample& s) { return s.ground_force_n; }
 double ObjectHeld(const TraceSample& s) { return s.object_held ? 1.0 : 0.0; }
 double SlipSpeedMS(const TraceSample& s) { return s.slip_speed_m_s; }
+bool AllFinite(const std::array<double, kTracePadCount>& values) {
+  return std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); });
+}
+
 double NoSignal(const TraceSample&) { return std::numeric_limits<double>::quiet_NaN(); }
+
+// One reader per pad and per-pad field, so that a check still calls a plain function per sample.
+template <std::array<double, kTracePadCount> TraceSample::*kField, std::size_t... kPads>
+constexpr std::array<SignalReader, kTracePadCount> PadReaders(std::index_sequence<kPads...>) {
+  return {[](const TraceSample& s) { return (s.*kField)[kPads]; }...};
+}
+template <std::array<double, kTracePadCount> TraceSample::*kField>
+constexpr std::array<SignalReader, kTracePadCount> kPadReaders =
+    PadReaders<kField>(std::make_index_sequence<kTracePadCount>());
+
+SignalReader PadReaderFor(proto::Signal signal, std::optional<std::size_t> pad) {
+  if (!pad || *pad >= kTracePadCount) return NoSignal;
+  switch (signal) {
+    case proto::PAD_FORCE_N:
+      return kPadReaders<&TraceSample::pad_force_n>[*pad];
+    case proto::PAD_FORCE_ESTIMATE_N:
+      return kPadReaders<&TraceSample::pad_force_estimate_n>[*pad];
+    case proto::PAD_FORCE_ERROR_N:
+      return kPadReaders<&TraceSample::pad_force_error_n>[*pad];
+    default:
+      return NoSignal;
+  }
+}
 
 }  // namespace
 
-SignalReader SignalReaderFor(proto::Signal signal) {
+bool IsPadSignal(proto::Signal signal) {
+  return signal == proto::PAD_FORCE_N || signal == proto::PAD_FORCE_ESTIMATE_N ||
+         signal == proto::PAD_FORCE_ERROR_N;
+}
+
+SignalReader SignalReaderFor(proto::Signal signal, std::optional<std::size_t> pad) {
+  if (IsPadSignal(signal)) return PadReaderFor(signal, pad);
   switch (signal) {
     case proto::POSITION_ERROR_M:
       return PositionErrorM;
@@ -78,8 +113,9 @@ SignalReader SignalReaderFor(proto::Signal signal) {
   }
 }
 
-double SignalValue(const TraceSample& sample, proto::Signal signal) {
-  return SignalReaderFor(signal)(sample);
+double SignalValue(const TraceSample& sample, proto::Signal signal,
+                   std::optional<std::size_t> pad) {
+  return SignalReaderFor(signal, pad)(sample);
 }
 
 bool AllSignalsFinite(const TraceSample& sample) {
@@ -89,7 +125,7 @@ bool AllSignalsFinite(const TraceSample& sample) {
   // exactly where the norm would), |a - b| when a - b is (which also covers a and b alone: a
   // difference with a non-finite operand is never finite), and the horizontal and altitude errors
   // whenever the whole position error is. The flags are 0 or 1.
-  static_assert(proto::Signal_ARRAYSIZE == 20,
+  static_assert(proto::Signal_ARRAYSIZE == 23,
                 "a new Signal must be covered here (and in SignalReaderFor)");
   const Eigen::Vector3d error_m = PositionError(sample);
   return std::isfinite(error_m.squaredNorm()) && std::isfinite(sample.position_m.z()) &&
@@ -99,7 +135,8 @@ bool AllSignalsFinite(const TraceSample& sample) {
          std::isfinite(sample.grasp_force_estimate_n - sample.grasp_force_n) &&
          std::isfinite(sample.load_estimate_n - sample.load_n) &&
          std::isfinite(sample.servo_angle_rad) && std::isfinite(sample.ground_force_n) &&
-         std::isfinite(sample.slip_speed_m_s);
+         std::isfinite(sample.slip_speed_m_s) && AllFinite(sample.pad_force_n) &&
+         AllFinite(sample.pad_force_estimate_n) && AllFinite(sample.pad_force_error_n);
 }
 
 }  // namespace hilrig::host

@@ -5,11 +5,17 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cstddef>
+#include <optional>
 #include <string_view>
 
 #include "proto/scenario.pb.h"
+#include "protocol/tactile_bus.h"
 
 namespace hilrig::host {
+
+// The pads, one per tactile node: pad i is node i + 1.
+inline constexpr std::size_t kTracePadCount = tactile_bus::kTactileNodeCount;
 
 struct TraceSample {
   double time_s = 0;
@@ -22,6 +28,11 @@ struct TraceSample {
   Eigen::Vector3d estimated_position_m = Eigen::Vector3d::Zero();
   double tactile_force_max_n = 0;        // largest decoded pad force (DUT)
   double tactile_force_error_max_n = 0;  // largest |decoded - applied| pad force
+  // Per pad (PAD_FORCE_N, PAD_FORCE_ESTIMATE_N, PAD_FORCE_ERROR_N): the force magnitude the plant
+  // applies, the DUT's decoded one, and the magnitude of their vector difference.
+  std::array<double, kTracePadCount> pad_force_n{};
+  std::array<double, kTracePadCount> pad_force_estimate_n{};
+  std::array<double, kTracePadCount> pad_force_error_n{};
   // Grasp scenes (all zero without an object).
   double grasp_force_n = 0;           // true: sum of the pads' normal forces
   double grasp_force_estimate_n = 0;  // the DUT's sum |f_i . n_i|
@@ -43,11 +54,17 @@ struct TraceSample {
 // calls it per sample, instead of dispatching on the signal every time.
 using SignalReader = double (*)(const TraceSample& sample);
 
-// The reader of `signal`; for SIGNAL_UNSPECIFIED (or a number no Signal has) one that gives NaN.
-SignalReader SignalReaderFor(proto::Signal signal);
+// Whether `signal` is one pad's (PAD_*), which needs the pad it watches.
+bool IsPadSignal(proto::Signal signal);
 
-// The value of `signal` in `sample` (NaN for SIGNAL_UNSPECIFIED).
-double SignalValue(const TraceSample& sample, proto::Signal signal);
+// The reader of `signal` (of pad `pad` for a PAD_* signal); one that gives NaN for
+// SIGNAL_UNSPECIFIED, a number no Signal has, or a PAD_* signal without a pad below
+// kTracePadCount.
+SignalReader SignalReaderFor(proto::Signal signal, std::optional<std::size_t> pad = std::nullopt);
+
+// The value of `signal` (of pad `pad`) in `sample`; NaN where SignalReaderFor's reader is.
+double SignalValue(const TraceSample& sample, proto::Signal signal,
+                   std::optional<std::size_t> pad = std::nullopt);
 
 // Every signal an envelope can watch is finite (a NaN anywhere is a model or DUT defect worth
 // counting even where no envelope looks).

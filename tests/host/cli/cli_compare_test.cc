@@ -40,7 +40,7 @@ TEST(CliCompareTest, AWeakenedGraspControllerIsARegressionAnUnchangedOneIsNot) {
 
   const CliResult same = Cli({"compare", (dir / "base").string(), (dir / "same").string()});
   EXPECT_EQ(same.exit_code, 0) << same.out << same.err;
-  EXPECT_THAT(same.out, HasSubstr("3400 rows compared (base 3400, candidate 3400), 38 signals, "
+  EXPECT_THAT(same.out, HasSubstr("3400 rows compared (base 3400, candidate 3400), 50 signals, "
                                   "0 differ"));
   EXPECT_THAT(same.out, HasSubstr("candidate is not worse than the base"));
   EXPECT_THAT(same.out, Not(HasSubstr("WORSE")));
@@ -156,7 +156,7 @@ TEST(CliCompareTest, RefusesWhatItCannotCompare) {
   ChangeByteFromEnd(dir / "damaged" / "trace.csv", 2);  // a digit of the last row, now a letter
   const CliResult damaged = Cli({"compare", run, (dir / "damaged").string()});
   EXPECT_EQ(damaged.exit_code, 0) << damaged.out;
-  EXPECT_THAT(damaged.out, HasSubstr("stopped early: the candidate trace's line 3401 is not 39"));
+  EXPECT_THAT(damaged.out, HasSubstr("stopped early: the candidate trace's line 3401 is not 51"));
   // A FIFO or /dev/zero in place of a trace: named, never waited on or read without end (a
   // process of its own, bounded, so a hang fails the test instead of hanging it).
   for (const char* kind : {"fifo", "zero"}) {

@@ -20,12 +20,12 @@ ScenarioConfig ConfigOf(const std::string& simulation) {
 
 TEST(OutputSizeTest, ADayAtAKilohertzTraceIsWorthAWarning) {
   const ScenarioConfig day = ConfigOf("duration_s: 86400 trace_rate_hz: 1000");
-  // 86.4e6 rows of about 320 bytes, and 4.32e6 reference samples of about 48.
-  EXPECT_NEAR(EstimatedOutputBytes(day), 86.4e6 * 320 + 86400 * 50 * 48, 1);
+  // 86.4e6 rows of about 420 bytes, and 4.32e6 reference samples of about 48.
+  EXPECT_NEAR(EstimatedOutputBytes(day), 86.4e6 * 420 + 86400 * 50 * 48, 1);
   const auto warning = OutputSizeWarning(day);
   ASSERT_TRUE(warning.has_value());
   EXPECT_THAT(*warning,
-              HasSubstr("writes about 27.9 GB (trace.csv 27.6 GB at 1000 Hz over 86400 s"));
+              HasSubstr("writes about 36.5 GB (trace.csv 36.3 GB at 1000 Hz over 86400 s"));
   EXPECT_EQ(OutputSizeWarning(ConfigOf("duration_s: 60")), std::nullopt);
 }
 

@@ -122,6 +122,32 @@ envelopes { name: "d" signal: OBJECT_DAMAGED upper: 0 }
               HasSubstr("envelopes[0].signal: watches the grasp, but the scene has no object"));
 }
 
+TEST(ScenarioValidationTest, HeldAndSlipSignalsNeedAnObject) {
+  const std::string error = ErrorOf(R"(name: "x"
+simulation { duration_s: 2 }
+envelopes { name: "h" signal: OBJECT_HELD lower: 1 }
+envelopes { name: "s" signal: SLIP_SPEED_M_S upper: 0.01 }
+)");
+  EXPECT_THAT(error, HasSubstr("envelopes[0].signal: watches the grasp"));
+  EXPECT_THAT(error, HasSubstr("envelopes[1].signal: watches the grasp"));
+}
+
+TEST(ScenarioValidationTest, APadSignalNeedsAPadOfTheSix) {
+  const std::string scene = std::string(kGraspScene);
+  EXPECT_THAT(ErrorOf(scene + "envelopes { name: \"p\" signal: PAD_FORCE_N upper: 1 }\n"),
+              HasSubstr("envelopes[1]: signal PAD_FORCE_N needs pad: the tactile pad it watches, "
+                        "0 to 5"));
+  EXPECT_THAT(
+      ErrorOf(scene + "envelopes { name: \"p\" signal: PAD_FORCE_ESTIMATE_N pad: 6 upper: 1 }\n"),
+      HasSubstr("envelopes[1].pad: must be 0 to 5 (six pads), got 6"));
+  EXPECT_THAT(ErrorOf(scene + "envelopes { name: \"p\" signal: GRASP_FORCE_N pad: 1 upper: 1 }\n"),
+              HasSubstr("envelopes[1].pad: only a PAD_* signal watches one pad; GRASP_FORCE_N "
+                        "does not"));
+  const auto fine = ParseScenario(
+      scene + "envelopes { name: \"p\" signal: PAD_FORCE_ERROR_N pad: 5 upper: 1 }\n", "spec");
+  EXPECT_TRUE(fine.ok()) << fine.error().message;
+}
+
 TEST(ScenarioValidationTest, ControllerGainsMustBePositive) {
   const std::string error =
       ErrorOf(std::string(kGraspScene) + "grasp_controller { damping: -3 mass: 0 }\n");

@@ -77,7 +77,9 @@ TEST(TraceCsvTest, HeaderNamesEveryColumnInOrder) {
             "tactile_force_error_max_n,grasp_force_n,grasp_force_estimate_n,"
             "grasp_force_setpoint_n,load_n,load_estimate_n,object_mass_kg,servo_angle_rad,"
             "servo_command_rad,object_damaged,object_dropped,ground_force_n,object_held,"
-            "slip_speed_m_s\n");
+            "slip_speed_m_s,pad0_force_n,pad1_force_n,pad2_force_n,pad3_force_n,pad4_force_n,"
+            "pad5_force_n,pad0_force_estimate_n,pad1_force_estimate_n,pad2_force_estimate_n,"
+            "pad3_force_estimate_n,pad4_force_estimate_n,pad5_force_estimate_n\n");
   EXPECT_EQ(Split(out.str()).size(), TraceCsvWriter::kColumnCount);
 }
 
@@ -107,9 +109,12 @@ TEST(TraceCsvTest, EveryFieldLandsInItsColumn) {
   s.ground_force_n = 30;
   s.object_held = true;
   s.slip_speed_m_s = 31;
+  s.pad_force_n = {32, 33, 34, 35, 36, 37};
+  s.pad_force_estimate_n = {38, 39, 40, 41, 42, 43};
+  s.pad_force_error_n = {99, 99, 99, 99, 99, 99};  // a signal, not a column
   EXPECT_EQ(WriteOne(s).row,
             "1,2,3,4,2,3,5,6,7,8,9,10,11,12,1,0,1,13,14,15,16,17,18,19,20,21,22,23,24,25,26,27,28,"
-            "29,1,0,30,1,31");
+            "29,1,0,30,1,31,32,33,34,35,36,37,38,39,40,41,42,43");
 }
 
 TEST(TraceCsvTest, ErrorColumnsAreComputedFromPositionAndReference) {

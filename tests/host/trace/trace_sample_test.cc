@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <random>
 
 namespace hilrig::host {
@@ -29,6 +30,9 @@ TraceSample Sample() {
   s.ground_force_n = 6.5;
   s.object_held = true;
   s.slip_speed_m_s = 0.02;
+  s.pad_force_n = {0.1, 0.2, 0.3, 0.4, 0.5, 0.6};
+  s.pad_force_estimate_n = {1.1, 1.2, 1.3, 1.4, 1.5, 1.6};
+  s.pad_force_error_n = {2.1, 2.2, 2.3, 2.4, 2.5, 2.6};
   return s;
 }
 
@@ -58,25 +62,44 @@ TEST(SignalValueTest, EverySignalReadsItsQuantity) {
   EXPECT_TRUE(std::isnan(SignalValue(s, static_cast<proto::Signal>(999))));
 }
 
+TEST(SignalValueTest, APadSignalReadsThePadItNames) {
+  const TraceSample s = Sample();
+  for (std::size_t pad = 0; pad < kTracePadCount; ++pad) {
+    EXPECT_EQ(SignalValue(s, proto::PAD_FORCE_N, pad), s.pad_force_n[pad]);
+    EXPECT_EQ(SignalValue(s, proto::PAD_FORCE_ESTIMATE_N, pad), s.pad_force_estimate_n[pad]);
+    EXPECT_EQ(SignalValue(s, proto::PAD_FORCE_ERROR_N, pad), s.pad_force_error_n[pad]);
+    EXPECT_EQ(SignalReaderFor(proto::PAD_FORCE_N, pad)(s), s.pad_force_n[pad]);
+  }
+  // Without a pad, or past the last one, a pad signal reads nothing.
+  EXPECT_TRUE(std::isnan(SignalValue(s, proto::PAD_FORCE_N)));
+  EXPECT_TRUE(std::isnan(SignalValue(s, proto::PAD_FORCE_ESTIMATE_N, kTracePadCount)));
+  EXPECT_TRUE(IsPadSignal(proto::PAD_FORCE_ERROR_N));
+  EXPECT_FALSE(IsPadSignal(proto::TACTILE_FORCE_N));
+}
+
 TEST(SignalValueTest, AReaderGivesWhatSignalValueGives) {
   const TraceSample s = Sample();
   const google::protobuf::EnumDescriptor* signals = proto::Signal_descriptor();
   for (int i = 0; i < signals->value_count(); ++i) {
     const auto signal = static_cast<proto::Signal>(signals->value(i)->number());
-    const double expected = SignalValue(s, signal);
-    const double read = SignalReaderFor(signal)(s);
+    const double expected = SignalValue(s, signal, 1);
+    const double read = SignalReaderFor(signal, 1)(s);
     EXPECT_TRUE(read == expected || (std::isnan(read) && std::isnan(expected)))
         << signals->value(i)->name();
   }
 }
 
-// The definition AllSignalsFinite must keep: every signal of the enum, one by one.
+// The definition AllSignalsFinite must keep: every signal of the enum (of every pad for the pads'
+// signals), one by one.
 bool EverySignalFinite(const TraceSample& sample) {
   const google::protobuf::EnumDescriptor* signals = proto::Signal_descriptor();
   for (int i = 0; i < signals->value_count(); ++i) {
     const auto signal = static_cast<proto::Signal>(signals->value(i)->number());
-    if (signal != proto::SIGNAL_UNSPECIFIED && !std::isfinite(SignalValue(sample, signal))) {
-      return false;
+    if (signal == proto::SIGNAL_UNSPECIFIED) continue;
+    const std::size_t pads = IsPadSignal(signal) ? kTracePadCount : 1;
+    for (std::size_t pad = 0; pad < pads; ++pad) {
+      const auto which = IsPadSignal(signal) ? std::optional<std::size_t>(pad) : std::nullopt;
+      if (!std::isfinite(SignalValue(sample, signal, which))) return false;
     }
   }
   return true;
@@ -157,6 +180,9 @@ TEST(AllSignalsFiniteTest, AgreesWithEverySignalOneByOne) {
     s.servo_angle_rad = field();
     s.ground_force_n = field();
     s.slip_speed_m_s = field();
+    s.pad_force_n[rng() % kTracePadCount] = field();
+    s.pad_force_estimate_n[rng() % kTracePadCount] = field();
+    s.pad_force_error_n[rng() % kTracePadCount] = field();
     s.object_damaged = rng() % 2 == 0;
     s.object_held = rng() % 2 == 0;
     const bool expected = EverySignalFinite(s);
