@@ -13,6 +13,7 @@
 #include "host/scenario/field_path.h"
 #include "host/scenario/output_size.h"
 #include "host/scenario/scenario_loader.h"
+#include "host/scenario/timeline_events.h"
 #include "host/trace/trace_capture.h"
 #include "rig/file_io.h"
 #include "rig/realtime_scheduling.h"
@@ -239,12 +240,23 @@ RunOutcome Fly(PreparedRun& prepared, const RunRequest& request, const RunSeams&
   return outcome;
 }
 
+RunPlotScene PlotSceneOf(const ScenarioConfig& config) {
+  RunPlotScene scene;
+  scene.envelopes = config.envelopes;
+  scene.grasp = config.gripper.enabled;
+  scene.pads = config.hall_sensors.tactile_enabled;
+  for (TimelineEvent& event : TimelineEvents(config)) {
+    scene.events.push_back({event.at_s, std::move(event.label)});
+  }
+  return scene;
+}
+
 // The run's plots, its fidelity error and its finished folder; the verdict. Fails only on output.
 std::optional<RunError> Publish(PreparedRun& prepared, const RunRequest& request,
                                 const RunSeams& seams, RunOutcome& outcome) {
   if (prepared.files) {
-    auto plots = WriteRunPlots(prepared.plotted, prepared.run.config.envelopes,
-                               prepared.run.config.gripper.enabled, *request.out_dir);
+    auto plots =
+        WriteRunPlots(prepared.plotted, PlotSceneOf(prepared.run.config), *request.out_dir);
     if (!plots) return RunError{RunFailure::kOutput, plots.error().message};
     for (const std::string& plot : plots.value()) {
       outcome.report.add_plots(plot);

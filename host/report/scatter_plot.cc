@@ -282,27 +282,13 @@ std::string RenderScatterSvg(const ScatterPlot& plot) {
 }
 
 std::string RenderScatterGrid(const std::vector<ScatterPlot>& plots, int columns) {
-  columns = std::max(columns, 1);
-  std::vector<PlotLayout> layouts;
-  int cell_width = kMinWidthPx, cell_height = kMinHeightPx;
-  for (const ScatterPlot& plot : plots) {
-    layouts.push_back(ScatterLayoutOf(plot));
-    cell_width = std::max(cell_width, layouts.back().doc_width_px);
-    cell_height = std::max(cell_height, layouts.back().doc_height_px);
+  std::vector<SvgCell> cells;
+  for (std::size_t i = 0; i < plots.size(); ++i) {
+    const PlotLayout layout = ScatterLayoutOf(plots[i]);
+    cells.push_back(
+        {layout.doc_width_px, layout.doc_height_px, Body(plots[i], layout, std::to_string(i))});
   }
-  const int count = static_cast<int>(plots.size());
-  const int used_columns = std::max(1, std::min(columns, count));
-  const int rows = std::max(1, (count + columns - 1) / columns);
-  std::string out = SvgDocumentStart(used_columns * cell_width, rows * cell_height);
-  for (int i = 0; i < count; ++i) {
-    const PlotLayout& layout = layouts[static_cast<std::size_t>(i)];
-    out += "<svg" + SvgAttr("x", std::to_string((i % columns) * cell_width)) +
-           SvgAttr("y", std::to_string((i / columns) * cell_height)) +
-           SvgAttr("width", std::to_string(layout.doc_width_px)) +
-           SvgAttr("height", std::to_string(layout.doc_height_px)) + ">\n";
-    out += Body(plots[static_cast<std::size_t>(i)], layout, std::to_string(i)) + "</svg>\n";
-  }
-  return out + "</svg>\n";
+  return SvgGridDocument(cells, columns);
 }
 
 }  // namespace hilrig::host

@@ -302,6 +302,19 @@ struct Frame {
   double Bottom() const { return area.top_px + area.height_px; }
 };
 
+// Widens the axis with fewer units per pixel about its middle until both have the same, so that a
+// top view keeps its shapes.
+void EqualScale(Frame& frame) {
+  const double x_per_px = (frame.x.hi - frame.x.lo) / frame.area.width_px;
+  const double y_per_px = (frame.y.hi - frame.y.lo) / frame.area.height_px;
+  if (!(std::isfinite(x_per_px) && std::isfinite(y_per_px) && x_per_px > 0 && y_per_px > 0)) return;
+  AxisTicks& narrow = x_per_px < y_per_px ? frame.x : frame.y;
+  const double length_px = x_per_px < y_per_px ? frame.area.width_px : frame.area.height_px;
+  const double half = std::max(x_per_px, y_per_px) * length_px / 2;
+  const double middle = narrow.lo / 2 + narrow.hi / 2;
+  narrow = NiceTicks(middle - half, middle + half, TickFit::kTicksWithin);
+}
+
 Frame FrameOf(const TimePlot& plot, const PlotLayout& layout) {
   Frame frame;
   frame.area = layout.area;
@@ -310,6 +323,7 @@ Frame FrameOf(const TimePlot& plot, const PlotLayout& layout) {
   const Extent values = ValueExtent(plot);
   const Range value = values.any ? Padded(values.ToRange()) : Range{0, 1};
   frame.y = NiceTicks(value.lo, value.hi, TickFit::kTicksWithin);
+  if (plot.equal_scale) EqualScale(frame);
   return frame;
 }
 
@@ -370,7 +384,7 @@ std::string Labels(const TimePlot& plot, const Frame& frame, const PlotLayout& l
                 " class=\"title\" font-size=\"14\" font-weight=\"bold\"");
   }
   out += Text(frame.area.left_px + frame.area.width_px / 2, frame.Bottom() + 34, "middle",
-              "time (s)", " class=\"x-label\"");
+              plot.x_label, " class=\"x-label\"");
   if (!plot.y_label.empty()) {
     const double x = 16, y = frame.area.top_px + frame.area.height_px / 2;
     out += Text(x, y, "middle", plot.y_label,
@@ -427,13 +441,21 @@ std::string SeriesColor(const PlotSeries& series, std::size_t& next_palette_inde
   return kSeriesPalette[next_palette_index++ % kPaletteSize];
 }
 
-std::string Run(const std::vector<std::string>& points, const std::string& color) {
+double StrokeWidthPx(const PlotSeries& series) {
+  return std::isfinite(series.stroke_px) ? std::clamp(series.stroke_px, 0.5, 12.0) : 1.5;
+}
+
+double DotRadiusPx(const PlotSeries& series) { return std::max(1.5, StrokeWidthPx(series) / 2); }
+
+// A lone point is a dot as wide as the series' line (at least 3 px across).
+std::string Run(const std::vector<std::string>& points, const std::string& color,
+                double dot_radius_px) {
   if (points.empty()) return "";
   if (points.size() == 1) {  // a lone sample between gaps would vanish as a polyline
     const std::size_t comma = points[0].find(',');
     return "<circle" + Attr("cx", points[0].substr(0, comma)) +
-           Attr("cy", points[0].substr(comma + 1)) + " r=\"1.5\"" + Attr("fill", color) +
-           " stroke=\"none\"/>\n";
+           Attr("cy", points[0].substr(comma + 1)) + Attr("r", Compact(dot_radius_px)) +
+           Attr("fill", color) + " stroke=\"none\"/>\n";
   }
   std::string out = "<polyline points=\"";
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -443,23 +465,79 @@ std::string Run(const std::vector<std::string>& points, const std::string& color
   return out + "\"/>\n";
 }
 
+// The series' width, opacity and dash pattern as attributes (its line and its legend swatch).
+std::string StrokeStyle(const PlotSeries& series) {
+  const double width_px = StrokeWidthPx(series);
+  const double opacity = std::isfinite(series.opacity) ? std::clamp(series.opacity, 0.1, 1.0) : 1;
+  std::string out = Attr("stroke-width", Compact(width_px));
+  if (opacity < 1) out += Attr("stroke-opacity", Compact(opacity));
+  if (series.dashed) out += " stroke-dasharray=\"6 3\"";
+  return out;
+}
+
+// Markers.
+
+std::string Truncated(const std::string& text, std::size_t max_chars);
+
+// A grey dashed line per marker in the time range under the series, and its label at the top of
+// the plot over them; labels of neighbouring markers go on kMarkerLabelRows rows in turn so that
+// close events stay readable.
+constexpr int kMarkerLabelRows = 3;
+constexpr const char* kMarkerColor = "#777777";
+
+std::vector<const PlotMarker*> ShownMarkers(const TimePlot& plot, const Frame& frame) {
+  std::vector<const PlotMarker*> shown;
+  for (const PlotMarker& marker : plot.markers) {
+    if (std::isfinite(marker.time_s) && marker.time_s >= frame.x.lo &&
+        marker.time_s <= frame.x.hi) {
+      shown.push_back(&marker);
+    }
+  }
+  return shown;
+}
+
+std::string MarkerLines(const TimePlot& plot, const Frame& frame) {
+  const std::vector<const PlotMarker*> shown = ShownMarkers(plot, frame);
+  if (shown.empty()) return "";
+  std::string out =
+      "<g class=\"markers\"" + Attr("stroke", kMarkerColor) + " stroke-dasharray=\"2 3\">\n";
+  for (const PlotMarker* marker : shown) {
+    const double x = frame.X(marker->time_s);
+    out += Line(x, frame.area.top_px, x, frame.Bottom(), "");
+  }
+  return out + "</g>\n";
+}
+
+std::string MarkerLabels(const TimePlot& plot, const Frame& frame) {
+  const std::vector<const PlotMarker*> shown = ShownMarkers(plot, frame);
+  if (shown.empty()) return "";
+  // A white outline under each letter keeps the label readable over the lines it crosses.
+  std::string out = "<g class=\"marker-labels\"" + Attr("fill", kMarkerColor) +
+                    " font-size=\"10\" stroke=\"#FFFFFF\" stroke-width=\"3\" "
+                    "paint-order=\"stroke\">\n";
+  for (std::size_t i = 0; i < shown.size(); ++i) {
+    const double y = frame.area.top_px + 11 + 11 * static_cast<double>(i % kMarkerLabelRows);
+    out += Text(frame.X(shown[i]->time_s) + 3, y, "start", Truncated(shown[i]->label, 40));
+  }
+  return out + "</g>\n";
+}
+
 std::string Series(const PlotSeries& series, const std::string& raw_color, const Frame& frame,
                    std::size_t max_points) {
   const std::string color = EscapeXmlText(raw_color);
   std::string out = "<g class=\"series\" fill=\"none\"" + Attr("stroke", color) +
-                    " stroke-width=\"1.5\" stroke-linejoin=\"round\"" +
-                    (series.dashed ? " stroke-dasharray=\"6 3\"" : "") + ">\n";
+                    StrokeStyle(series) + " stroke-linejoin=\"round\">\n";
   std::vector<std::string> run;
   for (const PlotPoint& p : DecimateMinMax(series.time_s, series.value, max_points)) {
     if (std::isnan(p.value)) {
-      out += Run(run, color);
+      out += Run(run, color, DotRadiusPx(series));
       run.clear();
       continue;
     }
     std::string xy = Px(frame.X(p.time_s)) + "," + Px(frame.Y(p.value));
     if (run.empty() || run.back() != xy) run.push_back(std::move(xy));
   }
-  out += Run(run, color);
+  out += Run(run, color, DotRadiusPx(series));
   return out + "</g>\n";
 }
 
@@ -545,6 +623,12 @@ std::string LegendText(const LegendSlot& slot, const std::string& label, const P
   return Text(slot.x + kLegendSwatchPx + 6, slot.baseline, "start", Truncated(label, max_chars));
 }
 
+// A legend swatch is at least 2 px wide so that a thin line's colour shows.
+std::string LegendStrokeStyle(PlotSeries series) {
+  series.stroke_px = std::max(series.stroke_px, 2.0);
+  return StrokeStyle(series);
+}
+
 std::string Legend(const TimePlot& plot, const std::vector<std::string>& colors, const Frame& frame,
                    const PlotLayout& layout) {
   if (plot.series.empty() && plot.bands.empty()) return "";
@@ -554,8 +638,7 @@ std::string Legend(const TimePlot& plot, const std::vector<std::string>& colors,
     const LegendSlot slot = SlotOf(index, frame, layout);
     const PlotSeries& series = plot.series[i];
     out += Line(slot.x, slot.baseline - 4, slot.x + kLegendSwatchPx, slot.baseline - 4,
-                Attr("stroke", EscapeXmlText(colors[i])) + " stroke-width=\"2\"" +
-                    (series.dashed ? " stroke-dasharray=\"6 3\"" : ""));
+                Attr("stroke", EscapeXmlText(colors[i])) + LegendStrokeStyle(series));
     out += LegendText(slot, SeriesLabel(series, i), layout, frame);
   }
   const std::string unit = UnitOf(plot.y_label);
@@ -580,16 +663,15 @@ std::string Header(const PlotLayout& layout) {
          Attr("height", h) + " fill=\"#FFFFFF\"/>\n";
 }
 
-std::string ClipPath(const PlotRect& area) {
-  return "<defs><clipPath id=\"plot-area\"><rect" + Attr("x", Px(area.left_px)) +
+std::string ClipPath(const PlotRect& area, const std::string& id) {
+  return "<defs><clipPath" + Attr("id", id) + "><rect" + Attr("x", Px(area.left_px)) +
          Attr("y", Px(area.top_px)) + Attr("width", Px(area.width_px)) +
          Attr("height", Px(area.height_px)) + "/></clipPath></defs>\n";
 }
 
-}  // namespace
-
-std::string RenderSvg(const TimePlot& plot) {
-  const PlotLayout layout = LayoutOf(plot);
+// Everything of one plot's document after its header; `clip_id` names its clip path, unique in
+// the document.
+std::string Body(const TimePlot& plot, const PlotLayout& layout, const std::string& clip_id) {
   const Frame frame = FrameOf(plot, layout);
   std::vector<std::string> colors;
   std::size_t next_palette_index = 0;
@@ -597,19 +679,58 @@ std::string RenderSvg(const TimePlot& plot) {
     colors.push_back(SeriesColor(series, next_palette_index));
   }
 
-  std::string out = Header(layout) + ClipPath(frame.area) + Grid(frame);
-  out += "<g clip-path=\"url(#plot-area)\">\n";
+  std::string out = ClipPath(frame.area, clip_id) + Grid(frame);
+  out += "<g clip-path=\"url(#" + clip_id + ")\">\n";
   for (const PlotBand& band : plot.bands) out += Band(band, frame);
+  out += MarkerLines(plot, frame);
   for (std::size_t i = 0; i < plot.series.size(); ++i) {
     out += Series(plot.series[i], colors[i], frame, plot.max_points_per_series);
   }
+  out += MarkerLabels(plot, frame);
   out += "</g>\n" + Axes(frame) + Labels(plot, frame, layout);
   if (!HasFiniteData(plot)) {
     out += Text(frame.area.left_px + frame.area.width_px / 2,
                 frame.area.top_px + frame.area.height_px / 2, "middle", "no data",
                 " class=\"note\" fill=\"#777777\" font-size=\"14\"");
   }
-  out += Legend(plot, colors, frame, layout);
+  return out + Legend(plot, colors, frame, layout);
+}
+
+}  // namespace
+
+std::string RenderSvg(const TimePlot& plot) {
+  const PlotLayout layout = LayoutOf(plot);
+  return Header(layout) + Body(plot, layout, "plot-area") + "</svg>\n";
+}
+
+std::string RenderSvgGrid(const std::vector<TimePlot>& plots, int columns) {
+  std::vector<SvgCell> cells;
+  for (std::size_t i = 0; i < plots.size(); ++i) {
+    const PlotLayout layout = LayoutOf(plots[i]);
+    cells.push_back({layout.doc_width_px, layout.doc_height_px,
+                     Body(plots[i], layout, "plot-area-" + std::to_string(i))});
+  }
+  return SvgGridDocument(cells, columns);
+}
+
+std::string SvgGridDocument(const std::vector<SvgCell>& cells, int columns) {
+  columns = std::max(columns, 1);
+  int cell_width = kMinWidthPx, cell_height = kMinHeightPx;
+  for (const SvgCell& cell : cells) {
+    cell_width = std::max(cell_width, cell.width_px);
+    cell_height = std::max(cell_height, cell.height_px);
+  }
+  const int count = static_cast<int>(cells.size());
+  const int used_columns = std::max(1, std::min(columns, count));
+  const int rows = std::max(1, (count + columns - 1) / columns);
+  std::string out = SvgDocumentStart(used_columns * cell_width, rows * cell_height);
+  for (int i = 0; i < count; ++i) {
+    const SvgCell& cell = cells[static_cast<std::size_t>(i)];
+    out += "<svg" + Attr("x", std::to_string((i % columns) * cell_width)) +
+           Attr("y", std::to_string((i / columns) * cell_height)) +
+           Attr("width", std::to_string(cell.width_px)) +
+           Attr("height", std::to_string(cell.height_px)) + ">\n" + cell.body + "</svg>\n";
+  }
   return out + "</svg>\n";
 }
 

@@ -23,6 +23,17 @@ struct PlotSeries {
   std::vector<double> value;   // NaN / Inf = a gap in the line
   std::string color;           // CSS colour; empty = the next colour of kSeriesPalette
   bool dashed = false;
+  // A wide, light line drawn under a thin one of the same colour keeps both visible where they
+  // agree (a true force under its estimate).
+  double stroke_px = 1.5;
+  double opacity = 1;  // in (0, 1]
+};
+
+// Something that happened at one time (a grasp command, a set-point, a gust): a grey vertical
+// line across the plot with its label at the top.
+struct PlotMarker {
+  double time_s = 0;
+  std::string label;
 };
 
 // An envelope: the allowed region over a time window.
@@ -39,12 +50,31 @@ struct TimePlot {
   std::string y_label;  // with unit, e.g. "force (N)"; the unit in parentheses labels band limits
   std::vector<PlotSeries> series;
   std::vector<PlotBand> bands;
+  std::vector<PlotMarker> markers;  // those outside the plotted time range are left out
+  // The horizontal axis: time unless a plot puts another quantity in the series' time_s (a top
+  // view puts x there), in which case equal_scale gives both axes the same units per pixel.
+  std::string x_label = "time (s)";
+  bool equal_scale = false;
   int width_px = 900, height_px = 360;       // clamped to [kMinWidthPx or kMinHeightPx, kMaxSizePx]
   std::size_t max_points_per_series = 2000;  // longer series are min/max decimated
 };
 
 // The whole SVG document. Deterministic: the same plot gives byte-identical text.
 std::string RenderSvg(const TimePlot& plot);
+
+// Several plots in one document, `columns` per row (at least 1), each in its own nested <svg>
+// with its own axes (small multiples: each pad, each axis at its own scale).
+std::string RenderSvgGrid(const std::vector<TimePlot>& plots, int columns);
+
+// One cell of a grid of plots: a plot's document body (without the header and the closing tag)
+// and its size.
+struct SvgCell {
+  int width_px = 0, height_px = 0;
+  std::string body;
+};
+
+// The cells laid out `columns` per row (at least 1) in cells as large as the largest.
+std::string SvgGridDocument(const std::vector<SvgCell>& cells, int columns);
 
 // Okabe-Ito colours (colour-blind safe), handed in order to series without a colour. Green is
 // last because allowed bands are green.

@@ -9,6 +9,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
+#include <optional>
 #include <vector>
 
 #include "host/trace/decimated_series.h"
@@ -44,6 +46,33 @@ struct CapturedTrace {
   }
 };
 
+// The horizontal path of the vehicle and of its reference, for a top view, in bounded memory: a
+// path needs x and y of the same samples, which per-signal decimation would not keep, so this
+// keeps every stride-th sample and doubles the stride (dropping every other kept sample) when
+// kMaxPoints are kept, plus the last sample added.
+class DecimatedPath {
+ public:
+  static constexpr std::size_t kMaxPoints = 4096;
+
+  struct Point {
+    double x_m = 0, y_m = 0, reference_x_m = 0, reference_y_m = 0;
+  };
+
+  // Never fails; does not allocate once kMaxPoints are kept.
+  void Add(const Eigen::Vector3d& position_m, const Eigen::Vector3d& reference_m);
+
+  // The kept points in the order added, the last one added included.
+  std::vector<Point> ToPoints() const;
+
+  std::size_t stride() const { return stride_; }
+
+ private:
+  std::vector<Point> kept_;
+  std::optional<Point> last_;  // the latest sample when it was not kept
+  std::size_t stride_ = 1;
+  std::size_t added_ = 0;
+};
+
 struct PlottedTrace {
   DecimatedSeries grasp_force_n;
   DecimatedSeries grasp_force_estimate_n;
@@ -52,6 +81,11 @@ struct PlottedTrace {
   DecimatedSeries load_estimate_n;
   DecimatedSeries altitude_error_m;
   DecimatedSeries horizontal_error_m;
+  std::array<DecimatedSeries, 3> position_m;   // x, y, z
+  std::array<DecimatedSeries, 3> reference_m;  // x, y, z
+  std::array<DecimatedSeries, kTracePadCount> pad_force_n;
+  std::array<DecimatedSeries, kTracePadCount> pad_force_estimate_n;
+  DecimatedPath path;
 
   void Add(const TraceSample& sample);
 };

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# The result pages in a real browser: makes a run folder (balloon_grasp, cut to 8 s), a small
+# The result pages in a real browser: makes two run folders (balloon_grasp cut to 8 s, and the
+# bottle's hand-over cut to 10 s, each with its plots, panels and event markers), a small
 # sweep folder (hover over 2 masses and 3 seeds, one envelope that always passes and one that
 # always fails) and a folder run of two hover specs, then opens each index.html in headless Chromium twice: --dump-dom, whose DOM must
 # hold the tables, the inlined <svg> plots and the verdicts, load nothing and link only to files
@@ -67,13 +68,30 @@ check_page() {
   python3 "$checks" png "$work/$name.png" "$width" "$height" || failures=$((failures + 1))
 }
 
-# A run folder: balloon_grasp's grasp, lift and hold, with its three plots.
-run_status=0
-"$hilrig" run "$source_dir/scenarios/balloon_grasp.textproto" --no-reference --duration-s 8 \
-  --out "$work/run" >"$work/run.out" 2>&1 || run_status=$?
-((run_status <= 1)) || { echo "FAIL: hilrig run exited $run_status"; cat "$work/run.out"; exit 1; }
-check_page "$work/run/index.html" 3 "<h2>Envelopes</h2>" "<td>grasp_force</td>" \
-  "<h2>Objects</h2>" "<td>real-time factor</td>" 'class="badge '
+# run_scene NAME SPEC ARGS...: hilrig run of SPEC into $work/NAME; a verdict either way is fine.
+run_scene() {
+  local name=$1 spec=$2 status=0
+  shift 2
+  "$hilrig" run "$spec" --no-reference --out "$work/$name" "$@" >"$work/$name.out" 2>&1 ||
+    status=$?
+  ((status <= 1)) || { echo "FAIL: hilrig run $spec exited $status"; cat "$work/$name.out"; exit 1; }
+}
+
+# Run folders of two grasp scenes: balloon_grasp's grasp, lift and hold, and the bottle's
+# hand-over. Each page shows the grasp force (true under the estimate), a panel per pad, the
+# load, the position error, x, y and z against the reference (with clear_of_ground on z) and the
+# top view (6 plots; the pad and trajectory panels are nested <svg>s: 6 + 6 + 3 = 15), with the
+# timeline's events marked.
+run_scene run "$source_dir/scenarios/balloon_grasp.textproto" --duration-s 8
+check_page "$work/run/index.html" 15 "<h2>Envelopes</h2>" "<td>grasp_force</td>" \
+  "<h2>Objects</h2>" "<td>real-time factor</td>" 'class="badge ' \
+  "Grasp force: true (wide, light) and the DUT's estimate" ">true (plant)<" ">DUT estimate<" \
+  ">Pad 0 (node 1)<" ">Pad 5 (node 6)<" ">decoded by the DUT<" ">grasp 0.6 N<" \
+  ">setpoint (0, 0, 0.55) m<" ">Altitude z and its reference<" ">x (m)<" ">y (m)<" \
+  "Top view: the path" 'class="marker-labels"'
+run_scene bottle "$source_dir/scenarios/bottle_feedback.textproto" --duration-s 10
+check_page "$work/bottle/index.html" 15 "<h2>Objects</h2>" ">grasp 3.5 N<" ">stand removed<" \
+  "envelope clear_of_ground" ">Pad 3 (node 4)<" "Vertical load of the grasped object"
 
 # A sweep folder with passing and failing cases, so that both colours, the failing cases'
 # commands and the links to their run folders are on the page.

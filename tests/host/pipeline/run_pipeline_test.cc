@@ -77,12 +77,13 @@ TEST_F(RunPipelineTest, RunsASceneIntoItsFolderAndSaysWhatItWrote) {
   EXPECT_EQ(outcome.report.spec_file(), spec_path_);
   EXPECT_FALSE(outcome.report.has_fidelity_error());  // none was asked for
   const fs::path out = dir_ / "out";
-  for (const char* file :
-       {"trace.csv", "can.log", "junit.xml", "report.json", "index.html", kPositionPlotFile}) {
+  for (const char* file : {"trace.csv", "can.log", "junit.xml", "report.json", "index.html",
+                           kPositionPlotFile, kTrajectoryPlotFile, kTopViewPlotFile}) {
     EXPECT_THAT(outcome.files_written, ::testing::Contains((out / file).string()));
     EXPECT_GT(fs::file_size(out / file), 0u) << file;
   }
-  EXPECT_EQ(outcome.files_written.size(), 6u);  // hover grasps nothing: no force or load plot
+  // Hover has no object and no pads: no force, pad or load plot.
+  EXPECT_EQ(outcome.files_written.size(), 8u);
   EXPECT_EQ(Lines(ReadFile(out / "trace.csv")), 1u + 200u);  // a header and 2 s at 100 Hz
   EXPECT_THAT(ReadFile(out / "report.json"), HasSubstr("\"completed\""));
   EXPECT_THAT(ReadFile(out / "index.html"), HasSubstr("id=\"plot0-plot-area\""));  // inlined
@@ -161,8 +162,9 @@ TEST_F(RunPipelineTest, OneCaptureFeedsThePlotsAndTheComparison) {
   // The plot drew the run's samples: it is not the plot of an empty capture with the same bands.
   const fs::path empty_dir = dir_ / "empty";
   fs::create_directories(empty_dir);
-  const std::vector<EnvelopeSpec> envelopes = ResolveScenario(spec_, std::nullopt).envelopes;
-  ASSERT_TRUE(WriteRunPlots(PlottedTrace{}, envelopes, false, empty_dir.string()).ok());
+  RunPlotScene scene;
+  scene.envelopes = ResolveScenario(spec_, std::nullopt).envelopes;
+  ASSERT_TRUE(WriteRunPlots(PlottedTrace{}, scene, empty_dir.string()).ok());
   EXPECT_NE(ReadFile(dir_ / "out" / kPositionPlotFile), ReadFile(empty_dir / kPositionPlotFile));
   EXPECT_THAT(notes_.str(), HasSubstr("running the reference"));
 }

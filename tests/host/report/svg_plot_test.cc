@@ -729,5 +729,68 @@ TEST(RenderSvgTest, LengthMismatchIsFlaggedInTheLegend) {
   EXPECT_EQ(Polylines(svg)[0].size(), 2u);
 }
 
+PlotSeries Line(std::string name, std::vector<double> x, std::vector<double> y) {
+  PlotSeries series;
+  series.name = std::move(name);
+  series.time_s = std::move(x);
+  series.value = std::move(y);
+  return series;
+}
+
+// A top view keeps shapes: a path from (0, 0) to (1, 1) in a wide plot is drawn at 45 degrees.
+TEST(RenderSvgTest, EqualScaleGivesBothAxesTheSameUnitsPerPixel) {
+  TimePlot plot;
+  plot.x_label = "x (m)";
+  plot.equal_scale = true;
+  plot.series = {Line("path", {0, 1}, {0, 1})};
+  const std::string svg = RenderSvg(plot);
+  const auto lines = Polylines(svg);
+  ASSERT_EQ(lines.size(), 1u);
+  ASSERT_EQ(lines[0].size(), 2u);
+  const double dx = lines[0][1].x - lines[0][0].x, dy = lines[0][0].y - lines[0][1].y;
+  EXPECT_GT(dx, 50);
+  EXPECT_NEAR(dx, dy, 0.02);
+  EXPECT_NE(svg.find(">x (m)<"), std::string::npos);
+  EXPECT_EQ(svg.find(">time (s)<"), std::string::npos);
+  // Without it the same path in the same wide plot is far from 45 degrees.
+  plot.equal_scale = false;
+  const auto stretched = Polylines(RenderSvg(plot));
+  EXPECT_GT(
+      std::abs((stretched[0][1].x - stretched[0][0].x) / (stretched[0][0].y - stretched[0][1].y)),
+      2.0);
+}
+
+TEST(RenderSvgTest, MarkersInTheTimeRangeAreDrawnWithTheirLabels) {
+  TimePlot plot;
+  plot.series = {Line("s", {0, 10}, {0, 1})};
+  plot.markers = {{2, "grasp <0.6> N"}, {-5, "before"}, {std::nan(""), "nan"}, {8, "open"}};
+  const std::string svg = RenderSvg(plot);
+  EXPECT_EQ(WellFormedError(svg), "");
+  EXPECT_NE(svg.find(">grasp &lt;0.6&gt; N<"), std::string::npos);
+  EXPECT_NE(svg.find(">open<"), std::string::npos);
+  EXPECT_EQ(svg.find("before"), std::string::npos);
+  EXPECT_EQ(svg.find(">nan<"), std::string::npos);
+  // Lines under the series, labels over them.
+  EXPECT_LT(svg.find("class=\"markers\""), svg.find("class=\"series\""));
+  EXPECT_GT(svg.find("class=\"marker-labels\""), svg.find("class=\"series\""));
+}
+
+TEST(RenderSvgGridTest, EachPanelIsANestedDocumentWithItsOwnClipPath) {
+  TimePlot plot;
+  plot.series = {Line("s", {0, 1}, {0, 1})};
+  const std::string svg = RenderSvgGrid({plot, plot, plot}, 2);
+  EXPECT_EQ(WellFormedError(svg), "");
+  for (const char* id : {"plot-area-0", "plot-area-1", "plot-area-2"}) {
+    EXPECT_NE(svg.find(std::string("id=\"") + id + "\""), std::string::npos) << id;
+    EXPECT_NE(svg.find(std::string("url(#") + id + ")"), std::string::npos) << id;
+  }
+  EXPECT_EQ(Polylines(svg).size(), 3u);
+  const PlotLayout layout = LayoutOf(plot);
+  EXPECT_NE(svg.find("width=\"" + std::to_string(2 * layout.doc_width_px) + "\""),
+            std::string::npos);
+  EXPECT_NE(svg.find("height=\"" + std::to_string(2 * layout.doc_height_px) + "\""),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace hilrig::host
