@@ -64,13 +64,7 @@ std::string GridAndAxes(const Frame& frame) {
     ticks += SvgLine(px, frame.Bottom(), px, frame.Bottom() + 4, "");
     labels += SvgText(px, frame.Bottom() + 16, "middle", x.labels[i]);
   }
-  const PlotRect& area = frame.layout.area;
-  const std::string box = "<rect class=\"frame\"" + SvgAttr("x", SvgPx(area.left_px)) +
-                          SvgAttr("y", SvgPx(area.top_px)) +
-                          SvgAttr("width", SvgPx(area.width_px)) +
-                          SvgAttr("height", SvgPx(area.height_px)) + " fill=\"none\"" +
-                          SvgAttr("stroke", kAxisColor) + "/>\n";
-  return grid + "</g>\n" + box + ticks + "</g>\n" + labels + "</g>\n";
+  return grid + "</g>\n" + SvgFrame(frame.layout.area) + ticks + "</g>\n" + labels + "</g>\n";
 }
 
 std::string CategoryLabels(const BarPlot& plot, const Frame& frame) {
@@ -123,13 +117,9 @@ std::string ReferenceLines(const BarPlot& plot, const Frame& frame) {
 }
 
 std::string Labels(const BarPlot& plot, const Frame& frame) {
-  std::string out;
-  if (!plot.title.empty()) {
-    out += SvgText(frame.layout.doc_width_px / 2.0, 22, "middle", plot.title,
-                   " class=\"title\" font-size=\"14\" font-weight=\"bold\"");
-  }
-  return out + SvgText((frame.Left() + frame.Right()) / 2, frame.Bottom() + 34, "middle",
-                       plot.x_label, " class=\"x-label\"");
+  return SvgTitle(frame.layout.doc_width_px, plot.title) +
+         SvgText((frame.Left() + frame.Right()) / 2, frame.Bottom() + 34, "middle", plot.x_label,
+                 " class=\"x-label\"");
 }
 
 // The legend in svg_plot.h's slots: series swatches, then each drawn reference's dashed line.
@@ -151,13 +141,9 @@ std::string Legend(const BarPlot& plot, const std::vector<std::string>& colors,
     ++index;
   };
   for (std::size_t s = 0; s < plot.series.size(); ++s) {
-    entry(
-        [&](double x, double baseline) {
-          return "<rect" + SvgAttr("x", SvgPx(x)) + SvgAttr("y", SvgPx(baseline - 9)) +
-                 SvgAttr("width", SvgPx(kLegendSwatchPx)) + " height=\"10\"" +
-                 SvgAttr("fill", colors[s]) + "/>\n";
-        },
-        plot.series[s].name);
+    entry([&](double x,
+              double baseline) { return SvgSwatch(x, baseline, kLegendSwatchPx, colors[s]); },
+          plot.series[s].name);
   }
   for (const BarReference& reference : plot.references) {
     if (!ReferenceDrawn(reference)) continue;

@@ -71,9 +71,7 @@ std::string GridAndAxes(const Frame& frame) {
   for (const double v : frame.y.values) {
     out += SvgLine(frame.area.left_px, frame.Y(v), frame.Right(), frame.Y(v), "");
   }
-  out += "</g>\n<rect class=\"frame\"" + SvgAttr("x", SvgPx(frame.area.left_px)) +
-         SvgAttr("y", SvgPx(frame.area.top_px)) + SvgAttr("width", SvgPx(frame.area.width_px)) +
-         SvgAttr("height", SvgPx(frame.area.height_px)) + " fill=\"none\" stroke=\"#333333\"/>\n";
+  out += "</g>\n" + SvgFrame(frame.area);
   out += "<g class=\"tick-labels\" fill=\"#333333\">\n";
   for (std::size_t i = 0; i < frame.x.values.size(); ++i) {
     const double x = frame.X(frame.x.values[i]);
@@ -132,9 +130,7 @@ std::string Legend(const HistogramPlot& plot, const HistogramBins& bins, const F
   };
   for (std::size_t g = 0; g < plot.groups.size(); ++g) {
     if (x >= frame.Right()) break;
-    out += "<rect" + SvgAttr("x", SvgPx(x)) + SvgAttr("y", SvgPx(kLegendBaselinePx - 9)) +
-           " width=\"" + SvgPx(kLegendSwatchPx) + "\" height=\"10\"" +
-           SvgAttr("fill", EscapeXmlText(plot.groups[g].color)) + "/>\n";
+    out += SvgSwatch(x, kLegendBaselinePx, kLegendSwatchPx, EscapeXmlText(plot.groups[g].color));
     label(plot.groups[g].name + " (" + std::to_string(Total(bins.counts[g])) + ")");
   }
   for (const HistogramLine& line : plot.lines) {
@@ -167,10 +163,7 @@ std::string Labels(const HistogramPlot& plot, const Frame& frame, int width_px) 
   }
   out += SvgText(frame.area.left_px + frame.area.width_px / 2, frame.Bottom() + 32, "middle",
                  plot.x_label, " class=\"x-label\"");
-  const double x = 14, y = frame.area.top_px + frame.area.height_px / 2;
-  return out +
-         SvgText(x, y, "middle", "cases",
-                 " class=\"y-label\" transform=\"rotate(-90 " + SvgPx(x) + " " + SvgPx(y) + ")\"");
+  return out + SvgYLabel(14, frame.area.top_px + frame.area.height_px / 2, "cases");
 }
 
 }  // namespace

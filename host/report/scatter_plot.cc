@@ -126,25 +126,14 @@ std::string GridAndAxes(const Frame& frame) {
     ticks += SvgLine(frame.area.left_px - 4, y, frame.area.left_px, y, "");
     labels += SvgText(frame.area.left_px - 6, y + 4, "end", frame.y.labels[i]);
   }
-  const std::string box =
-      "<rect class=\"frame\"" + SvgAttr("x", SvgPx(frame.area.left_px)) +
-      SvgAttr("y", SvgPx(frame.area.top_px)) + SvgAttr("width", SvgPx(frame.area.width_px)) +
-      SvgAttr("height", SvgPx(frame.area.height_px)) + " fill=\"none\" stroke=\"#333333\"/>\n";
-  return grid + "</g>\n" + box + ticks + "</g>\n" + labels + "</g>\n";
+  return grid + "</g>\n" + SvgFrame(frame.area) + ticks + "</g>\n" + labels + "</g>\n";
 }
 
 std::string AxisLabels(const ScatterPlot& plot, const Frame& frame, const PlotLayout& layout) {
-  std::string out;
-  if (!plot.title.empty()) {
-    out += SvgText(layout.doc_width_px / 2.0, 22, "middle", plot.title,
-                   " class=\"title\" font-size=\"14\" font-weight=\"bold\"");
-  }
-  out += SvgText(frame.area.left_px + frame.area.width_px / 2, frame.Bottom() + 34, "middle",
-                 plot.x_label, " class=\"x-label\"");
-  const double x = 16, y = frame.area.top_px + frame.area.height_px / 2;
-  out += SvgText(x, y, "middle", plot.y_label,
-                 " class=\"y-label\" transform=\"rotate(-90 " + SvgPx(x) + " " + SvgPx(y) + ")\"");
-  return out;
+  return SvgTitle(layout.doc_width_px, plot.title) +
+         SvgText(frame.area.left_px + frame.area.width_px / 2, frame.Bottom() + 34, "middle",
+                 plot.x_label, " class=\"x-label\"") +
+         SvgYLabel(16, frame.area.top_px + frame.area.height_px / 2, plot.y_label);
 }
 
 std::string FrontLine(const ScatterPlot& plot, const Frame& frame) {

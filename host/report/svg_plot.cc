@@ -357,10 +357,7 @@ std::string Grid(const Frame& frame) {
 }
 
 std::string Axes(const Frame& frame) {
-  std::string out = "<rect class=\"frame\"" + Attr("x", Px(frame.area.left_px)) +
-                    Attr("y", Px(frame.area.top_px)) + Attr("width", Px(frame.area.width_px)) +
-                    Attr("height", Px(frame.area.height_px)) +
-                    " fill=\"none\" stroke=\"#333333\"/>\n";
+  std::string out = SvgFrame(frame.area);
   out += "<g class=\"ticks\" stroke=\"#333333\">\n";
   for (double t : frame.x.values)
     out += Line(frame.X(t), frame.Bottom(), frame.X(t), frame.Bottom() + 4, "");
@@ -378,17 +375,11 @@ std::string Axes(const Frame& frame) {
 }
 
 std::string Labels(const TimePlot& plot, const Frame& frame, const PlotLayout& layout) {
-  std::string out;
-  if (!plot.title.empty()) {
-    out += Text(layout.doc_width_px / 2.0, 22, "middle", plot.title,
-                " class=\"title\" font-size=\"14\" font-weight=\"bold\"");
-  }
+  std::string out = SvgTitle(layout.doc_width_px, plot.title);
   out += Text(frame.area.left_px + frame.area.width_px / 2, frame.Bottom() + 34, "middle",
               plot.x_label, " class=\"x-label\"");
   if (!plot.y_label.empty()) {
-    const double x = 16, y = frame.area.top_px + frame.area.height_px / 2;
-    out += Text(x, y, "middle", plot.y_label,
-                " class=\"y-label\" transform=\"rotate(-90 " + Px(x) + " " + Px(y) + ")\"");
+    out += SvgYLabel(16, frame.area.top_px + frame.area.height_px / 2, plot.y_label);
   }
   return out;
 }
@@ -645,10 +636,9 @@ std::string Legend(const TimePlot& plot, const std::vector<std::string>& colors,
   for (const PlotBand& band : plot.bands) {
     const LegendSlot slot = SlotOf(index++, frame, layout);
     const BandStyle style = StyleOf(band);
-    out += "<rect" + Attr("x", Px(slot.x)) + Attr("y", Px(slot.baseline - 9)) +
-           Attr("width", Px(kLegendSwatchPx)) + " height=\"10\"" + Attr("fill", style.color) +
-           Attr("fill-opacity", style.fill_opacity) + Attr("stroke", style.color) + style.dash +
-           "/>\n";
+    out += SvgSwatch(
+        slot.x, slot.baseline, kLegendSwatchPx, style.color,
+        Attr("fill-opacity", style.fill_opacity) + Attr("stroke", style.color) + style.dash);
     out += LegendText(slot, BandLabel(band, unit), layout, frame);
   }
   return out + "</g>\n";
@@ -756,6 +746,29 @@ std::string SvgDocumentStart(int width_px, int height_px) {
 
 std::string SvgTruncated(const std::string& text, std::size_t max_chars) {
   return Truncated(text, max_chars);
+}
+
+std::string SvgFrame(const PlotRect& area) {
+  return "<rect class=\"frame\"" + Attr("x", Px(area.left_px)) + Attr("y", Px(area.top_px)) +
+         Attr("width", Px(area.width_px)) + Attr("height", Px(area.height_px)) +
+         " fill=\"none\" stroke=\"#333333\"/>\n";
+}
+
+std::string SvgTitle(int doc_width_px, const std::string& title) {
+  if (title.empty()) return "";
+  return Text(doc_width_px / 2.0, 22, "middle", title,
+              " class=\"title\" font-size=\"14\" font-weight=\"bold\"");
+}
+
+std::string SvgYLabel(double x, double y, const std::string& label) {
+  return Text(x, y, "middle", label,
+              " class=\"y-label\" transform=\"rotate(-90 " + Px(x) + " " + Px(y) + ")\"");
+}
+
+std::string SvgSwatch(double x, double baseline, double width_px, const std::string& color,
+                      const std::string& extra) {
+  return "<rect" + Attr("x", Px(x)) + Attr("y", Px(baseline - 9)) + Attr("width", Px(width_px)) +
+         " height=\"10\"" + Attr("fill", color) + extra + "/>\n";
 }
 
 }  // namespace hilrig::host

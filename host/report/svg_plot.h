@@ -142,7 +142,8 @@ std::vector<PlotPoint> DecimateMinMax(const std::vector<double>& time_s,
                                       const std::vector<double>& value, std::size_t max_points);
 
 // Building blocks for other plot kinds (host/report/scatter_plot.h) drawn in the same style:
-// locale-free numbers, escaped text, and the document header. Each is what RenderSvg itself uses.
+// locale-free numbers, escaped text, the document header, the frame, title, y label and legend
+// swatches. Each is what RenderSvg itself uses.
 inline constexpr const char* kSvgGridColor = "#E3E3E3";
 
 // A pixel coordinate with two decimals; never "nan", "inf" or "-0" (non-finite gives "0").
@@ -163,6 +164,20 @@ std::string SvgDocumentStart(int width_px, int height_px);
 
 // `text` cut to at most `max_chars` UTF-8 characters, the last one an ellipsis when cut.
 std::string SvgTruncated(const std::string& text, std::size_t max_chars);
+
+// The axes frame: an unfilled <rect> around `area` in the axes' colour.
+std::string SvgFrame(const PlotRect& area);
+
+// The plot's title, bold, centred over a document `doc_width_px` wide; "" when `title` is empty.
+std::string SvgTitle(int doc_width_px, const std::string& title);
+
+// A y axis label centred on (x, y), turned to read upwards.
+std::string SvgYLabel(double x, double y, const std::string& label);
+
+// A legend's colour swatch: a <rect> `width_px` wide and 10 px high standing on `baseline` + 1;
+// `color` must already be escaped, `extra` is appended raw inside the tag.
+std::string SvgSwatch(double x, double baseline, double width_px, const std::string& color,
+                      const std::string& extra = "");
 
 // Each series' colour, escaped for an attribute: its own `color`, or for a series without one the
 // next colour of kSeriesPalette in turn. `Series` is any series type with a `color` string.

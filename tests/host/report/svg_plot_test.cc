@@ -792,5 +792,23 @@ TEST(RenderSvgGridTest, EachPanelIsANestedDocumentWithItsOwnClipPath) {
             std::string::npos);
 }
 
+// The pieces every plot kind draws the same way: the frame, the title, the turned y label and a
+// legend swatch, each at the pixels it was given, its text escaped.
+TEST(SvgBuildingBlocksTest, FrameTitleYLabelAndSwatchAreDrawnWhereTheyAreAsked) {
+  EXPECT_EQ(SvgFrame({10, 20, 300.5, 40}),
+            "<rect class=\"frame\" x=\"10.00\" y=\"20.00\" width=\"300.50\" height=\"40.00\" "
+            "fill=\"none\" stroke=\"#333333\"/>\n");
+  EXPECT_EQ(SvgTitle(400, "a < b"),
+            "<text x=\"200.00\" y=\"22.00\" text-anchor=\"middle\" class=\"title\" "
+            "font-size=\"14\" font-weight=\"bold\">a &lt; b</text>\n");
+  EXPECT_EQ(SvgTitle(400, ""), "");
+  EXPECT_EQ(SvgYLabel(16, 100, "force (N)"),
+            "<text x=\"16.00\" y=\"100.00\" text-anchor=\"middle\" class=\"y-label\" "
+            "transform=\"rotate(-90 16.00 100.00)\">force (N)</text>\n");
+  EXPECT_EQ(SvgSwatch(5, 50, 24, "#0072B2", " stroke=\"#000000\""),
+            "<rect x=\"5.00\" y=\"41.00\" width=\"24.00\" height=\"10\" fill=\"#0072B2\" "
+            "stroke=\"#000000\"/>\n");
+}
+
 }  // namespace
 }  // namespace hilrig::host
