@@ -129,11 +129,13 @@ SweepCase SweepCaseSpace::CaseAt(std::uint64_t index) const {
   result.seed = SeedAt(sweep, result.scenario, index % seed_count_);
   const int axes = sweep.spec.axis_size();
   result.values.assign(axes, 0.0);
+  result.point_index.assign(axes, 0);
   // Mixed radix over the point axes, the last one varying fastest.
   for (int a = axes - 1; a >= 0; --a) {
     if (!IsPointAxis(sweep.spec.axis(a))) continue;
     const std::vector<double>& points = axis_points_[a];
-    result.values[a] = points[point % points.size()];
+    result.point_index[a] = static_cast<std::size_t>(point % points.size());
+    result.values[a] = points[result.point_index[a]];
     point /= points.size();
   }
   for (int a = 0; a < axes; ++a) {

@@ -23,6 +23,10 @@ struct SweepCase {
   std::size_t scenario = 0;  // into LoadedSweep::scenarios
   std::uint64_t seed = 0;
   std::vector<double> values;  // one per axis, in the spec's order
+  // One per axis: the index of the case's value among the axis's points (AxisPoints), so that
+  // cases at one point of the grid are found as such even when a list repeats a value; 0 for a
+  // distribution axis, which has no points.
+  std::vector<std::size_t> point_index;
 };
 
 // The values of a list or grid axis, in order (a grid's ends exact); empty for a distribution.

@@ -8,8 +8,8 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr const char* kSweepOutputs[] = {
-    kResolvedSweepName, "shards",      "runs",         "slurm",
-    "runs.csv",         "failing.txt", "summary.json", "index.html"};
+    kResolvedSweepName, "shards",       "runs",    "slurm",     "runs.csv",
+    "failing.txt",      "summary.json", "map.svg", "index.html"};
 
 bool Exists(const fs::path& path) {
   std::error_code error;

@@ -17,8 +17,9 @@ inline constexpr const char* kResolvedSweepName = "sweep.textproto";
 class EarlierSweepAside {
  public:
   // Moves the earlier sweep's outputs (sweep.textproto, shards/, runs/, slurm/, runs.csv,
-  // failing.txt, summary.json, index.html) into DIR/.previous-sweep, one rename each. Fails,
-  // naming the path, when one cannot be moved; what was moved is then put back.
+  // failing.txt, summary.json, map.svg, index.html) into DIR/.previous-sweep, one rename each, so
+  // that no earlier map stands beside a new sweep that has none. Fails, naming the path, when one
+  // cannot be moved; what was moved is then put back.
   static rig::Result<EarlierSweepAside> Move(const std::string& out_dir);
 
   // The new sweep has started: the earlier one's outputs are removed.

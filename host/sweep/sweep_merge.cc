@@ -10,6 +10,7 @@
 #include "host/sweep/case_run.h"
 #include "host/sweep/shell_words.h"
 #include "host/sweep/sweep_cases.h"
+#include "host/sweep/sweep_map.h"
 #include "host/sweep/sweep_page.h"
 #include "host/sweep/sweep_shard.h"
 #include "host/sweep/sweep_statistics.h"
@@ -229,6 +230,12 @@ rig::Result<MergedSweep> MergeSweep(const LoadedSweep& sweep, const std::string&
   if (auto written = rig::WriteFileAtomically((folder / "summary.json").string(), json.value());
       !written.ok()) {
     return written.error();
+  }
+  if (const std::optional<std::string> map = SweepMapSvg(sweep, results)) {
+    if (auto written = rig::WriteFileAtomically((folder / kSweepMapFile).string(), *map);
+        !written.ok()) {
+      return written.error();
+    }
   }
   if (auto written =
           rig::WriteFileAtomically((folder / kSweepPageFile).string(),

@@ -1,7 +1,8 @@
 // A sweep's results gathered from its shards into the files a person and a CI job read: runs.csv
 // (a row per case, in case order), failing.txt (for each case that did not pass, one command that
-// runs it alone), summary.json (pass rates and margins per envelope, the criteria's verdict) and
-// index.html, the page that shows them (sweep_page.h).
+// runs it alone), summary.json (pass rates and margins per envelope, the criteria's verdict),
+// map.svg (which points of two axes passed, sweep_map.h) and index.html, the page that shows them
+// (sweep_page.h).
 // The files depend on the case rows alone, never on how the cases were split or where they ran,
 // so a local sweep and a Slurm one merge to identical files (the real-time factors aside, which
 // measure the machine: they stay in runs.csv's last columns).
@@ -49,8 +50,9 @@ std::string ReproduceCommand(const LoadedSweep& sweep, const proto::SweepCaseRes
 
 // Reads the shards under `out_dir`, taking only rows that match their case as the sweep spec makes
 // it (scenario, seed, axis values, an outcome consistent with the envelopes), and writes runs.csv,
-// failing.txt, summary.json and index.html (sweep_page.h) there, each whole or not at all. Fails
-// when a shard folder cannot be read or a file cannot be written.
+// failing.txt, summary.json, map.svg for a sweep over two axes (sweep_map.h) and index.html
+// (sweep_page.h) there, each whole or not at all. Fails when a shard folder cannot be read or a
+// file cannot be written.
 rig::Result<MergedSweep> MergeSweep(const LoadedSweep& sweep, const std::string& out_dir,
                                     const std::string& hilrig);
 

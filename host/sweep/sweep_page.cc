@@ -1,12 +1,15 @@
 #include "host/sweep/sweep_page.h"
 
 #include <map>
+#include <optional>
 #include <set>
+#include <utility>
 
 #include "host/report/histogram_plot.h"
 #include "host/report/html_page.h"
 #include "host/report/signal_unit.h"
 #include "host/sweep/case_run.h"
+#include "host/sweep/sweep_map.h"
 #include "host/sweep/sweep_merge.h"
 #include "host/sweep/sweep_statistics.h"
 #include "rig/number_text.h"
@@ -205,6 +208,39 @@ std::string HistogramSection(const LoadedSweep& sweep,
   return html + "</div>\n";
 }
 
+// The names of the axes other than the map's, "a, b".
+std::string OtherAxes(const proto::Sweep& spec, std::pair<int, int> map_axes) {
+  std::string names;
+  for (int a = 0; a < spec.axis_size(); ++a) {
+    if (a == map_axes.first || a == map_axes.second) continue;
+    names += (names.empty() ? "" : ", ") + spec.axis(a).path();
+  }
+  return names;
+}
+
+std::string MapSection(const LoadedSweep& sweep,
+                       const std::vector<proto::SweepCaseResult>& results) {
+  const auto axes = SweepMapAxes(sweep.spec);
+  const std::optional<std::string> svg = SweepMapSvg(sweep, results);
+  if (!axes || !svg) return "";
+  std::string html = "<h2>Pass map</h2>\n<p class=\"sub\">A cell per point of " +
+                     HtmlText(sweep.spec.axis(axes->first).path()) + " (across) and " +
+                     HtmlText(sweep.spec.axis(axes->second).path()) +
+                     " (up): blue where every case of the point passed, vermillion where none "
+                     "did, a blend of the two for a share, grey where no case finished. A point "
+                     "holds the case of every seed and scenario: its cell reads pass or fail for "
+                     "one case, k/n when k of its n cases passed.";
+  const std::string others = OtherAxes(sweep.spec, *axes);
+  if (!others.empty()) {
+    html +=
+        " The sweep has more axes than a map shows: it draws the first two with listed or "
+        "grid values, and a point holds the cases of every value of the others (" +
+        HtmlText(others) + ").";
+  }
+  return html + " The map is also a file of its own, " + HtmlLink(kSweepMapFile, kSweepMapFile) +
+         ".</p>\n<figure>\n" + InlineSvg(*svg, "map-") + "</figure>\n";
+}
+
 // The case's number, linked to its run folder's page where the case ran (a failing case that ran
 // is run again into runs/case-N; one that did not run has no folder).
 HtmlCell CaseCell(const proto::SweepCaseResult& row) {
@@ -262,11 +298,12 @@ std::string SweepPageHtml(const LoadedSweep& sweep,
                           const std::vector<proto::SweepCaseResult>& results,
                           const proto::SweepSummary& summary, const std::string& hilrig,
                           const std::string& runs_dir) {
-  const std::string body =
-      Heading(sweep, results, summary) + CriteriaSection(sweep, summary) +
-      EnvelopeSection(sweep, summary) + HistogramSection(sweep, results, summary) +
-      FailingSection(sweep, results, hilrig, runs_dir) +
-      HtmlFileLinks({"summary.json", "runs.csv", "failing.txt", "sweep.textproto"});
+  std::vector<std::string> files = {"summary.json", "runs.csv", "failing.txt", "sweep.textproto"};
+  if (SweepMapAxes(sweep.spec)) files.emplace_back(kSweepMapFile);
+  const std::string body = Heading(sweep, results, summary) + CriteriaSection(sweep, summary) +
+                           EnvelopeSection(sweep, summary) + MapSection(sweep, results) +
+                           HistogramSection(sweep, results, summary) +
+                           FailingSection(sweep, results, hilrig, runs_dir) + HtmlFileLinks(files);
   return HtmlDocument("Sweep " + sweep.spec.name() + ": " + SweepVerdict(summary).word, body);
 }
 

@@ -1,11 +1,12 @@
 // The page of a sweep folder, index.html beside summary.json, written by the merge: the sweep's
 // verdict, its criteria measured against their limits, each envelope's pass rate with its Wilson
-// interval and margin quantiles, a histogram of each envelope's worst value across the cases with
-// its limits drawn, and the cases that did not pass with the command that runs each alone. Like
-// summary.json it is made from the case rows, the summary and the sweep alone, never from the
-// timing columns, the shard split or the output folder's path, so a sweep merged from any number
-// of shards, here or on a cluster, gets the same bytes. One self-contained file
-// (host/report/html_page.h: no script, no load).
+// interval and margin quantiles, the pass map of a sweep over two axes (sweep_map.h), a histogram
+// of each envelope's worst value across the cases with its limits drawn, and the cases that did
+// not pass with the command that runs each alone. Like summary.json it is made from the case rows,
+// the summary and the sweep alone, never from the timing columns, the shard split or the output
+// folder's path, so a sweep merged from any number of shards, here or on a cluster, gets the same
+// bytes. One self-contained file (host/report/html_page.h: no script, no load): the map is drawn
+// in the page, and map.svg beside it is a link, never loaded.
 #pragma once
 
 #include <cstddef>

@@ -6,10 +6,15 @@ page_check.py dom PAGE DOM MIN_SVGS TEXT...
     <svg> elements and each TEXT; no element may load anything (no src, no <script>, <link>,
     <img>, <iframe>, <object>, <embed>), and every link must be relative and name a file that
     exists beside PAGE.
-page_check.py png SHOT WIDTH HEIGHT
+page_check.py png SHOT WIDTH HEIGHT COLOURS...
     SHOT is a screenshot (--screenshot) of WIDTH x HEIGHT pixels. It must decode, and show more
-    than a blank page: many colours, among them the pages' green or red of a verdict, which only
-    the page's style sheet paints.
+    than a blank page: many colours, among them each COLOURS argument, a colour RRGGBB or
+    alternatives RRGGBB|RRGGBB of which one must show (a page's green or red of a verdict, which
+    only its style sheet paints; a map's blue and vermillion cells).
+page_check.py svg FILE COLOURS...
+    FILE is a standalone SVG document (a sweep's map.svg): it must parse as XML, its root must be
+    an <svg> of the SVG namespace whose width and height are positive numbers (the natural size
+    an <img> of it would take), and it must fill something with each colour RRGGBB of COLOURS.
 Prints what failed and exits 1, or exits 0.
 """
 import html.parser
@@ -17,10 +22,10 @@ import os
 import struct
 import sys
 import urllib.parse
+import xml.etree.ElementTree
 import zlib
 
 LOADING_TAGS = {"script", "link", "img", "iframe", "object", "embed", "audio", "video", "source"}
-VERDICT_COLOURS = {(0x1A, 0x7F, 0x37), (0xCF, 0x22, 0x2E)}  # host/report/html_page.cc
 
 
 class Elements(html.parser.HTMLParser):
@@ -109,7 +114,11 @@ def png_pixels(path):
     return width, height, rows
 
 
-def check_png(path, width, height):
+def rgb(hex_colour):
+    return tuple(int(hex_colour[i:i + 2], 16) for i in (0, 2, 4))
+
+
+def check_png(path, width, height, wanted):
     try:
         got_width, got_height, rows = png_pixels(path)
     except (OSError, ValueError, zlib.error, struct.error, TypeError) as error:
@@ -122,16 +131,40 @@ def check_png(path, width, height):
         colours.update(row)
     if len(colours) < 16:
         problems.append("%d colours: a blank page" % len(colours))
-    if not colours & VERDICT_COLOURS:
-        problems.append("no verdict green or red: the style sheet did not apply")
+    for alternatives in wanted:
+        if not colours & {rgb(colour) for colour in alternatives.split("|")}:
+            problems.append("no pixel of #%s: the page's colours did not apply" %
+                            alternatives.replace("|", " or #"))
+    return problems
+
+
+def check_svg(path, wanted):
+    try:
+        root = xml.etree.ElementTree.parse(path).getroot()
+    except (OSError, xml.etree.ElementTree.ParseError) as error:
+        return ["cannot read %s as XML: %s" % (path, error)]
+    if root.tag != "{http://www.w3.org/2000/svg}svg":
+        return ["the root element is %s, not an SVG document's <svg>" % root.tag]
+    problems = []
+    for side in ("width", "height"):
+        try:
+            size = float(root.get(side, ""))
+        except ValueError:
+            size = 0
+        if not size > 0:
+            problems.append("%s %r: a browser would show it with no size" % (side, root.get(side)))
+    fills = {element.get("fill", "").upper() for element in root.iter()}
+    problems += ["nothing filled #%s" % colour for colour in wanted if "#" + colour not in fills]
     return problems
 
 
 def main(args):
     if len(args) >= 4 and args[0] == "dom":
         problems = check_dom(args[1], args[2], int(args[3]), args[4:])
-    elif len(args) == 4 and args[0] == "png":
-        problems = check_png(args[1], int(args[2]), int(args[3]))
+    elif len(args) >= 5 and args[0] == "png":
+        problems = check_png(args[1], int(args[2]), int(args[3]), args[4:])
+    elif len(args) >= 2 and args[0] == "svg":
+        problems = check_svg(args[1], args[2:])
     else:
         print(__doc__)
         return 2

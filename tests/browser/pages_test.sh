@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
 # The result pages in a real browser: makes two run folders (balloon_grasp cut to 8 s, and the
-# bottle's hand-over cut to 10 s, each with its plots, panels and event markers), a small
-# sweep folder (hover over 2 masses and 3 seeds, one envelope that always passes and one that
-# always fails) and a folder run of two hover specs, then opens each index.html in headless Chromium twice: --dump-dom, whose DOM must
-# hold the tables, the inlined <svg> plots and the verdicts, load nothing and link only to files
-# that exist (tests/browser/page_check.py); and --screenshot, whose PNG must decode and not be
-# blank. Chromium's log must show no console message (the pages run no script, so any message is
+# bottle's hand-over cut to 10 s, each with its plots, panels and event markers), a small sweep
+# folder (hover over 2 masses, 2 bounds of an envelope and 2 seeds, one envelope that always
+# passes and one that fails at the tighter bound) and a folder run of two hover specs, then opens
+# each index.html in headless Chromium twice: --dump-dom, whose DOM must hold the tables, the
+# inlined <svg> plots and the verdicts, load nothing and link only to files that exist
+# (tests/browser/page_check.py); and --screenshot, whose PNG must decode and not be blank, and for
+# the sweep show its pass map's blue and vermillion cells. The sweep's map.svg, which its page
+# links, must be an SVG document of a size a browser shows (page_check.py svg). Chromium's log
+# must show no console message (the pages run no script, so any message is
 # an error, and the pages' Content-Security-Policy turns every attempted load into one) and no
 # file loaded but the page. A page that loads an image shows that the log check can fail.
 # Chromium's profile, HOME and caches go into the test's temporary folder.
@@ -24,6 +27,9 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 mkdir -p "$work/home"
 readonly width=1280 height=2000
+# The pages' verdict colours (host/report/html_page.cc), which only their style sheet paints, and
+# the map's pass and fail colours (host/report/grid_map.h).
+readonly verdict='1A7F37|CF222E' map_blue=0072B2 map_vermillion=D55E00
 
 # browse PAGE OUT LOG ARGS...: Chromium on PAGE with ARGS, standard output to OUT, its log to
 # LOG. File loads are logged at verbosity 1 of file_url_loader_factory, console messages at INFO.
@@ -50,10 +56,11 @@ fail() {
   failures=$((failures + 1))
 }
 
-# check_page PAGE MIN_SVGS TEXT...: the DOM, the log and a screenshot of PAGE.
+# check_page PAGE MIN_SVGS COLOURS TEXT...: the DOM, the log and a screenshot of PAGE, which must
+# show each of the space-separated COLOURS: a colour RRGGBB, or alternatives A|B of which one.
 check_page() {
-  local page=$1 min_svgs=$2 name problems
-  shift 2
+  local page=$1 min_svgs=$2 colours=$3 name problems
+  shift 3
   name=$(basename "$(dirname "$page")")
   browse "$page" "$work/$name.dom" "$work/$name.log" --dump-dom ||
     fail "$page: chromium --dump-dom exited $?"
@@ -65,7 +72,9 @@ check_page() {
   problems=$(log_problems "$page" "$work/$name.log"; log_problems "$page" "$work/$name.shot.log")
   [[ -z $problems ]] || fail "$page: $problems"
   [[ -s $work/$name.png ]] || { fail "$page: no screenshot written"; return; }
-  python3 "$checks" png "$work/$name.png" "$width" "$height" || failures=$((failures + 1))
+  # $colours unquoted: one argument per colour.
+  python3 "$checks" png "$work/$name.png" "$width" "$height" $colours ||
+    failures=$((failures + 1))
 }
 
 # run_scene NAME SPEC ARGS...: hilrig run of SPEC into $work/NAME; a verdict either way is fine.
@@ -83,18 +92,19 @@ run_scene() {
 # top view (6 plots; the pad and trajectory panels are nested <svg>s: 6 + 6 + 3 = 15), with the
 # timeline's events marked.
 run_scene run "$source_dir/scenarios/balloon_grasp.textproto" --duration-s 8
-check_page "$work/run/index.html" 15 "<h2>Envelopes</h2>" "<td>grasp_force</td>" \
+check_page "$work/run/index.html" 15 "$verdict" "<h2>Envelopes</h2>" "<td>grasp_force</td>" \
   "<h2>Objects</h2>" "<td>real-time factor</td>" 'class="badge ' \
   "Grasp force: true (wide, light) and the DUT's estimate" ">true (plant)<" ">DUT estimate<" \
   ">Pad 0 (node 1)<" ">Pad 5 (node 6)<" ">decoded by the DUT<" ">grasp 0.6 N<" \
   ">setpoint (0, 0, 0.55) m<" ">Altitude z and its reference<" ">x (m)<" ">y (m)<" \
   "Top view: the path" 'class="marker-labels"'
 run_scene bottle "$source_dir/scenarios/bottle_feedback.textproto" --duration-s 10
-check_page "$work/bottle/index.html" 15 "<h2>Objects</h2>" ">grasp 3.5 N<" ">stand removed<" \
+check_page "$work/bottle/index.html" 15 "$verdict" "<h2>Objects</h2>" ">grasp 3.5 N<" ">stand removed<" \
   "envelope clear_of_ground" ">Pad 3 (node 4)<" "Vertical load of the grasped object"
 
 # A sweep folder with passing and failing cases, so that both colours, the failing cases'
-# commands and the links to their run folders are on the page.
+# commands and the links to their run folders are on the page; over two axes, so that it has its
+# pass map: the tight envelope fails at its first bound and passes at its second.
 cat >"$work/hover.textproto" <<'SPEC'
 name: "hover_pages"
 vehicle { initial_position_m { z: 1 } }
@@ -105,8 +115,9 @@ SPEC
 cat >"$work/sweep.textproto" <<'SPEC'
 name: "hover_pages"
 scenario: "hover.textproto"
-seeds { count: 3 }
+seeds { count: 2 }
 axis { path: "vehicle.mass_kg" list { value: 0.5 value: 0.6 } }
+axis { path: "envelopes[1].upper" list { value: 1e-9 value: 1 } }
 criterion { envelope: "altitude" min_pass_rate: 0.2 }
 SPEC
 sweep_status=0
@@ -114,9 +125,15 @@ sweep_status=0
   sweep_status=$?
 ((sweep_status <= 1)) ||
   { echo "FAIL: hilrig sweep exited $sweep_status"; cat "$work/sweep.out"; exit 1; }
-check_page "$work/sweep/index.html" 2 "<h2>Criteria</h2>" "<h2>Envelopes</h2>" \
+check_page "$work/sweep/index.html" 3 "$verdict $map_blue $map_vermillion" "<h2>Criteria</h2>" \
+  "<h2>Envelopes</h2>" "<h2>Pass map</h2>" ">2/2</text>" ">0/2</text>" 'href="map.svg"' \
   "<h2>Worst values</h2>" "<h2>Cases that did not pass</h2>" "<code>" \
   'href="runs/case-0000000/index.html"'
+# The map the page links, as a file of its own: the page draws the same map inline, so its
+# screenshot above shows that Chromium renders it; here it must be a whole SVG document whose
+# size (what an <img> of it would take as its natural size) is not zero.
+python3 "$checks" svg "$work/sweep/map.svg" "$map_blue" "$map_vermillion" ||
+  failures=$((failures + 1))
 # A failing case's folder has its own page, which the sweep's page links to.
 [[ -f $work/sweep/runs/case-0000000/index.html ]] || fail "no page in the failing case's folder"
 
@@ -129,7 +146,7 @@ folder_status=0
 "$hilrig" run "$work/folder" --out "$work/suite" >"$work/suite.out" 2>&1 || folder_status=$?
 ((folder_status == 1)) ||
   { echo "FAIL: the folder run exited $folder_status, not 1"; cat "$work/suite.out"; exit 1; }
-check_page "$work/suite/index.html" 0 "<h2>Scenarios</h2>" 'href="hover/index.html"' \
+check_page "$work/suite/index.html" 0 "$verdict" "<h2>Scenarios</h2>" 'href="hover/index.html"' \
   'href="hover%20%232/index.html"' '<span class="badge fail">FAIL</span>'
 
 # The log check can fail: a page with the same policy that tries to load an image.
@@ -144,4 +161,4 @@ browse "$work/canary/index.html" /dev/null "$work/canary.log" --dump-dom || true
   fail "a page that loads an image passes the log check: Chromium's log format changed?"
 
 ((failures == 0)) || exit 1
-echo "PASS: the run, sweep and folder-run pages render in Chromium with their tables and plots, load nothing"
+echo "PASS: the run, sweep and folder-run pages render in Chromium with their tables and plots, load nothing; the sweep's map.svg renders"

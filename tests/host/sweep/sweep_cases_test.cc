@@ -59,6 +59,10 @@ axis { path: "timeline[0].grasp.force_n" grid { from: 1 to: 3 count: 3 } }
   EXPECT_EQ(last.scenario, 1u);
   EXPECT_EQ(last.seed, 6u);
   EXPECT_EQ(last.values, (std::vector<double>{0.2, 3}));
+  // Each value's place among its axis's points: what the sweep page's map files the case under.
+  EXPECT_EQ(first.point_index, (std::vector<std::size_t>{0, 0}));
+  EXPECT_EQ(cases.CaseAt(2).point_index, (std::vector<std::size_t>{0, 1}));
+  EXPECT_EQ(last.point_index, (std::vector<std::size_t>{1, 2}));
   auto scenario = CaseScenario(sweep, last);
   ASSERT_TRUE(scenario.ok()) << scenario.error().message;
   EXPECT_EQ(scenario.value().name(), "b");

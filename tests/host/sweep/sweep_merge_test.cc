@@ -107,6 +107,46 @@ TEST(SweepMergeTest, EveryMatchingRowCountsAndTheSweepPasses) {
   EXPECT_TRUE(merged.value().summary.passed());
 }
 
+// A sweep over two axes gets its pass map beside its page, and drawn in it; one over one axis
+// gets no map.svg.
+TEST(SweepMergeTest, ASweepOverTwoAxesWritesItsMapBesideThePage) {
+  LoadedSweep sweep = HoverSweep("sweep_merge_map");
+  proto::Axis* bound = sweep.spec.add_axis();
+  bound->set_path("envelopes[0].upper");
+  bound->mutable_list()->add_value(0.05);
+  bound->mutable_list()->add_value(1);
+  // 2 masses x 2 bounds x 2 seeds: case = mass * 4 + bound * 2 + seed - 1. All pass.
+  std::string lines;
+  for (std::uint64_t index = 0; index < 8; ++index) {
+    proto::SweepCaseResult row = PassedHoverRow(0);
+    row.set_index(index);
+    row.set_seed(index % 2 + 1);
+    row.set_value(0, index < 4 ? 0.5 : 0.6);
+    row.add_value(index % 4 < 2 ? 0.05 : 1);
+    lines += JsonLine(row);
+  }
+  const auto out = ShardFolder("sweep_merge_map_out", lines);
+  auto merged = MergeSweep(sweep, out.string(), "hilrig");
+  ASSERT_TRUE(merged.ok()) << merged.error().message;
+  ASSERT_EQ(merged.value().finished, 8u) << ::testing::PrintToString(merged.value().problems);
+  const std::string map = ReadFile(out / "map.svg");
+  EXPECT_EQ(map.rfind("<?xml", 0), 0u);
+  EXPECT_THAT(map, HasSubstr(">2/2</text>"));
+  EXPECT_THAT(map, HasSubstr(">vehicle.mass_kg</text>"));
+  const std::string page = ReadFile(out / "index.html");
+  EXPECT_THAT(page, HasSubstr("<h2>Pass map</h2>"));
+  EXPECT_THAT(page, HasSubstr("<a href=\"map.svg\">map.svg</a>"));
+
+  const LoadedSweep one_axis = HoverSweep("sweep_merge_no_map");
+  std::string one_axis_lines;
+  for (std::uint64_t index = 0; index < 4; ++index)
+    one_axis_lines += JsonLine(PassedHoverRow(index));
+  const auto one_axis_out = ShardFolder("sweep_merge_no_map_out", one_axis_lines);
+  ASSERT_TRUE(MergeSweep(one_axis, one_axis_out.string(), "hilrig").ok());
+  EXPECT_TRUE(std::filesystem::exists(one_axis_out / "index.html"));
+  EXPECT_FALSE(std::filesystem::exists(one_axis_out / "map.svg"));
+}
+
 // Rows that do not match their case as the sweep spec makes it stand for no case: a forged
 // scenario, seed or value, an outcome its envelopes belie, a case the sweep does not have, an
 // empty object. The sweep is then incomplete, and never passes.

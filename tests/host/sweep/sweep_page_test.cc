@@ -170,6 +170,45 @@ TEST(SweepPageTest, ASweepWithoutCriteriaSaysItCannotPass) {
   EXPECT_THAT(html, HasSubstr("<span class=\"badge fail\">FAIL</span>"));
 }
 
+// Over two axes the page draws the pass map and links map.svg, the same map as a file; over one
+// axis it has neither.
+TEST(SweepPageTest, ASweepOverTwoAxesShowsItsPassMapAndLinksTheFile) {
+  LoadedSweep sweep = GraspSweep();
+  for (const double mass_kg : {0.25, 0.5})
+    sweep.spec.mutable_axis(0)->mutable_list()->add_value(mass_kg);
+  proto::Axis* force = sweep.spec.add_axis();
+  force->set_path("timeline[0].grasp.force_n");
+  for (const double force_n : {2.0, 3.0}) force->mutable_list()->add_value(force_n);
+  // Cases 0..3: (0.25, 2), (0.25, 3), (0.5, 2), (0.5, 3); the last fails.
+  std::vector<proto::SweepCaseResult> results;
+  for (std::uint64_t index = 0; index < 4; ++index) {
+    results.push_back(index == 3 ? Row(index, proto::SweepCaseResult::FAILED, 0.7, false)
+                                 : Row(index, proto::SweepCaseResult::PASSED, 0.5, true));
+  }
+  const std::string html = Page(sweep, results, 4);
+  EXPECT_THAT(html, HasSubstr("<h2>Pass map</h2>"));
+  EXPECT_THAT(html, HasSubstr("A cell per point of object.mass_kg (across) and "
+                              "timeline[0].grasp.force_n (up)"));
+  EXPECT_THAT(html, HasSubstr("<title>object.mass_kg = 0.5, timeline[0].grasp.force_n = 3: 0 of 1 "
+                              "case passed</title>"));
+  EXPECT_THAT(html, HasSubstr(">fail</text>"));
+  EXPECT_THAT(html, HasSubstr("fill=\"#D55E00\""));
+  EXPECT_THAT(html, HasSubstr("a file of its own, <a href=\"map.svg\">map.svg</a>."));
+  EXPECT_THAT(html, HasSubstr("<a href=\"map.svg\">map.svg</a> </p>"));  // in the files
+  EXPECT_THAT(html, Not(HasSubstr("more axes than a map shows")));
+  // A third axis: the map keeps the first two and says which axes its points gather.
+  proto::Axis* latency = sweep.spec.add_axis();
+  latency->set_path("models.vio.latency_s");
+  latency->mutable_list()->add_value(0.01);
+  EXPECT_THAT(Page(sweep, results, 4),
+              HasSubstr("a point holds the cases of every value of the others "
+                        "(models.vio.latency_s)."));
+
+  const std::string one_axis = Page(GraspSweep(), results, 4);
+  EXPECT_THAT(one_axis, Not(HasSubstr("Pass map")));
+  EXPECT_THAT(one_axis, Not(HasSubstr("map.svg")));
+}
+
 // The page is made from what the cases showed, never from how fast they ran: the timing columns
 // differ between machines and between a local sweep and a cluster's.
 TEST(SweepPageTest, ThePageDoesNotDependOnTheCasesTiming) {
