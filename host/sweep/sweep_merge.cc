@@ -7,6 +7,7 @@
 #include <sstream>
 #include <vector>
 
+#include "host/report/sweep_outcome.h"
 #include "host/sweep/case_run.h"
 #include "host/sweep/shell_words.h"
 #include "host/sweep/sweep_cases.h"
@@ -43,27 +44,6 @@ std::vector<std::string> EnvelopeColumns(const LoadedSweep& sweep) {
   }
   return names;
 }
-
-}  // namespace
-
-const char* OutcomeName(proto::SweepCaseResult::Outcome outcome) {
-  switch (outcome) {
-    case proto::SweepCaseResult::PASSED:
-      return "passed";
-    case proto::SweepCaseResult::FAILED:
-      return "failed";
-    case proto::SweepCaseResult::STOPPED:
-      return "stopped";
-    case proto::SweepCaseResult::INVALID:
-      return "invalid";
-    case proto::SweepCaseResult::SET_UP_FAILED:
-      return "set_up_failed";
-    default:
-      return "unknown";
-  }
-}
-
-namespace {
 
 const SweepScenario* ScenarioNamed(const LoadedSweep& sweep, const std::string& name) {
   for (const SweepScenario& scenario : sweep.scenarios) {

@@ -32,16 +32,12 @@ struct MergedSweep {
 };
 
 // runs.csv's text for `rows` (in index order). Columns: case, scenario, seed, one per axis (its
-// path), outcome, then per envelope of the sweep's scenarios (in first-seen order) NAME.met,
-// NAME.worst, NAME.margin (empty where a case's scenario has no such envelope or it did not run),
-// then detail, and last the two columns that measure the machine, not the case: real_time_factor
-// and wall_s.
+// path), outcome (host/report/sweep_outcome.h's word), then per envelope of the sweep's scenarios
+// (in first-seen order) NAME.met, NAME.worst, NAME.margin (empty where a case's scenario has no
+// such envelope or it did not run), then detail, and last the two columns that measure the machine,
+// not the case: real_time_factor and wall_s.
 std::string RunsCsv(const LoadedSweep& sweep,
                     const std::map<std::uint64_t, proto::SweepCaseResult>& rows);
-
-// runs.csv's outcome column: "passed", "failed", "stopped", "invalid", "set_up_failed"; "unknown"
-// for an outcome this build does not know.
-const char* OutcomeName(proto::SweepCaseResult::Outcome outcome);
 
 // The command that runs case `row` alone, as `hilrig run` with the case's seed and values, into
 // DIR/case-NNNNNNN under `runs_dir`.

@@ -8,6 +8,7 @@
 #include "host/report/histogram_plot.h"
 #include "host/report/html_page.h"
 #include "host/report/signal_unit.h"
+#include "host/report/sweep_outcome.h"
 #include "host/sweep/case_run.h"
 #include "host/sweep/sweep_map.h"
 #include "host/sweep/sweep_merge.h"
