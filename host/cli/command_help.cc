@@ -28,6 +28,7 @@ constexpr std::string_view kCompareUsage =
     "  hilrig compare BASE CANDIDATE [--out FILE]\n"
     "      BASE, CANDIDATE: two run folders, two folder runs (hilrig run DIR/) or two sweep\n"
     "      folders; exit 1 when the candidate is worse; --out writes the comparison as JSON\n"
+    "      (two sweeps: also the cases whose verdict flipped, listed, not graded)\n"
     "      [--margin-tolerance F] (a margin may shrink by F of the base's, default 0.1)\n"
     "      [--pass-rate-tolerance P] (default 0)\n"
     "      [--confidence C] (a pass-rate drop counts when significant at C, default 0.95)\n"

@@ -7,9 +7,11 @@
 
 #include "host/cli/cli.h"
 #include "host/cli/command_help.h"
+#include "host/compare/case_changes.h"
 #include "host/compare/comparison_text.h"
 #include "host/compare/result_folder.h"
 #include "host/compare/run_comparison.h"
+#include "host/compare/runs_csv.h"
 #include "host/compare/sweep_comparison.h"
 #include "host/compare/trace_difference.h"
 #include "host/report/report_files.h"
@@ -139,12 +141,21 @@ rig::Result<proto::SuiteComparison> CompareSuiteFolders(const CompareOptions& op
   return comparison;
 }
 
+// The summaries graded, and the cases of runs.csv matched: a sweep folder without a readable
+// runs.csv cannot be compared, as one without its summary cannot.
 rig::Result<proto::SweepComparison> CompareSweepFolders(const CompareOptions& options) {
   auto base = ReadSweepSummary(options.base_dir);
   if (!base) return base.error();
   auto candidate = ReadSweepSummary(options.candidate_dir);
   if (!candidate) return candidate.error();
-  return CompareSweeps(base.value(), candidate.value(), options.tolerances);
+  auto base_cases = ReadRunsCsv(options.base_dir);
+  if (!base_cases) return base_cases.error();
+  auto candidate_cases = ReadRunsCsv(options.candidate_dir);
+  if (!candidate_cases) return candidate_cases.error();
+  proto::SweepComparison comparison =
+      CompareSweeps(base.value(), candidate.value(), options.tolerances);
+  *comparison.mutable_cases() = CompareCases(base_cases.value(), candidate_cases.value());
+  return comparison;
 }
 
 const char* KindName(ResultFolderKind kind) {

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "host/compare/change.h"
+#include "host/report/sweep_outcome.h"
 #include "rig/number_text.h"
 
 namespace hilrig::host {
@@ -119,6 +120,71 @@ void AddEnvelopeLines(const proto::PassRateChange& row, std::vector<std::string>
   lines.push_back(margins);
 }
 
+// "case 3" or, where the sweeps number it differently, "case 3 -> 5".
+std::string CaseNumbers(const proto::CaseChange& change) {
+  if (!change.has_candidate_case()) return "case " + std::to_string(change.base_case());
+  if (!change.has_base_case()) return "case " + std::to_string(change.candidate_case());
+  return "case " +
+         Arrow(std::to_string(change.base_case()), std::to_string(change.candidate_case()));
+}
+
+std::string OutcomesMoved(const proto::CaseChange& change) {
+  if (!change.has_candidate_case()) return OutcomeName(change.base_outcome());
+  if (!change.has_base_case()) return OutcomeName(change.candidate_outcome());
+  return Arrow(OutcomeName(change.base_outcome()), OutcomeName(change.candidate_outcome()));
+}
+
+// "case 3: hover, seed 2, vehicle.mass_kg=0.6: passed -> failed".
+std::string CaseLine(const proto::CaseChange& change,
+                     const google::protobuf::RepeatedPtrField<std::string>& axes) {
+  std::string line =
+      CaseNumbers(change) + ": " + change.scenario() + ", seed " + std::to_string(change.seed());
+  for (int a = 0; a < axes.size() && a < change.value_size(); ++a) {
+    line += ", " + axes[a] + "=" + rig::NumberText(change.value(a));
+  }
+  return line + ": " + OutcomesMoved(change);
+}
+
+void AddCaseList(const std::string& title, std::uint64_t count,
+                 const google::protobuf::RepeatedPtrField<proto::CaseChange>& listed,
+                 const google::protobuf::RepeatedPtrField<std::string>& axes,
+                 std::vector<std::string>& lines) {
+  if (count == 0) return;
+  lines.push_back("  " + title + ": " + std::to_string(count));
+  for (const proto::CaseChange& change : listed) lines.push_back("    " + CaseLine(change, axes));
+  const auto shown = static_cast<std::uint64_t>(listed.size());
+  if (count > shown) lines.push_back("    ... and " + std::to_string(count - shown) + " more");
+}
+
+void AddCaseLines(const proto::CaseChanges& cases, std::vector<std::string>& lines) {
+  if (!cases.matched()) {
+    lines.push_back("cases: not matched: " + cases.problem());
+    return;
+  }
+  std::string head = "cases: " + std::to_string(cases.matched_cases()) +
+                     " in both sweeps, matched by scenario, seed and axis values";
+  if (cases.now_failing_count() + cases.now_passing_count() + cases.only_in_base_count() +
+          cases.only_in_candidate_count() ==
+      0) {
+    lines.push_back(head + "; no verdict changed");
+    return;
+  }
+  lines.push_back(head + "; " + std::to_string(cases.now_failing_count()) + " now failing, " +
+                  std::to_string(cases.now_passing_count()) + " now passing, " +
+                  std::to_string(cases.only_in_base_count()) + " only in the base, " +
+                  std::to_string(cases.only_in_candidate_count()) +
+                  " only in the candidate (listed, not graded: the pass rates, margins and "
+                  "criteria decide the verdict)");
+  AddCaseList("now failing (passed in the base)", cases.now_failing_count(), cases.now_failing(),
+              cases.axis(), lines);
+  AddCaseList("now passing (did not pass in the base)", cases.now_passing_count(),
+              cases.now_passing(), cases.axis(), lines);
+  AddCaseList("only in the base", cases.only_in_base_count(), cases.only_in_base(), cases.axis(),
+              lines);
+  AddCaseList("only in the candidate", cases.only_in_candidate_count(), cases.only_in_candidate(),
+              cases.axis(), lines);
+}
+
 }  // namespace
 
 std::vector<std::string> RunComparisonLines(const proto::RunComparison& comparison) {
@@ -150,6 +216,7 @@ std::vector<std::string> SweepComparisonLines(const proto::SweepComparison& comp
                          ? std::string("only in base")
                          : Arrow(MetText(row.base_passed()), MetText(row.candidate_passed()))));
   }
+  if (comparison.has_cases()) AddCaseLines(comparison.cases(), lines);
   return lines;
 }
 

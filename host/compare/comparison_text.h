@@ -1,5 +1,6 @@
 // The lines `hilrig compare` prints: a row per check or envelope with its change, the traces'
-// largest differences and where they part, and the verdict with its reasons.
+// largest differences and where they part, the sweeps' cases whose verdict changed, and the
+// verdict with its reasons.
 #pragma once
 
 #include <string>

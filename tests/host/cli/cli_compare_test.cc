@@ -1,16 +1,21 @@
 // `hilrig compare` as a CI job calls it between two builds' results: a grasp controller weakened
 // through the spec (four times the damping of its admittance, so the force builds four times
-// slower) is flagged in a run and in a sweep, an unchanged one is not, and folders it cannot
-// compare are refused with exit 2.
+// slower) is flagged in a run and in a sweep, an unchanged one is not, the sweep cases whose
+// verdict flipped are named, and folders it cannot compare are refused with exit 2.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
 #include <fstream>
+#include <map>
+#include <vector>
 
+#include "host/sweep/sweep_merge.h"
+#include "host/sweep/sweep_statistics.h"
 #include "proto/compare.pb.h"
 #include "tests/support/cli_runner.h"
 #include "tests/support/hilrig_process.h"
+#include "tests/support/hover_sweep.h"
 #include "tests/support/test_files.h"
 #include "tests/support/test_paths.h"
 
@@ -126,11 +131,87 @@ TEST(CliCompareTest, AWeakenedGraspControllerFailsASweepsComparison) {
       Cli({"compare", (dir / "base_out").string(), (dir / "again_out").string()});
   EXPECT_EQ(same.exit_code, 0) << same.out << same.err;
   EXPECT_THAT(same.out, HasSubstr("balloon_grasp/grasp_force           pass 100 % (6/6)  p 1"));
+  EXPECT_THAT(same.out, HasSubstr("cases: 6 in both sweeps, matched by scenario, seed and axis "
+                                  "values; no verdict changed"));
   const CliResult weak = Cli({"compare", (dir / "base_out").string(), (dir / "weak_out").string()});
   EXPECT_EQ(weak.exit_code, 1) << weak.out << weak.err;
   EXPECT_THAT(weak.out, HasSubstr("pass 100 % (6/6) -> 0 % (0/6)  p 0.00108"));
+  EXPECT_THAT(weak.out, HasSubstr("; 6 now failing, 0 now passing,"));
+  EXPECT_THAT(weak.out, HasSubstr("    case 5: balloon_grasp, seed 6: passed -> failed\n"));
   EXPECT_THAT(weak.out, HasSubstr("balloon_grasp/grasp_force: the pass rate fell significantly"));
   EXPECT_THAT(weak.out, HasSubstr("criterion[0] (balloon_grasp/grasp_force): met in the base"));
+}
+
+// A hover sweep's folder (2 masses x 2 seeds) as the merge writes it, its runs.csv and
+// summary.json made by the sweep's own writers from cases that ended with `outcomes`.
+void WriteHoverSweepFolder(const fs::path& out, const LoadedSweep& sweep,
+                           const std::vector<proto::SweepCaseResult::Outcome>& outcomes) {
+  std::map<std::uint64_t, proto::SweepCaseResult> rows;
+  std::vector<proto::SweepCaseResult> results;
+  for (std::uint64_t index = 0; index < outcomes.size(); ++index) {
+    proto::SweepCaseResult& row = rows[index];
+    row.set_index(index);
+    row.set_scenario("hover_sweep");
+    row.set_seed(index % 2 + 1);
+    row.add_value(index < 2 ? 0.5 : 0.6);
+    row.set_outcome(outcomes[index]);
+    auto* envelope = row.add_envelope();
+    envelope->set_name("altitude");
+    envelope->set_met(outcomes[index] == proto::SweepCaseResult::PASSED);
+    envelope->set_worst(envelope->met() ? 0.01 : 0.09);
+    envelope->set_margin(envelope->met() ? 0.04 : -0.04);
+    results.push_back(row);
+  }
+  proto::SweepSummary summary = SummariseSweep(sweep, results);
+  summary.set_sweep_cases(outcomes.size());
+  summary.set_complete(true);
+  fs::create_directories(out);
+  std::ofstream(out / "runs.csv") << RunsCsv(sweep, rows);
+  std::ofstream(out / "summary.json") << SummaryJson(summary).value();
+}
+
+// One case fails that passed and one passes that failed: the pass rate holds, so the verdict is
+// "not worse" and exit 0, and the output names both cases with their seed and mass. A damaged or
+// missing runs.csv cannot be compared: exit 2, naming the file and the line.
+TEST(CliCompareTest, NamesTheSweepCasesWhoseVerdictFlipped) {
+  const fs::path dir = HoverSweepFolder("cli_compare_flips", 0.05, 2);
+  auto sweep = LoadSweep((dir / "sweep.textproto").string());
+  ASSERT_TRUE(sweep.ok()) << sweep.error().message;
+  constexpr auto kPassed = proto::SweepCaseResult::PASSED;
+  constexpr auto kFailed = proto::SweepCaseResult::FAILED;
+  WriteHoverSweepFolder(dir / "base", sweep.value(), {kPassed, kPassed, kFailed, kPassed});
+  WriteHoverSweepFolder(dir / "candidate", sweep.value(), {kFailed, kPassed, kPassed, kPassed});
+
+  const std::string json = (dir / "compare.json").string();
+  const CliResult flipped =
+      Cli({"compare", (dir / "base").string(), (dir / "candidate").string(), "--out", json});
+  EXPECT_EQ(flipped.exit_code, 0) << flipped.out << flipped.err;
+  EXPECT_THAT(flipped.out, HasSubstr("cases: 4 in both sweeps, matched by scenario, seed and axis "
+                                     "values; 1 now failing, 1 now passing, 0 only in the base, 0 "
+                                     "only in the candidate (listed, not graded"));
+  EXPECT_THAT(flipped.out, HasSubstr("  now failing (passed in the base): 1\n"
+                                     "    case 0: hover_sweep, seed 1, vehicle.mass_kg=0.5: "
+                                     "passed -> failed\n"));
+  EXPECT_THAT(flipped.out, HasSubstr("  now passing (did not pass in the base): 1\n"
+                                     "    case 2: hover_sweep, seed 1, vehicle.mass_kg=0.6: "
+                                     "failed -> passed\n"));
+  EXPECT_THAT(flipped.out, HasSubstr("candidate is not worse than the base"));
+  EXPECT_THAT(ReadFile(json), HasSubstr("\"now_failing_count\": \"1\""));
+
+  // The candidate's runs.csv with an outcome mistyped on its third line.
+  fs::copy(dir / "candidate", dir / "damaged", fs::copy_options::recursive);
+  std::string runs = ReadFile(dir / "damaged" / "runs.csv");
+  const std::size_t third = runs.find('\n', runs.find('\n') + 1) + 1;
+  runs.replace(runs.find("passed", third), 6, "passd");
+  std::ofstream(dir / "damaged" / "runs.csv", std::ios::trunc) << runs;
+  const CliResult damaged = Cli({"compare", (dir / "base").string(), (dir / "damaged").string()});
+  EXPECT_EQ(damaged.exit_code, 2) << damaged.out;
+  EXPECT_THAT(damaged.err, HasSubstr((dir / "damaged" / "runs.csv").string() +
+                                     ":3: outcome \"passd\" is none of passed, failed"));
+  fs::remove(dir / "damaged" / "runs.csv");
+  const CliResult missing = Cli({"compare", (dir / "damaged").string(), (dir / "base").string()});
+  EXPECT_EQ(missing.exit_code, 2) << missing.out;
+  EXPECT_THAT(missing.err, HasSubstr("cannot read " + (dir / "damaged" / "runs.csv").string()));
 }
 
 TEST(CliCompareTest, RefusesWhatItCannotCompare) {

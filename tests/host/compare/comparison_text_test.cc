@@ -1,9 +1,12 @@
 // The lines `hilrig compare` prints: a check's change and numbers, a trace comparison's list capped
-// with a count of the rest, and the verdict with the tolerances it was made with.
+// with a count of the rest, a sweep's flipped cases capped likewise, and the verdict with the
+// tolerances it was made with.
 #include "host/compare/comparison_text.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include "host/compare/case_changes.h"
 
 namespace hilrig::host {
 namespace {
@@ -109,6 +112,80 @@ TEST(ComparisonTextTest, TheVerdictStatesItsTolerances) {
               ElementsAre("candidate is WORSE than the base (margins may shrink by 10 %, pass "
                           "rates drop by 2 points or without significance at 95 %):",
                           "  envelope x: met in the base, not in the candidate"));
+}
+
+// The cases whose verdict changed: a head that counts each kind and says they are not graded,
+// a line per listed case with its numbers, values and outcomes, and the rest counted.
+TEST(ComparisonTextTest, ASweepsFlippedCasesAreListedUnderTheCriteria) {
+  proto::SweepComparison comparison;
+  comparison.set_sweep("hover_mass");
+  comparison.set_candidate_sweep("hover_mass");
+  proto::CaseChanges& cases = *comparison.mutable_cases();
+  cases.set_matched(true);
+  cases.add_axis("vehicle.mass_kg");
+  cases.add_axis("envelopes[1].upper");
+  cases.set_matched_cases(40);
+  cases.set_now_failing_count(kMaxListedCases + 2);
+  for (int i = 0; i < kMaxListedCases; ++i) {
+    proto::CaseChange& change = *cases.add_now_failing();
+    change.set_base_case(static_cast<std::uint64_t>(i));
+    change.set_candidate_case(static_cast<std::uint64_t>(i == 0 ? 5 : i));
+    change.set_scenario("hover");
+    change.set_seed(2);
+    change.add_value(0.6);
+    change.add_value(1e-9);
+    change.set_base_outcome(proto::SweepCaseResult::PASSED);
+    change.set_candidate_outcome(proto::SweepCaseResult::STOPPED);
+  }
+  cases.set_now_passing_count(1);
+  proto::CaseChange& passing = *cases.add_now_passing();
+  passing.set_base_case(7);
+  passing.set_candidate_case(7);
+  passing.set_scenario("hover");
+  passing.set_seed(1);
+  passing.add_value(0.5);
+  passing.add_value(1);
+  passing.set_base_outcome(proto::SweepCaseResult::FAILED);
+  passing.set_candidate_outcome(proto::SweepCaseResult::PASSED);
+  cases.set_only_in_candidate_count(1);
+  proto::CaseChange& added = *cases.add_only_in_candidate();
+  added.set_candidate_case(41);
+  added.set_scenario("hover");
+  added.set_seed(3);
+  added.add_value(0.5);
+  added.add_value(1);
+  added.set_candidate_outcome(proto::SweepCaseResult::FAILED);
+
+  const auto lines = SweepComparisonLines(comparison);
+  EXPECT_THAT(lines, Contains("cases: 40 in both sweeps, matched by scenario, seed and axis "
+                              "values; 22 now failing, 1 now passing, 0 only in the base, 1 only "
+                              "in the candidate (listed, not graded: the pass rates, margins and "
+                              "criteria decide the verdict)"));
+  EXPECT_THAT(lines, Contains("  now failing (passed in the base): 22"));
+  EXPECT_THAT(lines, Contains("    case 0 -> 5: hover, seed 2, vehicle.mass_kg=0.6, "
+                              "envelopes[1].upper=1e-09: passed -> stopped"));
+  EXPECT_THAT(lines, Contains("    ... and 2 more"));
+  EXPECT_THAT(lines, Contains("  now passing (did not pass in the base): 1"));
+  EXPECT_THAT(lines, Contains("    case 7: hover, seed 1, vehicle.mass_kg=0.5, "
+                              "envelopes[1].upper=1: failed -> passed"));
+  EXPECT_THAT(lines, Contains("  only in the candidate: 1"));
+  EXPECT_THAT(lines, Contains("    case 41: hover, seed 3, vehicle.mass_kg=0.5, "
+                              "envelopes[1].upper=1: failed"));
+}
+
+TEST(ComparisonTextTest, UnchangedOrUnmatchedCasesTakeOneLine) {
+  proto::SweepComparison comparison;
+  comparison.mutable_cases()->set_matched(true);
+  comparison.mutable_cases()->set_matched_cases(8);
+  EXPECT_THAT(SweepComparisonLines(comparison),
+              Contains("cases: 8 in both sweeps, matched by scenario, seed and axis values; no "
+                       "verdict changed"));
+  comparison.mutable_cases()->set_matched(false);
+  comparison.mutable_cases()->set_problem("the sweeps have different axes (base: a; candidate: b)");
+  EXPECT_THAT(SweepComparisonLines(comparison),
+              Contains("cases: not matched: the sweeps have different axes (base: a; candidate: "
+                       "b)"));
+  EXPECT_EQ(SweepComparisonLines(proto::SweepComparison()).size(), 1u);  // no cases compared
 }
 
 }  // namespace
