@@ -239,6 +239,13 @@ proto::LinkMessage Session::Answer(const host::ActuatorMessage& command) const {
   fields->set_can_frame_waits_expired(frame_waits_expired_);
   fields->set_can_frames_dropped_foreign(bus_->counters().frames_dropped_foreign);
   fields->set_can_frames_dropped_malformed(bus_->counters().frames_dropped_malformed);
+  const host::DutCounters counted = dut_->counters();
+  proto::DutFrontEndCounters& front_end = *fields->mutable_front_end();
+  front_end.set_can_frames_rejected(counted.can_frames_rejected);
+  front_end.set_sensor_samples(counted.sensor_samples);
+  front_end.set_sensor_sequence_gaps(counted.sensor_sequence_gaps);
+  front_end.set_sensor_samples_lost(counted.sensor_samples_lost);
+  front_end.set_tactile_samples_flagged(counted.tactile_samples_flagged);
   return answer;
 }
 

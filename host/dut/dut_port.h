@@ -26,10 +26,16 @@ namespace hilrig::host {
 
 struct ScenarioConfig;  // host/scenario/scenario_config.h
 
+// What went to a DUT and what its front end made of it. The IMU, VIO and CAN counts are the
+// rig's: what it handed the DUT (for a DUT behind a link, what it sent or forwarded on the link).
+// The front end's counts (rejected frames, samples, gaps, losses, flagged samples) are the DUT's
+// own and mean something only when `front_end_counted`: the in-process dut_fw and dut_emu count
+// them, a board's firmware and a flight stack do not report them.
 struct DutCounters {
   std::uint64_t imu_messages = 0;
   std::uint64_t vio_messages = 0;
   std::uint64_t can_frames_received = 0;
+  bool front_end_counted = false;
   std::uint64_t can_frames_rejected = 0;  // frames that did not decode (wrong DLC, unknown id)
   std::uint64_t sensor_samples = 0;       // Hall sensor node samples, all seven nodes
   std::uint64_t sensor_sequence_gaps = 0;

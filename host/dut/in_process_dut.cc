@@ -68,6 +68,7 @@ void BasicInProcessDut<S>::DrainBus(std::int64_t now_ns) {
 template <typename S>
 DutCounters BasicInProcessDut<S>::counters() const {
   DutCounters counters = counters_;
+  counters.front_end_counted = true;
   const rig::TactileNodeCounters link = link_monitor_.Totals();
   counters.sensor_sequence_gaps = link.sequence_gaps;
   counters.sensor_samples_lost = link.lost_samples;

@@ -14,6 +14,7 @@
 
 #include "host/dut/dut_port.h"
 #include "host/link/hil_messages.h"
+#include "proto/hil_link.pb.h"
 #include "rig/can_frame.h"
 #include "rig/clock.h"
 #include "rig/metric.h"
@@ -92,6 +93,11 @@ class DutLink {
   virtual std::optional<TargetSummary> target() const { return std::nullopt; }
   // Sensor bytes the DUT reported stepping without (DutCounters::sensor_bytes_missing).
   virtual std::uint64_t sensor_bytes_missing() const { return 0; }
+  // The DUT's front-end counts as it last reported them, over a link that carries them; nullopt
+  // when the DUT reports none.
+  virtual std::optional<proto::DutFrontEndCounters> front_end_counters() const {
+    return std::nullopt;
+  }
 };
 
 }  // namespace hilrig::host

@@ -40,6 +40,7 @@ class FakeDutLink final : public DutLink {
   std::optional<std::int64_t> resend_after;
   bool peer = false;
   std::optional<std::string> peer_exit;
+  std::optional<proto::DutFrontEndCounters> front_end;  // the DUT's counts, when it reports them
 
   // --- what the session did ---
   std::vector<Sent> requests;
@@ -57,6 +58,9 @@ class FakeDutLink final : public DutLink {
     return send_result;
   }
   std::optional<std::int64_t> resend_after_ns() const override { return resend_after; }
+  std::optional<proto::DutFrontEndCounters> front_end_counters() const override {
+    return front_end;
+  }
   rig::Result<void> Resend() override {
     ++resends;
     return send_result;

@@ -268,6 +268,14 @@ std::vector<StreamLatency> LinkedDut::response_latencies() const {
 DutCounters LinkedDut::counters() const {
   DutCounters counters = counters_;
   counters.sensor_bytes_missing = link_->sensor_bytes_missing();
+  if (const std::optional<proto::DutFrontEndCounters> dut = link_->front_end_counters()) {
+    counters.front_end_counted = true;
+    counters.can_frames_rejected = dut->can_frames_rejected();
+    counters.sensor_samples = dut->sensor_samples();
+    counters.sensor_sequence_gaps = dut->sensor_sequence_gaps();
+    counters.sensor_samples_lost = dut->sensor_samples_lost();
+    counters.tactile_samples_flagged = dut->tactile_samples_flagged();
+  }
   return counters;
 }
 

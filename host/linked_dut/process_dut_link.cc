@@ -218,6 +218,7 @@ void ProcessDutLink::RecordCoverage(const proto::ActuatorCommand& command,
   dut_frame_waits_expired_ = command.can_frame_waits_expired();
   dut_frames_dropped_foreign_ = command.can_frames_dropped_foreign();
   dut_frames_dropped_malformed_ = command.can_frames_dropped_malformed();
+  if (command.has_front_end()) front_end_ = command.front_end();
   if (!realtime_) return;
   for (std::size_t index = 0; index < kDutInputStreams; ++index) {
     if (auto taken = LastTakenSequence(command, index)) {

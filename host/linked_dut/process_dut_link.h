@@ -45,6 +45,9 @@ class ProcessDutLink final : public DutLink {
   std::string metric_prefix() const override { return "link_"; }
   std::vector<rig::Metric> metrics(bool realtime) const override;
   std::vector<StreamLatency> input_latencies() const override;
+  std::optional<proto::DutFrontEndCounters> front_end_counters() const override {
+    return front_end_;
+  }
 
   // -1 before Open, or for a DUT that dialled in.
   pid_t pid() const { return child_ ? child_->pid() : -1; }
@@ -83,8 +86,9 @@ class ProcessDutLink final : public DutLink {
   SendLog can_log_;  // keyed by the running count of frames forwarded
   std::uint64_t latency_samples_dropped_ = 0;
   std::uint64_t dut_frame_waits_expired_ = 0;
-  std::uint64_t dut_frames_dropped_foreign_ = 0;    // forged datagrams the DUT's bus dropped
-  std::uint64_t dut_frames_dropped_malformed_ = 0;  // datagrams no frame could be read from
+  std::uint64_t dut_frames_dropped_foreign_ = 0;         // forged datagrams the DUT's bus dropped
+  std::uint64_t dut_frames_dropped_malformed_ = 0;       // datagrams no frame could be read from
+  std::optional<proto::DutFrontEndCounters> front_end_;  // the DUT's, from its last command
   // Connections to the link port that did not prove the token, and who they were.
   std::uint64_t peers_refused_ = 0;
   std::string peers_refused_summary_;

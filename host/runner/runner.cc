@@ -566,12 +566,19 @@ proto::Report ScenarioRunner::Impl::Finish() {
   for (const rig::Metric& metric :
        {rig::CountMetric("dut_imu_messages", counters.imu_messages),
         rig::CountMetric("dut_vio_messages", counters.vio_messages),
-        rig::CountMetric("dut_can_frames_received", counters.can_frames_received),
-        rig::CountMetric("dut_can_frames_rejected", counters.can_frames_rejected),
-        rig::CountMetric("dut_sensor_samples", counters.sensor_samples),
-        rig::CountMetric("dut_sensor_samples_lost", counters.sensor_samples_lost),
-        rig::CountMetric("dut_tactile_samples_flagged", counters.tactile_samples_flagged)}) {
+        rig::CountMetric("dut_can_frames_received", counters.can_frames_received)}) {
     AddMetric(report, metric);
+  }
+  // The front end's counts only from a DUT that counts them: zeros from one that does not would
+  // read as a clean bus.
+  if (counters.front_end_counted) {
+    for (const rig::Metric& metric :
+         {rig::CountMetric("dut_can_frames_rejected", counters.can_frames_rejected),
+          rig::CountMetric("dut_sensor_samples", counters.sensor_samples),
+          rig::CountMetric("dut_sensor_samples_lost", counters.sensor_samples_lost),
+          rig::CountMetric("dut_tactile_samples_flagged", counters.tactile_samples_flagged)}) {
+      AddMetric(report, metric);
+    }
   }
   if (dut_) {
     for (const rig::Metric& metric : dut_->link_metrics()) AddMetric(report, metric);

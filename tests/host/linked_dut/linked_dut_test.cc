@@ -64,6 +64,28 @@ TEST(LinkedDutTest, AStepSendsTheTicksFramesAndReturnsItsAnswer) {
   EXPECT_EQ(s.Metric("fake_requests"), 1);  // the link's own
 }
 
+// The front end's counts are the DUT's: none from a link that does not carry them, the DUT's own
+// from one that does.
+TEST(LinkedDutTest, FrontEndCountsComeFromTheDutOrAreNotCounted) {
+  Session s;
+  ASSERT_TRUE(s.dut->Start());
+  EXPECT_FALSE(s.dut->counters().front_end_counted);
+  proto::DutFrontEndCounters reported;
+  reported.set_can_frames_rejected(1);
+  reported.set_sensor_samples(40);
+  reported.set_sensor_sequence_gaps(2);
+  reported.set_sensor_samples_lost(3);
+  reported.set_tactile_samples_flagged(4);
+  s.link->front_end = reported;
+  const DutCounters counters = s.dut->counters();
+  EXPECT_TRUE(counters.front_end_counted);
+  EXPECT_EQ(counters.can_frames_rejected, 1u);
+  EXPECT_EQ(counters.sensor_samples, 40u);
+  EXPECT_EQ(counters.sensor_sequence_gaps, 2u);
+  EXPECT_EQ(counters.sensor_samples_lost, 3u);
+  EXPECT_EQ(counters.tactile_samples_flagged, 4u);
+}
+
 TEST(LinkedDutTest, ALossyLinkRepeatsTheRequestAndSkipsTheTwinAnswer) {
   Session s(DutPacing::kLockstep, /*resend_after=*/50'000'000);
   ASSERT_TRUE(s.dut->Start());

@@ -73,6 +73,10 @@ TEST(ProcessDutCanTest, ForwardsTheRunnersFramesOverTheBusItsUriOpens) {
   auto answer = dut.value()->Step(1, 1'000'000);
   ASSERT_TRUE(answer.ok()) << answer.error().message;
   EXPECT_EQ(dut.value()->counters().can_frames_received, 1u);
+  // dut_emu's front end counted the frame itself: 0x123 is no sensor node's, so it rejected it.
+  EXPECT_TRUE(dut.value()->counters().front_end_counted);
+  EXPECT_EQ(dut.value()->counters().can_frames_rejected, 1u);
+  EXPECT_EQ(dut.value()->counters().sensor_samples, 0u);
 
   EXPECT_EQ(opened, std::vector<std::string>{kBenchUri});
   EXPECT_NE(ReadFile(dir / "argv").find("--can\n" + std::string(kBenchUri) + "\n"),

@@ -174,5 +174,19 @@ TEST(DutLifecycleTest, OnlyADutThatTakesThemIsSentTheNavigationSensors) {
   EXPECT_EQ(own.sent.count("mag") + own.sent.count("baro") + own.sent.count("gnss"), 0u);
 }
 
+// A DUT that does not count its front end's work (a board's firmware, a flight stack) gets no
+// zeros in the report for it: those metrics are left out; the rig's own counts stay.
+TEST(DutLifecycleTest, FrontEndCountsAreLeftOutForADutThatDoesNotCountThem) {
+  DutCalls log;
+  const proto::Report report = RunWith(ShortHover(), Recording(log, ""));
+  std::vector<std::string> names;
+  for (const proto::Metric& metric : report.metrics()) names.push_back(metric.name());
+  for (const char* absent : {"dut_can_frames_rejected", "dut_sensor_samples",
+                             "dut_sensor_samples_lost", "dut_tactile_samples_flagged"}) {
+    EXPECT_EQ(std::count(names.begin(), names.end(), absent), 0) << absent;
+  }
+  EXPECT_EQ(std::count(names.begin(), names.end(), "dut_imu_messages"), 1);
+}
+
 }  // namespace
 }  // namespace hilrig::host
