@@ -540,6 +540,11 @@ TEST(SerialDutTest, AnswersRealTimeRequestsByPollAndTimesOutTheOldest) {
   EXPECT_EQ(polled.value()->answers_sequence, 2u);  // the newest of the two answers
   ASSERT_EQ(rig.dut->steps.size(), 2u);
   EXPECT_TRUE(rig.dut->steps[0].realtime());
+  // A board measures no latency of its own: the runner times each request to its answer.
+  const std::vector<StreamLatency> latencies = rig.serial->response_latencies();
+  ASSERT_EQ(latencies.size(), 1u);
+  EXPECT_EQ(latencies[0].stream, "command");
+  EXPECT_EQ(latencies[0].latency.count, 2u);
   rig.serial->RequestStep(3, 3 * kPeriodNs);
   polled = rig.serial->PollCommand();
   ASSERT_TRUE(polled);
