@@ -62,13 +62,22 @@ std::vector<PlotBand> BandsFor(const std::vector<EnvelopeSpec>& envelopes,
   return bands;
 }
 
+// A quantity the plant knows against the DUT's estimate of it.
+TimePlot TruthAndEstimate(std::string title, std::string y_label, const DecimatedSeries& truth,
+                          const DecimatedSeries& estimate, std::string estimate_name) {
+  TimePlot plot;
+  plot.title = std::move(title);
+  plot.y_label = std::move(y_label);
+  plot.series = {TrueSeries("true (plant)", truth, kSeriesPalette[0]),
+                 EstimateSeries(std::move(estimate_name), estimate, kSeriesPalette[1])};
+  return plot;
+}
+
 TimePlot ForcePlot(const PlottedTrace& trace, const RunPlotScene& scene) {
-  TimePlot force;
-  force.title = "Grasp force: true (wide, light) and the DUT's estimate";
-  force.y_label = "force (N)";
-  force.series = {TrueSeries("true (plant)", trace.grasp_force_n, kSeriesPalette[0]),
-                  EstimateSeries("DUT estimate", trace.grasp_force_estimate_n, kSeriesPalette[1]),
-                  Series("setpoint f_d", trace.grasp_force_setpoint_n, true)};
+  TimePlot force =
+      TruthAndEstimate("Grasp force: true (wide, light) and the DUT's estimate", "force (N)",
+                       trace.grasp_force_n, trace.grasp_force_estimate_n, "DUT estimate");
+  force.series.push_back(Series("setpoint f_d", trace.grasp_force_setpoint_n, true));
   force.series.back().color = kSeriesPalette[5];
   force.bands = BandsFor(scene.envelopes, {proto::GRASP_FORCE_N, proto::GRASP_FORCE_ESTIMATE_N});
   return force;
@@ -78,12 +87,10 @@ TimePlot ForcePlot(const PlottedTrace& trace, const RunPlotScene& scene) {
 std::vector<TimePlot> PadPlots(const PlottedTrace& trace, const RunPlotScene& scene) {
   std::vector<TimePlot> pads;
   for (std::size_t pad = 0; pad < kTracePadCount; ++pad) {
-    TimePlot plot;
-    plot.title = "Pad " + std::to_string(pad) + " (node " + std::to_string(pad + 1) + ")";
-    plot.y_label = "force magnitude (N)";
-    plot.series = {
-        TrueSeries("true (plant)", trace.pad_force_n[pad], kSeriesPalette[0]),
-        EstimateSeries("decoded by the DUT", trace.pad_force_estimate_n[pad], kSeriesPalette[1])};
+    TimePlot plot =
+        TruthAndEstimate("Pad " + std::to_string(pad) + " (node " + std::to_string(pad + 1) + ")",
+                         "force magnitude (N)", trace.pad_force_n[pad],
+                         trace.pad_force_estimate_n[pad], "decoded by the DUT");
     plot.bands =
         BandsFor(scene.envelopes,
                  {proto::PAD_FORCE_N, proto::PAD_FORCE_ESTIMATE_N, proto::TACTILE_FORCE_N}, pad);
@@ -96,11 +103,8 @@ std::vector<TimePlot> PadPlots(const PlottedTrace& trace, const RunPlotScene& sc
 }
 
 TimePlot LoadPlot(const PlottedTrace& trace, const RunPlotScene& scene) {
-  TimePlot load;
-  load.title = "Vertical load of the grasped object on the vehicle";
-  load.y_label = "load (N)";
-  load.series = {TrueSeries("true (plant)", trace.load_n, kSeriesPalette[0]),
-                 EstimateSeries("DUT estimate", trace.load_estimate_n, kSeriesPalette[1])};
+  TimePlot load = TruthAndEstimate("Vertical load of the grasped object on the vehicle", "load (N)",
+                                   trace.load_n, trace.load_estimate_n, "DUT estimate");
   load.bands = BandsFor(scene.envelopes, {proto::LOAD_N});
   return load;
 }

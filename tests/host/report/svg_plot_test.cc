@@ -729,20 +729,12 @@ TEST(RenderSvgTest, LengthMismatchIsFlaggedInTheLegend) {
   EXPECT_EQ(Polylines(svg)[0].size(), 2u);
 }
 
-PlotSeries Line(std::string name, std::vector<double> x, std::vector<double> y) {
-  PlotSeries series;
-  series.name = std::move(name);
-  series.time_s = std::move(x);
-  series.value = std::move(y);
-  return series;
-}
-
 // A top view keeps shapes: a path from (0, 0) to (1, 1) in a wide plot is drawn at 45 degrees.
 TEST(RenderSvgTest, EqualScaleGivesBothAxesTheSameUnitsPerPixel) {
   TimePlot plot;
   plot.x_label = "x (m)";
   plot.equal_scale = true;
-  plot.series = {Line("path", {0, 1}, {0, 1})};
+  plot.series = {Series("path", {0, 1}, {0, 1})};
   const std::string svg = RenderSvg(plot);
   const auto lines = Polylines(svg);
   ASSERT_EQ(lines.size(), 1u);
@@ -762,7 +754,7 @@ TEST(RenderSvgTest, EqualScaleGivesBothAxesTheSameUnitsPerPixel) {
 
 TEST(RenderSvgTest, MarkersInTheTimeRangeAreDrawnWithTheirLabels) {
   TimePlot plot;
-  plot.series = {Line("s", {0, 10}, {0, 1})};
+  plot.series = {Series("s", {0, 10}, {0, 1})};
   plot.markers = {{2, "grasp <0.6> N"}, {-5, "before"}, {std::nan(""), "nan"}, {8, "open"}};
   const std::string svg = RenderSvg(plot);
   EXPECT_EQ(WellFormedError(svg), "");
@@ -777,7 +769,7 @@ TEST(RenderSvgTest, MarkersInTheTimeRangeAreDrawnWithTheirLabels) {
 
 TEST(RenderSvgGridTest, EachPanelIsANestedDocumentWithItsOwnClipPath) {
   TimePlot plot;
-  plot.series = {Line("s", {0, 1}, {0, 1})};
+  plot.series = {Series("s", {0, 1}, {0, 1})};
   const std::string svg = RenderSvgGrid({plot, plot, plot}, 2);
   EXPECT_EQ(WellFormedError(svg), "");
   for (const char* id : {"plot-area-0", "plot-area-1", "plot-area-2"}) {

@@ -12,11 +12,7 @@ namespace hilrig::host {
 namespace {
 
 const proto::EnvelopeResult* Envelope(const proto::Report& report, const std::string& name) {
-  for (const auto& envelope : report.envelopes()) {
-    if (envelope.name() == name) return &envelope;
-  }
-  ADD_FAILURE() << "no envelope " << name;
-  return nullptr;
+  return EnvelopeNamed(report, name);
 }
 
 proto::Report RunEgg(const std::string& grasp_n, const std::string& timeline) {

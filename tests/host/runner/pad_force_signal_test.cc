@@ -11,11 +11,7 @@ namespace hilrig::host {
 namespace {
 
 const proto::EnvelopeResult* Envelope(const proto::Report& report, const std::string& name) {
-  for (const auto& envelope : report.envelopes()) {
-    if (envelope.name() == name) return &envelope;
-  }
-  ADD_FAILURE() << "no envelope " << name;
-  return nullptr;
+  return EnvelopeNamed(report, name);
 }
 
 TEST(PadForceSignalTest, EachPadsTrueAndDecodedForceIsWatched) {
