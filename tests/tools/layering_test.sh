@@ -77,7 +77,7 @@ declare -A level=(
   [protocol]=0 [proto]=0
   [rig]=1 [dut_link]=1 [host/mavlink]=1
   [dut_fw]=2 [dut_link/posix]=2
-  [dut_fw/target]=3 [examples/hover_dut]=3 [host/plant]=3 [host/trace]=3 [host/link]=3
+  [dut_fw/target]=3 [examples/hover_dut]=3 [host/plant]=3 [host/trace]=3 [host/link]=3 [host/mcap]=3
   [host/sensors]=4 [fixtures/objects]=4 [host/checks]=4
   [host/sensors/tactile]=5 [host/report]=5
   [fixtures/calibration]=6 [host/compare]=6 [host/scenario]=6
@@ -150,6 +150,8 @@ forbid dut_emu host/cli/ host/runner/ host/scenario/
 check dut_fw dut_link/ protocol/ proto/hil_link_tags.h
 check dut_link protocol/ proto/hil_link_tags.h
 check dut_link/posix dut_link/
+# An MCAP file is bytes: the rig's result type and nothing of a run.
+check host/mcap rig/result.h rig/check.h
 # The MAVLink codec is the standard library only: a tool or a DUT may take it alone.
 check host/mavlink
 # A team's own DUT takes the link library, never the rig's controller.
