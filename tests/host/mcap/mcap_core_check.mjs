@@ -1,0 +1,109 @@
+// The rig's MCAP files (host/mcap/) read by @mcap/core, the MCAP library Foxglove publishes, with
+// its indexed reader (McapIndexedReader: footer, summary, chunk indexes, message indexes) and
+// fzstd for the zstd chunks. For each file: the schemas and channels mcap_sample_writer wrote,
+// every message read and counted per channel against the Statistics record, times in order, and
+// the DataEnd record's CRC-32 equal to one computed here over the data section.
+// Prints "PASS: FILE: N messages on C channels in K chunks" per file.
+// Usage: node mcap_core_check.mjs NODE_MODULES_PARENT FILE...
+import { readFileSync } from 'node:fs';
+import { createRequire } from 'node:module';
+
+const [modulesParent, ...files] = process.argv.slice(2);
+const require = createRequire(`${modulesParent}/`);
+const { McapIndexedReader } = require('@mcap/core');
+const fzstd = require('fzstd');
+
+let failures = 0;
+function fail(message) {
+  console.error(`FAIL: ${message}`);
+  failures += 1;
+}
+
+const CRC_TABLE = Array.from({ length: 256 }, (_, n) => {
+  let c = n;
+  for (let k = 0; k < 8; k += 1) c = c & 1 ? 0xedb88320 ^ (c >>> 1) : c >>> 1;
+  return c >>> 0;
+});
+function crc32(bytes) {
+  let c = 0xffffffff;
+  for (const b of bytes) c = CRC_TABLE[(c ^ b) & 0xff] ^ (c >>> 8);
+  return (c ^ 0xffffffff) >>> 0;
+}
+
+function readableOf(bytes) {
+  return {
+    size: async () => BigInt(bytes.length),
+    read: async (offset, length) => bytes.subarray(Number(offset), Number(offset + length)),
+  };
+}
+
+// DataEnd is the last record before the summary: opcode 0x0F, content length 4, the CRC.
+function checkDataCrc(name, bytes, summaryStart) {
+  const at = Number(summaryStart) - 13;
+  const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
+  if (bytes[at] !== 0x0f || view.getBigUint64(at + 1, true) !== 4n) {
+    fail(`${name}: no DataEnd record before the summary`);
+    return;
+  }
+  const stated = view.getUint32(at + 9, true);
+  const computed = crc32(bytes.subarray(0, at));
+  if (stated !== computed) fail(`${name}: DataEnd's CRC ${stated} is not the data's ${computed}`);
+}
+
+async function check(file) {
+  const failuresBefore = failures;
+  const bytes = new Uint8Array(readFileSync(file));
+  const name = file.split('/').pop();
+  const reader = await McapIndexedReader.Initialize({
+    readable: readableOf(bytes),
+    decompressHandlers: { zstd: (buffer) => fzstd.decompress(buffer) },
+  });
+  const schemas = [...reader.schemasById.values()];
+  const topics = [...reader.channelsById.values()].map((c) => c.topic).sort();
+  if (schemas.length !== 1 || schemas[0].encoding !== 'jsonschema') {
+    fail(`${name}: schemas ${JSON.stringify(schemas.map((s) => s.name))}`);
+  }
+  if (JSON.stringify(topics) !== JSON.stringify(['/plant/state', '/run/events'])) {
+    fail(`${name}: topics ${topics}`);
+  }
+  const stats = reader.statistics;
+  if (!stats) {
+    fail(`${name}: no Statistics record`);
+    return;
+  }
+  const counts = new Map();
+  let total = 0n;
+  let last = -1n;
+  for await (const message of reader.readMessages()) {
+    total += 1n;
+    counts.set(message.channelId, (counts.get(message.channelId) ?? 0n) + 1n);
+    if (message.logTime < last) fail(`${name}: log times out of order`);
+    last = message.logTime;
+    JSON.parse(new TextDecoder().decode(message.data));
+  }
+  if (total !== stats.messageCount) {
+    fail(`${name}: read ${total}, Statistics say ${stats.messageCount}`);
+  }
+  for (const [channelId, count] of stats.channelMessageCounts) {
+    if (counts.get(channelId) !== count) {
+      fail(`${name}: channel ${channelId}: read ${counts.get(channelId)}, Statistics say ${count}`);
+    }
+  }
+  if (reader.chunkIndexes.length !== stats.chunkCount || stats.chunkCount < 2) {
+    const indexes = reader.chunkIndexes.length;
+    fail(`${name}: ${indexes} chunk indexes, Statistics say ${stats.chunkCount}`);
+  }
+  checkDataCrc(name, bytes, reader.footer.summaryStart);
+  if (failures !== failuresBefore) return;
+  console.log(`PASS: ${name}: ${total} messages on ${counts.size} channels in ` +
+    `${stats.chunkCount} chunks`);
+}
+
+for (const file of files) {
+  try {
+    await check(file);
+  } catch (error) {
+    fail(`${file}: ${error.stack ?? error}`);
+  }
+}
+process.exit(failures === 0 ? 0 : 1);

@@ -1,0 +1,66 @@
+// Writes the sample MCAP files the @mcap/core check reads (mcap_core_check.mjs): two channels, one
+// with a JSON schema and one without, 2000 small JSON messages over several 16 KiB chunks, once
+// zstd-compressed (OUT_DIR/zstd.mcap) and once stored (OUT_DIR/stored.mcap).
+// Usage: mcap_sample_writer OUT_DIR
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "host/mcap/mcap_writer.h"
+
+namespace {
+
+using namespace hilrig::mcap;
+
+constexpr int kMessages = 2000;
+
+hilrig::rig::Result<void> WriteSample(const std::filesystem::path& path,
+                                      ChunkCompression compression) {
+  std::ofstream out(path, std::ios::binary);
+  McapWriterOptions options;
+  options.compression = compression;
+  options.chunk_bytes = 16 << 10;
+  McapWriter writer(out, options);
+  if (auto opened = writer.Open("x-hilrig", "hilrig mcap_sample_writer"); !opened) return opened;
+  const auto schema = writer.AddSchema(
+      "hilrig.PlantState", "jsonschema",
+      R"({"type":"object","properties":{"t_s":{"type":"number"},"z_m":{"type":"number"}}})");
+  if (!schema.ok()) return schema.error();
+  const auto state =
+      writer.AddChannel(schema.value(), "/plant/state", "json", {{"rate_hz", "250"}});
+  const auto events = writer.AddChannel(0, "/run/events", "json");
+  if (!state.ok() || !events.ok()) return hilrig::rig::MakeError("AddChannel failed");
+  for (int i = 0; i < kMessages; ++i) {
+    const bool event = i % 10 == 9;
+    const std::string payload = event ? R"({"event":"tick","n":)" + std::to_string(i / 10) + "}"
+                                      : R"({"t_s":)" + std::to_string(i * 0.004) + R"(,"z_m":)" +
+                                            std::to_string(1.0 + 0.001 * (i % 100)) + "}";
+    MessageToWrite message;
+    message.channel_id = event ? events.value() : state.value();
+    message.sequence = static_cast<std::uint32_t>(i);
+    message.log_time_ns = 1'000'000'000ull + 4'000'000ull * static_cast<std::uint64_t>(i);
+    message.publish_time_ns = message.log_time_ns - 1000;
+    message.payload = payload;
+    if (auto written = writer.Write(message); !written) return written;
+  }
+  return writer.Close();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: mcap_sample_writer OUT_DIR\n");
+    return 2;
+  }
+  const std::filesystem::path dir = argv[1];
+  for (const auto& [name, compression] : {std::pair{"zstd.mcap", ChunkCompression::kZstd},
+                                          std::pair{"stored.mcap", ChunkCompression::kNone}}) {
+    if (auto written = WriteSample(dir / name, compression); !written) {
+      std::fprintf(stderr, "mcap_sample_writer: %s: %s\n", name, written.error().message.c_str());
+      return 1;
+    }
+  }
+  return 0;
+}
