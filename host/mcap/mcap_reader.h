@@ -103,13 +103,16 @@ struct McapReadResult {
   bool ok() const { return !error.has_value(); }
 };
 
-// The whole file, every check made. Never allocates more than the limits allow.
+// The whole file, every check made. Fails with a McapError on any malformed input; allocates the
+// contents (a copy of every payload) and one chunk's records, each held to `limits`.
 McapReadResult ReadMcap(std::string_view bytes, const McapReadLimits& limits = {});
 // A file that may have been cut short: a complete file reads as ReadMcap reads it; otherwise the
 // records from the start up to the first incomplete one (a chunk cut in two is dropped whole),
-// flagged `truncated`. A complete record that is malformed is still an error.
+// flagged `truncated`. A complete record that is malformed is still an error. Allocates as
+// ReadMcap does.
 McapReadResult RecoverMcap(std::string_view bytes, const McapReadLimits& limits = {});
-// ReadMcap (or RecoverMcap, with `recover`) of a file no larger than limits.max_file_bytes.
+// ReadMcap (or RecoverMcap, with `recover`) of a file no larger than limits.max_file_bytes: fails
+// (kUnreadableFile, kTooLarge) before reading otherwise; allocates the file's bytes.
 McapReadResult ReadMcapFile(const std::filesystem::path& path, bool recover = false,
                             const McapReadLimits& limits = {});
 

@@ -66,6 +66,7 @@ class McapWriter {
   // the stream or the compressor does; a second call does nothing.
   rig::Result<void> Close();
 
+  // The bytes written so far (the next record's offset in the file). Never fails or allocates.
   std::uint64_t bytes_written() const { return offset_; }
 
  private:

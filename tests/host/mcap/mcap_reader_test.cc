@@ -1,4 +1,5 @@
-// McapWriter's files read back whole by McapReader, and each kind of damage found where it is.
+// McapWriter's files read back whole by ReadMcap, cut ones by RecoverMcap, and each kind of damage
+// found where it is.
 #include "host/mcap/mcap_reader.h"
 
 #include <gtest/gtest.h>
