@@ -150,7 +150,8 @@ forbid dut_emu host/cli/ host/runner/ host/scenario/
 check dut_fw dut_link/ protocol/ proto/hil_link_tags.h
 check dut_link protocol/ proto/hil_link_tags.h
 check dut_link/posix dut_link/
-# An MCAP file is bytes: the rig's result type and nothing of a run.
+# An MCAP file is bytes: the rig's result type and nothing of a run (a protobuf channel takes the
+# message's descriptor, never the rig's .proto files).
 check host/mcap rig/result.h rig/check.h
 # The MAVLink codec is the standard library only: a tool or a DUT may take it alone.
 check host/mavlink
