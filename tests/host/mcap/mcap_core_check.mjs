@@ -2,7 +2,8 @@
 // its indexed reader (McapIndexedReader: footer, summary, chunk indexes, message indexes) and
 // fzstd for the zstd chunks. For each file: the schemas and channels mcap_sample_writer wrote,
 // every message read and counted per channel against the Statistics record, times in order, and
-// the DataEnd record's CRC-32 equal to one computed here over the data section.
+// the DataEnd record's CRC-32 equal to one computed here over the data section. The protobuf
+// channel is decoded with protobufjs from the FileDescriptorSet stored as its schema, nothing else.
 // Prints "PASS: FILE: N messages on C channels in K chunks" per file.
 // Usage: node mcap_core_check.mjs NODE_MODULES_PARENT FILE...
 import { readFileSync } from 'node:fs';
@@ -12,6 +13,8 @@ const [modulesParent, ...files] = process.argv.slice(2);
 const require = createRequire(`${modulesParent}/`);
 const { McapIndexedReader } = require('@mcap/core');
 const fzstd = require('fzstd');
+const protobuf = require('protobufjs');
+const descriptor = require('protobufjs/ext/descriptor');
 
 let failures = 0;
 function fail(message) {
@@ -60,12 +63,22 @@ async function check(file) {
   });
   const schemas = [...reader.schemasById.values()];
   const topics = [...reader.channelsById.values()].map((c) => c.topic).sort();
-  if (schemas.length !== 1 || schemas[0].encoding !== 'jsonschema') {
+  const encodings = schemas.map((s) => s.encoding).sort();
+  if (JSON.stringify(encodings) !== JSON.stringify(['jsonschema', 'protobuf'])) {
     fail(`${name}: schemas ${JSON.stringify(schemas.map((s) => s.name))}`);
   }
-  if (JSON.stringify(topics) !== JSON.stringify(['/plant/state', '/run/events'])) {
+  if (JSON.stringify(topics) !== JSON.stringify(['/plant/state', '/run/events', '/run/report'])) {
     fail(`${name}: topics ${topics}`);
   }
+  // Each protobuf channel's type, built from the descriptors stored in the file alone.
+  const typeOfChannel = new Map();
+  for (const channel of reader.channelsById.values()) {
+    const schema = reader.schemasById.get(channel.schemaId);
+    if (channel.messageEncoding !== 'protobuf' || schema?.encoding !== 'protobuf') continue;
+    const root = protobuf.Root.fromDescriptor(descriptor.FileDescriptorSet.decode(schema.data));
+    typeOfChannel.set(channel.id, root.lookupType(schema.name));
+  }
+  let decodedReports = 0;
   const stats = reader.statistics;
   if (!stats) {
     fail(`${name}: no Statistics record`);
@@ -79,8 +92,20 @@ async function check(file) {
     counts.set(message.channelId, (counts.get(message.channelId) ?? 0n) + 1n);
     if (message.logTime < last) fail(`${name}: log times out of order`);
     last = message.logTime;
-    JSON.parse(new TextDecoder().decode(message.data));
+    const type = typeOfChannel.get(message.channelId);
+    if (!type) {
+      JSON.parse(new TextDecoder().decode(message.data));
+      continue;
+    }
+    const report = type.toObject(type.decode(message.data), { longs: Number, enums: String, defaults: true });
+    const expectedSeed = Math.floor(message.sequence / 10);
+    if (report.scenario !== 'sample' || report.seed !== expectedSeed ||
+        report.envelopes?.[0]?.signal !== 'GRASP_FORCE_N') {
+      fail(`${name}: report ${message.sequence} decoded as ${JSON.stringify(report)}`);
+    }
+    decodedReports += 1;
   }
+  if (decodedReports === 0) fail(`${name}: no protobuf message decoded`);
   if (total !== stats.messageCount) {
     fail(`${name}: read ${total}, Statistics say ${stats.messageCount}`);
   }
@@ -96,7 +121,7 @@ async function check(file) {
   checkDataCrc(name, bytes, reader.footer.summaryStart);
   if (failures !== failuresBefore) return;
   console.log(`PASS: ${name}: ${total} messages on ${counts.size} channels in ` +
-    `${stats.chunkCount} chunks`);
+    `${stats.chunkCount} chunks, ${decodedReports} decoded from their protobuf schema`);
 }
 
 for (const file of files) {

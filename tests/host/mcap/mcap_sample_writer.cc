@@ -1,6 +1,8 @@
-// Writes the sample MCAP files the @mcap/core check reads (mcap_core_check.mjs): two channels, one
-// with a JSON schema and one without, 2000 small JSON messages over several 16 KiB chunks, once
-// zstd-compressed (OUT_DIR/zstd.mcap) and once stored (OUT_DIR/stored.mcap).
+// Writes the sample MCAP files the @mcap/core check reads (mcap_core_check.mjs): three channels,
+// one with a JSON schema, one without and one of protobuf messages (hilrig.proto.Report, whose
+// schema is a FileDescriptorSet with scenario.proto), 2000 small messages over several 16 KiB
+// chunks, once zstd-compressed (OUT_DIR/zstd.mcap) and once stored (OUT_DIR/stored.mcap). Report
+// number n has seed n and scenario "sample".
 // Usage: mcap_sample_writer OUT_DIR
 #include <cstdio>
 #include <filesystem>
@@ -8,6 +10,8 @@
 #include <string>
 
 #include "host/mcap/mcap_writer.h"
+#include "host/mcap/protobuf_channel.h"
+#include "proto/report.pb.h"
 
 namespace {
 
@@ -30,14 +34,26 @@ hilrig::rig::Result<void> WriteSample(const std::filesystem::path& path,
   const auto state =
       writer.AddChannel(schema.value(), "/plant/state", "json", {{"rate_hz", "250"}});
   const auto events = writer.AddChannel(0, "/run/events", "json");
-  if (!state.ok() || !events.ok()) return hilrig::rig::MakeError("AddChannel failed");
+  const auto reports =
+      AddProtobufChannel(writer, *hilrig::proto::Report::descriptor(), "/run/report");
+  if (!state.ok() || !events.ok() || !reports.ok()) {
+    return hilrig::rig::MakeError("AddChannel failed");
+  }
   for (int i = 0; i < kMessages; ++i) {
     const bool event = i % 10 == 9;
-    const std::string payload = event ? R"({"event":"tick","n":)" + std::to_string(i / 10) + "}"
-                                      : R"({"t_s":)" + std::to_string(i * 0.004) + R"(,"z_m":)" +
-                                            std::to_string(1.0 + 0.001 * (i % 100)) + "}";
+    const bool report = i % 10 == 4;
+    std::string payload = event ? R"({"event":"tick","n":)" + std::to_string(i / 10) + "}"
+                                : R"({"t_s":)" + std::to_string(i * 0.004) + R"(,"z_m":)" +
+                                      std::to_string(1.0 + 0.001 * (i % 100)) + "}";
+    if (report) {
+      hilrig::proto::Report sample;
+      sample.set_scenario("sample");
+      sample.set_seed(static_cast<std::uint64_t>(i / 10));
+      sample.add_envelopes()->set_signal(hilrig::proto::GRASP_FORCE_N);
+      payload = sample.SerializeAsString();
+    }
     MessageToWrite message;
-    message.channel_id = event ? events.value() : state.value();
+    message.channel_id = event ? events.value() : report ? reports.value() : state.value();
     message.sequence = static_cast<std::uint32_t>(i);
     message.log_time_ns = 1'000'000'000ull + 4'000'000ull * static_cast<std::uint64_t>(i);
     message.publish_time_ns = message.log_time_ns - 1000;
