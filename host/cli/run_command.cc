@@ -70,7 +70,8 @@ const char kRunUsage[] =
     "      links on it, default 921600 baud; real time only, add --realtime; docs/px4.md)\n"
     "      --dut mavlink-emu-hitl (PX4's stand-in on a pseudo-terminal, driven as a board is,\n"
     "      with --realtime)\n"
-    "run writes report.json, junit.xml, trace.csv and can.log into --out (default\n"
+    "run writes report.json, junit.xml, trace.csv, can.log and run.mcap (the trace as MCAP\n"
+    "channels for Foxglove; --no-mcap leaves it out; docs/mcap.md) into --out (default\n"
     "hilrig_out/<scenario>) and compares the trace with the scene's reference run (tight\n"
     "integrator and field, kept in a cache per build: --reference-cache DIR, default\n"
     "~/.cache/hilrig/reference; DIR/field_maps and DIR/calibrations keep tabulated field maps\n"
@@ -91,6 +92,7 @@ struct RunOptions {
   std::optional<double> duration_s;  // --duration-s: only the scene's first seconds
   std::vector<std::pair<std::string, double>> overrides;  // --set
   bool reference = true;  // --no-reference: do not compare with the reference run
+  bool run_log = true;    // --no-mcap: no run.mcap
   std::optional<std::string> reference_cache_dir;    // --reference-cache
   DutFactory dut_factory;                            // --dut process; unset: in process
   bool realtime = false;                             // --realtime: paced by the wall clock
@@ -119,6 +121,7 @@ rig::Result<RunOptions> ParseRunOptions(std::vector<std::string> args, const Cli
   const bool with_reference = TakeFlag(args, "--reference");
   const bool without_reference = TakeFlag(args, "--no-reference");
   const bool realtime = TakeFlag(args, "--realtime");
+  const bool without_log = TakeFlag(args, "--no-mcap");
   // The reference is a lockstep simulation of the scene; a real-time trace is not reproducible.
   if (realtime && with_reference) {
     return rig::MakeError(
@@ -138,6 +141,7 @@ rig::Result<RunOptions> ParseRunOptions(std::vector<std::string> args, const Cli
   RunOptions options;
   options.reference = !without_reference && !realtime;
   options.realtime = realtime;
+  options.run_log = !without_log;
   if (const std::string* cache = cli.Option("--reference-cache")) {
     options.reference_cache_dir = *cache;
   }
@@ -197,6 +201,7 @@ ScenarioOutcome RunOneFile(const std::string& path, const fs::path& out_dir,
   RunRequest request;
   request.spec_path = path;
   request.out_dir = out_dir.string();
+  request.run_log = options.run_log;
   request.seed = options.seed;
   request.duration_s = options.duration_s;
   request.overrides = options.overrides;

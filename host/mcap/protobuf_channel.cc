@@ -27,11 +27,15 @@ std::string FileDescriptorSetOf(const google::protobuf::Descriptor& message) {
   return set.SerializeAsString();
 }
 
+rig::Result<std::uint16_t> AddProtobufSchema(McapWriter& writer,
+                                             const google::protobuf::Descriptor& message) {
+  return writer.AddSchema(message.full_name(), kProtobufEncoding, FileDescriptorSetOf(message));
+}
+
 rig::Result<std::uint16_t> AddProtobufChannel(McapWriter& writer,
                                               const google::protobuf::Descriptor& message,
                                               std::string_view topic) {
-  auto schema =
-      writer.AddSchema(message.full_name(), kProtobufEncoding, FileDescriptorSetOf(message));
+  auto schema = AddProtobufSchema(writer, message);
   if (!schema) return schema.error();
   return writer.AddChannel(schema.value(), topic, kProtobufEncoding);
 }

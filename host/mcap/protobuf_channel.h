@@ -23,6 +23,11 @@ inline constexpr std::string_view kProtobufEncoding = "protobuf";
 // not, each once, imports before the files that import them. Never fails; allocates the set.
 std::string FileDescriptorSetOf(const google::protobuf::Descriptor& message);
 
+// Adds the schema of `message`; returns its id, for channels that share it. Fails as
+// McapWriter::AddSchema fails; allocates the schema's data.
+rig::Result<std::uint16_t> AddProtobufSchema(McapWriter& writer,
+                                             const google::protobuf::Descriptor& message);
+
 // Adds the schema of `message` and a channel on `topic` that carries it; returns the channel's
 // id. Fails as McapWriter::AddSchema and AddChannel fail (the stream, too many of them);
 // allocates the schema's data.

@@ -8,6 +8,7 @@
 
 #include "host/cache/setup_caches.h"
 #include "host/report/run_folder.h"
+#include "host/report/run_log.h"
 #include "host/report/run_plots.h"
 #include "host/report/stop_reason.h"
 #include "host/scenario/field_path.h"
@@ -30,7 +31,19 @@ struct RunFiles {
   RunOutputFolder folder;
   std::unique_ptr<rig::OutputFile> trace;
   std::unique_ptr<rig::OutputFile> can_log;
+  std::unique_ptr<rig::OutputFile> log_file;  // run.mcap, unless the request turned it off
+  std::unique_ptr<RunLogWriter> log;
 };
+
+RunLogScene LogSceneOf(const ScenarioConfig& config) {
+  RunLogScene scene;
+  scene.grasp = config.gripper.enabled;
+  scene.pads = config.hall_sensors.tactile_enabled;
+  for (TimelineEvent& event : TimelineEvents(config)) {
+    scene.events.push_back({event.at_s, std::move(event.label)});
+  }
+  return scene;
+}
 
 rig::Result<RunFiles> OpenRunFiles(const fs::path& out_dir, const std::string& scenario,
                                    const std::string& spec_path) {
@@ -41,13 +54,32 @@ rig::Result<RunFiles> OpenRunFiles(const fs::path& out_dir, const std::string& s
   if (!trace) return trace.error();
   auto can_log = rig::OutputFile::Create((out_dir / "can.log").string());
   if (!can_log) return can_log.error();
-  return RunFiles{std::move(folder).value(), std::move(trace).value(), std::move(can_log).value()};
+  return RunFiles{std::move(folder).value(), std::move(trace).value(), std::move(can_log).value(),
+                  nullptr, nullptr};
+}
+
+rig::Result<void> OpenRunLog(RunFiles& files, const fs::path& out_dir,
+                             const ScenarioConfig& config) {
+  auto file = rig::OutputFile::Create((out_dir / kRunLogFile).string());
+  if (!file) return file.error();
+  files.log_file = std::move(file).value();
+  auto log = RunLogWriter::Open(files.log_file->stream(), LogSceneOf(config));
+  if (!log) return rig::InContext(kRunLogFile + std::string(": "), log.error());
+  files.log = std::move(log).value();
+  return {};
 }
 
 rig::Result<void> FinishRunFiles(RunFiles& files, const proto::Report& report,
                                  const fs::path& out_dir, std::vector<std::string>& written) {
   if (auto closed = files.trace->Close(); !closed) return closed.error();
   if (auto closed = files.can_log->Close(); !closed) return closed.error();
+  if (files.log) {
+    if (auto closed = files.log->Close(); !closed) {
+      return rig::InContext(kRunLogFile + std::string(": "), closed.error());
+    }
+    if (auto closed = files.log_file->Close(); !closed) return closed.error();
+    written.push_back((out_dir / kRunLogFile).string());
+  }
   if (auto finished = files.folder.Finish(report); !finished) return finished.error();
   for (const char* file : {"trace.csv", "can.log", "junit.xml", "report.json", "index.html"}) {
     written.push_back((out_dir / file).string());
@@ -150,6 +182,11 @@ Prepared Prepare(const RunRequest& request, const RunSeams& seams) {
     auto opened = OpenRunFiles(*request.out_dir, run.spec.name(), request.spec_path);
     if (!opened) return RunError{RunFailure::kOutput, opened.error().message};
     prepared->files.emplace(std::move(opened).value());
+    if (request.run_log) {
+      if (auto log = OpenRunLog(*prepared->files, *request.out_dir, run.config); !log) {
+        return RunError{RunFailure::kOutput, log.error().message};
+      }
+    }
   }
   if (auto set_up = SetUpTactile(run.spec, run.config, request.film_models, request.calibrations,
                                  seams.stop_requested);
@@ -183,9 +220,11 @@ RunSinks SinksOf(PreparedRun& prepared, const RunSeams& seams) {
       prepared.comparison ? prepared.comparison.value().get() : nullptr;
   if (files || compared != nullptr) {
     PlottedTrace* const plotted = files ? &prepared.plotted : nullptr;
-    sinks.trace_sample = [plotted, compared](const TraceSample& sample) {
+    RunLogWriter* const log = files ? files->log.get() : nullptr;
+    sinks.trace_sample = [plotted, compared, log](const TraceSample& sample) {
       if (plotted != nullptr) plotted->Add(sample);
       if (compared != nullptr) compared->Add(sample);
+      if (log != nullptr) log->Add(sample);
     };
   }
   // A real-time loop does not spend its period on rewriting the report (about 0.4 ms, up to 3):

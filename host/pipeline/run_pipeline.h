@@ -34,6 +34,7 @@ struct RunRequest {
   std::string spec_directory;             // relative paths in the spec; unset: spec_path's folder
   // The folder the run's files go to; unset: nothing is written, only the report is returned.
   std::optional<std::string> out_dir;
+  bool run_log = true;  // with out_dir: write run.mcap (host/report/run_log.h) beside the trace
   std::optional<std::uint64_t> seed;  // unset: the spec's own
   // Numbers of the spec set by field path before it is validated (`hilrig run --set`, a sweep
   // case's reproduction), in order; a path or value the spec refuses is a bad spec.

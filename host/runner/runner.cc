@@ -12,6 +12,7 @@
 #include "host/checks/envelope_check.h"
 #include "host/dut/firmware_config.h"
 #include "host/dut/in_process_dut.h"
+#include "host/report/run_log.h"
 #include "host/report/stop_reason.h"
 #include "host/runner/command_exchange.h"
 #include "host/runner/dut_faults.h"
@@ -35,10 +36,10 @@ namespace {
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 constexpr std::int64_t kProgressPeriodNs = 5'000'000'000;
 constexpr std::uint64_t kWallClockPollTicks = 4096;
-// can.log stamps are simulated time plus this fixed base (2001-09-09T01:46:40Z). Tools that take
-// a zero seconds field for "no start time yet" (log2asc prints a header per frame) then read the
-// log like any candump recording, and the file stays byte-reproducible.
-constexpr std::int64_t kCanLogEpochNs = 1'000'000'000LL * 1'000'000'000LL;
+// can.log stamps are simulated time plus the logs' fixed base (2001-09-09T01:46:40Z, as run.mcap
+// has it). Tools that take a zero seconds field for "no start time yet" (log2asc prints a header
+// per frame) then read the log like any candump recording, and the file stays byte-reproducible.
+constexpr std::int64_t kCanLogEpochNs = kRunLogEpochNs;
 
 Eigen::Vector3d RollPitchYawDeg(const Eigen::Quaterniond& q) {
   const double roll =

@@ -4,8 +4,10 @@
 // every message read and counted per channel against the Statistics record, times in order, and
 // the DataEnd record's CRC-32 equal to one computed here over the data section. The protobuf
 // channel is decoded with protobufjs from the FileDescriptorSet stored as its schema, nothing else.
+// A run's own log (run.mcap of `hilrig run`) is checked the same way, with every message of every
+// channel decoded from its stored schema and the run's channels required.
 // Prints "PASS: FILE: N messages on C channels in K chunks" per file.
-// Usage: node mcap_core_check.mjs NODE_MODULES_PARENT FILE...
+// Usage: node mcap_core_check.mjs NODE_MODULES_PARENT FILE... (a FILE named run.mcap is a run's)
 import { readFileSync } from 'node:fs';
 import { createRequire } from 'node:module';
 
@@ -53,10 +55,34 @@ function checkDataCrc(name, bytes, summaryStart) {
   if (stated !== computed) fail(`${name}: DataEnd's CRC ${stated} is not the data's ${computed}`);
 }
 
+const SAMPLE = {
+  topics: ['/plant/state', '/run/events', '/run/report'],
+  encodings: ['jsonschema', 'protobuf'],
+  minChunks: 2,
+};
+// balloon_grasp's log: a grasp scene with the pads.
+const RUN = {
+  topics: ['/dut/estimates', '/dut/pads', '/plant/grasp', '/plant/pads', '/plant/vehicle',
+    '/run/events'],
+  encodings: ['protobuf', 'protobuf', 'protobuf', 'protobuf', 'protobuf'],
+  minChunks: 1,
+};
+
+// The sample's reports carry their number; a run's messages need only decode.
+function checkDecoded(name, message, decoded) {
+  if (message.sequence === undefined || !('scenario' in decoded)) return;
+  const expectedSeed = Math.floor(message.sequence / 10);
+  if (decoded.scenario !== 'sample' || decoded.seed !== expectedSeed ||
+      decoded.envelopes?.[0]?.signal !== 'GRASP_FORCE_N') {
+    fail(`${name}: report ${message.sequence} decoded as ${JSON.stringify(decoded)}`);
+  }
+}
+
 async function check(file) {
   const failuresBefore = failures;
   const bytes = new Uint8Array(readFileSync(file));
   const name = file.split('/').pop();
+  const expected = name === 'run.mcap' ? RUN : SAMPLE;
   const reader = await McapIndexedReader.Initialize({
     readable: readableOf(bytes),
     decompressHandlers: { zstd: (buffer) => fzstd.decompress(buffer) },
@@ -64,10 +90,10 @@ async function check(file) {
   const schemas = [...reader.schemasById.values()];
   const topics = [...reader.channelsById.values()].map((c) => c.topic).sort();
   const encodings = schemas.map((s) => s.encoding).sort();
-  if (JSON.stringify(encodings) !== JSON.stringify(['jsonschema', 'protobuf'])) {
-    fail(`${name}: schemas ${JSON.stringify(schemas.map((s) => s.name))}`);
+  if (JSON.stringify(encodings) !== JSON.stringify(expected.encodings)) {
+    fail(`${name}: schemas ${JSON.stringify(schemas.map((s) => [s.name, s.encoding]))}`);
   }
-  if (JSON.stringify(topics) !== JSON.stringify(['/plant/state', '/run/events', '/run/report'])) {
+  if (JSON.stringify(topics) !== JSON.stringify(expected.topics)) {
     fail(`${name}: topics ${topics}`);
   }
   // Each protobuf channel's type, built from the descriptors stored in the file alone.
@@ -97,15 +123,15 @@ async function check(file) {
       JSON.parse(new TextDecoder().decode(message.data));
       continue;
     }
-    const report = type.toObject(type.decode(message.data), { longs: Number, enums: String, defaults: true });
-    const expectedSeed = Math.floor(message.sequence / 10);
-    if (report.scenario !== 'sample' || report.seed !== expectedSeed ||
-        report.envelopes?.[0]?.signal !== 'GRASP_FORCE_N') {
-      fail(`${name}: report ${message.sequence} decoded as ${JSON.stringify(report)}`);
-    }
+    const decoded =
+      type.toObject(type.decode(message.data), { longs: Number, enums: String, defaults: true });
+    checkDecoded(name, message, decoded);
     decodedReports += 1;
   }
   if (decodedReports === 0) fail(`${name}: no protobuf message decoded`);
+  if (expected === RUN && BigInt(decodedReports) !== total) {
+    fail(`${name}: ${decodedReports} of ${total} messages decoded`);
+  }
   if (total !== stats.messageCount) {
     fail(`${name}: read ${total}, Statistics say ${stats.messageCount}`);
   }
@@ -114,7 +140,7 @@ async function check(file) {
       fail(`${name}: channel ${channelId}: read ${counts.get(channelId)}, Statistics say ${count}`);
     }
   }
-  if (reader.chunkIndexes.length !== stats.chunkCount || stats.chunkCount < 2) {
+  if (reader.chunkIndexes.length !== stats.chunkCount || stats.chunkCount < expected.minChunks) {
     const indexes = reader.chunkIndexes.length;
     fail(`${name}: ${indexes} chunk indexes, Statistics say ${stats.chunkCount}`);
   }

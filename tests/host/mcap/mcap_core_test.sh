@@ -8,10 +8,12 @@
 # (HILRIG_NODE_CACHE, by default ~/.cache/hilrig/mcap-core-VERSION-protobufjs-VERSION), once;
 # nothing of them is kept in the tree.
 # Skips (77) without node or npm, or when npm cannot reach the registry.
-# Usage: mcap_core_test.sh SOURCE_DIR MCAP_SAMPLE_WRITER
+# A run's own log is read the same way: balloon_grasp's run.mcap (5 s of it), every message decoded.
+# Usage: mcap_core_test.sh SOURCE_DIR MCAP_SAMPLE_WRITER HILRIG
 set -euo pipefail
 source_dir=$1
 sample_writer=$2
+hilrig=$3
 readonly version=2.2.2 fzstd_version=0.1.1 protobufjs_version=7.4.0
 
 for tool in node npm; do
@@ -50,5 +52,9 @@ fi
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 "$sample_writer" "$work"
+status=0
+"$hilrig" run "$source_dir/scenarios/balloon_grasp.textproto" --no-reference --duration-s 5 \
+  --out "$work/run" >"$work/run.out" 2>&1 || status=$?
+((status <= 1)) || { echo "FAIL: hilrig run exited $status"; cat "$work/run.out"; exit 1; }
 node "$source_dir/tests/host/mcap/mcap_core_check.mjs" "$cache" "$work/zstd.mcap" \
-  "$work/stored.mcap"
+  "$work/stored.mcap" "$work/run/run.mcap"

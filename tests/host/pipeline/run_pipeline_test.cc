@@ -77,16 +77,26 @@ TEST_F(RunPipelineTest, RunsASceneIntoItsFolderAndSaysWhatItWrote) {
   EXPECT_EQ(outcome.report.spec_file(), spec_path_);
   EXPECT_FALSE(outcome.report.has_fidelity_error());  // none was asked for
   const fs::path out = dir_ / "out";
-  for (const char* file : {"trace.csv", "can.log", "junit.xml", "report.json", "index.html",
-                           kPositionPlotFile, kTrajectoryPlotFile, kTopViewPlotFile}) {
+  for (const char* file :
+       {"trace.csv", "can.log", "run.mcap", "junit.xml", "report.json", "index.html",
+        kPositionPlotFile, kTrajectoryPlotFile, kTopViewPlotFile}) {
     EXPECT_THAT(outcome.files_written, ::testing::Contains((out / file).string()));
     EXPECT_GT(fs::file_size(out / file), 0u) << file;
   }
   // Hover has no object and no pads: no force, pad or load plot.
-  EXPECT_EQ(outcome.files_written.size(), 8u);
+  EXPECT_EQ(outcome.files_written.size(), 9u);
   EXPECT_EQ(Lines(ReadFile(out / "trace.csv")), 1u + 200u);  // a header and 2 s at 100 Hz
   EXPECT_THAT(ReadFile(out / "report.json"), HasSubstr("\"completed\""));
   EXPECT_THAT(ReadFile(out / "index.html"), HasSubstr("id=\"plot0-plot-area\""));  // inlined
+}
+
+TEST_F(RunPipelineTest, WithoutTheLogTheFolderHasNoRunMcap) {
+  RunRequest request = Request();
+  request.run_log = false;
+  RunPipelineResult result = Run(request);
+  ASSERT_TRUE(std::holds_alternative<RunOutcome>(result)) << std::get<RunError>(result).message;
+  EXPECT_FALSE(fs::exists(dir_ / "out" / "run.mcap"));
+  EXPECT_EQ(std::get<RunOutcome>(result).files_written.size(), 8u);
 }
 
 TEST_F(RunPipelineTest, ABadSpecIsATypedErrorAndWritesNoReport) {

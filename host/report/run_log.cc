@@ -1,0 +1,150 @@
+#include "host/report/run_log.h"
+
+#include <cmath>
+#include <map>
+
+#include "host/mcap/protobuf_channel.h"
+#include "proto/run_log.pb.h"
+
+namespace hilrig::host {
+namespace {
+
+void Set(proto::Vector3& out, const Eigen::Vector3d& value) {
+  out.set_x(value.x());
+  out.set_y(value.y());
+  out.set_z(value.z());
+}
+
+std::int64_t LogTimeNs(double time_s) {
+  return kRunLogEpochNs + static_cast<std::int64_t>(std::llround(time_s * 1e9));
+}
+
+proto::VehicleTruth VehicleOf(const TraceSample& s) {
+  proto::VehicleTruth vehicle;
+  Set(*vehicle.mutable_position_m(), s.position_m);
+  Set(*vehicle.mutable_velocity_m_s(), s.velocity_m_s);
+  Set(*vehicle.mutable_roll_pitch_yaw_deg(), s.roll_pitch_yaw_deg);
+  vehicle.set_tilt_deg(s.tilt_deg);
+  for (double thrust_n : s.rotor_thrust_n) vehicle.add_rotor_thrust_n(thrust_n);
+  vehicle.set_ground_force_n(s.ground_force_n);
+  Set(*vehicle.mutable_reference_m(), s.reference_m);
+  Set(*vehicle.mutable_position_error_m(), s.position_m - s.reference_m);
+  return vehicle;
+}
+
+proto::DutEstimates EstimatesOf(const TraceSample& s) {
+  proto::DutEstimates estimates;
+  Set(*estimates.mutable_estimated_position_m(), s.estimated_position_m);
+  estimates.set_grasp_force_estimate_n(s.grasp_force_estimate_n);
+  estimates.set_load_estimate_n(s.load_estimate_n);
+  estimates.set_servo_command_rad(s.servo_command_rad);
+  return estimates;
+}
+
+proto::GraspTruth GraspOf(const TraceSample& s) {
+  proto::GraspTruth grasp;
+  grasp.set_grasp_force_n(s.grasp_force_n);
+  grasp.set_grasp_force_setpoint_n(s.grasp_force_setpoint_n);
+  grasp.set_load_n(s.load_n);
+  grasp.set_object_mass_kg(s.object_mass_kg);
+  grasp.set_servo_angle_rad(s.servo_angle_rad);
+  grasp.set_object_held(s.object_held);
+  grasp.set_object_dropped(s.object_dropped);
+  grasp.set_object_damaged(s.object_damaged);
+  grasp.set_slip_speed_m_s(s.slip_speed_m_s);
+  return grasp;
+}
+
+proto::PadForces PadsOf(const std::array<double, kTracePadCount>& forces_n) {
+  proto::PadForces pads;
+  for (double force_n : forces_n) pads.add_force_n(force_n);
+  return pads;
+}
+
+}  // namespace
+
+RunLogWriter::RunLogWriter(std::ostream& out, RunLogScene scene)
+    : writer_(out), scene_(std::move(scene)) {}
+
+rig::Result<std::unique_ptr<RunLogWriter>> RunLogWriter::Open(std::ostream& out,
+                                                              RunLogScene scene) {
+  std::unique_ptr<RunLogWriter> log(new RunLogWriter(out, std::move(scene)));
+  if (auto opened = log->writer_.Open("", "hilrig"); !opened) return opened.error();
+  struct Wanted {
+    bool wanted;
+    const google::protobuf::Descriptor* message;
+    const char* topic;
+    std::uint16_t* id;
+  };
+  Channels& ids = log->channels_;
+  const bool grasp = log->scene_.grasp, pads = log->scene_.pads;
+  std::map<const google::protobuf::Descriptor*, std::uint16_t> schemas;  // one per message type
+  for (const Wanted& channel :
+       {Wanted{true, proto::VehicleTruth::descriptor(), "/plant/vehicle", &ids.vehicle},
+        Wanted{true, proto::DutEstimates::descriptor(), "/dut/estimates", &ids.estimates},
+        Wanted{grasp, proto::GraspTruth::descriptor(), "/plant/grasp", &ids.grasp},
+        Wanted{pads, proto::PadForces::descriptor(), "/plant/pads", &ids.plant_pads},
+        Wanted{pads, proto::PadForces::descriptor(), "/dut/pads", &ids.dut_pads},
+        Wanted{true, proto::TimelineMark::descriptor(), "/run/events", &ids.events}}) {
+    if (!channel.wanted) continue;
+    if (!schemas.count(channel.message)) {
+      auto schema = mcap::AddProtobufSchema(log->writer_, *channel.message);
+      if (!schema) return schema.error();
+      schemas[channel.message] = schema.value();
+    }
+    auto added = log->writer_.AddChannel(schemas.at(channel.message), channel.topic,
+                                         mcap::kProtobufEncoding);
+    if (!added) return added.error();
+    *channel.id = added.value();
+  }
+  return log;
+}
+
+void RunLogWriter::Write(std::uint16_t channel, std::int64_t log_time_ns,
+                         const std::string& payload) {
+  if (failure_) return;
+  mcap::MessageToWrite message;
+  message.channel_id = channel;
+  message.sequence = sequence_++;
+  message.log_time_ns = static_cast<std::uint64_t>(log_time_ns);
+  message.publish_time_ns = message.log_time_ns;
+  message.payload = payload;
+  if (auto written = writer_.Write(message); !written) failure_ = written.error();
+}
+
+void RunLogWriter::WriteEventsUpTo(double time_s) {
+  for (; next_event_ < scene_.events.size() && scene_.events[next_event_].at_s <= time_s;
+       ++next_event_) {
+    proto::TimelineMark mark;
+    mark.set_label(scene_.events[next_event_].label);
+    mark.SerializeToString(&payload_);
+    Write(channels_.events, LogTimeNs(scene_.events[next_event_].at_s), payload_);
+  }
+}
+
+void RunLogWriter::Add(const TraceSample& sample) {
+  WriteEventsUpTo(sample.time_s);
+  const std::int64_t time_ns = LogTimeNs(sample.time_s);
+  VehicleOf(sample).SerializeToString(&payload_);
+  Write(channels_.vehicle, time_ns, payload_);
+  EstimatesOf(sample).SerializeToString(&payload_);
+  Write(channels_.estimates, time_ns, payload_);
+  if (scene_.grasp) {
+    GraspOf(sample).SerializeToString(&payload_);
+    Write(channels_.grasp, time_ns, payload_);
+  }
+  if (scene_.pads) {
+    PadsOf(sample.pad_force_n).SerializeToString(&payload_);
+    Write(channels_.plant_pads, time_ns, payload_);
+    PadsOf(sample.pad_force_estimate_n).SerializeToString(&payload_);
+    Write(channels_.dut_pads, time_ns, payload_);
+  }
+}
+
+// Events after the last sample never happened in the run (it stopped first): they stay out.
+rig::Result<void> RunLogWriter::Close() {
+  if (failure_) return *failure_;
+  return writer_.Close();
+}
+
+}  // namespace hilrig::host

@@ -1,0 +1,73 @@
+// A run's MCAP log (run.mcap beside report.json): the trace as channels a reader such as Foxglove
+// or @mcap/core opens without the rig, each a protobuf message of proto/run_log.proto with its
+// descriptors stored in the file (host/mcap/protobuf_channel.h). One message per channel per
+// trace sample, at the sample's simulated time from a fixed epoch (kRunLogEpochNs, as can.log):
+// /plant/vehicle (pose, velocity, thrusts, reference), /dut/estimates, and in grasp scenes
+// /plant/grasp; with the pads, /plant/pads and /dut/pads; the timeline's events on /run/events
+// as the trace passes them. Written as the run goes through McapWriter's bounded chunks.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "host/mcap/mcap_writer.h"
+#include "host/trace/trace_sample.h"
+#include "rig/result.h"
+
+namespace hilrig::host {
+
+// Simulated time 0 in a log (run.mcap, can.log): 1e9 s after the Unix epoch
+// (2001-09-09T01:46:40Z), so that tools that take log times for wall times show a plausible date
+// and the files stay byte-reproducible.
+inline constexpr std::int64_t kRunLogEpochNs = 1'000'000'000LL * 1'000'000'000LL;
+
+inline constexpr const char* kRunLogFile = "run.mcap";
+
+struct RunLogEvent {
+  double at_s = 0;
+  std::string label;
+};
+
+// What a run's log carries besides its trace.
+struct RunLogScene {
+  bool grasp = false;               // an object: /plant/grasp
+  bool pads = false;                // the tactile pads: /plant/pads and /dut/pads
+  std::vector<RunLogEvent> events;  // in time order
+};
+
+class RunLogWriter {
+ public:
+  // Writes the header, schemas and channels to `out`, which must outlive the writer. Fails when
+  // the stream does.
+  static rig::Result<std::unique_ptr<RunLogWriter>> Open(std::ostream& out, RunLogScene scene);
+
+  // Logs one trace sample, and the events up to its time first. A failure (the stream, the
+  // compressor) sticks: later samples are dropped and Close reports it. Allocates only when a
+  // chunk is full.
+  void Add(const TraceSample& sample);
+
+  // The last chunk and the summary. Fails with the first failure of the run.
+  rig::Result<void> Close();
+
+ private:
+  struct Channels {
+    std::uint16_t vehicle = 0, estimates = 0, grasp = 0, plant_pads = 0, dut_pads = 0, events = 0;
+  };
+  RunLogWriter(std::ostream& out, RunLogScene scene);
+  void Write(std::uint16_t channel, std::int64_t log_time_ns, const std::string& payload);
+  void WriteEventsUpTo(double time_s);
+
+  mcap::McapWriter writer_;
+  RunLogScene scene_;
+  Channels channels_;
+  std::size_t next_event_ = 0;
+  std::uint32_t sequence_ = 0;
+  std::string payload_;  // reused: a sample's messages are serialized into it one by one
+  std::optional<rig::Error> failure_;
+};
+
+}  // namespace hilrig::host
