@@ -6,6 +6,7 @@
 # ~/.cache/hilrig/node-mavlink-VERSION), once; nothing of it is kept in the tree. With BIN_DIR, it
 # also flies hover and load_ramp through PX4's stand-in (`hilrig run --dut mavlink-emu`) and reads
 # each run's mavlink.tlog with node-mavlink.
+# Skips (77) without node or npm, or when npm cannot reach the registry.
 # Usage: node_mavlink_test.sh SOURCE_DIR MAVLINK_VECTORS [BIN_DIR]
 set -euo pipefail
 source_dir=$1
@@ -13,28 +14,12 @@ vectors=$2
 bin_dir=${3:-}
 readonly version=2.3.0
 
-for tool in node npm; do
-  command -v "$tool" >/dev/null || {
-    echo "FAIL: no $tool: ./scripts/setup test installs Node.js and npm" >&2
-    exit 1
-  }
-done
+# shellcheck source=../../support/npm_cache.sh
+source "$source_dir/tests/support/npm_cache.sh"
 cache=${HILRIG_NODE_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/hilrig/node-mavlink-$version}
-if [[ ! -f $cache/node_modules/node-mavlink/package.json ]]; then
-  mkdir -p "$cache"
-  echo "installing node-mavlink $version into $cache"
-  # Into a fresh folder first, so that an interrupted install leaves no half cache behind.
-  staging=$(mktemp -d "$cache.XXXXXX")
-  if ! npm install --prefix "$staging" --no-save --no-audit --no-fund --loglevel=error \
-    "node-mavlink@$version" >"$staging.log" 2>&1; then
-    echo "FAIL: npm could not install node-mavlink $version:" >&2
-    cat "$staging.log" >&2
-    rm -rf "$staging" "$staging.log"
-    exit 1
-  fi
-  rm -rf "$cache" "$staging.log"
-  mv "$staging" "$cache"
-fi
+status=0
+npm_cache_install "$cache" "node-mavlink@$version" || status=$?
+((status == 0)) || exit "$status"
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT

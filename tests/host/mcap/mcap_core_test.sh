@@ -16,38 +16,13 @@ sample_writer=$2
 hilrig=$3
 readonly version=2.2.2 fzstd_version=0.1.1 protobufjs_version=7.4.0
 
-for tool in node npm; do
-  command -v "$tool" >/dev/null || {
-    echo "SKIP: no $tool (./scripts/setup test installs Node.js and npm)"
-    exit 77
-  }
-done
+# shellcheck source=../../support/npm_cache.sh
+source "$source_dir/tests/support/npm_cache.sh"
 cache=${HILRIG_NODE_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/hilrig/mcap-core-$version-protobufjs-$protobufjs_version}
-if [[ ! -f $cache/node_modules/@mcap/core/package.json ]]; then
-  mkdir -p "$(dirname "$cache")"
-  echo "installing @mcap/core $version, fzstd $fzstd_version and protobufjs $protobufjs_version" \
-    "into $cache"
-  # Into a fresh folder first, so that an interrupted install leaves no half cache behind.
-  staging=$(mktemp -d "$cache.XXXXXX")
-  if ! npm install --prefix "$staging" --no-save --no-audit --no-fund --loglevel=error \
-    "@mcap/core@$version" "fzstd@$fzstd_version" "protobufjs@$protobufjs_version" \
-    >"$staging.log" 2>&1; then
-    # No network is a machine without the registry, not a defect of the writer.
-    if grep -qE 'ENOTFOUND|EAI_AGAIN|ECONNREFUSED|ECONNRESET|ETIMEDOUT|ENETUNREACH' \
-      "$staging.log"; then
-      echo "SKIP: npm cannot reach the registry:"
-      cat "$staging.log"
-      rm -rf "$staging" "$staging.log"
-      exit 77
-    fi
-    echo "FAIL: npm could not install @mcap/core $version:" >&2
-    cat "$staging.log" >&2
-    rm -rf "$staging" "$staging.log"
-    exit 1
-  fi
-  rm -rf "$cache" "$staging.log"
-  mv "$staging" "$cache"
-fi
+status=0
+npm_cache_install "$cache" "@mcap/core@$version" "fzstd@$fzstd_version" \
+  "protobufjs@$protobufjs_version" || status=$?
+((status == 0)) || exit "$status"
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
