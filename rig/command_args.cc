@@ -44,7 +44,8 @@ const std::string* CliArgs::Option(const std::string& name) const {
 }
 
 Result<CliArgs> ParseCliArgs(const std::vector<std::string>& args,
-                             const std::set<std::string>& allowed_options) {
+                             const std::set<std::string>& allowed_options,
+                             const std::set<std::string>& flags) {
   CliArgs parsed;
   for (std::size_t i = 1; i < args.size(); ++i) {
     const std::string& arg = args[i];
@@ -53,7 +54,9 @@ Result<CliArgs> ParseCliArgs(const std::vector<std::string>& args,
       continue;
     }
     if (!allowed_options.contains(arg)) {
-      return MakeError("unknown option " + arg + DidYouMean(arg, allowed_options));
+      std::set<std::string> known = allowed_options;
+      known.insert(flags.begin(), flags.end());
+      return MakeError("unknown option " + arg + DidYouMean(arg, known));
     }
     if (i + 1 >= args.size()) return MakeError(arg + " needs a value");
     parsed.options[arg] = args[++i];

@@ -26,9 +26,11 @@ struct CliArgs {
 std::string DidYouMean(const std::string& word, const std::set<std::string>& candidates);
 
 // Parses args[1..] (args[0] is the command or subcommand); every option takes one value. An unknown
-// option's error suggests the nearest allowed one (DidYouMean).
+// option's error suggests the nearest allowed one, or the nearest of `flags`: the command's options
+// without a value, which it took out of `args` before (DidYouMean).
 Result<CliArgs> ParseCliArgs(const std::vector<std::string>& args,
-                             const std::set<std::string>& allowed_options);
+                             const std::set<std::string>& allowed_options,
+                             const std::set<std::string>& flags = {});
 
 // `text` as a T, all of it; the error names `what` and quotes the text.
 template <typename T>

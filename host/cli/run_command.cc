@@ -131,8 +131,10 @@ rig::Result<RunOptions> ParseRunOptions(std::vector<std::string> args, const Cli
     return rig::MakeError("--reference and --no-reference contradict each other");
   }
   auto parsed = ParseCliArgs(
-      args, {"--out", "--seed", "--dut", "--dut-timeout-s", "--dut-link", "--can",
-             "--reference-cache", "--rt-priority", "--target-image", "--duration-s", "--set"});
+      args,
+      {"--out", "--seed", "--dut", "--dut-timeout-s", "--dut-link", "--can", "--reference-cache",
+       "--rt-priority", "--target-image", "--duration-s", "--set"},
+      {"--reference", "--no-reference", "--realtime", "--no-mcap"});
   if (!parsed) return parsed.error();
   const CliArgs& cli = parsed.value();
   if (cli.positional.size() != 1) {

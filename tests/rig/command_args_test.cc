@@ -28,6 +28,14 @@ TEST(ParseCliArgsTest, AnUnknownOptionSuggestsTheNearestKnownOne) {
   EXPECT_EQ(far.error().message, "unknown option --frobnicate");
 }
 
+// A flag the command took out of the arguments before is still a name a typo may be near.
+TEST(ParseCliArgsTest, AnUnknownOptionMaySuggestAFlag) {
+  const auto parsed =
+      ParseCliArgs({"run", "spec.textproto", "--no-mcpa"}, {"--seed"}, {"--no-mcap", "--realtime"});
+  ASSERT_FALSE(parsed.ok());
+  EXPECT_EQ(parsed.error().message, "unknown option --no-mcpa (did you mean --no-mcap?)");
+}
+
 TEST(ParseCliArgsTest, KeepsPositionalsAndOptions) {
   const auto parsed = ParseCliArgs({"run", "a", "--out", "DIR", "b"}, {"--out"});
 
