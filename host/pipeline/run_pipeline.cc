@@ -35,13 +35,20 @@ struct RunFiles {
   std::unique_ptr<RunLogWriter> log;
 };
 
+// The timeline's events as the plots mark them and the log carries them.
+std::vector<PlotMarker> EventMarkers(const ScenarioConfig& config) {
+  std::vector<PlotMarker> markers;
+  for (TimelineEvent& event : TimelineEvents(config)) {
+    markers.push_back({event.at_s, std::move(event.label)});
+  }
+  return markers;
+}
+
 RunLogScene LogSceneOf(const ScenarioConfig& config) {
   RunLogScene scene;
   scene.grasp = config.gripper.enabled;
   scene.pads = config.hall_sensors.tactile_enabled;
-  for (TimelineEvent& event : TimelineEvents(config)) {
-    scene.events.push_back({event.at_s, std::move(event.label)});
-  }
+  scene.events = EventMarkers(config);
   return scene;
 }
 
@@ -284,9 +291,7 @@ RunPlotScene PlotSceneOf(const ScenarioConfig& config) {
   scene.envelopes = config.envelopes;
   scene.grasp = config.gripper.enabled;
   scene.pads = config.hall_sensors.tactile_enabled;
-  for (TimelineEvent& event : TimelineEvents(config)) {
-    scene.events.push_back({event.at_s, std::move(event.label)});
-  }
+  scene.events = EventMarkers(config);
   return scene;
 }
 

@@ -113,12 +113,12 @@ void RunLogWriter::Write(std::uint16_t channel, std::int64_t log_time_ns,
 }
 
 void RunLogWriter::WriteEventsUpTo(double time_s) {
-  for (; next_event_ < scene_.events.size() && scene_.events[next_event_].at_s <= time_s;
+  for (; next_event_ < scene_.events.size() && scene_.events[next_event_].time_s <= time_s;
        ++next_event_) {
     proto::TimelineMark mark;
     mark.set_label(scene_.events[next_event_].label);
     mark.SerializeToString(&payload_);
-    Write(channels_.events, LogTimeNs(scene_.events[next_event_].at_s), payload_);
+    Write(channels_.events, LogTimeNs(scene_.events[next_event_].time_s), payload_);
   }
 }
 

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "host/mcap/mcap_writer.h"
+#include "host/report/svg_plot.h"
 #include "host/trace/trace_sample.h"
 #include "rig/result.h"
 
@@ -27,16 +28,11 @@ inline constexpr std::int64_t kRunLogEpochNs = 1'000'000'000LL * 1'000'000'000LL
 
 inline constexpr const char* kRunLogFile = "run.mcap";
 
-struct RunLogEvent {
-  double at_s = 0;
-  std::string label;
-};
-
 // What a run's log carries besides its trace.
 struct RunLogScene {
-  bool grasp = false;               // an object: /plant/grasp
-  bool pads = false;                // the tactile pads: /plant/pads and /dut/pads
-  std::vector<RunLogEvent> events;  // in time order
+  bool grasp = false;              // an object: /plant/grasp
+  bool pads = false;               // the tactile pads: /plant/pads and /dut/pads
+  std::vector<PlotMarker> events;  // the timeline's, in time order, as the plots mark them
 };
 
 class RunLogWriter {
