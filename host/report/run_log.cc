@@ -1,7 +1,6 @@
 #include "host/report/run_log.h"
 
 #include <cmath>
-#include <map>
 
 #include "host/mcap/protobuf_channel.h"
 #include "proto/run_log.pb.h"
@@ -78,7 +77,6 @@ rig::Result<std::unique_ptr<RunLogWriter>> RunLogWriter::Open(std::ostream& out,
   };
   Channels& ids = log->channels_;
   const bool grasp = log->scene_.grasp, pads = log->scene_.pads;
-  std::map<const google::protobuf::Descriptor*, std::uint16_t> schemas;  // one per message type
   for (const Wanted& channel :
        {Wanted{true, proto::VehicleTruth::descriptor(), "/plant/vehicle", &ids.vehicle},
         Wanted{true, proto::DutEstimates::descriptor(), "/dut/estimates", &ids.estimates},
@@ -87,27 +85,41 @@ rig::Result<std::unique_ptr<RunLogWriter>> RunLogWriter::Open(std::ostream& out,
         Wanted{pads, proto::PadForces::descriptor(), "/dut/pads", &ids.dut_pads},
         Wanted{true, proto::TimelineMark::descriptor(), "/run/events", &ids.events}}) {
     if (!channel.wanted) continue;
-    if (!schemas.count(channel.message)) {
-      auto schema = mcap::AddProtobufSchema(log->writer_, *channel.message);
-      if (!schema) return schema.error();
-      schemas[channel.message] = schema.value();
-    }
-    auto added = log->writer_.AddChannel(schemas.at(channel.message), channel.topic,
-                                         mcap::kProtobufEncoding);
+    auto added = log->AddChannel(*channel.message, channel.topic);
     if (!added) return added.error();
     *channel.id = added.value();
   }
   return log;
 }
 
+rig::Result<std::uint16_t> RunLogWriter::AddChannel(const google::protobuf::Descriptor& message,
+                                                    std::string_view topic) {
+  auto schema = schemas_.find(&message);
+  if (schema == schemas_.end()) {
+    auto added = mcap::AddProtobufSchema(writer_, message);
+    if (!added) return added.error();
+    schema = schemas_.emplace(&message, added.value()).first;
+  }
+  return writer_.AddChannel(schema->second, topic, mcap::kProtobufEncoding);
+}
+
+void RunLogWriter::Log(std::uint16_t channel, std::int64_t time_ns,
+                       const google::protobuf::MessageLite& message,
+                       std::optional<std::int64_t> publish_time_ns) {
+  if (failure_) return;
+  message.SerializeToString(&payload_);
+  Write(channel, kRunLogEpochNs + time_ns, payload_,
+        kRunLogEpochNs + publish_time_ns.value_or(time_ns));
+}
+
 void RunLogWriter::Write(std::uint16_t channel, std::int64_t log_time_ns,
-                         const std::string& payload) {
+                         const std::string& payload, std::int64_t publish_time_ns) {
   if (failure_) return;
   mcap::MessageToWrite message;
   message.channel_id = channel;
   message.sequence = sequence_++;
   message.log_time_ns = static_cast<std::uint64_t>(log_time_ns);
-  message.publish_time_ns = message.log_time_ns;
+  message.publish_time_ns = static_cast<std::uint64_t>(publish_time_ns);
   message.payload = payload;
   if (auto written = writer_.Write(message); !written) failure_ = written.error();
 }

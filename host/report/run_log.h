@@ -7,7 +7,11 @@
 // as the trace passes them. Written as the run goes through McapWriter's bounded chunks.
 #pragma once
 
+#include <google/protobuf/descriptor.h>
+#include <google/protobuf/message_lite.h>
+
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <ostream>
@@ -49,17 +53,33 @@ class RunLogWriter {
   // The last chunk and the summary. Fails with the first failure of the run.
   rig::Result<void> Close();
 
+  // For the run's other writers (the DUT's traffic, ...): a channel of protobuf messages of type
+  // `message` on `topic`, its schema (the descriptor's file and imports) stored once per type.
+  // Fails when the stream does.
+  rig::Result<std::uint16_t> AddChannel(const google::protobuf::Descriptor& message,
+                                        std::string_view topic);
+  // Logs `message` on `channel` at simulated time `time_ns` (from 0, the run's start) and
+  // `publish_time_ns` (the same when unset). Fails as Add does.
+  void Log(std::uint16_t channel, std::int64_t time_ns,
+           const google::protobuf::MessageLite& message,
+           std::optional<std::int64_t> publish_time_ns = std::nullopt);
+
  private:
   struct Channels {
     std::uint16_t vehicle = 0, estimates = 0, grasp = 0, plant_pads = 0, dut_pads = 0, events = 0;
   };
   RunLogWriter(std::ostream& out, RunLogScene scene);
-  void Write(std::uint16_t channel, std::int64_t log_time_ns, const std::string& payload);
+  void Write(std::uint16_t channel, std::int64_t log_time_ns, const std::string& payload,
+             std::int64_t publish_time_ns);
+  void Write(std::uint16_t channel, std::int64_t log_time_ns, const std::string& payload) {
+    Write(channel, log_time_ns, payload, log_time_ns);
+  }
   void WriteEventsUpTo(double time_s);
 
   mcap::McapWriter writer_;
   RunLogScene scene_;
   Channels channels_;
+  std::map<const google::protobuf::Descriptor*, std::uint16_t> schemas_;  // one per message type
   std::size_t next_event_ = 0;
   std::uint32_t sequence_ = 0;
   std::string payload_;  // reused: a sample's messages are serialized into it one by one
