@@ -30,19 +30,16 @@ std::size_t PayloadIndex(const proto::LinkMessage& message) {
 }
 
 // The DutInput alternatives, one by one.
-proto::LinkMessage ToLink(const ImuMessage& message) {
-  proto::LinkMessage link;
+void Fill(const ImuMessage& message, proto::LinkMessage& link) {
   proto::ImuSample* imu = link.mutable_imu();
   PutStamp(message.stamp, imu->mutable_header());
   PutVector(message.gyro_rad_s, imu->mutable_gyro_rad_s());
   PutVector(message.accel_m_s2, imu->mutable_accel_m_s2());
   imu->set_gyro_clipped(message.gyro_clipped);
   imu->set_accel_clipped(message.accel_clipped);
-  return link;
 }
 
-proto::LinkMessage ToLink(const VioMessage& message) {
-  proto::LinkMessage link;
+void Fill(const VioMessage& message, proto::LinkMessage& link) {
   proto::VioPose* vio = link.mutable_vio();
   PutStamp(message.stamp, vio->mutable_header());
   vio->set_capture_time_ns(message.capture_time_ns);
@@ -52,11 +49,9 @@ proto::LinkMessage ToLink(const VioMessage& message) {
   q->set_x(message.orientation.x());
   q->set_y(message.orientation.y());
   q->set_z(message.orientation.z());
-  return link;
 }
 
-proto::LinkMessage ToLink(const SetpointMessage& message) {
-  proto::LinkMessage link;
+void Fill(const SetpointMessage& message, proto::LinkMessage& link) {
   proto::PositionSetpoint* setpoint = link.mutable_setpoint();
   PutStamp(message.stamp, setpoint->mutable_header());
   PutVector(message.position_m, setpoint->mutable_position_m());
@@ -66,28 +61,22 @@ proto::LinkMessage ToLink(const SetpointMessage& message) {
   setpoint->set_grasp_regulate(message.grasp_regulate);
   setpoint->set_grasp_force_n(message.grasp_force_n);
   setpoint->set_grasp_reference_angle_rad(message.grasp_reference_angle_rad);
-  return link;
 }
 
-proto::LinkMessage ToLink(const MagnetometerMessage& message) {
-  proto::LinkMessage link;
+void Fill(const MagnetometerMessage& message, proto::LinkMessage& link) {
   proto::MagnetometerSample* mag = link.mutable_mag();
   PutStamp(message.stamp, mag->mutable_header());
   PutVector(message.field_body_t, mag->mutable_field_body_t());
-  return link;
 }
 
-proto::LinkMessage ToLink(const BarometerMessage& message) {
-  proto::LinkMessage link;
+void Fill(const BarometerMessage& message, proto::LinkMessage& link) {
   proto::BarometerSample* baro = link.mutable_baro();
   PutStamp(message.stamp, baro->mutable_header());
   baro->set_pressure_pa(message.pressure_pa);
   baro->set_temperature_c(message.temperature_c);
-  return link;
 }
 
-proto::LinkMessage ToLink(const GnssMessage& message) {
-  proto::LinkMessage link;
+void Fill(const GnssMessage& message, proto::LinkMessage& link) {
   proto::GnssFix* gnss = link.mutable_gnss();
   PutStamp(message.stamp, gnss->mutable_header());
   gnss->set_latitude_deg(message.latitude_deg);
@@ -97,7 +86,6 @@ proto::LinkMessage ToLink(const GnssMessage& message) {
   gnss->set_horizontal_accuracy_m(message.horizontal_accuracy_m);
   gnss->set_vertical_accuracy_m(message.vertical_accuracy_m);
   gnss->set_satellites(message.satellites);
-  return link;
 }
 
 ImuMessage FromLink(const proto::ImuSample& message) {
@@ -477,14 +465,15 @@ std::optional<LinkEvent> LinkDecoder::Check(proto::LinkMessage message) {
   return LinkEvent(std::move(message));
 }
 
-proto::LinkMessage ToLink(const ActuatorMessage& message) {
-  proto::LinkMessage link;
-  proto::ActuatorCommand* command = link.mutable_command();
+void FillLink(const ActuatorMessage& message, proto::ActuatorCommand& out) {
+  proto::ActuatorCommand* command = &out;
   PutStamp(message.stamp, command->mutable_header());
   command->set_answers_sequence(message.answers_sequence);
+  command->clear_rotor_thrust_n();
   for (double thrust_n : message.rotor_thrust_n) command->add_rotor_thrust_n(thrust_n);
   command->set_armed(message.armed);
   PutVector(message.estimated_position_m, command->mutable_estimated_position_m());
+  command->clear_tactile_force_sensor_n();  // keeps the elements for the next add
   for (const Eigen::Vector3d& force_n : message.tactile_force_sensor_n) {
     PutVector(force_n, command->add_tactile_force_sensor_n());
   }
@@ -492,6 +481,11 @@ proto::LinkMessage ToLink(const ActuatorMessage& message) {
   command->set_servo_angle_rad(message.servo_angle_rad);
   command->set_grasp_force_estimate_n(message.grasp_force_estimate_n);
   PutVector(message.external_force_world_n, command->mutable_external_force_world_n());
+}
+
+proto::LinkMessage ToLink(const ActuatorMessage& message) {
+  proto::LinkMessage link;
+  FillLink(message, *link.mutable_command());
   return link;
 }
 
@@ -524,10 +518,20 @@ rig::Result<ActuatorMessage> FromLink(const proto::ActuatorCommand& message) {
   return command;
 }
 
+void FillLink(const DutInput& input, proto::LinkMessage& link) {
+  VisitDutInput(input, [&link](const auto& message) { Fill(message, link); });
+}
+
 proto::LinkMessage ToLink(const DutInput& input) {
   proto::LinkMessage link;
-  VisitDutInput(input, [&link](const auto& message) { link = ToLink(message); });
+  FillLink(input, link);
   return link;
+}
+
+const google::protobuf::FieldDescriptor& DutInputPayloadField(std::size_t input_index) {
+  int number = 0;
+  WithLinkStream(input_index, [&number](auto stream) { number = decltype(stream)::kPayload; });
+  return *proto::LinkMessage::descriptor()->FindFieldByNumber(number);
 }
 
 std::optional<DutInput> DutInputFromLink(const proto::LinkMessage& message) {

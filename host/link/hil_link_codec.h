@@ -131,6 +131,9 @@ class LinkDecoder {
 
 // Plain structs <-> protobuf. Every field; doubles as doubles.
 proto::LinkMessage ToLink(const ActuatorMessage& message);
+// The same into `command`, reusing what it already holds: a caller that keeps one message per
+// stream converts without allocating after that stream's first message. Never fails.
+void FillLink(const ActuatorMessage& message, proto::ActuatorCommand& command);
 // Fails when the command does not carry exactly 4 rotor thrusts and 6 tactile forces (a missing
 // vector field is zero, as proto3 reads it).
 rig::Result<ActuatorMessage> FromLink(const proto::ActuatorCommand& message);
@@ -139,6 +142,10 @@ rig::Result<ActuatorMessage> FromLink(const proto::ActuatorCommand& message);
 // when it carries another payload (hello, config, step, command, bye), so that a DUT behind the
 // link takes every stream without naming it.
 proto::LinkMessage ToLink(const DutInput& input);
+void FillLink(const DutInput& input, proto::LinkMessage& link);  // likewise
+// The LinkMessage field that carries DutInput alternative `input_index` (imu, vio, setpoint, ...):
+// its name is the alternative's kStream, its message type the payload's.
+const google::protobuf::FieldDescriptor& DutInputPayloadField(std::size_t input_index);
 std::optional<DutInput> DutInputFromLink(const proto::LinkMessage& message);
 
 // The sequence of the last message of DutInput alternative `input_index` the DUT had taken when

@@ -131,6 +131,37 @@ TEST(HilLinkCodecTest, ActuatorCommandRoundTripsBitExact) {
   ExpectSameBits(received.external_force_world_n, sent.external_force_world_n);
 }
 
+// A caller that keeps one message per stream (the run's log) fills it again and again: each fill
+// gives what a fresh conversion gives, whatever the message held before.
+TEST(HilLinkCodecTest, FillingAKeptMessageEqualsAFreshConversion) {
+  proto::LinkMessage kept;
+  ImuMessage imu;
+  imu.stamp = {3, 4'000'000};
+  imu.gyro_rad_s = {kThird, 0, -1};
+  FillLink(DutInput(VioMessage{}), kept);
+  FillLink(DutInput(imu), kept);
+  EXPECT_EQ(kept.SerializeAsString(), ToLink(DutInput(imu)).SerializeAsString());
+
+  ActuatorMessage command;
+  command.rotor_thrust_n = {1, 2, 3, 4};
+  command.tactile_force_sensor_n[5] = {kThird, 0, 0};
+  proto::ActuatorCommand kept_command;
+  FillLink(command, kept_command);
+  command.rotor_thrust_n = {5, 6, 7, 8};
+  FillLink(command, kept_command);
+  EXPECT_EQ(kept_command.rotor_thrust_n_size(), 4);
+  EXPECT_EQ(kept_command.tactile_force_sensor_n_size(), 6);
+  EXPECT_EQ(kept_command.SerializeAsString(), ToLink(command).command().SerializeAsString());
+}
+
+TEST(HilLinkCodecTest, EachInputStreamTravelsInTheFieldOfItsName) {
+  for (std::size_t index = 0; index < kDutInputStreams; ++index) {
+    const google::protobuf::FieldDescriptor& field = DutInputPayloadField(index);
+    EXPECT_EQ(field.name(), DutInputStream(index));
+    EXPECT_EQ(field.containing_oneof()->name(), "payload");
+  }
+}
+
 TEST(HilLinkCodecTest, HelloStepAndByeRoundTrip) {
   LinkSequencer sequencer;
   proto::LinkMessage hello;
