@@ -17,6 +17,7 @@
 #include "host/fidelity/fidelity_choice.h"
 #include "host/fidelity/trace_comparison.h"
 #include "host/runner/runner.h"
+#include "host/scenario/checked_resolve.h"
 #include "host/scenario/scenario_config.h"
 #include "host/trace/trace_capture.h"
 #include "proto/calibration.pb.h"
@@ -25,12 +26,6 @@
 #include "rig/result.h"
 
 namespace hilrig::host {
-
-// `spec` validated (an error names the scene, the field and the cause), its field fidelity
-// parsed (not built), then resolved.
-rig::Result<ScenarioConfig> ResolveChecked(const proto::Scenario& spec,
-                                           const std::string& spec_directory,
-                                           std::optional<std::uint64_t> seed);
 
 // The same, sharing `calibration` (the DUT is flashed once for every run).
 rig::Result<ScenarioConfig> ResolveWithCalibration(
