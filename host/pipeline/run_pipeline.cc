@@ -7,6 +7,7 @@
 #include <variant>
 
 #include "host/cache/setup_caches.h"
+#include "host/replay/dut_traffic_log.h"
 #include "host/report/run_folder.h"
 #include "host/report/run_log.h"
 #include "host/report/run_plots.h"
@@ -24,6 +25,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The spec as loaded (or given) and resolved; every failure here is the spec's.
+struct ResolvedSpec {
+  proto::Scenario spec;
+  ScenarioConfig config;
+};
+
 // The run's trace.csv and can.log. They are written from inside the stepping loop, whose wall
 // time is the run's real-time factor: rig::OutputFile buffers 1 MiB of them between write system
 // calls.
@@ -33,6 +40,7 @@ struct RunFiles {
   std::unique_ptr<rig::OutputFile> can_log;
   std::unique_ptr<rig::OutputFile> log_file;  // run.mcap, unless the request turned it off
   std::unique_ptr<RunLogWriter> log;
+  std::unique_ptr<DutTrafficLog> dut_traffic;  // into `log`
 };
 
 // The timeline's events as the plots mark them and the log carries them.
@@ -61,18 +69,33 @@ rig::Result<RunFiles> OpenRunFiles(const fs::path& out_dir, const std::string& s
   if (!trace) return trace.error();
   auto can_log = rig::OutputFile::Create((out_dir / "can.log").string());
   if (!can_log) return can_log.error();
-  return RunFiles{std::move(folder).value(), std::move(trace).value(), std::move(can_log).value(),
-                  nullptr, nullptr};
+  return RunFiles{std::move(folder).value(),
+                  std::move(trace).value(),
+                  std::move(can_log).value(),
+                  nullptr,
+                  nullptr,
+                  nullptr};
 }
 
-rig::Result<void> OpenRunLog(RunFiles& files, const fs::path& out_dir,
-                             const ScenarioConfig& config) {
+// run.mcap with the DUT's traffic and what a replay needs to rebuild the DUT.
+rig::Result<void> OpenRunLog(RunFiles& files, const fs::path& out_dir, const ResolvedSpec& run,
+                             const std::string& spec_directory, bool realtime) {
   auto file = rig::OutputFile::Create((out_dir / kRunLogFile).string());
   if (!file) return file.error();
   files.log_file = std::move(file).value();
-  auto log = RunLogWriter::Open(files.log_file->stream(), LogSceneOf(config));
+  auto log = RunLogWriter::Open(files.log_file->stream(), LogSceneOf(run.config));
   if (!log) return rig::InContext(kRunLogFile + std::string(": "), log.error());
   files.log = std::move(log).value();
+  proto::RunRecording recording;
+  *recording.mutable_spec() = run.spec;
+  std::error_code error;
+  const fs::path directory = fs::absolute(spec_directory.empty() ? "." : spec_directory, error);
+  recording.set_spec_directory(error ? spec_directory : directory.string());
+  recording.set_seed(run.config.seed);
+  recording.set_realtime(realtime);
+  auto traffic = DutTrafficLog::Open(*files.log, recording);
+  if (!traffic) return rig::InContext(kRunLogFile + std::string(": "), traffic.error());
+  files.dut_traffic = std::move(traffic).value();
   return {};
 }
 
@@ -97,12 +120,6 @@ rig::Result<void> FinishRunFiles(RunFiles& files, const proto::Report& report,
   }
   return {};
 }
-
-// The spec as loaded (or given) and resolved; every failure here is the spec's.
-struct ResolvedSpec {
-  proto::Scenario spec;
-  ScenarioConfig config;
-};
 
 rig::Result<ResolvedSpec> LoadAndResolve(const RunRequest& request,
                                          const std::string& spec_directory) {
@@ -190,7 +207,9 @@ Prepared Prepare(const RunRequest& request, const RunSeams& seams) {
     if (!opened) return RunError{RunFailure::kOutput, opened.error().message};
     prepared->files.emplace(std::move(opened).value());
     if (request.run_log) {
-      if (auto log = OpenRunLog(*prepared->files, *request.out_dir, run.config); !log) {
+      if (auto log = OpenRunLog(*prepared->files, *request.out_dir, run, spec_directory,
+                                seams.realtime_clock != nullptr);
+          !log) {
         return RunError{RunFailure::kOutput, log.error().message};
       }
     }
@@ -263,6 +282,7 @@ RunOutcome Fly(PreparedRun& prepared, const RunRequest& request, const RunSeams&
   control.dut_factory = request.dut_factory;
   control.realtime_clock = seams.realtime_clock;
   control.run_folder = request.out_dir.value_or("");
+  control.dut_traffic = prepared.files ? prepared.files->dut_traffic.get() : nullptr;
   RunOutcome outcome;
   outcome.report = RunScenario(prepared.run.config, SinksOf(prepared, seams), control);
   if (realtime) {

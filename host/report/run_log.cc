@@ -97,10 +97,15 @@ rig::Result<std::uint16_t> RunLogWriter::AddChannel(const google::protobuf::Desc
   auto schema = schemas_.find(&message);
   if (schema == schemas_.end()) {
     auto added = mcap::AddProtobufSchema(writer_, message);
-    if (!added) return added.error();
+    if (!added) {
+      if (!failure_) failure_ = added.error();
+      return added.error();
+    }
     schema = schemas_.emplace(&message, added.value()).first;
   }
-  return writer_.AddChannel(schema->second, topic, mcap::kProtobufEncoding);
+  auto channel = writer_.AddChannel(schema->second, topic, mcap::kProtobufEncoding);
+  if (!channel && !failure_) failure_ = channel.error();
+  return channel;
 }
 
 void RunLogWriter::Log(std::uint16_t channel, std::int64_t time_ns,

@@ -55,7 +55,7 @@ class RunLogWriter {
 
   // For the run's other writers (the DUT's traffic, ...): a channel of protobuf messages of type
   // `message` on `topic`, its schema (the descriptor's file and imports) stored once per type.
-  // Fails when the stream does.
+  // Fails when the stream does, and the failure sticks as Add's do.
   rig::Result<std::uint16_t> AddChannel(const google::protobuf::Descriptor& message,
                                         std::string_view topic);
   // Logs `message` on `channel` at simulated time `time_ns` (from 0, the run's start) and

@@ -217,13 +217,23 @@ ScenarioRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
 // stepped, and is stopped like any other.
 void ScenarioRunner::Impl::StartDut(double control_period_s) {
   rig::Result<void> started;
+  std::unique_ptr<rig::CanBus> dut_bus = bus_.Connect("dut");
+  if (control_.dut_traffic != nullptr) {
+    dut_bus = std::make_unique<RecordingCanBus>(std::move(dut_bus), *control_.dut_traffic);
+  }
   if (!control_.dut_factory) {
     dut_ =
-        std::make_unique<InProcessDut>(FirmwareFor(config_), bus_.Connect("dut"), control_period_s);
-  } else if (auto made = control_.dut_factory(config_, bus_.Connect("dut"), control_period_s)) {
+        std::make_unique<InProcessDut>(FirmwareFor(config_), std::move(dut_bus), control_period_s);
+  } else if (auto made = control_.dut_factory(config_, std::move(dut_bus), control_period_s)) {
     dut_ = std::move(made).value();
   } else {
     started = made.error();
+  }
+  if (dut_ && control_.dut_traffic != nullptr) {
+    // Wall times for a real-time run's exchanges; a lockstep run's mean nothing to the DUT.
+    const rig::Clock* wall_clock =
+        control_.realtime_clock != nullptr ? control_.wall_clock : nullptr;
+    dut_ = std::make_unique<RecordingDutPort>(std::move(dut_), *control_.dut_traffic, wall_clock);
   }
   if (dut_) {
     dut_->SetRunFolder(control_.run_folder);

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "host/dut/dut_port.h"
+#include "host/dut/dut_traffic.h"
 #include "host/runner/device_emulator.h"
 #include "host/scenario/scenario_config.h"
 #include "host/trace/trace_sample.h"
@@ -52,6 +53,9 @@ struct RunControl {
   // The run's output folder, handed to the DUT before it starts (DutPort::SetRunFolder); empty:
   // the run writes no files of its own.
   std::string run_folder = {};
+  // Optional: every input, CAN frame, step and command between the runner and the DUT, as they
+  // are exchanged (the run's log, for a replay); must outlive the run.
+  DutTrafficSink* dut_traffic = nullptr;
 };
 
 // A run that can be stepped tick by tick (benchmarks, tests); RunScenario() drives one to its end.

@@ -83,7 +83,7 @@ declare -A level=(
   [fixtures/calibration]=6 [host/compare]=6 [host/scenario]=6
   [host/dut]=7 [host/setup]=7
   [host/cache]=8 [host/runner]=8 [dut_emu]=8 [host/linked_dut]=8
-  [host/fidelity]=9
+  [host/fidelity]=9 [host/replay]=9
   [host/pipeline]=10
   [host/sweep]=11 [host/work_precision]=11
   [host/cli]=12
