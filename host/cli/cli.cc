@@ -12,6 +12,7 @@
 #include "host/cli/cli_args.h"
 #include "host/cli/command_help.h"
 #include "host/cli/compare_command.h"
+#include "host/cli/replay_command.h"
 #include "host/cli/run_command.h"
 #include "host/cli/sweep_command.h"
 #include "host/cli/tactile_commands.h"
@@ -101,6 +102,7 @@ int RunCli(const std::vector<std::string>& args, std::ostream& out, std::ostream
   if (args[0] == "bench") return BenchCommand(args, io);
   if (args[0] == "sweep") return SweepCommand(args, io);
   if (args[0] == "compare") return CompareCommand(args, io);
+  if (args[0] == "replay") return ReplayCommand(args, io);
   if (args[0] == "calibrate") return CalibrateCommand(args, io);
   if (args[0] == "accuracy") return AccuracyCommand(args, io);
   if (args[0] == "listen") return ListenCommand(args, io);

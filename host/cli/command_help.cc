@@ -4,6 +4,7 @@
 #include <set>
 
 #include "host/cli/build_info.h"
+#include "host/cli/replay_command.h"
 #include "host/cli/run_command.h"
 #include "rig/command_args.h"
 
@@ -66,11 +67,12 @@ constexpr std::string_view kHelpUsage =
     "  hilrig COMMAND --help   the same for COMMAND\n"
     "  hilrig --version        the commit and build type of this build\n";
 
-const std::array<CommandHelp, 10> kCommands = {{
+const std::array<CommandHelp, 11> kCommands = {{
     {"run", "run a scenario, or every scenario in a folder", kRunUsage},
     {"check", "validate scenario specs", kCheckUsage},
     {"sweep", "run and grade a sweep's cases, here or on Slurm", kSweepUsage},
     {"compare", "is a candidate run or sweep worse than its base? (exit 1)", kCompareUsage},
+    {"replay", "replay a run's recorded DUT traffic on a DUT (exit 1: it differs)", kReplayUsage},
     {"bench", "the work-precision sweep of integrators, fields and sensor effects", kBenchUsage},
     {"calibrate", "calibrate the tactile sensors", kCalibrateUsage},
     {"accuracy", "held-out force error, and the error per sensor effect", kAccuracyUsage},

@@ -102,8 +102,8 @@ struct RunOptions {
   proto::Provenance provenance;  // this build and the command line, for every run's report
 };
 
-// --dut and its options (host/linked_dut/dut_choice.h); a DUT's waits end on the command's stop
-// request and are announced on its standard error.
+}  // namespace
+
 rig::Result<DutFactory> ParseDutOptions(const CliArgs& cli, bool realtime, const CliStreams& io) {
   const auto word = [&cli](const char* option) -> std::optional<std::string> {
     const std::string* value = cli.Option(option);
@@ -115,6 +115,8 @@ rig::Result<DutFactory> ParseDutOptions(const CliArgs& cli, bool realtime, const
   if (!choice) return choice.error();
   return MakeDutFactory(choice.value(), realtime, DutFactorySeams{io.stop_requested, &io.err});
 }
+
+namespace {
 
 rig::Result<RunOptions> ParseRunOptions(std::vector<std::string> args, const CliStreams& io) {
   // --reference is the default; the flag stays accepted for scripts written when it was not.

@@ -12,6 +12,8 @@
 #include <vector>
 
 #include "host/cli/cli_args.h"
+#include "host/dut/dut_port.h"
+#include "rig/result.h"
 
 namespace hilrig::host {
 
@@ -19,5 +21,10 @@ namespace hilrig::host {
 extern const char kRunUsage[];
 
 int RunCommand(const std::vector<std::string>& args, const CliStreams& io);
+
+// The DUT that --dut and its options name (host/linked_dut/dut_choice.h), unset for the default
+// in-process one; its waits end on the command's stop request and are announced on `io.err`.
+// Fails on an option the choice refuses. `hilrig replay` takes the same options.
+rig::Result<DutFactory> ParseDutOptions(const CliArgs& cli, bool realtime, const CliStreams& io);
 
 }  // namespace hilrig::host
