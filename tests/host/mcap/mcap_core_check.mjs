@@ -60,12 +60,13 @@ const SAMPLE = {
   encodings: ['jsonschema', 'protobuf'],
   minChunks: 2,
 };
-// balloon_grasp's log: a grasp scene with the pads.
+// balloon_grasp's log: a grasp scene with the pads, and its DUT's traffic (docs/replay.md).
 const RUN = {
-  topics: ['/dut/estimates', '/dut/pads', '/plant/grasp', '/plant/pads', '/plant/vehicle',
-    '/run/events'],
-  encodings: ['protobuf', 'protobuf', 'protobuf', 'protobuf', 'protobuf'],
-  minChunks: 1,
+  topics: ['/dut/estimates', '/dut/in/can', '/dut/in/imu', '/dut/in/setpoint', '/dut/in/step',
+    '/dut/in/vio', '/dut/out/command', '/dut/pads', '/plant/grasp', '/plant/pads',
+    '/plant/vehicle', '/run/events', '/run/recording'],
+  encodings: Array(12).fill('protobuf'),
+  minChunks: 2,
 };
 
 // The sample's reports carry their number; a run's messages need only decode.
