@@ -35,6 +35,14 @@ enum class Opcode : std::uint8_t {
 // publish_time u64.
 inline constexpr std::uint64_t kMessageFixedBytes = 2 + 4 + 8 + 8;
 
+// Stores `value` at `at` least significant byte first (the compiler makes one store of it).
+template <typename T>
+void PutLittleEndian(char* at, T value) {
+  for (std::size_t i = 0; i < sizeof(T); ++i) {
+    at[i] = static_cast<char>(static_cast<std::uint64_t>(value) >> (8 * i) & 0xFFu);
+  }
+}
+
 template <typename T>
 void AppendLittleEndian(std::string& out, T value) {
   for (std::size_t i = 0; i < sizeof(T); ++i) {

@@ -56,7 +56,46 @@ rig::Error WriterError(std::string message) {
 McapWriter::McapWriter(std::ostream& out, McapWriterOptions options)
     : out_(out), options_(options) {}
 
-McapWriter::~McapWriter() { ZSTD_freeCCtx(static_cast<ZSTD_CCtx*>(zstd_context_)); }
+McapWriter::~McapWriter() {
+  StopWorker();
+  ZSTD_freeCCtx(static_cast<ZSTD_CCtx*>(zstd_context_));
+}
+
+rig::Result<void> McapWriter::Settle() {
+  std::unique_lock lock(mutex_);
+  changed_.wait(lock, [this] { return !job_pending_; });
+  if (worker_failure_) return *worker_failure_;
+  return {};
+}
+
+void McapWriter::WorkerLoop() {
+  std::unique_lock lock(mutex_);
+  while (true) {
+    changed_.wait(lock, [this] { return job_pending_ || stopping_; });
+    if (!job_pending_) return;  // stopping, nothing in flight
+    lock.unlock();
+    rig::Result<void> written = WriteChunk(job_records_, job_index_, job_start_ns_, job_end_ns_);
+    lock.lock();
+    if (!written && !worker_failure_) worker_failure_ = written.error();
+    job_pending_ = false;
+    changed_.notify_all();
+  }
+}
+
+void McapWriter::StopWorker() {
+  if (!worker_.joinable()) return;
+  {
+    std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  changed_.notify_all();
+  worker_.join();
+}
+
+std::uint64_t McapWriter::bytes_written() {
+  (void)Settle();
+  return offset_;
+}
 
 rig::Result<void> McapWriter::Emit(std::string_view bytes) {
   out_.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
@@ -80,6 +119,7 @@ rig::Result<void> McapWriter::Open(std::string_view profile, std::string_view li
 rig::Result<std::uint16_t> McapWriter::AddSchema(std::string_view name, std::string_view encoding,
                                                  std::string_view data) {
   if (!open_ || closed_) return WriterError("AddSchema() outside Open() and Close()");
+  if (auto settled = Settle(); !settled) return settled.error();
   if (schema_records_.size() >= std::numeric_limits<std::uint16_t>::max()) {
     return WriterError("more than 65535 schemas");
   }
@@ -93,6 +133,7 @@ rig::Result<std::uint16_t> McapWriter::AddChannel(
     std::uint16_t schema_id, std::string_view topic, std::string_view message_encoding,
     const std::map<std::string, std::string>& metadata) {
   if (!open_ || closed_) return WriterError("AddChannel() outside Open() and Close()");
+  if (auto settled = Settle(); !settled) return settled.error();
   if (schema_id > schema_records_.size()) {
     return WriterError("channel " + std::string(topic) + " names an unknown schema");
   }
@@ -101,6 +142,8 @@ rig::Result<std::uint16_t> McapWriter::AddChannel(
   }
   const auto id = static_cast<std::uint16_t>(channel_records_.size());
   channel_records_.push_back(ChannelRecord(id, schema_id, topic, message_encoding, metadata));
+  chunk_message_index_.resize(channel_records_.size());
+  channel_message_counts_.resize(channel_records_.size());
   if (auto written = Emit(channel_records_.back()); !written) return written.error();
   return id;
 }
@@ -110,17 +153,23 @@ rig::Result<void> McapWriter::Write(const MessageToWrite& message) {
   if (message.channel_id >= channel_records_.size()) {
     return WriterError("a message on unknown channel " + std::to_string(message.channel_id));
   }
+  // The record's fixed part and the index entry are put together on the stack and appended
+  // whole: a run's log writes a hundred thousand small messages.
   const std::uint64_t offset_in_chunk = chunk_records_.size();
-  AppendRecordPrefix(chunk_records_, Opcode::kMessage, kMessageFixedBytes + message.payload.size());
-  AppendLittleEndian<std::uint16_t>(chunk_records_, message.channel_id);
-  AppendLittleEndian<std::uint32_t>(chunk_records_, message.sequence);
-  AppendLittleEndian<std::uint64_t>(chunk_records_, message.log_time_ns);
-  AppendLittleEndian<std::uint64_t>(chunk_records_, message.publish_time_ns);
+  char head[kRecordPrefixBytes + kMessageFixedBytes];
+  head[0] = static_cast<char>(Opcode::kMessage);
+  PutLittleEndian<std::uint64_t>(head + 1, kMessageFixedBytes + message.payload.size());
+  PutLittleEndian<std::uint16_t>(head + 9, message.channel_id);
+  PutLittleEndian<std::uint32_t>(head + 11, message.sequence);
+  PutLittleEndian<std::uint64_t>(head + 15, message.log_time_ns);
+  PutLittleEndian<std::uint64_t>(head + 23, message.publish_time_ns);
+  chunk_records_.append(head, sizeof(head));
   chunk_records_.append(message.payload);
 
-  std::string& index = chunk_message_index_[message.channel_id];
-  AppendLittleEndian<std::uint64_t>(index, message.log_time_ns);
-  AppendLittleEndian<std::uint64_t>(index, offset_in_chunk);
+  char entry[16];
+  PutLittleEndian<std::uint64_t>(entry, message.log_time_ns);
+  PutLittleEndian<std::uint64_t>(entry + 8, offset_in_chunk);
+  chunk_message_index_[message.channel_id].append(entry, sizeof(entry));  // sized at AddChannel
 
   const bool first_in_chunk = offset_in_chunk == 0;
   chunk_start_ns_ =
@@ -141,14 +190,41 @@ rig::Result<void> McapWriter::Write(const MessageToWrite& message) {
 
 rig::Result<void> McapWriter::FlushChunk() {
   if (chunk_records_.empty()) return {};
-  std::string_view stored = chunk_records_;
+  if (!options_.background) {
+    rig::Result<void> written =
+        WriteChunk(chunk_records_, chunk_message_index_, chunk_start_ns_, chunk_end_ns_);
+    chunk_records_.clear();  // keeps its capacity: the next chunk allocates nothing
+    for (std::string& packed : chunk_message_index_) packed.clear();
+    return written;
+  }
+  if (auto settled = Settle(); !settled) return settled;
+  // The worker is idle: the chunk becomes its job, and its previous job's buffers this chunk's.
+  std::swap(chunk_records_, job_records_);
+  std::swap(chunk_message_index_, job_index_);
+  job_start_ns_ = chunk_start_ns_;
+  job_end_ns_ = chunk_end_ns_;
+  chunk_records_.clear();
+  chunk_message_index_.resize(channel_records_.size());
+  for (std::string& packed : chunk_message_index_) packed.clear();
+  {
+    std::lock_guard lock(mutex_);
+    job_pending_ = true;
+  }
+  if (!worker_.joinable()) worker_ = std::thread([this] { WorkerLoop(); });
+  changed_.notify_all();
+  return {};
+}
+
+rig::Result<void> McapWriter::WriteChunk(const std::string& records, const ChunkMessageIndex& index,
+                                         std::uint64_t start_ns, std::uint64_t end_ns) {
+  std::string_view stored = records;
   if (options_.compression == ChunkCompression::kZstd) {
     if (zstd_context_ == nullptr) zstd_context_ = ZSTD_createCCtx();
     if (zstd_context_ == nullptr) return WriterError("zstd could not make its context");
-    compressed_.resize(ZSTD_compressBound(chunk_records_.size()));
-    const std::size_t size = ZSTD_compressCCtx(
-        static_cast<ZSTD_CCtx*>(zstd_context_), compressed_.data(), compressed_.size(),
-        chunk_records_.data(), chunk_records_.size(), options_.zstd_level);
+    compressed_.resize(ZSTD_compressBound(records.size()));
+    const std::size_t size =
+        ZSTD_compressCCtx(static_cast<ZSTD_CCtx*>(zstd_context_), compressed_.data(),
+                          compressed_.size(), records.data(), records.size(), options_.zstd_level);
     if (ZSTD_isError(size) != 0) {
       return WriterError(std::string("zstd refused a chunk: ") + ZSTD_getErrorName(size));
     }
@@ -158,39 +234,40 @@ rig::Result<void> McapWriter::FlushChunk() {
   const std::uint64_t content_bytes = 8 + 8 + 8 + 4 + 4 + compression.size() + 8 + stored.size();
   std::string head;
   AppendRecordPrefix(head, Opcode::kChunk, content_bytes);
-  AppendLittleEndian<std::uint64_t>(head, chunk_start_ns_);
-  AppendLittleEndian<std::uint64_t>(head, chunk_end_ns_);
-  AppendLittleEndian<std::uint64_t>(head, chunk_records_.size());
-  AppendLittleEndian<std::uint32_t>(head, Crc32(chunk_records_));
+  AppendLittleEndian<std::uint64_t>(head, start_ns);
+  AppendLittleEndian<std::uint64_t>(head, end_ns);
+  AppendLittleEndian<std::uint64_t>(head, records.size());
+  AppendLittleEndian<std::uint32_t>(head, Crc32(records));
   AppendString(head, compression);
   AppendLittleEndian<std::uint64_t>(head, stored.size());
 
-  ChunkIndexEntry entry{.start_ns = chunk_start_ns_,
-                        .end_ns = chunk_end_ns_,
+  ChunkIndexEntry entry{.start_ns = start_ns,
+                        .end_ns = end_ns,
                         .chunk_offset = offset_,
                         .chunk_record_bytes = kRecordPrefixBytes + content_bytes,
                         .message_index_offsets = {},
                         .message_index_bytes = 0,
                         .compressed_bytes = stored.size(),
-                        .uncompressed_bytes = chunk_records_.size()};
+                        .uncompressed_bytes = records.size()};
   if (auto written = Emit(head); !written) return written;
   if (auto written = Emit(stored); !written) return written;
-  if (auto written = WriteMessageIndexes(entry); !written) return written;
+  if (auto written = WriteMessageIndexes(index, entry); !written) return written;
   chunk_indexes_.push_back(std::move(entry));
-  chunk_records_.clear();  // keeps its capacity: the next chunk allocates nothing
-  chunk_message_index_.clear();
   return {};
 }
 
-rig::Result<void> McapWriter::WriteMessageIndexes(ChunkIndexEntry& entry) {
+rig::Result<void> McapWriter::WriteMessageIndexes(const ChunkMessageIndex& index,
+                                                  ChunkIndexEntry& entry) {
   const std::uint64_t start = offset_;
   std::string record;
-  for (const auto& [channel_id, packed] : chunk_message_index_) {
+  for (std::size_t channel_id = 0; channel_id < index.size(); ++channel_id) {
+    const std::string& packed = index[channel_id];
+    if (packed.empty()) continue;
     record.clear();
     AppendRecordPrefix(record, Opcode::kMessageIndex, 2 + 4 + packed.size());
-    AppendLittleEndian<std::uint16_t>(record, channel_id);
+    AppendLittleEndian<std::uint16_t>(record, static_cast<std::uint16_t>(channel_id));
     AppendString(record, packed);  // an Array: u32 byte length, then (log_time, offset) pairs
-    entry.message_index_offsets[channel_id] = offset_;
+    entry.message_index_offsets[static_cast<std::uint16_t>(channel_id)] = offset_;
     if (auto written = Emit(record); !written) return written;
   }
   entry.message_index_bytes = offset_ - start;
@@ -199,8 +276,10 @@ rig::Result<void> McapWriter::WriteMessageIndexes(ChunkIndexEntry& entry) {
 
 std::string McapWriter::StatisticsContent() const {
   std::string counts;
-  for (const auto& [channel_id, count] : channel_message_counts_) {
-    AppendLittleEndian<std::uint16_t>(counts, channel_id);
+  for (std::size_t channel_id = 0; channel_id < channel_message_counts_.size(); ++channel_id) {
+    const std::uint64_t count = channel_message_counts_[channel_id];
+    if (count == 0) continue;  // a channel without messages is not in the map
+    AppendLittleEndian<std::uint16_t>(counts, static_cast<std::uint16_t>(channel_id));
     AppendLittleEndian<std::uint64_t>(counts, count);
   }
   std::string content;
@@ -288,8 +367,11 @@ rig::Result<void> McapWriter::WriteSummaryAndFooter() {
 rig::Result<void> McapWriter::Close() {
   if (closed_) return {};
   if (!open_) return WriterError("Close() before Open()");
-  if (auto flushed = FlushChunk(); !flushed) return flushed;
+  rig::Result<void> flushed = FlushChunk();
+  if (flushed) flushed = Settle();
+  StopWorker();
   closed_ = true;
+  if (!flushed) return flushed;
   if (auto written = WriteSummaryAndFooter(); !written) return written;
   out_.flush();
   if (!out_) return rig::MakeError(rig::ErrorCode::kIo, "mcap writer: the stream refused a flush");

@@ -6,16 +6,21 @@
 // ChunkIndex per chunk), one SummaryOffset per summary group, the Footer (with the CRC-32 of the
 // summary through the Footer's summary_offset_start) and the closing magic.
 // Complexity: Write() is O(payload) amortised; a chunk is compressed once when its uncompressed
-// records pass `chunk_bytes`. Memory: one chunk's records and its compressed copy, the current
-// chunk's message index (16 bytes a message) and one ChunkIndex a chunk; it does not grow with the
-// number of messages otherwise.
+// records pass `chunk_bytes`, on the caller's thread or (McapWriterOptions::background) on the
+// writer's own. Memory: one chunk's records and its compressed copy (and one chunk in flight in the
+// background), the current chunk's message index (16 bytes a message) and one ChunkIndex a chunk;
+// it does not grow with the number of messages otherwise.
 #pragma once
 
+#include <condition_variable>
 #include <cstdint>
 #include <map>
+#include <mutex>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <string_view>
+#include <thread>
 #include <vector>
 
 #include "rig/result.h"
@@ -29,6 +34,10 @@ struct McapWriterOptions {
   // A chunk is closed once its uncompressed records reach this size.
   std::size_t chunk_bytes = 1 << 20;
   int zstd_level = 1;  // fast: a run's log is written while the run goes on
+  // Compress, checksum and write each full chunk on a thread of the writer's own while the caller
+  // fills the next one (one chunk in flight; the caller waits only when the next is full first).
+  // Failures come back from the next Write, AddSchema, AddChannel or Close.
+  bool background = false;
 };
 
 struct MessageToWrite {
@@ -66,8 +75,9 @@ class McapWriter {
   // the stream or the compressor does; a second call does nothing.
   rig::Result<void> Close();
 
-  // The bytes written so far (the next record's offset in the file). Never fails or allocates.
-  std::uint64_t bytes_written() const { return offset_; }
+  // The bytes written so far (the next record's offset in the file), a chunk in flight written
+  // first. Never fails or allocates.
+  std::uint64_t bytes_written();
 
  private:
   struct ChunkIndexEntry {
@@ -81,9 +91,19 @@ class McapWriter {
     std::uint64_t uncompressed_bytes = 0;
   };
 
+  // Per channel id, the chunk's (log time, offset) pairs; empty for a channel without messages.
+  using ChunkMessageIndex = std::vector<std::string>;
+
   rig::Result<void> Emit(std::string_view bytes);
   rig::Result<void> FlushChunk();
-  rig::Result<void> WriteMessageIndexes(ChunkIndexEntry& entry);
+  // Compresses and writes one chunk and its message indexes; the worker's job in the background.
+  rig::Result<void> WriteChunk(const std::string& records, const ChunkMessageIndex& index,
+                               std::uint64_t start_ns, std::uint64_t end_ns);
+  rig::Result<void> WriteMessageIndexes(const ChunkMessageIndex& index, ChunkIndexEntry& entry);
+  // Waits for the chunk in flight; its failure, or the worker's first, if any.
+  rig::Result<void> Settle();
+  void WorkerLoop();
+  void StopWorker();
   std::string StatisticsContent() const;
   std::string ChunkIndexRecord(const ChunkIndexEntry& entry) const;
   rig::Result<void> WriteSummaryAndFooter();
@@ -104,14 +124,27 @@ class McapWriter {
   std::string compressed_;
   std::uint64_t chunk_start_ns_ = 0;
   std::uint64_t chunk_end_ns_ = 0;
-  std::map<std::uint16_t, std::string> chunk_message_index_;  // channel -> packed entries
+  ChunkMessageIndex chunk_message_index_;
 
   // The file's totals and one index entry per written chunk.
   std::uint64_t message_count_ = 0;
   std::uint64_t message_start_ns_ = 0;
   std::uint64_t message_end_ns_ = 0;
-  std::map<std::uint16_t, std::uint64_t> channel_message_counts_;
+  std::vector<std::uint64_t> channel_message_counts_;  // by channel id
   std::vector<ChunkIndexEntry> chunk_indexes_;
+
+  // The background worker and the chunk in flight (options_.background). The worker alone touches
+  // the stream, offset_, running_crc_, chunk_indexes_ and the compressor while a job is pending.
+  std::thread worker_;
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  bool job_pending_ = false;
+  bool stopping_ = false;
+  std::optional<rig::Error> worker_failure_;
+  std::string job_records_;
+  ChunkMessageIndex job_index_;
+  std::uint64_t job_start_ns_ = 0;
+  std::uint64_t job_end_ns_ = 0;
 };
 
 }  // namespace hilrig::mcap
