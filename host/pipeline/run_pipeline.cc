@@ -7,6 +7,7 @@
 #include <variant>
 
 #include "host/cache/setup_caches.h"
+#include "host/replay/background_run_log.h"
 #include "host/replay/dut_traffic_log.h"
 #include "host/report/run_folder.h"
 #include "host/report/run_log.h"
@@ -39,8 +40,8 @@ struct RunFiles {
   std::unique_ptr<rig::OutputFile> trace;
   std::unique_ptr<rig::OutputFile> can_log;
   std::unique_ptr<rig::OutputFile> log_file;  // run.mcap, unless the request turned it off
-  std::unique_ptr<RunLogWriter> log;
-  std::unique_ptr<DutTrafficLog> dut_traffic;  // into `log`
+  // The trace and the DUT's traffic into it, on the log's own thread.
+  std::unique_ptr<BackgroundRunLog> log;
 };
 
 // The timeline's events as the plots mark them and the log carries them.
@@ -69,12 +70,8 @@ rig::Result<RunFiles> OpenRunFiles(const fs::path& out_dir, const std::string& s
   if (!trace) return trace.error();
   auto can_log = rig::OutputFile::Create((out_dir / "can.log").string());
   if (!can_log) return can_log.error();
-  return RunFiles{std::move(folder).value(),
-                  std::move(trace).value(),
-                  std::move(can_log).value(),
-                  nullptr,
-                  nullptr,
-                  nullptr};
+  return RunFiles{std::move(folder).value(), std::move(trace).value(), std::move(can_log).value(),
+                  nullptr, nullptr};
 }
 
 // run.mcap with the DUT's traffic and what a replay needs to rebuild the DUT.
@@ -85,7 +82,6 @@ rig::Result<void> OpenRunLog(RunFiles& files, const fs::path& out_dir, const Res
   files.log_file = std::move(file).value();
   auto log = RunLogWriter::Open(files.log_file->stream(), LogSceneOf(run.config));
   if (!log) return rig::InContext(kRunLogFile + std::string(": "), log.error());
-  files.log = std::move(log).value();
   proto::RunRecording recording;
   *recording.mutable_spec() = run.spec;
   std::error_code error;
@@ -93,9 +89,10 @@ rig::Result<void> OpenRunLog(RunFiles& files, const fs::path& out_dir, const Res
   recording.set_spec_directory(error ? spec_directory : directory.string());
   recording.set_seed(run.config.seed);
   recording.set_realtime(realtime);
-  auto traffic = DutTrafficLog::Open(*files.log, recording);
+  auto traffic = DutTrafficLog::Open(*log.value(), recording);
   if (!traffic) return rig::InContext(kRunLogFile + std::string(": "), traffic.error());
-  files.dut_traffic = std::move(traffic).value();
+  files.log =
+      std::make_unique<BackgroundRunLog>(std::move(log).value(), std::move(traffic).value());
   return {};
 }
 
@@ -246,7 +243,7 @@ RunSinks SinksOf(PreparedRun& prepared, const RunSeams& seams) {
       prepared.comparison ? prepared.comparison.value().get() : nullptr;
   if (files || compared != nullptr) {
     PlottedTrace* const plotted = files ? &prepared.plotted : nullptr;
-    RunLogWriter* const log = files ? files->log.get() : nullptr;
+    BackgroundRunLog* const log = files ? files->log.get() : nullptr;
     sinks.trace_sample = [plotted, compared, log](const TraceSample& sample) {
       if (plotted != nullptr) plotted->Add(sample);
       if (compared != nullptr) compared->Add(sample);
@@ -282,7 +279,7 @@ RunOutcome Fly(PreparedRun& prepared, const RunRequest& request, const RunSeams&
   control.dut_factory = request.dut_factory;
   control.realtime_clock = seams.realtime_clock;
   control.run_folder = request.out_dir.value_or("");
-  control.dut_traffic = prepared.files ? prepared.files->dut_traffic.get() : nullptr;
+  control.dut_traffic = prepared.files ? prepared.files->log.get() : nullptr;
   RunOutcome outcome;
   outcome.report = RunScenario(prepared.run.config, SinksOf(prepared, seams), control);
   if (realtime) {

@@ -62,8 +62,16 @@ proto::PadForces PadsOf(const std::array<double, kTracePadCount>& forces_n) {
 
 }  // namespace
 
+// Chunks are compressed and written on the writer's own thread: the run's loop only frames the
+// messages.
+mcap::McapWriterOptions LogWriterOptions() {
+  mcap::McapWriterOptions options;
+  options.background = true;
+  return options;
+}
+
 RunLogWriter::RunLogWriter(std::ostream& out, RunLogScene scene)
-    : writer_(out), scene_(std::move(scene)) {}
+    : writer_(out, LogWriterOptions()), scene_(std::move(scene)) {}
 
 rig::Result<std::unique_ptr<RunLogWriter>> RunLogWriter::Open(std::ostream& out,
                                                               RunLogScene scene) {
