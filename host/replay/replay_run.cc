@@ -59,7 +59,10 @@ std::variant<ReplayRun, ReplayError> ReplayRecordedRun(const ReplayRequest& requ
   run.log_file = LogFileOf(request.log_path);
   mcap::McapReadResult read = mcap::ReadMcapFile(run.log_file, /*recover=*/true);
   if (!read.ok()) {
-    return Failed(ReplayFailure::kBadLog, run.log_file + ": " + McapErrorText(*read.error));
+    // A file that cannot be opened says so with its path; the others are told where they fail.
+    return Failed(ReplayFailure::kBadLog, read.error->kind == mcap::McapErrorKind::kUnreadableFile
+                                              ? read.error->detail
+                                              : run.log_file + ": " + McapErrorText(*read.error));
   }
   run.truncated = read.contents.truncated;
   auto traffic = RecordedTraffic::Of(read.contents);
