@@ -196,7 +196,9 @@ Prepared Prepare(const RunRequest& request, const RunSeams& seams) {
   if (!resolved) return RunError{RunFailure::kBadSpec, resolved.error().message};
   ResolvedSpec& run = prepared->run = std::move(resolved).value();
   prepared->name = request.spec_path.empty() ? run.spec.name() : request.spec_path;
-  if (const auto warning = OutputSizeWarning(run.config); warning && seams.notes != nullptr) {
+  if (const auto warning =
+          OutputSizeWarning(run.config, request.run_log && request.out_dir.has_value());
+      warning && seams.notes != nullptr) {
     *seams.notes << prepared->name << ": warning: this run " << *warning << "\n";
   }
   if (request.out_dir) {

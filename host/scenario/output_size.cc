@@ -11,6 +11,14 @@ namespace {
 // the pads' columns, balloon_grasp 537 a row; can.log 428 400 over 8 925 frames).
 constexpr double kTraceRowBytes = 420;
 constexpr double kCanLineBytes = 48;
+// run.mcap, zstd-compressed, fitted to hover (9 995 326 bytes over 40 s), tactile_hover
+// (7 769 838 over 25 s) and balloon_grasp (10 841 123 over 34 s).
+constexpr double kLogPhysicsTickBytes = 80;
+constexpr double kLogControlTickBytes = 150;
+constexpr double kLogControlTickPadBytes = 190;
+constexpr double kLogTraceRowBytes = 210;
+constexpr double kLogTraceRowPadBytes = 390;
+constexpr double kLogCanFrameBytes = 20;
 
 double TraceBytes(const ScenarioConfig& config) {
   const double tick_s = static_cast<double>(config.physics_step_ns) * 1e-9;
@@ -18,9 +26,22 @@ double TraceBytes(const ScenarioConfig& config) {
   return rows * kTraceRowBytes;
 }
 
-double CanLogBytes(const ScenarioConfig& config) {
+double CanFrames(const ScenarioConfig& config) {
   const int nodes = config.hall_sensors.tactile_enabled ? 7 : 1;
-  return config.duration_s * config.hall_sensors.node_rate_hz * nodes * kCanLineBytes;
+  return config.duration_s * config.hall_sensors.node_rate_hz * nodes;
+}
+
+double CanLogBytes(const ScenarioConfig& config) { return CanFrames(config) * kCanLineBytes; }
+
+double RunLogBytes(const ScenarioConfig& config) {
+  const bool pads = config.hall_sensors.tactile_enabled;
+  const double ticks = config.duration_s / (static_cast<double>(config.physics_step_ns) * 1e-9);
+  const double control_ticks = ticks / config.control_every_ticks;
+  const double rows = ticks / config.trace_every_ticks;
+  return ticks * kLogPhysicsTickBytes +
+         control_ticks * (pads ? kLogControlTickPadBytes : kLogControlTickBytes) +
+         rows * (pads ? kLogTraceRowPadBytes : kLogTraceRowBytes) +
+         CanFrames(config) * kLogCanFrameBytes;
 }
 
 std::string Gigabytes(double bytes) {
@@ -29,19 +50,21 @@ std::string Gigabytes(double bytes) {
 
 }  // namespace
 
-double EstimatedOutputBytes(const ScenarioConfig& config) {
-  return TraceBytes(config) + CanLogBytes(config);
+double EstimatedOutputBytes(const ScenarioConfig& config, bool run_log) {
+  return TraceBytes(config) + CanLogBytes(config) + (run_log ? RunLogBytes(config) : 0.0);
 }
 
-std::optional<std::string> OutputSizeWarning(const ScenarioConfig& config) {
-  const double total = EstimatedOutputBytes(config);
+std::optional<std::string> OutputSizeWarning(const ScenarioConfig& config, bool run_log) {
+  const double total = EstimatedOutputBytes(config, run_log);
   if (!(total > kOutputWarningBytes)) return std::nullopt;
   const double trace_rate_hz =
       1e9 / (static_cast<double>(config.physics_step_ns) * config.trace_every_ticks);
   return "writes about " + Gigabytes(total) + " (trace.csv " + Gigabytes(TraceBytes(config)) +
          " at " + rig::NumberText(trace_rate_hz) + " Hz over " +
          rig::NumberText(config.duration_s) + " s, can.log " + Gigabytes(CanLogBytes(config)) +
-         "); make sure the disk has room, or lower simulation.trace_rate_hz";
+         (run_log ? ", run.mcap " + Gigabytes(RunLogBytes(config)) : std::string()) +
+         "); make sure the disk has room, or lower simulation.trace_rate_hz" +
+         (run_log ? " (run.mcap: --no-mcap leaves it out)" : "");
 }
 
 }  // namespace hilrig::host
