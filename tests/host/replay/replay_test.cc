@@ -179,6 +179,38 @@ TEST(ReplayTest, ALogWithoutItsRecordingOrWithAnAlienChannelIsRefused) {
   EXPECT_NE(traffic.error().message.find("hilrig.proto.TimelineMark"), std::string::npos);
 }
 
+// A DUT that answers the first ticks and then fails (a link that broke).
+class FailingDut final : public DutPort {
+ public:
+  explicit FailingDut(std::uint64_t failing_tick) : failing_tick_(failing_tick) {}
+  void Send(const DutInput&) override {}
+  rig::Result<ActuatorMessage> Step(std::uint64_t tick, std::int64_t) override {
+    if (tick >= failing_tick_) return rig::MakeError("the link broke");
+    return ActuatorMessage();
+  }
+  DutCounters counters() const override { return {}; }
+  std::string description() const override { return "failing"; }
+
+ private:
+  std::uint64_t failing_tick_;
+};
+
+TEST(ReplayTest, ADutThatFailsAStepEndsTheReplayThere) {
+  const mcap::McapContents contents = RecordedRun(ShortHover());
+  auto traffic = RecordedTraffic::Of(contents);
+  ASSERT_TRUE(traffic.ok());
+  ReplayCanBus bus;
+  FailingDut dut(3);
+  auto outcome = ReplayTraffic(contents, traffic.value(), dut, bus, 1e-9, nullptr);
+  ASSERT_TRUE(outcome.ok());
+  EXPECT_TRUE(outcome.value().differs());
+  ASSERT_TRUE(outcome.value().dut_failure.has_value());
+  EXPECT_EQ(outcome.value().dut_failure->message, "the link broke");
+  EXPECT_EQ(outcome.value().dut_failure_tick, 3u);
+  EXPECT_EQ(outcome.value().steps, 4u);
+  EXPECT_EQ(outcome.value().commands_compared, 3u);
+}
+
 TEST(ReplayTest, ADifferenceTakesNanAsAValueOfItsOwn) {
   ActuatorMessage a, b;
   EXPECT_EQ(OutputDifference(DutOutput::kServoAngle, a, b), 0.0);
