@@ -1,5 +1,7 @@
 #include "host/pipeline/run_pipeline.h"
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <functional>
 #include <optional>
@@ -15,6 +17,7 @@
 #include "host/report/stop_reason.h"
 #include "host/scenario/field_path.h"
 #include "host/scenario/output_size.h"
+#include "host/scenario/reference_trajectory.h"
 #include "host/scenario/scenario_loader.h"
 #include "host/scenario/timeline_events.h"
 #include "host/trace/trace_capture.h"
@@ -53,11 +56,32 @@ std::vector<PlotMarker> EventMarkers(const ScenarioConfig& config) {
   return markers;
 }
 
+// The reference the runner hands the DUT, sampled evenly over the run (both ends included): a
+// path every 10 ms, coarser for runs past 20 s, so the one message stays small however long the
+// run.
+std::vector<ReferencePose> ReferencePathOf(const ScenarioConfig& config) {
+  constexpr std::size_t kMaxPoses = 2000;
+  constexpr double kFinestStepS = 0.01;
+  const ReferenceTrajectory reference(config.initial_reference, config.setpoints);
+  const double duration_s = std::max(config.duration_s, 0.0);
+  const std::size_t count = std::clamp<std::size_t>(
+      static_cast<std::size_t>(std::ceil(duration_s / kFinestStepS)) + 1, 2, kMaxPoses);
+  std::vector<ReferencePose> path;
+  path.reserve(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const ReferenceSample sample =
+        reference.Evaluate(duration_s * static_cast<double>(i) / static_cast<double>(count - 1));
+    path.push_back({sample.position_m, sample.yaw_rad});
+  }
+  return path;
+}
+
 RunLogScene LogSceneOf(const ScenarioConfig& config) {
   RunLogScene scene;
   scene.grasp = config.gripper.enabled;
   scene.pads = config.hall_sensors.tactile_enabled;
   scene.events = EventMarkers(config);
+  scene.reference_path = ReferencePathOf(config);
   return scene;
 }
 

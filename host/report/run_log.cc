@@ -1,8 +1,11 @@
 #include "host/report/run_log.h"
 
 #include <cmath>
+#include <numbers>
 
 #include "host/mcap/protobuf_channel.h"
+#include "proto/foxglove/FrameTransform.pb.h"
+#include "proto/foxglove/PosesInFrame.pb.h"
 #include "proto/run_log.pb.h"
 
 namespace hilrig::host {
@@ -14,8 +17,38 @@ void Set(proto::Vector3& out, const Eigen::Vector3d& value) {
   out.set_z(value.z());
 }
 
+void Set(foxglove::Vector3& out, const Eigen::Vector3d& value) {
+  out.set_x(value.x());
+  out.set_y(value.y());
+  out.set_z(value.z());
+}
+
+void Set(foxglove::Quaternion& out, const Eigen::Quaterniond& value) {
+  out.set_x(value.x());
+  out.set_y(value.y());
+  out.set_z(value.z());
+  out.set_w(value.w());
+}
+
+// Foxglove orders a frame's transforms by this stamp, not by the record's log time: the same.
+void Set(google::protobuf::Timestamp& out, std::int64_t log_time_ns) {
+  out.set_seconds(log_time_ns / 1'000'000'000);
+  out.set_nanos(static_cast<std::int32_t>(log_time_ns % 1'000'000'000));
+}
+
 std::int64_t LogTimeNs(double time_s) {
   return kRunLogEpochNs + static_cast<std::int64_t>(std::llround(time_s * 1e9));
+}
+
+foxglove::FrameTransform BodyTransformOf(const TraceSample& s, std::int64_t log_time_ns) {
+  foxglove::FrameTransform transform;
+  Set(*transform.mutable_timestamp(), log_time_ns);
+  transform.set_parent_frame_id(kRunLogWorldFrame);
+  transform.set_child_frame_id(kRunLogBodyFrame);
+  Set(*transform.mutable_translation(), s.position_m);
+  Set(*transform.mutable_rotation(),
+      QuaternionOfRollPitchYaw(s.roll_pitch_yaw_deg * (std::numbers::pi / 180.0)));
+  return transform;
 }
 
 proto::VehicleTruth VehicleOf(const TraceSample& s) {
@@ -60,14 +93,20 @@ proto::PadForces PadsOf(const std::array<double, kTracePadCount>& forces_n) {
   return pads;
 }
 
-}  // namespace
-
 // Chunks are compressed and written on the writer's own thread: the run's loop only frames the
 // messages.
 mcap::McapWriterOptions LogWriterOptions() {
   mcap::McapWriterOptions options;
   options.background = true;
   return options;
+}
+
+}  // namespace
+
+Eigen::Quaterniond QuaternionOfRollPitchYaw(const Eigen::Vector3d& roll_pitch_yaw_rad) {
+  return Eigen::AngleAxisd(roll_pitch_yaw_rad.z(), Eigen::Vector3d::UnitZ()) *
+         Eigen::AngleAxisd(roll_pitch_yaw_rad.y(), Eigen::Vector3d::UnitY()) *
+         Eigen::AngleAxisd(roll_pitch_yaw_rad.x(), Eigen::Vector3d::UnitX());
 }
 
 RunLogWriter::RunLogWriter(std::ostream& out, RunLogScene scene)
@@ -91,12 +130,16 @@ rig::Result<std::unique_ptr<RunLogWriter>> RunLogWriter::Open(std::ostream& out,
         Wanted{grasp, proto::GraspTruth::descriptor(), "/plant/grasp", &ids.grasp},
         Wanted{pads, proto::PadForces::descriptor(), "/plant/pads", &ids.plant_pads},
         Wanted{pads, proto::PadForces::descriptor(), "/dut/pads", &ids.dut_pads},
-        Wanted{true, proto::TimelineMark::descriptor(), "/run/events", &ids.events}}) {
+        Wanted{true, proto::TimelineMark::descriptor(), "/run/events", &ids.events},
+        Wanted{true, foxglove::FrameTransform::descriptor(), "/tf", &ids.tf},
+        Wanted{!log->scene_.reference_path.empty(), foxglove::PosesInFrame::descriptor(),
+               "/plant/reference_path", &ids.reference_path}}) {
     if (!channel.wanted) continue;
     auto added = log->AddChannel(*channel.message, channel.topic);
     if (!added) return added.error();
     *channel.id = added.value();
   }
+  log->WriteReferencePath();
   return log;
 }
 
@@ -147,6 +190,22 @@ void RunLogWriter::WriteEventsUpTo(double time_s) {
   }
 }
 
+// The whole path in one message at time 0: Foxglove draws it from then on, as the run's backdrop.
+void RunLogWriter::WriteReferencePath() {
+  if (scene_.reference_path.empty()) return;
+  foxglove::PosesInFrame path;
+  Set(*path.mutable_timestamp(), kRunLogEpochNs);
+  path.set_frame_id(kRunLogWorldFrame);
+  for (const ReferencePose& reference : scene_.reference_path) {
+    foxglove::Pose& pose = *path.add_poses();
+    Set(*pose.mutable_position(), reference.position_m);
+    Set(*pose.mutable_orientation(),
+        Eigen::Quaterniond(Eigen::AngleAxisd(reference.yaw_rad, Eigen::Vector3d::UnitZ())));
+  }
+  path.SerializeToString(&payload_);
+  Write(channels_.reference_path, kRunLogEpochNs, payload_);
+}
+
 void RunLogWriter::Add(const TraceSample& sample) {
   WriteEventsUpTo(sample.time_s);
   const std::int64_t time_ns = LogTimeNs(sample.time_s);
@@ -164,6 +223,8 @@ void RunLogWriter::Add(const TraceSample& sample) {
     PadsOf(sample.pad_force_estimate_n).SerializeToString(&payload_);
     Write(channels_.dut_pads, time_ns, payload_);
   }
+  BodyTransformOf(sample, time_ns).SerializeToString(&payload_);
+  Write(channels_.tf, time_ns, payload_);
 }
 
 // Events after the last sample never happened in the run (it stopped first): they stay out.

@@ -4,12 +4,17 @@
 // trace sample, at the sample's simulated time from a fixed epoch (kRunLogEpochNs, as can.log):
 // /plant/vehicle (pose, velocity, thrusts, reference), /dut/estimates, and in grasp scenes
 // /plant/grasp; with the pads, /plant/pads and /dut/pads; the timeline's events on /run/events
-// as the trace passes them. Written as the run goes through McapWriter's bounded chunks.
+// as the trace passes them. For Foxglove's 3D panel, in Foxglove's own schemas (proto/foxglove/):
+// the vehicle's pose as the transform world -> body on /tf per sample, and the reference
+// trajectory once at time 0 on /plant/reference_path. Written as the run goes through
+// McapWriter's bounded chunks.
 #pragma once
 
 #include <google/protobuf/descriptor.h>
 #include <google/protobuf/message_lite.h>
 
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -32,12 +37,28 @@ inline constexpr std::int64_t kRunLogEpochNs = 1'000'000'000LL * 1'000'000'000LL
 
 inline constexpr const char* kRunLogFile = "run.mcap";
 
+// The frames of /tf: the world's (z up, as the plant's) and the vehicle's body.
+inline constexpr const char* kRunLogWorldFrame = "world";
+inline constexpr const char* kRunLogBodyFrame = "body";
+
+// A pose of the reference trajectory: where it asks the vehicle to be, and its heading.
+struct ReferencePose {
+  Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
+  double yaw_rad = 0;
+};
+
 // What a run's log carries besides its trace.
 struct RunLogScene {
   bool grasp = false;              // an object: /plant/grasp
   bool pads = false;               // the tactile pads: /plant/pads and /dut/pads
   std::vector<PlotMarker> events;  // the timeline's, in time order, as the plots mark them
+  // The reference over the run, in time order, for /plant/reference_path (none: no channel).
+  std::vector<ReferencePose> reference_path;
 };
+
+// The rotation of roll, pitch and yaw (rad) applied as the trace's roll_pitch_yaw_deg has them:
+// yaw about z, then pitch about the new y, then roll about the newest x (Rz * Ry * Rx).
+Eigen::Quaterniond QuaternionOfRollPitchYaw(const Eigen::Vector3d& roll_pitch_yaw_rad);
 
 class RunLogWriter {
  public:
@@ -66,7 +87,8 @@ class RunLogWriter {
 
  private:
   struct Channels {
-    std::uint16_t vehicle = 0, estimates = 0, grasp = 0, plant_pads = 0, dut_pads = 0, events = 0;
+    std::uint16_t vehicle = 0, estimates = 0, grasp = 0, plant_pads = 0, dut_pads = 0, events = 0,
+                  tf = 0, reference_path = 0;
   };
   RunLogWriter(std::ostream& out, RunLogScene scene);
   void Write(std::uint16_t channel, std::int64_t log_time_ns, const std::string& payload,
@@ -75,6 +97,7 @@ class RunLogWriter {
     Write(channel, log_time_ns, payload, log_time_ns);
   }
   void WriteEventsUpTo(double time_s);
+  void WriteReferencePath();
 
   mcap::McapWriter writer_;
   RunLogScene scene_;

@@ -71,10 +71,11 @@ forbid() {
 }
 
 # The layers, lowest first. proto/ is generated headers (the schemas and the link's field
-# numbers); tests/support/ is the test helpers; every other folder under tests/, and bench/ and
-# fuzz/, sit on top of everything they exercise.
+# numbers), proto/foxglove/ those of the Foxglove schemas run.mcap carries; tests/support/ is the
+# test helpers; every other folder under tests/, and bench/ and fuzz/, sit on top of everything
+# they exercise.
 declare -A level=(
-  [protocol]=0 [proto]=0
+  [protocol]=0 [proto]=0 [proto/foxglove]=0
   [rig]=1 [dut_link]=1 [host/mavlink]=1
   [dut_fw]=2 [dut_link/posix]=2
   [dut_fw/target]=3 [examples/hover_dut]=3 [host/plant]=3 [host/trace]=3 [host/link]=3 [host/mcap]=3

@@ -64,9 +64,14 @@ const SAMPLE = {
 const RUN = {
   topics: ['/dut/estimates', '/dut/in/can', '/dut/in/imu', '/dut/in/setpoint', '/dut/in/step',
     '/dut/in/vio', '/dut/out/command', '/dut/pads', '/plant/grasp', '/plant/pads',
-    '/plant/vehicle', '/run/events', '/run/recording'],
-  encodings: Array(12).fill('protobuf'),
+    '/plant/reference_path', '/plant/vehicle', '/run/events', '/run/recording', '/tf'],
+  encodings: Array(14).fill('protobuf'),
   minChunks: 2,
+  // Foxglove's 3D panel takes these topics for what their schema names say.
+  schemaNames: {
+    '/tf': 'foxglove.FrameTransform',
+    '/plant/reference_path': 'foxglove.PosesInFrame',
+  },
 };
 
 // The sample's reports carry their number; a run's messages need only decode.
@@ -96,6 +101,11 @@ async function check(file) {
   }
   if (JSON.stringify(topics) !== JSON.stringify(expected.topics)) {
     fail(`${name}: topics ${topics}`);
+  }
+  for (const [topic, schemaName] of Object.entries(expected.schemaNames ?? {})) {
+    const channel = [...reader.channelsById.values()].find((c) => c.topic === topic);
+    const schema = channel && reader.schemasById.get(channel.schemaId);
+    if (schema?.name !== schemaName) fail(`${name}: ${topic} is not of ${schemaName}`);
   }
   // Each protobuf channel's type, built from the descriptors stored in the file alone.
   const typeOfChannel = new Map();

@@ -1,14 +1,19 @@
 // A run's MCAP log read back with the rig's reader: the channels a scene gets, one message per
 // channel per sample at its simulated time from the logs' epoch, each decoding to the sample's
-// values, and the timeline's events interleaved where the trace passes them.
+// values, and the timeline's events interleaved where the trace passes them; the vehicle's pose on
+// /tf and the reference path on /plant/reference_path in Foxglove's schemas.
 #include "host/report/run_log.h"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <map>
+#include <numbers>
 #include <sstream>
 
 #include "host/mcap/mcap_reader.h"
+#include "proto/foxglove/FrameTransform.pb.h"
+#include "proto/foxglove/PosesInFrame.pb.h"
 #include "proto/run_log.pb.h"
 
 namespace hilrig::host {
@@ -52,9 +57,9 @@ TEST(RunLogTest, AGraspSceneWithPadsGetsEveryChannelOnePerSample) {
   scene.pads = true;
   const mcap::McapContents contents = WriteAndRead(scene, 5);
   const auto ids = TopicIds(contents);
-  ASSERT_EQ(ids.size(), 6u);
+  ASSERT_EQ(ids.size(), 7u);
   for (const char* topic :
-       {"/plant/vehicle", "/dut/estimates", "/plant/grasp", "/plant/pads", "/dut/pads"}) {
+       {"/plant/vehicle", "/dut/estimates", "/plant/grasp", "/plant/pads", "/dut/pads", "/tf"}) {
     ASSERT_EQ(ids.count(topic), 1u) << topic;
     EXPECT_EQ(contents.statistics->channel_message_counts.at(ids.at(topic)), 5u) << topic;
     const mcap::McapSchema& schema =
@@ -63,8 +68,10 @@ TEST(RunLogTest, AGraspSceneWithPadsGetsEveryChannelOnePerSample) {
   }
   EXPECT_EQ(contents.schemas.at(contents.channels.at(ids.at("/plant/vehicle")).schema_id).name,
             "hilrig.proto.VehicleTruth");
+  EXPECT_EQ(contents.schemas.at(contents.channels.at(ids.at("/tf")).schema_id).name,
+            "foxglove.FrameTransform");
   // The two pad channels share one schema.
-  EXPECT_EQ(contents.schemas.size(), 5u);
+  EXPECT_EQ(contents.schemas.size(), 6u);
   EXPECT_EQ(contents.channels.at(ids.at("/plant/pads")).schema_id,
             contents.channels.at(ids.at("/dut/pads")).schema_id);
 }
@@ -114,7 +121,8 @@ TEST(RunLogTest, EventsComeWhereTheTracePassesThemAndNotAfterTheRun) {
   scene.events = {{0.0, "grasp 0.6 N"}, {0.015, "stand removed"}, {9.0, "after the end"}};
   const mcap::McapContents contents = WriteAndRead(scene, 3);  // samples at 0, 0.01, 0.02 s
   const auto ids = TopicIds(contents);
-  EXPECT_EQ(ids.size(), 3u);  // no object, no pads: vehicle, estimates, events
+  EXPECT_EQ(ids.size(),
+            4u);  // no object, no pads, no reference path: vehicle, estimates, events, tf
   std::vector<std::string> labels;
   std::vector<std::uint64_t> times;
   for (const mcap::McapMessage& message : contents.messages) {
@@ -127,6 +135,85 @@ TEST(RunLogTest, EventsComeWhereTheTracePassesThemAndNotAfterTheRun) {
   EXPECT_EQ(labels, (std::vector<std::string>{"grasp 0.6 N", "stand removed"}));
   ASSERT_EQ(times.size(), 2u);
   EXPECT_EQ(static_cast<std::int64_t>(times[1]), kRunLogEpochNs + 15'000'000);
+}
+
+TEST(RunLogTest, RollPitchYawTurnsYawThenPitchThenRoll) {
+  const double quarter_turn_rad = std::numbers::pi / 2;
+  // Rz(90 deg) * Rx(90 deg) = (cos 45 + k sin 45)(cos 45 + i sin 45) = (1 + i + j + k) / 2.
+  const Eigen::Quaterniond q =
+      QuaternionOfRollPitchYaw(Eigen::Vector3d(quarter_turn_rad, 0, quarter_turn_rad));
+  EXPECT_NEAR(q.w(), 0.5, 1e-12);
+  EXPECT_NEAR(q.x(), 0.5, 1e-12);
+  EXPECT_NEAR(q.y(), 0.5, 1e-12);
+  EXPECT_NEAR(q.z(), 0.5, 1e-12);
+  // Pitch alone is a turn about y: half the angle in the quaternion.
+  const Eigen::Quaterniond pitch = QuaternionOfRollPitchYaw(Eigen::Vector3d(0, 0.3, 0));
+  EXPECT_NEAR(pitch.y(), std::sin(0.15), 1e-12);
+  EXPECT_NEAR(pitch.w(), std::cos(0.15), 1e-12);
+}
+
+TEST(RunLogTest, TfCarriesTheBodyPoseInTheWorldAtTheSampleTime) {
+  std::ostringstream out;
+  auto log = RunLogWriter::Open(out, RunLogScene{});
+  ASSERT_TRUE(log.ok()) << log.error().message;
+  TraceSample sample = SampleAt(0);
+  sample.time_s = 2.5;
+  sample.position_m = Eigen::Vector3d(1, -2, 3);
+  sample.roll_pitch_yaw_deg = Eigen::Vector3d(90, 0, 90);
+  log.value()->Add(sample);
+  ASSERT_TRUE(log.value()->Close().ok());
+  const mcap::McapReadResult read = mcap::ReadMcap(out.str());
+  ASSERT_TRUE(read.ok()) << read.error->detail;
+  const auto ids = TopicIds(read.contents);
+  int transforms = 0;
+  for (const mcap::McapMessage& message : read.contents.messages) {
+    if (message.channel_id != ids.at("/tf")) continue;
+    ++transforms;
+    EXPECT_EQ(static_cast<std::int64_t>(message.log_time_ns), kRunLogEpochNs + 2'500'000'000);
+    foxglove::FrameTransform transform;
+    ASSERT_TRUE(transform.ParseFromString(message.payload));
+    EXPECT_EQ(transform.timestamp().seconds(), kRunLogEpochNs / 1'000'000'000 + 2);
+    EXPECT_EQ(transform.timestamp().nanos(), 500'000'000);
+    EXPECT_EQ(transform.parent_frame_id(), "world");
+    EXPECT_EQ(transform.child_frame_id(), "body");
+    EXPECT_EQ(transform.translation().x(), 1);
+    EXPECT_EQ(transform.translation().y(), -2);
+    EXPECT_EQ(transform.translation().z(), 3);
+    EXPECT_NEAR(transform.rotation().w(), 0.5, 1e-12);
+    EXPECT_NEAR(transform.rotation().x(), 0.5, 1e-12);
+    EXPECT_NEAR(transform.rotation().y(), 0.5, 1e-12);
+    EXPECT_NEAR(transform.rotation().z(), 0.5, 1e-12);
+  }
+  EXPECT_EQ(transforms, 1);
+}
+
+TEST(RunLogTest, TheReferencePathIsOneMessageAtTimeZero) {
+  RunLogScene scene;
+  scene.reference_path = {{Eigen::Vector3d(0, 0, 0), 0},
+                          {Eigen::Vector3d(0, 0, 1), 0},
+                          {Eigen::Vector3d(1, 0, 1), std::numbers::pi / 2}};
+  const mcap::McapContents contents = WriteAndRead(scene, 3);
+  const auto ids = TopicIds(contents);
+  ASSERT_EQ(ids.count("/plant/reference_path"), 1u);
+  EXPECT_EQ(
+      contents.schemas.at(contents.channels.at(ids.at("/plant/reference_path")).schema_id).name,
+      "foxglove.PosesInFrame");
+  int paths = 0;
+  for (const mcap::McapMessage& message : contents.messages) {
+    if (message.channel_id != ids.at("/plant/reference_path")) continue;
+    ++paths;
+    EXPECT_EQ(static_cast<std::int64_t>(message.log_time_ns), kRunLogEpochNs);
+    foxglove::PosesInFrame path;
+    ASSERT_TRUE(path.ParseFromString(message.payload));
+    EXPECT_EQ(path.frame_id(), "world");
+    EXPECT_EQ(path.timestamp().seconds(), kRunLogEpochNs / 1'000'000'000);
+    ASSERT_EQ(path.poses_size(), 3);
+    EXPECT_EQ(path.poses(1).position().z(), 1);
+    EXPECT_EQ(path.poses(0).orientation().w(), 1);
+    EXPECT_NEAR(path.poses(2).orientation().z(), std::sqrt(0.5), 1e-12);
+    EXPECT_NEAR(path.poses(2).orientation().w(), std::sqrt(0.5), 1e-12);
+  }
+  EXPECT_EQ(paths, 1);
 }
 
 }  // namespace
