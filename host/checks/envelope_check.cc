@@ -37,19 +37,25 @@ std::optional<double> EnvelopeCheck::CheckedValue(const TraceSample& sample,
   return progress.window.Mean();
 }
 
-bool EnvelopeCheck::Observe(const TraceSample& sample, EnvelopeProgress& progress) const {
-  if (sample.time_s < from_s_ || sample.time_s > until_s_) return false;
+EnvelopeReading EnvelopeCheck::Read(const TraceSample& sample, EnvelopeProgress& progress) const {
+  if (sample.time_s < from_s_ || sample.time_s > until_s_) return {};
   const std::optional<double> checked = CheckedValue(sample, progress);
-  if (!checked) return false;
-  const double value = *checked;
-  const double margin = Margin(value);
+  if (!checked) return {};
+  return {.checked = true, .value = *checked, .margin = Margin(*checked)};
+}
+
+bool EnvelopeCheck::Observe(const TraceSample& sample, EnvelopeProgress& progress) const {
+  const EnvelopeReading reading = Read(sample, progress);
+  if (!reading.checked) return false;
+  const double value = reading.value;
+  const double margin = reading.margin;
   ++progress.samples_checked;
   if (margin < progress.worst_margin || progress.samples_checked == 1) {
     progress.worst_margin = margin;
     progress.worst_value = value;
     progress.worst_at_s = sample.time_s;
   }
-  const bool violation = margin < 0;
+  const bool violation = reading.violation();
   if (violation && !progress.violated) {
     progress.violated = true;
     progress.first_violation_at_s = sample.time_s;

@@ -26,9 +26,24 @@ struct EnvelopeProgress {
   TrailingMean window;  // for mean_over_s
 };
 
+// What an envelope reads at one trace sample, before it is folded into the verdict.
+struct EnvelopeReading {
+  // The sample counts: it is inside the time window, and with mean_over_s the mean's window is
+  // full. value and margin are NaN otherwise.
+  bool checked = false;
+  double value = std::numeric_limits<double>::quiet_NaN();   // the signal, or its trailing mean
+  double margin = std::numeric_limits<double>::quiet_NaN();  // to the nearer bound, > 0 inside
+  // A checked sample outside the bounds (a non-finite value included).
+  bool violation() const { return checked && margin < 0; }
+};
+
 class EnvelopeCheck {
  public:
   explicit EnvelopeCheck(EnvelopeSpec spec);
+
+  // Reads one trace sample (the trailing mean's window takes it in): what Observe folds in, for
+  // those that show an envelope sample by sample (the run's log). Samples come in time order.
+  EnvelopeReading Read(const TraceSample& sample, EnvelopeProgress& progress) const;
 
   // Folds one trace sample into `progress`; returns true when this sample is a violation.
   bool Observe(const TraceSample& sample, EnvelopeProgress& progress) const;

@@ -82,6 +82,7 @@ RunLogScene LogSceneOf(const ScenarioConfig& config) {
   scene.pads = config.hall_sensors.tactile_enabled;
   scene.events = EventMarkers(config);
   scene.reference_path = ReferencePathOf(config);
+  scene.envelopes = config.envelopes;
   return scene;
 }
 

@@ -139,6 +139,11 @@ rig::Result<std::unique_ptr<RunLogWriter>> RunLogWriter::Open(std::ostream& out,
     if (!added) return added.error();
     *channel.id = added.value();
   }
+  for (const EnvelopeSpec& envelope : log->scene_.envelopes) {
+    auto added = log->AddChannel(*proto::EnvelopeSample::descriptor(), "/checks/" + envelope.name);
+    if (!added) return added.error();
+    log->envelopes_.push_back({EnvelopeCheck(envelope), EnvelopeProgress{}, added.value()});
+  }
   log->WriteReferencePath();
   return log;
 }
@@ -206,6 +211,24 @@ void RunLogWriter::WriteReferencePath() {
   Write(channels_.reference_path, kRunLogEpochNs, payload_);
 }
 
+void RunLogWriter::WriteEnvelopes(const TraceSample& sample, std::int64_t log_time_ns) {
+  for (LoggedEnvelope& envelope : envelopes_) {
+    const EnvelopeReading reading = envelope.check.Read(sample, envelope.progress);
+    proto::EnvelopeSample logged;
+    logged.set_active(reading.checked);
+    if (reading.checked) {
+      logged.set_value(reading.value);
+      logged.set_margin(reading.margin);
+    }
+    const EnvelopeSpec& spec = envelope.check.spec();
+    if (spec.lower) logged.set_lower(*spec.lower);
+    if (spec.upper) logged.set_upper(*spec.upper);
+    logged.set_violated(reading.violation());
+    logged.SerializeToString(&payload_);
+    Write(envelope.channel, log_time_ns, payload_);
+  }
+}
+
 void RunLogWriter::Add(const TraceSample& sample) {
   WriteEventsUpTo(sample.time_s);
   const std::int64_t time_ns = LogTimeNs(sample.time_s);
@@ -225,6 +248,7 @@ void RunLogWriter::Add(const TraceSample& sample) {
   }
   BodyTransformOf(sample, time_ns).SerializeToString(&payload_);
   Write(channels_.tf, time_ns, payload_);
+  WriteEnvelopes(sample, time_ns);
 }
 
 // Events after the last sample never happened in the run (it stopped first): they stay out.

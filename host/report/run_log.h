@@ -6,8 +6,9 @@
 // /plant/grasp; with the pads, /plant/pads and /dut/pads; the timeline's events on /run/events
 // as the trace passes them. For Foxglove's 3D panel, in Foxglove's own schemas (proto/foxglove/):
 // the vehicle's pose as the transform world -> body on /tf per sample, and the reference
-// trajectory once at time 0 on /plant/reference_path. Written as the run goes through
-// McapWriter's bounded chunks.
+// trajectory once at time 0 on /plant/reference_path. Each envelope of the scene on
+// /checks/<name>: what its check reads per sample, its bounds and its margin. Written as the run
+// goes through McapWriter's bounded chunks.
 #pragma once
 
 #include <google/protobuf/descriptor.h>
@@ -23,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "host/checks/envelope_check.h"
 #include "host/mcap/mcap_writer.h"
 #include "host/report/svg_plot.h"
 #include "host/trace/trace_sample.h"
@@ -54,6 +56,8 @@ struct RunLogScene {
   std::vector<PlotMarker> events;  // the timeline's, in time order, as the plots mark them
   // The reference over the run, in time order, for /plant/reference_path (none: no channel).
   std::vector<ReferencePose> reference_path;
+  // The scenario's envelopes, each read by a check of its own as the runner's checks read them.
+  std::vector<EnvelopeSpec> envelopes;
 };
 
 // The rotation of roll, pitch and yaw (rad) applied as the trace's roll_pitch_yaw_deg has them:
@@ -90,6 +94,13 @@ class RunLogWriter {
     std::uint16_t vehicle = 0, estimates = 0, grasp = 0, plant_pads = 0, dut_pads = 0, events = 0,
                   tf = 0, reference_path = 0;
   };
+  // An envelope's channel and its own check: the log reads each sample as the runner's check does,
+  // without reaching into the runner.
+  struct LoggedEnvelope {
+    EnvelopeCheck check;
+    EnvelopeProgress progress;
+    std::uint16_t channel = 0;
+  };
   RunLogWriter(std::ostream& out, RunLogScene scene);
   void Write(std::uint16_t channel, std::int64_t log_time_ns, const std::string& payload,
              std::int64_t publish_time_ns);
@@ -98,10 +109,12 @@ class RunLogWriter {
   }
   void WriteEventsUpTo(double time_s);
   void WriteReferencePath();
+  void WriteEnvelopes(const TraceSample& sample, std::int64_t log_time_ns);
 
   mcap::McapWriter writer_;
   RunLogScene scene_;
   Channels channels_;
+  std::vector<LoggedEnvelope> envelopes_;
   std::map<const google::protobuf::Descriptor*, std::uint16_t> schemas_;  // one per message type
   std::size_t next_event_ = 0;
   std::uint32_t sequence_ = 0;

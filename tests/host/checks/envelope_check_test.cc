@@ -172,5 +172,23 @@ TEST(EnvelopeCheckTest, AWindowShorterThanTheSlackIsAViolation) {
   EXPECT_EQ(check.Result(progress).verdict(), proto::FAIL);
 }
 
+TEST(EnvelopeCheckTest, ReadGivesWhatObserveFoldsIn) {
+  EnvelopeSpec envelope = AltitudeEnvelope(0.5, 1.5);
+  envelope.from_s = 1;
+  const EnvelopeCheck check(envelope);
+  EnvelopeProgress read_progress, observe_progress;
+  const EnvelopeReading before = check.Read(AtAltitude(0.5, 2.0), read_progress);
+  EXPECT_FALSE(before.checked);
+  EXPECT_FALSE(before.violation());
+  EXPECT_FALSE(check.Observe(AtAltitude(0.5, 2.0), observe_progress));
+  const EnvelopeReading outside = check.Read(AtAltitude(1, 1.6), read_progress);
+  EXPECT_TRUE(outside.checked);
+  EXPECT_EQ(outside.value, 1.6);
+  EXPECT_NEAR(outside.margin, -0.1, 1e-12);
+  EXPECT_TRUE(outside.violation());
+  EXPECT_TRUE(check.Observe(AtAltitude(1, 1.6), observe_progress));
+  EXPECT_NEAR(check.Result(observe_progress).margin(), outside.margin, 1e-12);
+}
+
 }  // namespace
 }  // namespace hilrig::host

@@ -62,15 +62,18 @@ const SAMPLE = {
 };
 // balloon_grasp's log: a grasp scene with the pads, and its DUT's traffic (docs/replay.md).
 const RUN = {
-  topics: ['/dut/estimates', '/dut/in/can', '/dut/in/imu', '/dut/in/setpoint', '/dut/in/step',
+  topics: ['/checks/altitude_error', '/checks/grasp_force', '/checks/grasp_force_estimate',
+    '/checks/held', '/checks/horizontal_error', '/checks/no_burst', '/checks/not_dropped',
+    '/dut/estimates', '/dut/in/can', '/dut/in/imu', '/dut/in/setpoint', '/dut/in/step',
     '/dut/in/vio', '/dut/out/command', '/dut/pads', '/plant/grasp', '/plant/pads',
     '/plant/reference_path', '/plant/vehicle', '/run/events', '/run/recording', '/tf'],
-  encodings: Array(14).fill('protobuf'),
+  encodings: Array(15).fill('protobuf'),
   minChunks: 2,
   // Foxglove's 3D panel takes these topics for what their schema names say.
   schemaNames: {
     '/tf': 'foxglove.FrameTransform',
     '/plant/reference_path': 'foxglove.PosesInFrame',
+    '/checks/grasp_force': 'hilrig.proto.EnvelopeSample',
   },
 };
 

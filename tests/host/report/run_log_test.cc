@@ -1,7 +1,8 @@
 // A run's MCAP log read back with the rig's reader: the channels a scene gets, one message per
 // channel per sample at its simulated time from the logs' epoch, each decoding to the sample's
 // values, and the timeline's events interleaved where the trace passes them; the vehicle's pose on
-// /tf and the reference path on /plant/reference_path in Foxglove's schemas.
+// /tf and the reference path on /plant/reference_path in Foxglove's schemas; each envelope on
+// /checks/<name> as its check reads each sample.
 #include "host/report/run_log.h"
 
 #include <gtest/gtest.h>
@@ -10,6 +11,8 @@
 #include <map>
 #include <numbers>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "host/mcap/mcap_reader.h"
 #include "proto/foxglove/FrameTransform.pb.h"
@@ -214,6 +217,84 @@ TEST(RunLogTest, TheReferencePathIsOneMessageAtTimeZero) {
     EXPECT_NEAR(path.poses(2).orientation().w(), std::sqrt(0.5), 1e-12);
   }
   EXPECT_EQ(paths, 1);
+}
+
+// Samples at 0, 0.01 and 0.02 s with a grasp force of 0.5, 0.5 and 0.7 N.
+std::vector<proto::EnvelopeSample> EnvelopeSamples(const EnvelopeSpec& envelope) {
+  RunLogScene scene;
+  scene.envelopes = {envelope};
+  std::ostringstream out;
+  auto log = RunLogWriter::Open(out, scene);
+  EXPECT_TRUE(log.ok()) << log.error().message;
+  if (!log.ok()) return {};
+  for (int i = 0; i < 3; ++i) {
+    TraceSample sample = SampleAt(i);
+    sample.grasp_force_n = i == 2 ? 0.7 : 0.5;
+    log.value()->Add(sample);
+  }
+  EXPECT_TRUE(log.value()->Close().ok());
+  const mcap::McapReadResult read = mcap::ReadMcap(out.str());
+  EXPECT_TRUE(read.ok()) << read.error->detail;
+  const auto ids = TopicIds(read.contents);
+  const std::string topic = "/checks/" + envelope.name;
+  EXPECT_EQ(ids.count(topic), 1u);
+  if (ids.count(topic) == 0) return {};
+  EXPECT_EQ(read.contents.schemas.at(read.contents.channels.at(ids.at(topic)).schema_id).name,
+            "hilrig.proto.EnvelopeSample");
+  std::vector<proto::EnvelopeSample> samples;
+  for (const mcap::McapMessage& message : read.contents.messages) {
+    if (message.channel_id != ids.at(topic)) continue;
+    EXPECT_EQ(static_cast<std::int64_t>(message.log_time_ns),
+              kRunLogEpochNs + static_cast<std::int64_t>(samples.size()) * 10'000'000);
+    EXPECT_TRUE(samples.emplace_back().ParseFromString(message.payload));
+  }
+  return samples;
+}
+
+TEST(RunLogTest, AnEnvelopeGetsItsValueAndMarginWhileItChecks) {
+  EnvelopeSpec envelope;
+  envelope.name = "grasp_force";
+  envelope.signal = proto::GRASP_FORCE_N;
+  envelope.lower = 0.25;
+  envelope.upper = 0.65;
+  envelope.from_s = 0.005;
+  const std::vector<proto::EnvelopeSample> samples = EnvelopeSamples(envelope);
+  ASSERT_EQ(samples.size(), 3u);
+  // Before its window: the bounds, nothing read.
+  EXPECT_FALSE(samples[0].active());
+  EXPECT_FALSE(samples[0].has_value());
+  EXPECT_FALSE(samples[0].has_margin());
+  EXPECT_FALSE(samples[0].violated());
+  EXPECT_EQ(samples[0].lower(), 0.25);
+  EXPECT_EQ(samples[0].upper(), 0.65);
+  // 0.5 N: 0.15 N under the upper bound, nearer than the lower one.
+  EXPECT_TRUE(samples[1].active());
+  EXPECT_EQ(samples[1].value(), 0.5);
+  EXPECT_NEAR(samples[1].margin(), 0.15, 1e-12);
+  EXPECT_FALSE(samples[1].violated());
+  // 0.7 N: 0.05 N over.
+  EXPECT_TRUE(samples[2].active());
+  EXPECT_EQ(samples[2].value(), 0.7);
+  EXPECT_NEAR(samples[2].margin(), -0.05, 1e-12);
+  EXPECT_TRUE(samples[2].violated());
+}
+
+TEST(RunLogTest, AMeanEnvelopeLogsTheMeanOnceItsWindowIsFull) {
+  EnvelopeSpec envelope;
+  envelope.name = "mean_force";
+  envelope.signal = proto::GRASP_FORCE_N;
+  envelope.upper = 0.65;
+  envelope.mean_over_s = 0.02;
+  const std::vector<proto::EnvelopeSample> samples = EnvelopeSamples(envelope);
+  ASSERT_EQ(samples.size(), 3u);
+  EXPECT_FALSE(samples[0].active());
+  EXPECT_FALSE(samples[1].active());
+  EXPECT_FALSE(samples[0].has_lower());
+  // The window of 0.02 s at 0.02 s holds the samples at 0.01 and 0.02 s: (0.5 + 0.7) / 2.
+  EXPECT_TRUE(samples[2].active());
+  EXPECT_NEAR(samples[2].value(), 0.6, 1e-12);
+  EXPECT_NEAR(samples[2].margin(), 0.05, 1e-12);
+  EXPECT_FALSE(samples[2].violated());
 }
 
 }  // namespace
