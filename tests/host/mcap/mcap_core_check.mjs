@@ -6,12 +6,20 @@
 // channel is decoded with protobufjs from the FileDescriptorSet stored as its schema, nothing else.
 // A run's own log (run.mcap of `hilrig run`) is checked the same way, with every message of every
 // channel decoded from its stored schema and the run's channels required.
+// With --layout, a Foxglove layout (docs/layouts/hilrig.foxglove.json) is checked against the
+// run's log: every message path its panels name (a Plot series, a 3D panel's topic) must be a
+// channel of the log, and its field path (array indexes included) must reach a number or a
+// boolean in a decoded message of that channel.
 // Prints "PASS: FILE: N messages on C channels in K chunks" per file.
-// Usage: node mcap_core_check.mjs NODE_MODULES_PARENT FILE... (a FILE named run.mcap is a run's)
+// Usage: node mcap_core_check.mjs NODE_MODULES_PARENT [--layout LAYOUT] FILE...
+// (a FILE named run.mcap is a run's)
 import { readFileSync } from 'node:fs';
 import { createRequire } from 'node:module';
 
-const [modulesParent, ...files] = process.argv.slice(2);
+const [modulesParent, ...rest] = process.argv.slice(2);
+const layoutAt = rest.indexOf('--layout');
+const layoutFile = layoutAt >= 0 ? rest[layoutAt + 1] : undefined;
+const files = layoutAt >= 0 ? rest.filter((_, i) => i !== layoutAt && i !== layoutAt + 1) : rest;
 const require = createRequire(`${modulesParent}/`);
 const { McapIndexedReader } = require('@mcap/core');
 const fzstd = require('fzstd');
@@ -77,6 +85,52 @@ const RUN = {
   },
 };
 
+// The message paths of a layout's panels: each Plot series (and custom x axis), each topic a 3D
+// panel shows, any other panel's topic path. Each as { panel, text, topic, fields }, fields the
+// names and array indexes after the topic ("/plant/pads.force_n[2]": ['force_n', 2]).
+function layoutPaths(layout) {
+  const paths = [];
+  const add = (panel, text) => {
+    const dot = text.indexOf('.');
+    const topic = dot < 0 ? text : text.slice(0, dot);
+    const fields = [];
+    if (dot >= 0) {
+      const rest = text.slice(dot);
+      const token = /\.([A-Za-z_][A-Za-z0-9_]*)|\[(\d+)\]/y;
+      let match;
+      while (token.lastIndex < rest.length && (match = token.exec(rest)) !== null) {
+        fields.push(match[1] ?? Number(match[2]));
+      }
+      if (token.lastIndex !== rest.length) {
+        fail(`layout: ${panel}: cannot parse the message path ${text}`);
+        return;
+      }
+    }
+    paths.push({ panel, text, topic, fields });
+  };
+  for (const [panel, config] of Object.entries(layout.configById ?? {})) {
+    for (const series of config.paths ?? []) add(panel, series.value);
+    if (config.xAxisPath?.value) add(panel, config.xAxisPath.value);
+    if (typeof config.topicPath === 'string' && config.topicPath) add(panel, config.topicPath);
+    if (panel.startsWith('3D!')) {
+      for (const [topic, settings] of Object.entries(config.topics ?? {})) {
+        if (settings.visible) add(panel, topic);
+      }
+    }
+  }
+  return paths;
+}
+
+// The value a field path reaches in a decoded message, or undefined.
+function resolve(decoded, fields) {
+  let value = decoded;
+  for (const field of fields) {
+    if (value === null || typeof value !== 'object') return undefined;
+    value = value[field];
+  }
+  return value;
+}
+
 // The sample's reports carry their number; a run's messages need only decode.
 function checkDecoded(name, message, decoded) {
   if (message.sequence === undefined || !('scenario' in decoded)) return;
@@ -118,6 +172,22 @@ async function check(file) {
     const root = protobuf.Root.fromDescriptor(descriptor.FileDescriptorSet.decode(schema.data));
     typeOfChannel.set(channel.id, root.lookupType(schema.name));
   }
+  // The layout's paths, each waiting for a message of its topic that it reaches into.
+  const unresolved = new Map();  // channel id -> paths not yet reached
+  if (expected === RUN && layoutFile) {
+    const paths = layoutPaths(JSON.parse(readFileSync(layoutFile, 'utf8')));
+    if (paths.length === 0) fail(`${layoutFile}: no message path found`);
+    for (const path of paths) {
+      const channel = [...reader.channelsById.values()].find((c) => c.topic === path.topic);
+      if (!channel) {
+        fail(`${layoutFile}: ${path.panel}: ${path.text}: ${name} has no channel ${path.topic}`);
+        continue;
+      }
+      if (!unresolved.has(channel.id)) unresolved.set(channel.id, []);
+      unresolved.get(channel.id).push(path);
+    }
+  }
+  const layoutPathCount = [...unresolved.values()].reduce((n, paths) => n + paths.length, 0);
   let decodedReports = 0;
   const stats = reader.statistics;
   if (!stats) {
@@ -141,6 +211,22 @@ async function check(file) {
       type.toObject(type.decode(message.data), { longs: Number, enums: String, defaults: true });
     checkDecoded(name, message, decoded);
     decodedReports += 1;
+    const waiting = unresolved.get(message.channelId);
+    if (waiting?.length) {
+      unresolved.set(message.channelId, waiting.filter((path) => {
+        // A topic alone (a 3D panel's) is reached by any message; a field path must end on a
+        // value a plot can draw.
+        if (path.fields.length === 0) return false;
+        const value = resolve(decoded, path.fields);
+        return typeof value !== 'number' && typeof value !== 'boolean';
+      }));
+    }
+  }
+  for (const paths of unresolved.values()) {
+    for (const path of paths) {
+      fail(`${layoutFile}: ${path.panel}: ${path.text} reaches no number in any message of ` +
+        `${path.topic}`);
+    }
   }
   if (decodedReports === 0) fail(`${name}: no protobuf message decoded`);
   if (expected === RUN && BigInt(decodedReports) !== total) {
@@ -160,8 +246,10 @@ async function check(file) {
   }
   checkDataCrc(name, bytes, reader.footer.summaryStart);
   if (failures !== failuresBefore) return;
+  const layoutNote = layoutPathCount > 0 ? `, the layout's ${layoutPathCount} paths resolved` : '';
   console.log(`PASS: ${name}: ${total} messages on ${counts.size} channels in ` +
-    `${stats.chunkCount} chunks, ${decodedReports} decoded from their protobuf schema`);
+    `${stats.chunkCount} chunks, ${decodedReports} decoded from their protobuf schema` +
+    layoutNote);
 }
 
 for (const file of files) {

@@ -8,7 +8,9 @@
 # (HILRIG_NODE_CACHE, by default ~/.cache/hilrig/mcap-core-VERSION-protobufjs-VERSION), once;
 # nothing of them is kept in the tree.
 # Skips (77) without node or npm, or when npm cannot reach the registry.
-# A run's own log is read the same way: balloon_grasp's run.mcap (5 s of it), every message decoded.
+# A run's own log is read the same way: balloon_grasp's run.mcap (5 s of it), every message decoded,
+# and the Foxglove layout docs/layouts/hilrig.foxglove.json checked against it: every message path
+# of its panels names a channel of the log and reaches a value in a decoded message.
 # Usage: mcap_core_test.sh SOURCE_DIR MCAP_SAMPLE_WRITER HILRIG
 set -euo pipefail
 source_dir=$1
@@ -31,5 +33,6 @@ status=0
 "$hilrig" run "$source_dir/scenarios/balloon_grasp.textproto" --no-reference --duration-s 5 \
   --out "$work/run" >"$work/run.out" 2>&1 || status=$?
 ((status <= 1)) || { echo "FAIL: hilrig run exited $status"; cat "$work/run.out"; exit 1; }
-node "$source_dir/tests/host/mcap/mcap_core_check.mjs" "$cache" "$work/zstd.mcap" \
-  "$work/stored.mcap" "$work/run/run.mcap"
+node "$source_dir/tests/host/mcap/mcap_core_check.mjs" "$cache" \
+  --layout "$source_dir/docs/layouts/hilrig.foxglove.json" "$work/zstd.mcap" "$work/stored.mcap" \
+  "$work/run/run.mcap"
