@@ -11,13 +11,15 @@ namespace {
 // the pads' columns, balloon_grasp 537 a row; can.log 428 400 over 8 925 frames).
 constexpr double kTraceRowBytes = 420;
 constexpr double kCanLineBytes = 48;
-// run.mcap, zstd-compressed, fitted to hover (9 995 326 bytes over 40 s), tactile_hover
-// (7 769 838 over 25 s) and balloon_grasp (10 841 123 over 34 s).
+// run.mcap, zstd-compressed, fitted to hover (9 995 326 bytes over 40 s before the pose and the
+// checks' channels, 26 555 226 over 100 s with them) and balloon_grasp (10 841 123 over 34 s,
+// then 11 799 072).
 constexpr double kLogPhysicsTickBytes = 80;
 constexpr double kLogControlTickBytes = 150;
 constexpr double kLogControlTickPadBytes = 190;
-constexpr double kLogTraceRowBytes = 210;
-constexpr double kLogTraceRowPadBytes = 390;
+constexpr double kLogTraceRowBytes = 270;  // the vehicle, the estimates, the pose
+constexpr double kLogTraceRowPadBytes = 450;
+constexpr double kLogEnvelopeSampleBytes = 30;  // each envelope, each trace sample
 constexpr double kLogCanFrameBytes = 20;
 
 double TraceBytes(const ScenarioConfig& config) {
@@ -40,7 +42,8 @@ double RunLogBytes(const ScenarioConfig& config) {
   const double rows = ticks / config.trace_every_ticks;
   return ticks * kLogPhysicsTickBytes +
          control_ticks * (pads ? kLogControlTickPadBytes : kLogControlTickBytes) +
-         rows * (pads ? kLogTraceRowPadBytes : kLogTraceRowBytes) +
+         rows * ((pads ? kLogTraceRowPadBytes : kLogTraceRowBytes) +
+                 kLogEnvelopeSampleBytes * static_cast<double>(config.envelopes.size())) +
          CanFrames(config) * kLogCanFrameBytes;
 }
 

@@ -21,8 +21,8 @@ TEST(CliCheckTest, WarnsOfARunWhoseFilesWouldFillADiskAndStillAcceptsIt) {
   const CliResult check = Cli({"check", (dir / "day.textproto").string()});
   EXPECT_EQ(check.exit_code, 0) << check.err;
   EXPECT_THAT(check.out, HasSubstr("day.textproto: ok"));
-  EXPECT_THAT(check.err, HasSubstr("day.textproto: warning: a run writes about 74.6 GB"));
-  EXPECT_THAT(check.err, HasSubstr("run.mcap 38.1 GB"));
+  EXPECT_THAT(check.err, HasSubstr("day.textproto: warning: a run writes about 79.8 GB"));
+  EXPECT_THAT(check.err, HasSubstr("run.mcap 43.3 GB"));
 }
 
 // What hilrig prints may quote a file name (or a board's name, a peer's reason): the process lets

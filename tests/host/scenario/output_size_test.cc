@@ -32,14 +32,14 @@ TEST(OutputSizeTest, ADayAtAKilohertzTraceIsWorthAWarning) {
 }
 
 // The log: 86.4e6 physics and control ticks (IMU 80 bytes; setpoint, step and command 150), as
-// many trace samples (210) and the reference node's frames (20).
+// many trace samples (270, no envelope) and the reference node's frames (20).
 TEST(OutputSizeTest, TheRunsLogCountsEveryExchangeWithTheDut) {
   const ScenarioConfig day = ConfigOf("duration_s: 86400 trace_rate_hz: 1000");
-  const double log_bytes = 86.4e6 * (80 + 150 + 210) + 86400 * 50 * 20;
+  const double log_bytes = 86.4e6 * (80 + 150 + 270) + 86400 * 50 * 20;
   EXPECT_NEAR(EstimatedOutputBytes(day) - EstimatedOutputBytes(day, false), log_bytes, 1);
   const auto warning = OutputSizeWarning(day);
   ASSERT_TRUE(warning.has_value());
-  EXPECT_THAT(*warning, HasSubstr("run.mcap 38.1 GB"));
+  EXPECT_THAT(*warning, HasSubstr("run.mcap 43.3 GB"));
   EXPECT_THAT(*warning, HasSubstr("--no-mcap leaves it out"));
   // An hour at the default 100 Hz trace writes about 1.1 GB, the log most of it.
   EXPECT_TRUE(OutputSizeWarning(ConfigOf("duration_s: 3600")).has_value());
