@@ -274,6 +274,27 @@ class Writer {
     for (const float value : values) PutFixed(std::bit_cast<std::uint32_t>(value), 4);
   }
 
+  // A packed repeated double field; nothing for no values. O(values).
+  constexpr void PackedDoubles(std::uint32_t field, std::span<const double> values) {
+    if (values.empty()) return;
+    const std::size_t length = 8 * values.size();
+    if (!Room(KeyBytes(field) + VarintBytes(length) + length)) return;
+    PutKey(field, WireType::kLengthDelimited);
+    PutVarint(length);
+    for (const double value : values) PutFixed(std::bit_cast<std::uint64_t>(value), 8);
+  }
+  // A packed repeated varint field (uint32, uint64, enum); nothing for no values. O(values).
+  template <typename Unsigned>
+  constexpr void PackedVarints(std::uint32_t field, std::span<const Unsigned> values) {
+    if (values.empty()) return;
+    std::size_t length = 0;
+    for (const Unsigned value : values) length += VarintBytes(value);
+    if (!Room(KeyBytes(field) + VarintBytes(length) + length)) return;
+    PutKey(field, WireType::kLengthDelimited);
+    PutVarint(length);
+    for (const Unsigned value : values) PutVarint(value);
+  }
+
   // A nested message: BeginMessage writes the key and holds one byte for the length, the caller
   // writes the fields, EndMessage fills the length in (moving the fields up when it needs more
   // than one byte: O(message bytes) then).

@@ -12,8 +12,8 @@
 #include <string>
 
 #include "host/dut/dut_traffic.h"
+#include "host/replay/traffic_wire.h"
 #include "host/report/run_log.h"
-#include "proto/hil_link.pb.h"
 #include "proto/run_log.pb.h"
 
 namespace hilrig::host {
@@ -25,10 +25,6 @@ inline constexpr const char* kDutCanTopic = "/dut/in/can";
 inline constexpr const char* kDutStepTopic = "/dut/in/step";
 inline constexpr const char* kDutCommandTopic = "/dut/out/command";
 
-// The /dut/in/can message of a frame: its fields and, for a tactile sample, its node, field words,
-// sequence and status. Never fails.
-void FillDutCanFrame(const rig::CanFrame& frame, proto::DutCanFrame& out);
-
 class DutTrafficLog final : public DutTrafficSink {
  public:
   // Logs `recording` on /run/recording at time 0. `log` must outlive this. Fails when the log's
@@ -36,8 +32,8 @@ class DutTrafficLog final : public DutTrafficSink {
   static rig::Result<std::unique_ptr<DutTrafficLog>> Open(RunLogWriter& log,
                                                           const proto::RunRecording& recording);
 
-  // Each converts into a message kept per channel and logs it: no allocation once every channel
-  // has had its first message (the log's chunks aside).
+  // Each writes the message's wire bytes (host/replay/traffic_wire.h) and logs them: no
+  // allocation once every channel has had its first message (the log's chunks aside).
   void Sent(const DutInput& input) override;
   void Received(const rig::TimedCanFrame& frame) override;
   void Asked(std::uint64_t tick, std::int64_t now_ns, std::optional<std::int64_t> wall_ns) override;
@@ -54,12 +50,8 @@ class DutTrafficLog final : public DutTrafficSink {
 
   RunLogWriter& log_;
   std::array<std::optional<std::uint16_t>, kDutInputStreams> input_channels_;
-  std::array<proto::LinkMessage, kDutInputStreams> inputs_;
   std::optional<std::uint16_t> can_channel_, step_channel_, command_channel_;
-  proto::DutCanFrame frame_;
-  proto::DutStepRequest step_;
-  proto::DutCommand command_;
-  proto::LinkMessage command_link_;
+  TrafficBuffer buffer_;
 };
 
 }  // namespace hilrig::host

@@ -173,8 +173,16 @@ void RunLogWriter::Log(std::uint16_t channel, std::int64_t time_ns,
         kRunLogEpochNs + publish_time_ns.value_or(time_ns));
 }
 
-void RunLogWriter::Write(std::uint16_t channel, std::int64_t log_time_ns,
-                         const std::string& payload, std::int64_t publish_time_ns) {
+void RunLogWriter::LogBytes(std::uint16_t channel, std::int64_t time_ns,
+                            std::span<const std::uint8_t> payload,
+                            std::optional<std::int64_t> publish_time_ns) {
+  Write(channel, kRunLogEpochNs + time_ns,
+        std::string_view(reinterpret_cast<const char*>(payload.data()), payload.size()),
+        kRunLogEpochNs + publish_time_ns.value_or(time_ns));
+}
+
+void RunLogWriter::Write(std::uint16_t channel, std::int64_t log_time_ns, std::string_view payload,
+                         std::int64_t publish_time_ns) {
   if (failure_) return;
   mcap::MessageToWrite message;
   message.channel_id = channel;

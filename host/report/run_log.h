@@ -21,7 +21,9 @@
 #include <memory>
 #include <optional>
 #include <ostream>
+#include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "host/checks/envelope_check.h"
@@ -88,6 +90,9 @@ class RunLogWriter {
   void Log(std::uint16_t channel, std::int64_t time_ns,
            const google::protobuf::MessageLite& message,
            std::optional<std::int64_t> publish_time_ns = std::nullopt);
+  // The same with the message already in wire bytes (written without protobuf objects).
+  void LogBytes(std::uint16_t channel, std::int64_t time_ns, std::span<const std::uint8_t> payload,
+                std::optional<std::int64_t> publish_time_ns = std::nullopt);
 
  private:
   struct Channels {
@@ -102,9 +107,9 @@ class RunLogWriter {
     std::uint16_t channel = 0;
   };
   RunLogWriter(std::ostream& out, RunLogScene scene);
-  void Write(std::uint16_t channel, std::int64_t log_time_ns, const std::string& payload,
+  void Write(std::uint16_t channel, std::int64_t log_time_ns, std::string_view payload,
              std::int64_t publish_time_ns);
-  void Write(std::uint16_t channel, std::int64_t log_time_ns, const std::string& payload) {
+  void Write(std::uint16_t channel, std::int64_t log_time_ns, std::string_view payload) {
     Write(channel, log_time_ns, payload, log_time_ns);
   }
   void WriteEventsUpTo(double time_s);

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -186,6 +187,27 @@ std::vector<std::uint8_t> WriteCommand(std::span<std::uint8_t> out, WireError* e
   w.EndMessage(message);
   if (error != nullptr) *error = w.error();
   return {w.written().begin(), w.written().end()};
+}
+
+// Packed doubles and varints as libprotobuf reads a repeated double and a repeated uint32.
+TEST(WireCodec, WritesPackedDoublesAndVarintsLibprotobufReads) {
+  std::array<std::uint8_t, 128> out{};
+  Writer w(out);
+  const std::array<double, 4> thrust = {1.25, -0.0, 1e300, 0.1};
+  w.PackedDoubles(3, thrust);
+  const std::array<std::uint16_t, 3> codes = {0, 300, 65535};
+  w.PackedVarints<std::uint16_t>(2, codes);
+  ASSERT_TRUE(w.ok());
+  proto::ActuatorCommand command;
+  const std::span<const std::uint8_t> thrust_bytes = w.written().first(2 + 32);
+  ASSERT_TRUE(command.ParseFromArray(thrust_bytes.data(), static_cast<int>(thrust_bytes.size())));
+  ASSERT_EQ(command.rotor_thrust_n_size(), 4);
+  EXPECT_EQ(command.rotor_thrust_n(2), 1e300);
+  EXPECT_TRUE(std::signbit(command.rotor_thrust_n(1)));
+  // Key (field 2, length-delimited), length 6, then 0, 300 and 65535 as varints.
+  const std::span<const std::uint8_t> code_bytes = w.written().subspan(2 + 32);
+  EXPECT_EQ(std::vector<std::uint8_t>(code_bytes.begin(), code_bytes.end()),
+            (std::vector<std::uint8_t>{0x12, 6, 0x00, 0xAC, 0x02, 0xFF, 0xFF, 0x03}));
 }
 
 TEST(WireCodec, WritesWhatLibprotobufWritesAndReads) {
