@@ -11,13 +11,9 @@
 namespace hilrig::host {
 namespace {
 
-void Set(proto::Vector3& out, const Eigen::Vector3d& value) {
-  out.set_x(value.x());
-  out.set_y(value.y());
-  out.set_z(value.z());
-}
-
-void Set(foxglove::Vector3& out, const Eigen::Vector3d& value) {
+// The rig's Vector3 and Foxglove's, the same three fields.
+template <typename Vector3>
+void Set(Vector3& out, const Eigen::Vector3d& value) {
   out.set_x(value.x());
   out.set_y(value.y());
   out.set_z(value.z());
@@ -167,10 +163,8 @@ rig::Result<std::uint16_t> RunLogWriter::AddChannel(const google::protobuf::Desc
 void RunLogWriter::Log(std::uint16_t channel, std::int64_t time_ns,
                        const google::protobuf::MessageLite& message,
                        std::optional<std::int64_t> publish_time_ns) {
-  if (failure_) return;
-  message.SerializeToString(&payload_);
-  Write(channel, kRunLogEpochNs + time_ns, payload_,
-        kRunLogEpochNs + publish_time_ns.value_or(time_ns));
+  WriteMessage(channel, kRunLogEpochNs + time_ns, message,
+               kRunLogEpochNs + publish_time_ns.value_or(time_ns));
 }
 
 void RunLogWriter::LogBytes(std::uint16_t channel, std::int64_t time_ns,
@@ -179,6 +173,14 @@ void RunLogWriter::LogBytes(std::uint16_t channel, std::int64_t time_ns,
   Write(channel, kRunLogEpochNs + time_ns,
         std::string_view(reinterpret_cast<const char*>(payload.data()), payload.size()),
         kRunLogEpochNs + publish_time_ns.value_or(time_ns));
+}
+
+void RunLogWriter::WriteMessage(std::uint16_t channel, std::int64_t log_time_ns,
+                                const google::protobuf::MessageLite& message,
+                                std::int64_t publish_time_ns) {
+  if (failure_) return;  // the run's log is lost already: no serializing for nothing
+  message.SerializeToString(&payload_);
+  Write(channel, log_time_ns, payload_, publish_time_ns);
 }
 
 void RunLogWriter::Write(std::uint16_t channel, std::int64_t log_time_ns, std::string_view payload,
@@ -198,8 +200,7 @@ void RunLogWriter::WriteEventsUpTo(double time_s) {
        ++next_event_) {
     proto::TimelineMark mark;
     mark.set_label(scene_.events[next_event_].label);
-    mark.SerializeToString(&payload_);
-    Write(channels_.events, LogTimeNs(scene_.events[next_event_].time_s), payload_);
+    WriteMessage(channels_.events, LogTimeNs(scene_.events[next_event_].time_s), mark);
   }
 }
 
@@ -215,8 +216,7 @@ void RunLogWriter::WriteReferencePath() {
     Set(*pose.mutable_orientation(),
         Eigen::Quaterniond(Eigen::AngleAxisd(reference.yaw_rad, Eigen::Vector3d::UnitZ())));
   }
-  path.SerializeToString(&payload_);
-  Write(channels_.reference_path, kRunLogEpochNs, payload_);
+  WriteMessage(channels_.reference_path, kRunLogEpochNs, path);
 }
 
 void RunLogWriter::WriteEnvelopes(const TraceSample& sample, std::int64_t log_time_ns) {
@@ -232,30 +232,21 @@ void RunLogWriter::WriteEnvelopes(const TraceSample& sample, std::int64_t log_ti
     if (spec.lower) logged.set_lower(*spec.lower);
     if (spec.upper) logged.set_upper(*spec.upper);
     logged.set_violated(reading.violation());
-    logged.SerializeToString(&payload_);
-    Write(envelope.channel, log_time_ns, payload_);
+    WriteMessage(envelope.channel, log_time_ns, logged);
   }
 }
 
 void RunLogWriter::Add(const TraceSample& sample) {
   WriteEventsUpTo(sample.time_s);
   const std::int64_t time_ns = LogTimeNs(sample.time_s);
-  VehicleOf(sample).SerializeToString(&payload_);
-  Write(channels_.vehicle, time_ns, payload_);
-  EstimatesOf(sample).SerializeToString(&payload_);
-  Write(channels_.estimates, time_ns, payload_);
-  if (scene_.grasp) {
-    GraspOf(sample).SerializeToString(&payload_);
-    Write(channels_.grasp, time_ns, payload_);
-  }
+  WriteMessage(channels_.vehicle, time_ns, VehicleOf(sample));
+  WriteMessage(channels_.estimates, time_ns, EstimatesOf(sample));
+  if (scene_.grasp) WriteMessage(channels_.grasp, time_ns, GraspOf(sample));
   if (scene_.pads) {
-    PadsOf(sample.pad_force_n).SerializeToString(&payload_);
-    Write(channels_.plant_pads, time_ns, payload_);
-    PadsOf(sample.pad_force_estimate_n).SerializeToString(&payload_);
-    Write(channels_.dut_pads, time_ns, payload_);
+    WriteMessage(channels_.plant_pads, time_ns, PadsOf(sample.pad_force_n));
+    WriteMessage(channels_.dut_pads, time_ns, PadsOf(sample.pad_force_estimate_n));
   }
-  BodyTransformOf(sample, time_ns).SerializeToString(&payload_);
-  Write(channels_.tf, time_ns, payload_);
+  WriteMessage(channels_.tf, time_ns, BodyTransformOf(sample, time_ns));
   WriteEnvelopes(sample, time_ns);
 }
 

@@ -29,15 +29,11 @@
 #include "host/checks/envelope_check.h"
 #include "host/mcap/mcap_writer.h"
 #include "host/report/svg_plot.h"
+#include "host/trace/log_epoch.h"
 #include "host/trace/trace_sample.h"
 #include "rig/result.h"
 
 namespace hilrig::host {
-
-// Simulated time 0 in a log (run.mcap, can.log): 1e9 s after the Unix epoch
-// (2001-09-09T01:46:40Z), so that tools that take log times for wall times show a plausible date
-// and the files stay byte-reproducible.
-inline constexpr std::int64_t kRunLogEpochNs = 1'000'000'000LL * 1'000'000'000LL;
 
 inline constexpr const char* kRunLogFile = "run.mcap";
 
@@ -109,8 +105,12 @@ class RunLogWriter {
   RunLogWriter(std::ostream& out, RunLogScene scene);
   void Write(std::uint16_t channel, std::int64_t log_time_ns, std::string_view payload,
              std::int64_t publish_time_ns);
-  void Write(std::uint16_t channel, std::int64_t log_time_ns, std::string_view payload) {
-    Write(channel, log_time_ns, payload, log_time_ns);
+  // `message` serialized into payload_ and written; the publish time is the log time unless given.
+  void WriteMessage(std::uint16_t channel, std::int64_t log_time_ns,
+                    const google::protobuf::MessageLite& message, std::int64_t publish_time_ns);
+  void WriteMessage(std::uint16_t channel, std::int64_t log_time_ns,
+                    const google::protobuf::MessageLite& message) {
+    WriteMessage(channel, log_time_ns, message, log_time_ns);
   }
   void WriteEventsUpTo(double time_s);
   void WriteReferencePath();

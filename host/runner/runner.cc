@@ -12,7 +12,6 @@
 #include "host/checks/envelope_check.h"
 #include "host/dut/firmware_config.h"
 #include "host/dut/in_process_dut.h"
-#include "host/report/run_log.h"
 #include "host/report/stop_reason.h"
 #include "host/runner/command_exchange.h"
 #include "host/runner/dut_faults.h"
@@ -24,6 +23,7 @@
 #include "host/runner/scene_devices.h"
 #include "host/runner/timing_checks.h"
 #include "host/scenario/timeline_schedule.h"
+#include "host/trace/log_epoch.h"
 #include "host/trace/trace_csv.h"
 #include "rig/candump_log.h"
 #include "rig/check.h"
@@ -36,10 +36,6 @@ namespace {
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 constexpr std::int64_t kProgressPeriodNs = 5'000'000'000;
 constexpr std::uint64_t kWallClockPollTicks = 4096;
-// can.log stamps are simulated time plus the logs' fixed base (2001-09-09T01:46:40Z, as run.mcap
-// has it). Tools that take a zero seconds field for "no start time yet" (log2asc prints a header
-// per frame) then read the log like any candump recording, and the file stays byte-reproducible.
-constexpr std::int64_t kCanLogEpochNs = kRunLogEpochNs;
 
 Eigen::Vector3d RollPitchYawDeg(const Eigen::Quaterniond& q) {
   const double roll =
@@ -407,7 +403,7 @@ void ScenarioRunner::Impl::DrainCanLog(std::int64_t now_ns) {
   can_frames_logged_ += logged_frames_.size();
   if (!can_writer_) return;
   // In place: the frames are the logger's own copies, cleared before the next drain.
-  for (rig::TimedCanFrame& frame : logged_frames_) frame.time_ns += kCanLogEpochNs;
+  for (rig::TimedCanFrame& frame : logged_frames_) frame.time_ns += kRunLogEpochNs;
   can_writer_->WriteAll(logged_frames_);
 }
 
