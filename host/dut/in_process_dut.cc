@@ -109,4 +109,12 @@ rig::Result<ActuatorMessage> BasicInProcessDut<S>::Step(std::uint64_t tick, std:
 template class BasicInProcessDut<double>;
 template class BasicInProcessDut<float>;
 
+rig::Result<std::unique_ptr<DutPort>> MakeDut(const DutFactory& factory,
+                                              const ScenarioConfig& config,
+                                              std::unique_ptr<rig::CanBus> bus) {
+  if (factory) return factory(config, std::move(bus), ControlPeriodS(config));
+  return std::unique_ptr<DutPort>(
+      std::make_unique<InProcessDut>(FirmwareFor(config), std::move(bus), ControlPeriodS(config)));
+}
+
 }  // namespace hilrig::host

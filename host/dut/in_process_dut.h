@@ -59,4 +59,11 @@ class BasicInProcessDut final : public DutPort {
 using InProcessDut = BasicInProcessDut<double>;
 using SinglePrecisionInProcessDut = BasicInProcessDut<float>;
 
+// The DUT of a run or a replay: what `factory` makes for `config` on its bus endpoint `bus`, or
+// dut_fw in this process (InProcessDut, flashed with FirmwareFor(config)) when it is unset, both
+// at ControlPeriodS(config). Fails when the factory does.
+rig::Result<std::unique_ptr<DutPort>> MakeDut(const DutFactory& factory,
+                                              const ScenarioConfig& config,
+                                              std::unique_ptr<rig::CanBus> bus);
+
 }  // namespace hilrig::host

@@ -4,7 +4,6 @@
 #include <memory>
 
 #include "host/cache/setup_caches.h"
-#include "host/dut/firmware_config.h"
 #include "host/dut/in_process_dut.h"
 #include "host/report/run_log.h"
 #include "host/scenario/checked_resolve.h"
@@ -78,20 +77,11 @@ std::variant<ReplayRun, ReplayError> ReplayRecordedRun(const ReplayRequest& requ
     return Failed(bad_spec ? ReplayFailure::kBadSpec : ReplayFailure::kSetUp,
                   config.error().message);
   }
-  const double control_period_s = static_cast<double>(config.value().physics_step_ns) *
-                                  config.value().control_every_ticks / 1e9;
   auto owned_bus = std::make_unique<ReplayCanBus>();
   ReplayCanBus& bus = *owned_bus;
-  std::unique_ptr<DutPort> dut;
-  if (!request.dut_factory) {
-    dut = std::make_unique<InProcessDut>(FirmwareFor(config.value()), std::move(owned_bus),
-                                         control_period_s);
-  } else if (auto made =
-                 request.dut_factory(config.value(), std::move(owned_bus), control_period_s)) {
-    dut = std::move(made).value();
-  } else {
-    return Failed(ReplayFailure::kSetUp, "the DUT: " + made.error().message);
-  }
+  auto made = MakeDut(request.dut_factory, config.value(), std::move(owned_bus));
+  if (!made) return Failed(ReplayFailure::kSetUp, "the DUT: " + made.error().message);
+  std::unique_ptr<DutPort> dut = std::move(made).value();
   dut->SetRunFolder(request.run_folder);
   if (auto started = dut->Start(); !started) {
     dut->Stop();

@@ -10,7 +10,6 @@
 #include <vector>
 
 #include "host/checks/envelope_check.h"
-#include "host/dut/firmware_config.h"
 #include "host/dut/in_process_dut.h"
 #include "host/report/stop_reason.h"
 #include "host/runner/command_exchange.h"
@@ -63,11 +62,6 @@ rig::EmulatedBusConfig BusConfigFor(const ScenarioConfig& config) {
 
 using rig::SecondsFromNs;
 
-// The period the DUT is configured with, and the target's work is held to.
-double ControlPeriodS(const ScenarioConfig& config) {
-  return SecondsFromNs(config.physics_step_ns) * static_cast<double>(config.control_every_ticks);
-}
-
 }  // namespace
 
 // Every piece of run state lives here; Tick() steps it.
@@ -80,7 +74,7 @@ class ScenarioRunner::Impl {
   std::uint64_t TimelineEntriesStepped() const;
 
  private:
-  void StartDut(double control_period_s);
+  void StartDut();
   void StopDut();
   bool Step();
   bool TakeArrivedCommand();
@@ -175,7 +169,7 @@ ScenarioRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
                    PacerSettings{config.physics_step_ns, config.late_threshold_ns});
   }
   exchange_ = MakeCommandExchange(pacer_ ? &*pacer_ : nullptr);
-  StartDut(ControlPeriodS(config));
+  StartDut();
   if (config.gripper.enabled) gripper_.emplace(config, config.hall_sensors.tactile);
   // A scenario starting in the air starts hovering, rotors spun up; on the ground it starts at
   // rest.
@@ -211,16 +205,13 @@ ScenarioRunner::Impl::Impl(const ScenarioConfig& config, const RunSinks& sinks,
 
 // A DUT that does not start ends the run before its first tick; it is never sent a message or
 // stepped, and is stopped like any other.
-void ScenarioRunner::Impl::StartDut(double control_period_s) {
+void ScenarioRunner::Impl::StartDut() {
   rig::Result<void> started;
   std::unique_ptr<rig::CanBus> dut_bus = bus_.Connect("dut");
   if (control_.dut_traffic != nullptr) {
     dut_bus = std::make_unique<RecordingCanBus>(std::move(dut_bus), *control_.dut_traffic);
   }
-  if (!control_.dut_factory) {
-    dut_ =
-        std::make_unique<InProcessDut>(FirmwareFor(config_), std::move(dut_bus), control_period_s);
-  } else if (auto made = control_.dut_factory(config_, std::move(dut_bus), control_period_s)) {
+  if (auto made = MakeDut(control_.dut_factory, config_, std::move(dut_bus))) {
     dut_ = std::move(made).value();
   } else {
     started = made.error();

@@ -8,6 +8,7 @@
 #include "fixtures/objects/object_fixtures.h"
 #include "host/sensors/tactile/film_field_factory.h"
 #include "rig/check.h"
+#include "rig/clock.h"
 
 namespace hilrig::host {
 namespace {
@@ -346,6 +347,11 @@ ScenarioConfig ResolveScenario(const proto::Scenario& spec,
 std::uint64_t TotalTicks(const ScenarioConfig& config) {
   return static_cast<std::uint64_t>(
       std::llround(config.duration_s * 1e9 / static_cast<double>(config.physics_step_ns)));
+}
+
+double ControlPeriodS(const ScenarioConfig& config) {
+  return rig::SecondsFromNs(config.physics_step_ns) *
+         static_cast<double>(config.control_every_ticks);
 }
 
 std::uint64_t CompletedRunTraceSamples(const ScenarioConfig& config) {

@@ -166,6 +166,9 @@ struct ScenarioConfig {
 // them records (one every trace_every_ticks).
 std::uint64_t TotalTicks(const ScenarioConfig& config);
 std::uint64_t CompletedRunTraceSamples(const ScenarioConfig& config);
+// The period the DUT is configured with and stepped at (control_every_ticks physics steps), and
+// the target's work is held to.
+double ControlPeriodS(const ScenarioConfig& config);
 
 // `seed_override` replaces the spec's seed (the --seed flag); relative file names in the spec are
 // taken from `spec_directory`.
