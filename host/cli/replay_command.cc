@@ -23,7 +23,8 @@ const char kReplayUsage[] =
     "      exit 1 when one parts by more than T (default 1e-9) or the DUT fails a step\n"
     "      --dut KIND and its options as for run (default: dut_fw in this process, built\n"
     "      from the recorded spec; --set changes that spec first: a gain, a filter length)\n"
-    "      --out DIR writes DIR/replay.json\n";
+    "      --out DIR writes DIR/replay.json; --reference-cache DIR reads the calibrations\n"
+    "      where the run kept them (as for run)\n";
 
 namespace {
 
@@ -32,6 +33,7 @@ namespace fs = std::filesystem;
 struct ReplayOptions {
   ReplayRequest request;
   std::optional<std::string> out_dir;
+  std::optional<std::string> cache_dir;  // --reference-cache: where runs keep calibrations
 };
 
 rig::Result<ReplayOptions> ParseReplayOptions(std::vector<std::string> args, const CliStreams& io) {
@@ -58,6 +60,7 @@ rig::Result<ReplayOptions> ParseReplayOptions(std::vector<std::string> args, con
     options.request.tolerance = value.value();
   }
   if (const std::string* out = cli.Option("--out")) options.out_dir = *out;
+  if (const std::string* cache = cli.Option("--reference-cache")) options.cache_dir = *cache;
   auto dut = ParseDutOptions(cli, /*realtime=*/false, io);
   if (!dut) return dut.error();
   options.request.dut_factory = std::move(dut).value();
@@ -153,8 +156,8 @@ int ReplayCommand(const std::vector<std::string>& args, const CliStreams& io) {
     return kExitBadInput;
   }
   ReplayRequest& request = options.value().request;
-  // The calibrations and field maps the runs keep (hilrig run's default cache).
-  const SetupCaches caches = MakeSetupCaches(std::nullopt, io.err);
+  // The calibrations and field maps the runs keep, where `hilrig run --reference-cache` keeps them.
+  const SetupCaches caches = MakeSetupCaches(options.value().cache_dir, io.err);
   request.film_models = caches.film_models.get();
   request.calibrations = caches.calibrations.get();
   const std::optional<std::string>& out_dir = options.value().out_dir;

@@ -82,6 +82,14 @@ TEST_F(CliReplayTest, AChangedDampingPartsAtTheServoFirstAndSaysWhen) {
   EXPECT_THAT(json, HasSubstr("\"verdict\": \"REPLAY_DIFFERS\""));
 }
 
+TEST_F(CliReplayTest, TheCalibrationComesFromTheCacheNamedAsForRun) {
+  const fs::path cache = *dir_ / "cache";
+  const Replayed replayed =
+      Replay((*dir_ / "run").string() + " --reference-cache " + cache.string());
+  EXPECT_EQ(replayed.exit_code, kExitPass) << replayed.out << replayed.err;
+  EXPECT_TRUE(fs::is_directory(cache / "calibrations"));
+}
+
 TEST_F(CliReplayTest, ALogCutShortReplaysItsCompleteChunks) {
   const fs::path cut = *dir_ / "cut.mcap";
   const std::string bytes = ReadFile(*dir_ / "run" / "run.mcap");
