@@ -92,11 +92,6 @@ void McapWriter::StopWorker() {
   worker_.join();
 }
 
-std::uint64_t McapWriter::bytes_written() {
-  (void)Settle();
-  return offset_;
-}
-
 rig::Result<void> McapWriter::Emit(std::string_view bytes) {
   out_.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   if (!out_) return rig::MakeError(rig::ErrorCode::kIo, "mcap writer: the stream refused a write");

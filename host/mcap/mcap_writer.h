@@ -75,10 +75,6 @@ class McapWriter {
   // the stream or the compressor does; a second call does nothing.
   rig::Result<void> Close();
 
-  // The bytes written so far (the next record's offset in the file), a chunk in flight written
-  // first. Never fails or allocates.
-  std::uint64_t bytes_written();
-
  private:
   struct ChunkIndexEntry {
     std::uint64_t start_ns = 0;
