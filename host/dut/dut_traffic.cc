@@ -35,6 +35,9 @@ void RecordingDutPort::RequestStep(std::uint64_t tick, std::int64_t now_ns) {
   const std::optional<std::int64_t> asked_wall_ns = WallNs();
   dut_->RequestStep(tick, now_ns);
   sink_.Asked(tick, now_ns, asked_wall_ns);
+  // A DUT that stops answering must not grow the queue: a command older than this many steps is
+  // logged at its own stamp's time.
+  if (awaiting_.size() >= kMaxAwaitedSteps) awaiting_.pop_front();
   awaiting_.push_back({tick, now_ns});
 }
 

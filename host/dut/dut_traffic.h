@@ -99,6 +99,7 @@ class RecordingDutPort final : public DutPort {
   DutTrafficSink& sink_;
   const rig::Clock* wall_clock_;
   std::int64_t wall_start_ns_ = 0;
+  static constexpr std::size_t kMaxAwaitedSteps = 4096;
   std::deque<Asked> awaiting_;  // real time: steps asked whose command has not come yet
 };
 
