@@ -1,5 +1,7 @@
 #include "host/replay/traffic_wire.h"
 
+#include <bit>
+
 #include "dut_link/wire_codec.h"
 #include "proto/hil_link.pb.h"
 #include "rig/tactile_protocol.h"
@@ -9,19 +11,35 @@ namespace {
 
 using dut_link::wire::Writer;
 
+// Like protobuf's serializer and the link's codec, a proto3 field holding its default is left
+// out (in balloon_grasp a sixth of the traffic's bytes, most of them a setpoint's zero velocity
+// and acceleration). A double is left out only when all its bits are zero (-0.0 is written, as
+// protobuf does).
+void PutDouble(Writer& w, std::uint32_t field, double value) {
+  if (std::bit_cast<std::uint64_t>(value) != 0) w.Double(field, value);
+}
+
+void PutVarint(Writer& w, std::uint32_t field, std::uint64_t value) {
+  if (value != 0) w.Varint(field, value);
+}
+
+void PutBool(Writer& w, std::uint32_t field, bool value) {
+  if (value) w.Bool(field, true);
+}
+
 void PutVector(Writer& w, std::uint32_t field, const Eigen::Vector3d& value) {
   const Writer::Nested nested = w.BeginMessage(field);
-  w.Double(proto::Vector3::kXFieldNumber, value.x());
-  w.Double(proto::Vector3::kYFieldNumber, value.y());
-  w.Double(proto::Vector3::kZFieldNumber, value.z());
+  PutDouble(w, proto::Vector3::kXFieldNumber, value.x());
+  PutDouble(w, proto::Vector3::kYFieldNumber, value.y());
+  PutDouble(w, proto::Vector3::kZFieldNumber, value.z());
   w.EndMessage(nested);
 }
 
 void PutHeader(Writer& w, const LinkStamp& stamp) {
   const Writer::Nested nested = w.BeginMessage(1);  // every payload's header is its field 1
-  w.Varint(proto::LinkHeader::kProtocolVersionFieldNumber, kHilLinkProtocolVersion);
-  w.Varint(proto::LinkHeader::kSequenceFieldNumber, stamp.sequence);
-  w.Varint(proto::LinkHeader::kTimeNsFieldNumber, static_cast<std::uint64_t>(stamp.time_ns));
+  PutVarint(w, proto::LinkHeader::kProtocolVersionFieldNumber, kHilLinkProtocolVersion);
+  PutVarint(w, proto::LinkHeader::kSequenceFieldNumber, stamp.sequence);
+  PutVarint(w, proto::LinkHeader::kTimeNsFieldNumber, static_cast<std::uint64_t>(stamp.time_ns));
   w.EndMessage(nested);
 }
 
@@ -30,20 +48,20 @@ void Put(Writer& w, const ImuMessage& m) {
   PutHeader(w, m.stamp);
   PutVector(w, P::kGyroRadSFieldNumber, m.gyro_rad_s);
   PutVector(w, P::kAccelMS2FieldNumber, m.accel_m_s2);
-  w.Bool(P::kGyroClippedFieldNumber, m.gyro_clipped);
-  w.Bool(P::kAccelClippedFieldNumber, m.accel_clipped);
+  PutBool(w, P::kGyroClippedFieldNumber, m.gyro_clipped);
+  PutBool(w, P::kAccelClippedFieldNumber, m.accel_clipped);
 }
 
 void Put(Writer& w, const VioMessage& m) {
   using P = proto::VioPose;
   PutHeader(w, m.stamp);
-  w.Varint(P::kCaptureTimeNsFieldNumber, static_cast<std::uint64_t>(m.capture_time_ns));
+  PutVarint(w, P::kCaptureTimeNsFieldNumber, static_cast<std::uint64_t>(m.capture_time_ns));
   PutVector(w, P::kPositionMFieldNumber, m.position_m);
   const Writer::Nested q = w.BeginMessage(P::kOrientationFieldNumber);
-  w.Double(proto::Quaternion::kWFieldNumber, m.orientation.w());
-  w.Double(proto::Quaternion::kXFieldNumber, m.orientation.x());
-  w.Double(proto::Quaternion::kYFieldNumber, m.orientation.y());
-  w.Double(proto::Quaternion::kZFieldNumber, m.orientation.z());
+  PutDouble(w, proto::Quaternion::kWFieldNumber, m.orientation.w());
+  PutDouble(w, proto::Quaternion::kXFieldNumber, m.orientation.x());
+  PutDouble(w, proto::Quaternion::kYFieldNumber, m.orientation.y());
+  PutDouble(w, proto::Quaternion::kZFieldNumber, m.orientation.z());
   w.EndMessage(q);
 }
 
@@ -53,10 +71,10 @@ void Put(Writer& w, const SetpointMessage& m) {
   PutVector(w, P::kPositionMFieldNumber, m.position_m);
   PutVector(w, P::kVelocityMSFieldNumber, m.velocity_m_s);
   PutVector(w, P::kAccelerationMS2FieldNumber, m.acceleration_m_s2);
-  w.Double(P::kYawRadFieldNumber, m.yaw_rad);
-  w.Bool(P::kGraspRegulateFieldNumber, m.grasp_regulate);
-  w.Double(P::kGraspForceNFieldNumber, m.grasp_force_n);
-  w.Double(P::kGraspReferenceAngleRadFieldNumber, m.grasp_reference_angle_rad);
+  PutDouble(w, P::kYawRadFieldNumber, m.yaw_rad);
+  PutBool(w, P::kGraspRegulateFieldNumber, m.grasp_regulate);
+  PutDouble(w, P::kGraspForceNFieldNumber, m.grasp_force_n);
+  PutDouble(w, P::kGraspReferenceAngleRadFieldNumber, m.grasp_reference_angle_rad);
 }
 
 void Put(Writer& w, const MagnetometerMessage& m) {
@@ -67,35 +85,35 @@ void Put(Writer& w, const MagnetometerMessage& m) {
 void Put(Writer& w, const BarometerMessage& m) {
   using P = proto::BarometerSample;
   PutHeader(w, m.stamp);
-  w.Double(P::kPressurePaFieldNumber, m.pressure_pa);
-  w.Double(P::kTemperatureCFieldNumber, m.temperature_c);
+  PutDouble(w, P::kPressurePaFieldNumber, m.pressure_pa);
+  PutDouble(w, P::kTemperatureCFieldNumber, m.temperature_c);
 }
 
 void Put(Writer& w, const GnssMessage& m) {
   using P = proto::GnssFix;
   PutHeader(w, m.stamp);
-  w.Double(P::kLatitudeDegFieldNumber, m.latitude_deg);
-  w.Double(P::kLongitudeDegFieldNumber, m.longitude_deg);
-  w.Double(P::kAltitudeMFieldNumber, m.altitude_m);
+  PutDouble(w, P::kLatitudeDegFieldNumber, m.latitude_deg);
+  PutDouble(w, P::kLongitudeDegFieldNumber, m.longitude_deg);
+  PutDouble(w, P::kAltitudeMFieldNumber, m.altitude_m);
   PutVector(w, P::kVelocityMSFieldNumber, m.velocity_m_s);
-  w.Double(P::kHorizontalAccuracyMFieldNumber, m.horizontal_accuracy_m);
-  w.Double(P::kVerticalAccuracyMFieldNumber, m.vertical_accuracy_m);
-  w.Varint(P::kSatellitesFieldNumber, m.satellites);
+  PutDouble(w, P::kHorizontalAccuracyMFieldNumber, m.horizontal_accuracy_m);
+  PutDouble(w, P::kVerticalAccuracyMFieldNumber, m.vertical_accuracy_m);
+  PutVarint(w, P::kSatellitesFieldNumber, m.satellites);
 }
 
 void PutCommand(Writer& w, const ActuatorMessage& m) {
   using P = proto::ActuatorCommand;
   PutHeader(w, m.stamp);
-  w.Varint(P::kAnswersSequenceFieldNumber, m.answers_sequence);
+  PutVarint(w, P::kAnswersSequenceFieldNumber, m.answers_sequence);
   w.PackedDoubles(P::kRotorThrustNFieldNumber, m.rotor_thrust_n);
-  w.Bool(P::kArmedFieldNumber, m.armed);
+  PutBool(w, P::kArmedFieldNumber, m.armed);
   PutVector(w, P::kEstimatedPositionMFieldNumber, m.estimated_position_m);
   for (const Eigen::Vector3d& force_n : m.tactile_force_sensor_n) {
     PutVector(w, P::kTactileForceSensorNFieldNumber, force_n);
   }
-  w.Bool(P::kTactileReadyFieldNumber, m.tactile_ready);
-  w.Double(P::kServoAngleRadFieldNumber, m.servo_angle_rad);
-  w.Double(P::kGraspForceEstimateNFieldNumber, m.grasp_force_estimate_n);
+  PutBool(w, P::kTactileReadyFieldNumber, m.tactile_ready);
+  PutDouble(w, P::kServoAngleRadFieldNumber, m.servo_angle_rad);
+  PutDouble(w, P::kGraspForceEstimateNFieldNumber, m.grasp_force_estimate_n);
   PutVector(w, P::kExternalForceWorldNFieldNumber, m.external_force_world_n);
 }
 
@@ -127,7 +145,7 @@ std::span<const std::uint8_t> EncodeStepRequest(std::uint64_t tick,
                                                 std::optional<std::int64_t> wall_ns,
                                                 TrafficBuffer& buffer) {
   Writer w(buffer);
-  w.Varint(proto::DutStepRequest::kTickFieldNumber, tick);
+  PutVarint(w, proto::DutStepRequest::kTickFieldNumber, tick);
   if (wall_ns) {
     w.Varint(proto::DutStepRequest::kWallTimeNsFieldNumber, static_cast<std::uint64_t>(*wall_ns));
   }
@@ -139,7 +157,7 @@ std::span<const std::uint8_t> EncodeDutCommand(std::uint64_t tick,
                                                const ActuatorMessage& command,
                                                TrafficBuffer& buffer) {
   Writer w(buffer);
-  w.Varint(proto::DutCommand::kTickFieldNumber, tick);
+  PutVarint(w, proto::DutCommand::kTickFieldNumber, tick);
   if (wall_ns) {
     w.Varint(proto::DutCommand::kWallTimeNsFieldNumber, static_cast<std::uint64_t>(*wall_ns));
   }
@@ -152,27 +170,27 @@ std::span<const std::uint8_t> EncodeDutCommand(std::uint64_t tick,
 std::span<const std::uint8_t> EncodeDutCanFrame(const rig::CanFrame& frame, TrafficBuffer& buffer) {
   using P = proto::DutCanFrame;
   Writer w(buffer);
-  w.Varint(P::kIdFieldNumber, frame.id);
-  w.Bool(P::kExtendedFieldNumber, frame.extended);
-  w.Bool(P::kRemoteFieldNumber, frame.remote);
-  w.Bool(P::kFdFieldNumber, frame.fd);
-  w.Bool(P::kBitrateSwitchFieldNumber, frame.bitrate_switch);
-  w.Bool(P::kErrorStateIndicatorFieldNumber, frame.error_state_indicator);
-  w.Bool(P::kErrorFieldNumber, frame.error);
-  w.Varint(P::kLengthFieldNumber, frame.length);
+  PutVarint(w, P::kIdFieldNumber, frame.id);
+  PutBool(w, P::kExtendedFieldNumber, frame.extended);
+  PutBool(w, P::kRemoteFieldNumber, frame.remote);
+  PutBool(w, P::kFdFieldNumber, frame.fd);
+  PutBool(w, P::kBitrateSwitchFieldNumber, frame.bitrate_switch);
+  PutBool(w, P::kErrorStateIndicatorFieldNumber, frame.error_state_indicator);
+  PutBool(w, P::kErrorFieldNumber, frame.error);
+  PutVarint(w, P::kLengthFieldNumber, frame.length);
   w.Bytes(P::kDataFieldNumber, frame.payload());
   const rig::TactileFrameKind kind = rig::Classify(frame);
   const std::uint8_t node = rig::TactileNodeOf(frame, kind).value_or(0);
   rig::Result<rig::TactileSample> sample = rig::MakeError("not a sample");
   if (kind == rig::TactileFrameKind::kSample) sample = rig::DecodeTactileSample(frame);
   const bool malformed = kind == rig::TactileFrameKind::kSample && !sample;
-  w.Varint(P::kKindFieldNumber,
-           malformed ? proto::TACTILE_FRAME_MALFORMED : TactileFrameKindOf(kind));
-  w.Varint(P::kNodeIdFieldNumber, node);
+  PutVarint(w, P::kKindFieldNumber,
+            malformed ? proto::TACTILE_FRAME_MALFORMED : TactileFrameKindOf(kind));
+  PutVarint(w, P::kNodeIdFieldNumber, node);
   if (sample) {
     w.PackedVarints<std::uint16_t>(P::kFieldCodeFieldNumber, sample.value().code);
-    w.Varint(P::kSampleSequenceFieldNumber, sample.value().sequence);
-    w.Varint(P::kSampleStatusFieldNumber, sample.value().status);
+    PutVarint(w, P::kSampleSequenceFieldNumber, sample.value().sequence);
+    PutVarint(w, P::kSampleStatusFieldNumber, sample.value().status);
   }
   return w.written();
 }

@@ -73,6 +73,9 @@ TEST(TrafficWireTest, EveryInputParsesAsTheLinksOwnConversion) {
         << field.name() << ":\n"
         << parsed->DebugString() << "vs\n"
         << expected_payload.DebugString();
+    // Fields holding their default (zeros of the inputs above) take no bytes, as protobuf's own.
+    EXPECT_EQ(EncodeDutInput(input, buffer).size(), expected_payload.ByteSizeLong())
+        << field.name();
   }
 }
 
@@ -100,7 +103,10 @@ TEST(TrafficWireTest, ACommandParsesWithItsTickWallTimeAndEveryOutput) {
   command.rotor_thrust_n[3] = back.rotor_thrust_n[3] = 0;
   EXPECT_EQ(ToLink(back).SerializeAsString(), ToLink(command).SerializeAsString());
 
+  EXPECT_EQ(EncodeDutCommand(41, 123'456, command, buffer).size(), parsed.ByteSizeLong());
+
   ASSERT_TRUE(parsed.ParseFromString(Bytes(EncodeDutCommand(7, std::nullopt, {}, buffer))));
+  EXPECT_EQ(EncodeDutCommand(7, std::nullopt, {}, buffer).size(), parsed.ByteSizeLong());
   EXPECT_FALSE(parsed.has_wall_time_ns());
   EXPECT_EQ(parsed.command().tactile_force_sensor_n_size(), 6);
   EXPECT_EQ(parsed.command().rotor_thrust_n_size(), 4);
