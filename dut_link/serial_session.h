@@ -299,10 +299,10 @@ class SerialDutSession {
     const auto nested = w.BeginMessage(proto_tags::LinkMessage::kTargetInfo);
     PutHeader(w);
     if (!target_.board.empty()) w.Bytes(info::kBoard, serial_link_internal::Bytes(target_.board));
-    PutNonZero(w, info::kCoreClockHz, target_.core_clock_hz);
-    PutNonZero(w, info::kFlashUsedBytes, target_.flash_used_bytes);
-    PutNonZero(w, info::kRamUsedBytes, target_.ram_used_bytes);
-    PutNonZero(w, info::kStackBytes, target_.stack_bytes);
+    w.NonZeroVarint(info::kCoreClockHz, target_.core_clock_hz);
+    w.NonZeroVarint(info::kFlashUsedBytes, target_.flash_used_bytes);
+    w.NonZeroVarint(info::kRamUsedBytes, target_.ram_used_bytes);
+    w.NonZeroVarint(info::kStackBytes, target_.stack_bytes);
     w.EndMessage(nested);
     SendReply(w);
   }
@@ -510,7 +510,7 @@ class SerialDutSession {
     Writer w = BeginReply();
     namespace command = proto_tags::SerialCommand;
     const auto nested = w.BeginMessage(proto_tags::LinkMessage::kSerialCommand);
-    PutNonZero(w, command::kAnswersTick, tick);
+    w.NonZeroVarint(command::kAnswersTick, tick);
     w.PackedFloats(command::kRotorThrustN, out.rotor_thrust_n);
     if (out.armed) w.Bool(command::kArmed, true);
     PutNonZeroFloat(w, command::kServoAngleRad, out.servo_angle_rad);
@@ -528,7 +528,7 @@ class SerialDutSession {
     }
     if (any_pad) w.PackedFloats(command::kTactileForceSensorN, pads);
     if (since) work_cycles += cycles_.Cycles() - *since;
-    PutNonZero(w, command::kWorkCycles, work_cycles);
+    w.NonZeroVarint(command::kWorkCycles, work_cycles);
     const SerialDutCounterValues now = counters();
     if (now != counters_sent_) {
       PutCounters(w, now);
@@ -542,24 +542,21 @@ class SerialDutSession {
   static void PutCounters(Writer& w, const SerialDutCounterValues& c) {
     namespace counter = proto_tags::SerialDutCounters;
     const auto nested = w.BeginMessage(proto_tags::SerialCommand::kCounters);
-    PutNonZero(w, counter::kFramesReceived, c.frames_received);
-    PutNonZero(w, counter::kFramesBadChecksum, c.frames_bad_checksum);
-    PutNonZero(w, counter::kFramesMalformed, c.frames_malformed);
-    PutNonZero(w, counter::kFramesOversize, c.frames_oversize);
-    PutNonZero(w, counter::kStepsRepeated, c.steps_repeated);
-    PutNonZero(w, counter::kStepsSkipped, c.steps_skipped);
-    PutNonZero(w, counter::kBridgeFrames, c.bridge_frames);
-    PutNonZero(w, counter::kBridgeBadFrames, c.bridge_bad_frames);
-    PutNonZero(w, counter::kBridgeBytesMissing, c.bridge_bytes_missing);
-    PutNonZero(w, counter::kUartOverruns, c.uart_overruns);
-    PutNonZero(w, counter::kRxRingDrops, c.rx_ring_drops);
+    w.NonZeroVarint(counter::kFramesReceived, c.frames_received);
+    w.NonZeroVarint(counter::kFramesBadChecksum, c.frames_bad_checksum);
+    w.NonZeroVarint(counter::kFramesMalformed, c.frames_malformed);
+    w.NonZeroVarint(counter::kFramesOversize, c.frames_oversize);
+    w.NonZeroVarint(counter::kStepsRepeated, c.steps_repeated);
+    w.NonZeroVarint(counter::kStepsSkipped, c.steps_skipped);
+    w.NonZeroVarint(counter::kBridgeFrames, c.bridge_frames);
+    w.NonZeroVarint(counter::kBridgeBadFrames, c.bridge_bad_frames);
+    w.NonZeroVarint(counter::kBridgeBytesMissing, c.bridge_bytes_missing);
+    w.NonZeroVarint(counter::kUartOverruns, c.uart_overruns);
+    w.NonZeroVarint(counter::kRxRingDrops, c.rx_ring_drops);
     w.EndMessage(nested);
   }
 
   // proto3 leaves a field at its default off the wire; so does the DUT (as libprotobuf would).
-  static void PutNonZero(Writer& w, std::uint32_t field, std::uint64_t value) {
-    if (value != 0) w.Varint(field, value);
-  }
   static void PutNonZeroFloat(Writer& w, std::uint32_t field, float value) {
     if (value != 0.f) w.Float(field, value);
   }
@@ -567,7 +564,7 @@ class SerialDutSession {
   void PutHeader(Writer& w) {
     const auto nested = w.BeginMessage(proto_tags::Hello::kHeader);  // every header is field 1
     w.Varint(proto_tags::LinkHeader::kProtocolVersion, kSerialLinkProtocolVersion);
-    PutNonZero(w, proto_tags::LinkHeader::kSequence, sequence_++);
+    w.NonZeroVarint(proto_tags::LinkHeader::kSequence, sequence_++);
     w.EndMessage(nested);
   }
 

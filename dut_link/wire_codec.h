@@ -258,30 +258,26 @@ class Writer {
     PutKey(field, WireType::kFixed64);
     PutFixed(std::bit_cast<std::uint64_t>(value), 8);
   }
+  // proto3 leaves a field that holds its default off the wire, as libprotobuf does: these write
+  // nothing for 0 (a bool's false), or for a double whose bits are all zero (-0.0 is written).
+  constexpr void NonZeroVarint(std::uint32_t field, std::uint64_t value) {
+    if (value != 0) Varint(field, value);
+  }
+  constexpr void NonZeroDouble(std::uint32_t field, double value) {
+    if (std::bit_cast<std::uint64_t>(value) != 0) Double(field, value);
+  }
   constexpr void Bytes(std::uint32_t field, std::span<const std::uint8_t> bytes) {
     if (!Room(KeyBytes(field) + VarintBytes(bytes.size()) + bytes.size())) return;
     PutKey(field, WireType::kLengthDelimited);
     PutVarint(bytes.size());
     for (const std::uint8_t byte : bytes) out_[size_++] = byte;
   }
-  // A packed repeated float field; nothing for no values. O(values).
+  // A packed repeated float or double field; nothing for no values. O(values).
   constexpr void PackedFloats(std::uint32_t field, std::span<const float> values) {
-    if (values.empty()) return;
-    const std::size_t length = 4 * values.size();
-    if (!Room(KeyBytes(field) + VarintBytes(length) + length)) return;
-    PutKey(field, WireType::kLengthDelimited);
-    PutVarint(length);
-    for (const float value : values) PutFixed(std::bit_cast<std::uint32_t>(value), 4);
+    PackedFixed<std::uint32_t>(field, values);
   }
-
-  // A packed repeated double field; nothing for no values. O(values).
   constexpr void PackedDoubles(std::uint32_t field, std::span<const double> values) {
-    if (values.empty()) return;
-    const std::size_t length = 8 * values.size();
-    if (!Room(KeyBytes(field) + VarintBytes(length) + length)) return;
-    PutKey(field, WireType::kLengthDelimited);
-    PutVarint(length);
-    for (const double value : values) PutFixed(std::bit_cast<std::uint64_t>(value), 8);
+    PackedFixed<std::uint64_t>(field, values);
   }
   // A packed repeated varint field (uint32, uint64, enum); nothing for no values. O(values).
   template <typename Unsigned>
@@ -338,6 +334,15 @@ class Writer {
  private:
   static constexpr std::size_t KeyBytes(std::uint32_t field) {
     return VarintBytes(std::uint64_t(field) << 3);
+  }
+  template <typename Bits, typename Value>
+  constexpr void PackedFixed(std::uint32_t field, std::span<const Value> values) {
+    if (values.empty()) return;
+    const std::size_t length = sizeof(Bits) * values.size();
+    if (!Room(KeyBytes(field) + VarintBytes(length) + length)) return;
+    PutKey(field, WireType::kLengthDelimited);
+    PutVarint(length);
+    for (const Value value : values) PutFixed(std::bit_cast<Bits>(value), sizeof(Bits));
   }
   constexpr bool Room(std::size_t bytes) {
     if (error_ != WireError::kNone) return false;
